@@ -1,0 +1,64 @@
+//! The command line: clap derive, one file per command group. Each command
+//! turns its arguments into library calls; no numerics live here.
+
+mod gpu;
+mod kernel;
+mod material;
+mod surface;
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+
+use crate::config::{self, LoadedConfig};
+use crate::error::Result;
+
+/// viscoslide: steady sliding contact of rigid rough surfaces on viscoelastic
+/// solids (Carbone & Putignano, Phys. Rev. E 89, 032408, 2014).
+#[derive(Debug, Parser)]
+#[command(name = "viscoslide", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Viscoelastic materials: fit DMA data, show a spectrum.
+    #[command(subcommand)]
+    Material(material::MaterialCommand),
+    /// Rough surfaces: generate self-affine maps, print statistics.
+    #[command(subcommand)]
+    Surface(surface::SurfaceCommand),
+    /// Print influence coefficients for given cell offsets.
+    Kernel(kernel::KernelArgs),
+    /// List the GPU adapters wgpu can use.
+    Gpu(gpu::GpuArgs),
+}
+
+/// A config file plus `--set section.key=value` overrides.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ConfigArgs {
+    /// TOML configuration file (SI units).
+    pub config: PathBuf,
+    /// Override any key, e.g. `--set material.poisson=0.49` (repeatable).
+    #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+impl ConfigArgs {
+    pub fn load(&self) -> Result<LoadedConfig> {
+        Ok(config::load(&self.config, &self.set)?)
+    }
+}
+
+/// Parse the process arguments and run the command.
+pub fn run() -> Result<()> {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Material(c) => material::run(c),
+        Command::Surface(c) => surface::run(c),
+        Command::Kernel(a) => kernel::run(a),
+        Command::Gpu(a) => gpu::run(a),
+    }
+}

@@ -1,0 +1,281 @@
+//! Run configuration: one TOML file in SI units, deserialised with
+//! `deny_unknown_fields`, with `--set section.key=value` overrides applied to
+//! the parsed document before it is typed. Errors name the key and its unit.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::material::MaterialConfig;
+use crate::surface::SurfaceConfig;
+
+/// Errors reading or checking a configuration.
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigError {
+    #[error("{path}: {source}")]
+    Read {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}: {message}")]
+    Parse { path: String, message: String },
+    #[error("--set {arg}: {message}")]
+    Override { arg: String, message: String },
+    #[error("{path}: section [{section}] is required here")]
+    Missing { path: String, section: String },
+}
+
+/// A whole run configuration; every section is optional in the file and each
+/// command asks for the sections it needs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct Config {
+    pub material: Option<MaterialConfig>,
+    pub surface: Option<SurfaceConfig>,
+}
+
+/// A parsed config with the directory its relative paths refer to.
+#[derive(Debug, Clone)]
+pub struct LoadedConfig {
+    pub config: Config,
+    /// The file it came from.
+    pub path: PathBuf,
+    /// Directory relative paths inside the config are resolved against.
+    pub base_dir: PathBuf,
+    /// The merged document (after overrides), as recorded in reports.
+    pub document: toml::Table,
+}
+
+impl LoadedConfig {
+    /// The `[material]` section, or an error saying it is needed.
+    pub fn material(&self) -> Result<&MaterialConfig, ConfigError> {
+        self.config
+            .material
+            .as_ref()
+            .ok_or_else(|| self.missing("material"))
+    }
+
+    /// The `[surface]` section, or an error saying it is needed.
+    pub fn surface(&self) -> Result<&SurfaceConfig, ConfigError> {
+        self.config
+            .surface
+            .as_ref()
+            .ok_or_else(|| self.missing("surface"))
+    }
+
+    fn missing(&self, section: &str) -> ConfigError {
+        ConfigError::Missing {
+            path: self.path.display().to_string(),
+            section: section.into(),
+        }
+    }
+}
+
+/// Read `path`, apply `overrides` (`section.key=value`, TOML values; a bare
+/// word is taken as a string), and type-check the result.
+pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedConfig, ConfigError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
+        path: path.display().to_string(),
+        source,
+    })?;
+    let name = path.display().to_string();
+    let mut document: toml::Table = toml::from_str(&text).map_err(|e| ConfigError::Parse {
+        path: name.clone(),
+        message: one_line(&e, &text),
+    })?;
+    for arg in overrides {
+        apply_override(&mut document, arg)?;
+    }
+    // Without overrides, type-check the file's own text so that line numbers
+    // in errors are the user's.
+    let config = if overrides.is_empty() {
+        toml::from_str(&text).map_err(|e| ConfigError::Parse {
+            path: name.clone(),
+            message: one_line(&e, &text),
+        })?
+    } else {
+        parse_document(&document, &name)?
+    };
+    let base_dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
+    Ok(LoadedConfig {
+        config,
+        path: path.to_path_buf(),
+        base_dir,
+        document,
+    })
+}
+
+/// Type-check a TOML document as a [`Config`].
+pub fn parse_document(document: &toml::Table, name: &str) -> Result<Config, ConfigError> {
+    // Re-serialise so that toml reports errors with the key path.
+    let text = toml::to_string(document).map_err(|e| ConfigError::Parse {
+        path: name.into(),
+        message: e.to_string(),
+    })?;
+    toml::from_str(&text).map_err(|e| ConfigError::Parse {
+        path: name.into(),
+        message: one_line(&e, &text),
+    })
+}
+
+/// Apply one `section.key=value` override to a TOML document.
+pub fn apply_override(document: &mut toml::Table, arg: &str) -> Result<(), ConfigError> {
+    let err = |message: String| ConfigError::Override {
+        arg: arg.into(),
+        message,
+    };
+    let (key, value) = arg
+        .split_once('=')
+        .ok_or_else(|| err("expected section.key=value".into()))?;
+    let parts: Vec<&str> = key.trim().split('.').map(str::trim).collect();
+    if parts.iter().any(|p| p.is_empty()) {
+        return Err(err(format!("bad key '{key}'")));
+    }
+    let value = parse_value(value.trim());
+    let mut table = document;
+    for part in &parts[..parts.len() - 1] {
+        let entry = table
+            .entry(part.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        table = match entry {
+            toml::Value::Table(t) => t,
+            _ => return Err(err(format!("'{part}' is a value, not a section"))),
+        };
+    }
+    table.insert(parts[parts.len() - 1].to_string(), value);
+    Ok(())
+}
+
+fn parse_value(raw: &str) -> toml::Value {
+    match toml::from_str::<toml::Table>(&format!("v = {raw}")) {
+        Ok(mut t) => t.remove("v").unwrap_or(toml::Value::String(raw.into())),
+        Err(_) => toml::Value::String(raw.into()),
+    }
+}
+
+/// Keys and their units, appended to error messages that mention them.
+const UNITS: &[(&str, &str)] = &[
+    ("relaxed_modulus", "relaxed (zero-frequency) modulus E0, Pa"),
+    ("glassy_modulus", "glassy modulus E_inf, Pa"),
+    ("creep_time", "creep (retardation) time, s"),
+    ("relaxation_time", "stress-relaxation time, s"),
+    ("creep_spectrum", "[[C_k in 1/Pa, tau_k in s], ...]"),
+    ("prony", "[[E_j in Pa, theta_j in s], ...]"),
+    ("poisson", "Poisson ratio, dimensionless"),
+    ("length", "side of the map along x, m"),
+    ("rms_height", "m"),
+    ("rms_slope", "dimensionless"),
+    ("hurst", "Hurst exponent H, 0 < H < 1"),
+    ("normal_load", "N"),
+    ("mean_pressure", "Pa"),
+    ("speed", "m/s"),
+    ("xi", "v tau / L, dimensionless"),
+    ("thickness", "m"),
+    ("cell_size", "m"),
+];
+
+fn one_line(e: &toml::de::Error, text: &str) -> String {
+    let mut msg = e.message().trim().replace('\n', " ");
+    // The key the message is about: named by serde ("unknown field `k`",
+    // "missing field `k`") or the key on the line the error points at.
+    let mut key = ["unknown field `", "missing field `"]
+        .iter()
+        .find_map(|pat| {
+            let rest = &msg[msg.find(pat)? + pat.len()..];
+            Some(rest[..rest.find('`')?].to_string())
+        });
+    if let Some(span) = e.span() {
+        let start = span.start.min(text.len());
+        let line = text[..start].matches('\n').count() + 1;
+        let line_text = text.lines().nth(line - 1).unwrap_or("");
+        match (&key, line_text.split_once('=')) {
+            (None, Some((k, _))) => {
+                let k = k.trim().trim_matches('"').to_string();
+                msg = format!("line {line}, key `{k}`: {msg}");
+                key = Some(k);
+            }
+            (None, None) => msg = format!("line {line}: {msg}"),
+            // serde named the key; its span covers the whole table.
+            (Some(_), _) => {}
+        }
+    }
+    if let Some(key) = key {
+        if let Some((_, unit)) = UNITS.iter().find(|(k, _)| *k == key) {
+            msg.push_str(&format!(" ({key}: {unit})"));
+        }
+    }
+    msg
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(dir: &Path, text: &str) -> PathBuf {
+        let p = dir.join("c.toml");
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    const SLS: &str = "[material]\nmodel = \"sls\"\nrelaxed_modulus = 3.3e6\nglassy_modulus = 1e7\ncreep_time = 0.01\n";
+
+    #[test]
+    fn overrides_replace_and_add_keys() {
+        let tmp = tempfile::tempdir().unwrap();
+        let p = write(tmp.path(), SLS);
+        let c = load(
+            &p,
+            &[
+                "material.poisson=0.4".into(),
+                "material.glassy_modulus=2e7".into(),
+            ],
+        )
+        .unwrap();
+        let m = c.material().unwrap();
+        assert_eq!(m.poisson, Some(0.4));
+        assert_eq!(m.glassy_modulus, Some(2e7));
+    }
+
+    #[test]
+    fn unknown_keys_are_named() {
+        let tmp = tempfile::tempdir().unwrap();
+        let p = write(tmp.path(), &format!("{SLS}colour = 3\n"));
+        let e = load(&p, &[]).unwrap_err().to_string();
+        assert!(e.contains("colour"), "{e}");
+        assert!(!e.contains('\n'), "one line: {e}");
+        let p = write(tmp.path(), SLS);
+        let e = load(&p, &["material.glasy_modulus=1".into()])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("glasy_modulus"), "{e}");
+    }
+
+    #[test]
+    fn type_errors_name_the_unit() {
+        let tmp = tempfile::tempdir().unwrap();
+        let p = write(tmp.path(), SLS);
+        let e = load(&p, &["material.relaxed_modulus=\"soft\"".into()])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("Pa"), "{e}");
+    }
+
+    #[test]
+    fn bad_override_syntax() {
+        let tmp = tempfile::tempdir().unwrap();
+        let p = write(tmp.path(), SLS);
+        assert!(matches!(
+            load(&p, &["material".into()]),
+            Err(ConfigError::Override { .. })
+        ));
+        assert!(matches!(
+            load(&p, &["material.model.x=1".into()]),
+            Err(ConfigError::Override { .. })
+        ));
+    }
+}

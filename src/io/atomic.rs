@@ -1,0 +1,167 @@
+//! Atomic output: every file of one result set is first written into a
+//! hidden staging folder inside the target directory and moved into place only
+//! when all of them are complete. A failure before `commit` leaves the target
+//! directory as it was (the staging folder is removed on drop).
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+
+/// A set of output files written together, or not at all.
+#[derive(Debug)]
+pub struct StagedOutput {
+    dir: PathBuf,
+    staging: PathBuf,
+    names: Vec<String>,
+    committed: bool,
+}
+
+impl StagedOutput {
+    /// Prepare to write into `dir` (created if missing).
+    pub fn new(dir: impl AsRef<Path>) -> Result<Self> {
+        let dir = dir.as_ref().to_path_buf();
+        fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+        let staging = dir.join(format!(
+            ".staging-{}-{}",
+            std::process::id(),
+            unique_suffix()
+        ));
+        fs::create_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
+        Ok(Self {
+            dir,
+            staging,
+            names: Vec::new(),
+            committed: false,
+        })
+    }
+
+    /// The final directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Path in the staging folder to write the file `name` to; the file is
+    /// moved to `dir/name` by [`StagedOutput::commit`].
+    pub fn path(&mut self, name: &str) -> PathBuf {
+        assert!(
+            !name.contains('/') && !name.contains('\\'),
+            "staged names are plain file names"
+        );
+        if !self.names.iter().any(|n| n == name) {
+            self.names.push(name.to_string());
+        }
+        self.staging.join(name)
+    }
+
+    /// Write `bytes` as the file `name`.
+    pub fn write(&mut self, name: &str, bytes: &[u8]) -> Result<()> {
+        let p = self.path(name);
+        fs::write(&p, bytes).map_err(|e| Error::io(&p, e))
+    }
+
+    /// Move every staged file into the target directory.
+    pub fn commit(mut self) -> Result<Vec<PathBuf>> {
+        let mut out = Vec::with_capacity(self.names.len());
+        for name in &self.names {
+            let from = self.staging.join(name);
+            if !from.exists() {
+                return Err(Error::Invalid(format!(
+                    "output file {name} was announced but never written"
+                )));
+            }
+        }
+        for name in &self.names {
+            let from = self.staging.join(name);
+            let to = self.dir.join(name);
+            fs::rename(&from, &to).map_err(|e| Error::io(&to, e))?;
+            out.push(to);
+        }
+        self.committed = true;
+        let _ = fs::remove_dir_all(&self.staging);
+        Ok(out)
+    }
+}
+
+impl Drop for StagedOutput {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = fs::remove_dir_all(&self.staging);
+        }
+    }
+}
+
+/// Write one file atomically: a temporary file in the same directory, then a
+/// rename over the target.
+pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<()> {
+    let path = path.as_ref();
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let file_name = path
+        .file_name()
+        .ok_or_else(|| Error::Invalid(format!("{} is not a file path", path.display())))?;
+    let tmp = dir.join(format!(
+        ".{}.tmp-{}-{}",
+        file_name.to_string_lossy(),
+        std::process::id(),
+        unique_suffix()
+    ));
+    fs::write(&tmp, bytes).map_err(|e| Error::io(&tmp, e))?;
+    fs::rename(&tmp, path).map_err(|e| {
+        let _ = fs::remove_file(&tmp);
+        Error::io(path, e)
+    })
+}
+
+fn unique_suffix() -> u64 {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let t = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.subsec_nanos() as u64)
+        .unwrap_or(0);
+    t ^ (COUNTER.fetch_add(1, Ordering::Relaxed) << 32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn failed_set_leaves_nothing() {
+        let tmp = tempfile::tempdir().unwrap();
+        let out = tmp.path().join("run");
+        {
+            let mut s = StagedOutput::new(&out).unwrap();
+            s.write("a.txt", b"x").unwrap();
+            // dropped without commit
+        }
+        let left: Vec<_> = fs::read_dir(&out).unwrap().collect();
+        assert!(left.is_empty(), "staging must vanish: {left:?}");
+    }
+
+    #[test]
+    fn commit_moves_all_files() {
+        let tmp = tempfile::tempdir().unwrap();
+        let mut s = StagedOutput::new(tmp.path()).unwrap();
+        s.write("a.txt", b"1").unwrap();
+        s.write("b.txt", b"2").unwrap();
+        s.commit().unwrap();
+        assert_eq!(fs::read(tmp.path().join("a.txt")).unwrap(), b"1");
+        assert_eq!(fs::read(tmp.path().join("b.txt")).unwrap(), b"2");
+        assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 2);
+    }
+
+    #[test]
+    fn write_atomic_replaces() {
+        let tmp = tempfile::tempdir().unwrap();
+        let p = tmp.path().join("f.json");
+        write_atomic(&p, b"old").unwrap();
+        write_atomic(&p, b"new").unwrap();
+        assert_eq!(fs::read(&p).unwrap(), b"new");
+        assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 1);
+    }
+}

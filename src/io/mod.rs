@@ -1,0 +1,6 @@
+//! File formats and atomic output.
+
+pub mod atomic;
+pub mod npy;
+
+pub use atomic::StagedOutput;

@@ -1,0 +1,446 @@
+//! PNG figures with plotters: line/point charts on linear or log axes, and
+//! colour maps with a colour bar. Text uses the bundled DejaVu Sans font, so
+//! figures render identically on machines without fontconfig.
+
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::prelude::*;
+
+/// Plotting failures (drawing backend or invalid data).
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    #[error("cannot draw {path}: {what}")]
+    Draw { path: String, what: String },
+    #[error("cannot draw {path}: no finite data")]
+    NoData { path: String },
+}
+
+static FONT: Once = Once::new();
+const DEJAVU: &[u8] = include_bytes!("DejaVuSans.ttf");
+
+fn ensure_font() {
+    FONT.call_once(|| {
+        // The bundled font is a valid TrueType file; a failure here is a bug.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, DEJAVU);
+    });
+}
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mark {
+    Line,
+    Points,
+    LineAndPoints,
+}
+
+/// One labelled data series.
+#[derive(Debug, Clone)]
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+    pub mark: Mark,
+    /// Index into the figure palette.
+    pub color: usize,
+    /// Optional symmetric error bars (same length as `points`).
+    pub errors: Option<Vec<f64>>,
+}
+
+impl Series {
+    pub fn line(label: impl Into<String>, points: Vec<(f64, f64)>, color: usize) -> Self {
+        Self {
+            label: label.into(),
+            points,
+            mark: Mark::Line,
+            color,
+            errors: None,
+        }
+    }
+    pub fn points(label: impl Into<String>, points: Vec<(f64, f64)>, color: usize) -> Self {
+        Self {
+            label: label.into(),
+            points,
+            mark: Mark::Points,
+            color,
+            errors: None,
+        }
+    }
+}
+
+/// A chart of several series.
+#[derive(Debug, Clone)]
+pub struct XyChart {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub log_x: bool,
+    pub log_y: bool,
+    pub series: Vec<Series>,
+}
+
+/// Palette used for series colours.
+pub const PALETTE: [RGBColor; 6] = [
+    RGBColor(200, 30, 30),
+    RGBColor(20, 140, 40),
+    RGBColor(30, 70, 200),
+    RGBColor(230, 140, 0),
+    RGBColor(120, 40, 160),
+    RGBColor(0, 0, 0),
+];
+
+fn draw_err(path: &Path, e: impl std::fmt::Display) -> PlotError {
+    PlotError::Draw {
+        path: path.display().to_string(),
+        what: e.to_string(),
+    }
+}
+
+fn range(vals: impl Iterator<Item = f64>, log: bool) -> Option<(f64, f64)> {
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    for v in vals {
+        if v.is_finite() && (!log || v > 0.0) {
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+    }
+    if lo > hi {
+        return None;
+    }
+    if log {
+        if hi <= lo {
+            hi = lo * 10.0;
+            lo /= 10.0;
+        }
+        Some((lo / 1.3, hi * 1.3))
+    } else {
+        let span = if hi > lo {
+            hi - lo
+        } else {
+            lo.abs().max(1e-300)
+        };
+        Some((lo - 0.05 * span, hi + 0.05 * span))
+    }
+}
+
+/// Draw `chart` into a PNG at `path` (800x600 pixels).
+pub fn xy_chart(path: &Path, chart: &XyChart) -> Result<(), PlotError> {
+    ensure_font();
+    let xs = chart
+        .series
+        .iter()
+        .flat_map(|s| s.points.iter().map(|p| p.0));
+    let ys = chart.series.iter().flat_map(|s| {
+        s.points.iter().enumerate().flat_map(move |(i, p)| {
+            let e = s.errors.as_ref().map(|e| e[i].abs()).unwrap_or(0.0);
+            [p.1 - e, p.1 + e]
+        })
+    });
+    let nodata = || PlotError::NoData {
+        path: path.display().to_string(),
+    };
+    let (x0, x1) = range(xs, chart.log_x).ok_or_else(nodata)?;
+    let (y0, y1) = range(ys, chart.log_y).ok_or_else(nodata)?;
+    match (chart.log_x, chart.log_y) {
+        (false, false) => draw_xy(path, chart, x0..x1, y0..y1),
+        (true, false) => draw_xy(path, chart, (x0..x1).log_scale(), y0..y1),
+        (false, true) => draw_xy(path, chart, x0..x1, (y0..y1).log_scale()),
+        (true, true) => draw_xy(path, chart, (x0..x1).log_scale(), (y0..y1).log_scale()),
+    }
+}
+
+fn draw_xy<X, Y>(path: &Path, chart: &XyChart, xr: X, yr: Y) -> Result<(), PlotError>
+where
+    X: AsRangedCoord<Value = f64>,
+    Y: AsRangedCoord<Value = f64>,
+    X::CoordDescType: ValueFormatter<f64>,
+    Y::CoordDescType: ValueFormatter<f64>,
+{
+    let root = BitMapBackend::new(path, (800, 600)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
+    let mut ctx = ChartBuilder::on(&root)
+        .caption(&chart.title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(50)
+        .y_label_area_size(80)
+        .build_cartesian_2d(xr, yr)
+        .map_err(|e| draw_err(path, e))?;
+    ctx.configure_mesh()
+        .x_desc(&chart.x_label)
+        .y_desc(&chart.y_label)
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 16))
+        .x_label_formatter(&|v| format_tick(*v))
+        .y_label_formatter(&|v| format_tick(*v))
+        .draw()
+        .map_err(|e| draw_err(path, e))?;
+    for s in &chart.series {
+        let color = PALETTE[s.color % PALETTE.len()];
+        let pts: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+            .collect();
+        let mut labelled = false;
+        if matches!(s.mark, Mark::Line | Mark::LineAndPoints) {
+            ctx.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
+                .map_err(|e| draw_err(path, e))?
+                .label(&s.label)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+            labelled = true;
+        }
+        if matches!(s.mark, Mark::Points | Mark::LineAndPoints) {
+            let ann = ctx
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                .map_err(|e| draw_err(path, e))?;
+            if !labelled {
+                ann.label(&s.label)
+                    .legend(move |(x, y)| Circle::new((x + 10, y), 3, color.filled()));
+            }
+        }
+        if let Some(err) = &s.errors {
+            ctx.draw_series(
+                s.points
+                    .iter()
+                    .zip(err)
+                    .filter(|(p, e)| p.0.is_finite() && p.1.is_finite() && e.is_finite())
+                    .map(|(&(x, y), &e)| {
+                        ErrorBar::new_vertical(
+                            x,
+                            y - e.abs(),
+                            y,
+                            y + e.abs(),
+                            color.stroke_width(1),
+                            6,
+                        )
+                    }),
+            )
+            .map_err(|e| draw_err(path, e))?;
+        }
+    }
+    ctx.configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|e| draw_err(path, e))?;
+    root.present().map_err(|e| draw_err(path, e))?;
+    Ok(())
+}
+
+/// Compact tick label: plain for moderate magnitudes, scientific otherwise.
+pub fn format_tick(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 {
+        "0".into()
+    } else if (1e-2..1e4).contains(&a) {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+/// A scalar field on a grid for [`heatmap`]: `values[i * ny + j]` at
+/// `x = x0 + (i + 0.5) dx`, `y = y0 + (j + 0.5) dy` (axis 0 = x).
+#[derive(Debug, Clone)]
+pub struct Field<'a> {
+    pub nx: usize,
+    pub ny: usize,
+    pub values: &'a [f64],
+    /// Physical extent `(x_min, x_max, y_min, y_max)`.
+    pub extent: (f64, f64, f64, f64),
+}
+
+/// Draw a colour map of `field` with a colour bar labelled `bar_label`.
+/// `window` (optional, in physical coordinates) restricts the view.
+pub fn heatmap(
+    path: &Path,
+    title: &str,
+    field: &Field<'_>,
+    bar_label: &str,
+    window: Option<(f64, f64, f64, f64)>,
+) -> Result<(), PlotError> {
+    ensure_font();
+    let (x0, x1, y0, y1) = window.unwrap_or(field.extent);
+    let (ex0, ex1, ey0, ey1) = field.extent;
+    let dx = (ex1 - ex0) / field.nx as f64;
+    let dy = (ey1 - ey0) / field.ny as f64;
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    for &v in field.values {
+        if v.is_finite() {
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+    }
+    if lo > hi {
+        return Err(PlotError::NoData {
+            path: path.display().to_string(),
+        });
+    }
+    if hi <= lo {
+        hi = lo + 1.0;
+    }
+    let root = BitMapBackend::new(path, (860, 720)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
+    let (main, bar) = root.split_horizontally(720);
+    let mut ctx = ChartBuilder::on(&main)
+        .caption(title, ("sans-serif", 20))
+        .margin(10)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| draw_err(path, e))?;
+    ctx.configure_mesh()
+        .disable_mesh()
+        .x_desc("x [m] (sliding direction)")
+        .y_desc("y [m]")
+        .label_style(("sans-serif", 13))
+        .x_label_formatter(&|v| format_tick(*v))
+        .y_label_formatter(&|v| format_tick(*v))
+        .draw()
+        .map_err(|e| draw_err(path, e))?;
+    let area = ctx.plotting_area();
+    let (px, py) = area.get_pixel_range();
+    let (w, h) = ((px.end - px.start).max(1), (py.end - py.start).max(1));
+    for ix in 0..w {
+        let x = x0 + (ix as f64 + 0.5) / w as f64 * (x1 - x0);
+        let ci = ((x - ex0) / dx).floor();
+        if ci < 0.0 || ci >= field.nx as f64 {
+            continue;
+        }
+        for iy in 0..h {
+            // Pixel rows grow downwards; y grows upwards.
+            let y = y1 - (iy as f64 + 0.5) / h as f64 * (y1 - y0);
+            let cj = ((y - ey0) / dy).floor();
+            if cj < 0.0 || cj >= field.ny as f64 {
+                continue;
+            }
+            let v = field.values[ci as usize * field.ny + cj as usize];
+            let c = colormap((v - lo) / (hi - lo));
+            root.draw_pixel((px.start + ix, py.start + iy), &c)
+                .map_err(|e| draw_err(path, e))?;
+        }
+    }
+    // Colour bar.
+    let mut bctx = ChartBuilder::on(&bar)
+        .margin_top(40)
+        .margin_bottom(55)
+        .margin_right(10)
+        .y_label_area_size(0)
+        .right_y_label_area_size(80)
+        .build_cartesian_2d(0.0..1.0, lo..hi)
+        .map_err(|e| draw_err(path, e))?;
+    bctx.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc(bar_label)
+        .label_style(("sans-serif", 12))
+        .y_label_formatter(&|v| format_tick(*v))
+        .draw()
+        .map_err(|e| draw_err(path, e))?;
+    let steps = 200;
+    bctx.draw_series((0..steps).map(|k| {
+        let a = lo + (hi - lo) * k as f64 / steps as f64;
+        let b = lo + (hi - lo) * (k + 1) as f64 / steps as f64;
+        Rectangle::new(
+            [(0.0, a), (1.0, b)],
+            colormap((k as f64 + 0.5) / steps as f64).filled(),
+        )
+    }))
+    .map_err(|e| draw_err(path, e))?;
+    root.present().map_err(|e| draw_err(path, e))?;
+    Ok(())
+}
+
+/// Perceptually ordered colour map (viridis anchors, linear in between).
+pub fn colormap(t: f64) -> RGBColor {
+    const V: [(f64, f64, f64); 6] = [
+        (68.0, 1.0, 84.0),
+        (65.0, 68.0, 135.0),
+        (42.0, 120.0, 142.0),
+        (34.0, 168.0, 132.0),
+        (122.0, 209.0, 81.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let s = t * (V.len() - 1) as f64;
+    let k = (s.floor() as usize).min(V.len() - 2);
+    let f = s - k as f64;
+    let mix = |a: f64, b: f64| (a + (b - a) * f).round() as u8;
+    RGBColor(
+        mix(V[k].0, V[k + 1].0),
+        mix(V[k].1, V[k + 1].1),
+        mix(V[k].2, V[k + 1].2),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn charts_render_to_png() {
+        let tmp = tempfile::tempdir().unwrap();
+        let p = tmp.path().join("c.png");
+        let chart = XyChart {
+            title: "t".into(),
+            x_label: "x".into(),
+            y_label: "y".into(),
+            log_x: true,
+            log_y: true,
+            series: vec![
+                Series::line(
+                    "a",
+                    (1..50).map(|i| (i as f64, 1.0 / i as f64)).collect(),
+                    0,
+                ),
+                Series::points(
+                    "b",
+                    (1..50).map(|i| (i as f64, 2.0 / i as f64)).collect(),
+                    1,
+                ),
+            ],
+        };
+        xy_chart(&p, &chart).unwrap();
+        let bytes = std::fs::read(&p).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG");
+        let vals: Vec<f64> = (0..64).map(|k| (k as f64).sin()).collect();
+        let f = Field {
+            nx: 8,
+            ny: 8,
+            values: &vals,
+            extent: (0.0, 1.0, 0.0, 1.0),
+        };
+        let q = tmp.path().join("h.png");
+        heatmap(&q, "h", &f, "v", None).unwrap();
+        assert_eq!(&std::fs::read(&q).unwrap()[1..4], b"PNG");
+    }
+
+    #[test]
+    fn empty_data_is_an_error() {
+        let tmp = tempfile::tempdir().unwrap();
+        let chart = XyChart {
+            title: "t".into(),
+            x_label: "x".into(),
+            y_label: "y".into(),
+            log_x: true,
+            log_y: false,
+            series: vec![Series::line("a", vec![(-1.0, 1.0)], 0)],
+        };
+        assert!(matches!(
+            xy_chart(&tmp.path().join("c.png"), &chart),
+            Err(PlotError::NoData { .. })
+        ));
+    }
+}
