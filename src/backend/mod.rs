@@ -1,7 +1,64 @@
-//! Executors: the CPU reference path and the GPU (wgpu) path.
+//! Executors: the CPU reference path and the GPU (wgpu) path. The contact
+//! iteration ([`crate::solver`]) is written once against [`Backend`]; each
+//! executor supplies storage and a handful of fused kernels.
 
+pub mod cpu;
 pub mod gpu;
 
+pub use cpu::CpuBackend;
+
+/// Storage and kernels the constrained iteration needs. Vectors are grid
+/// vectors of length `nx ny` (C order). Scalars come back to the host; all
+/// vectors may stay on the device.
+pub trait Backend {
+    type Vector;
+
+    /// Executor name for reports (e.g. `cpu (2 threads)` or the adapter).
+    fn name(&self) -> String;
+    /// Length of every vector.
+    fn len(&self) -> usize;
+    /// Whether vectors are empty (never, for a valid grid).
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// A new zero vector.
+    fn zeros(&mut self) -> Self::Vector;
+    /// Host -> vector.
+    fn upload(&mut self, host: &[f64], dst: &mut Self::Vector);
+    /// Vector -> host.
+    fn download(&mut self, src: &Self::Vector, host: &mut [f64]);
+    /// `dst = src`.
+    fn copy(&mut self, src: &Self::Vector, dst: &mut Self::Vector);
+    /// `y = L x`, the influence operator (paper Eq. 7).
+    fn apply(&mut self, x: &Self::Vector, y: &mut Self::Vector);
+    /// `a . b`.
+    fn dot(&mut self, a: &Self::Vector, b: &Self::Vector) -> f64;
+    /// `out[k] = basis[k] . w` for every `k` (one batched reduction).
+    fn dots(&mut self, basis: &[Self::Vector], w: &Self::Vector, out: &mut [f64]);
+    /// `y += alpha x`.
+    fn axpy(&mut self, alpha: f64, x: &Self::Vector, y: &mut Self::Vector);
+    /// `y += sum_k coeffs[k] basis[k]`.
+    fn combine(&mut self, coeffs: &[f64], basis: &[Self::Vector], y: &mut Self::Vector);
+    /// `x *= alpha`.
+    fn scale(&mut self, alpha: f64, x: &mut Self::Vector);
+    /// `y = mask * x` (elementwise; mask entries are 0 or 1).
+    fn masked(&mut self, mask: &Self::Vector, x: &Self::Vector, y: &mut Self::Vector);
+    /// `sum x`.
+    fn sum(&mut self, x: &Self::Vector) -> f64;
+    /// `out = g - delta + u`: the gap of physics.md section 1.
+    fn gap(&mut self, g: &Self::Vector, u: &Self::Vector, delta: f64, out: &mut Self::Vector);
+    /// Primal-dual active-set update: a cell in the set stays iff `p > 0`, a
+    /// cell outside joins iff `gap < 0`. Returns `(changes, size of the new set)`.
+    fn update_active_set(
+        &mut self,
+        p: &Self::Vector,
+        gap: &Self::Vector,
+        mask: &mut Self::Vector,
+    ) -> (usize, usize);
+    /// `(sum min(p, k gap)^2, sum p^2)`: the complementarity residual of the
+    /// LCP with `k` converting a gap into a pressure.
+    fn complementarity(&mut self, p: &Self::Vector, gap: &Self::Vector, stiffness: f64) -> (f64, f64);
+}
 use serde::{Deserialize, Serialize};
 
 /// Which executor runs a computation.

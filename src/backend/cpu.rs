@@ -1,0 +1,147 @@
+//! CPU executor: f64 vectors, rayon-parallel kernels, the operator applied by
+//! [`crate::operator::GridOperator`] (FFT or dense). This is the reference
+//! path; the GPU executor implements the same [`Backend`] trait.
+
+use rayon::prelude::*;
+
+use super::Backend;
+use crate::operator::GridOperator;
+
+/// Vectors below this length are processed serially (rayon overhead).
+const PAR_MIN: usize = 1 << 14;
+
+/// The CPU backend around a grid operator.
+pub struct CpuBackend<Op: GridOperator> {
+    op: Op,
+    n: usize,
+}
+
+impl<Op: GridOperator> CpuBackend<Op> {
+    pub fn new(op: Op) -> Self {
+        let (nx, ny) = op.shape();
+        Self { op, n: nx * ny }
+    }
+
+    /// The wrapped operator.
+    pub fn operator_mut(&mut self) -> &mut Op {
+        &mut self.op
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    if a.len() < PAR_MIN {
+        a.iter().zip(b).map(|(x, y)| x * y).sum()
+    } else {
+        a.par_chunks(4096)
+            .zip(b.par_chunks(4096))
+            .map(|(x, y)| x.iter().zip(y).map(|(u, v)| u * v).sum::<f64>())
+            .sum()
+    }
+}
+
+impl<Op: GridOperator> Backend for CpuBackend<Op> {
+    type Vector = Vec<f64>;
+
+    fn name(&self) -> String {
+        format!("cpu ({} threads)", rayon::current_num_threads())
+    }
+
+    fn len(&self) -> usize {
+        self.n
+    }
+
+    fn zeros(&mut self) -> Vec<f64> {
+        vec![0.0; self.n]
+    }
+
+    fn upload(&mut self, host: &[f64], dst: &mut Vec<f64>) {
+        dst.copy_from_slice(host);
+    }
+
+    fn download(&mut self, src: &Vec<f64>, host: &mut [f64]) {
+        host.copy_from_slice(src);
+    }
+
+    fn copy(&mut self, src: &Vec<f64>, dst: &mut Vec<f64>) {
+        dst.copy_from_slice(src);
+    }
+
+    fn apply(&mut self, x: &Vec<f64>, y: &mut Vec<f64>) {
+        self.op.apply(x, y);
+    }
+
+    fn dot(&mut self, a: &Vec<f64>, b: &Vec<f64>) -> f64 {
+        dot(a, b)
+    }
+
+    fn dots(&mut self, basis: &[Vec<f64>], w: &Vec<f64>, out: &mut [f64]) {
+        out.par_iter_mut()
+            .zip(basis.par_iter())
+            .for_each(|(o, v)| *o = dot(v, w));
+    }
+
+    fn axpy(&mut self, alpha: f64, x: &Vec<f64>, y: &mut Vec<f64>) {
+        y.par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .zip(x.par_iter())
+            .for_each(|(yi, xi)| *yi += alpha * xi);
+    }
+
+    fn combine(&mut self, coeffs: &[f64], basis: &[Vec<f64>], y: &mut Vec<f64>) {
+        y.par_chunks_mut(4096).enumerate().for_each(|(c, ys)| {
+            let off = c * 4096;
+            for (k, &a) in coeffs.iter().enumerate() {
+                let v = &basis[k][off..off + ys.len()];
+                for (yi, vi) in ys.iter_mut().zip(v) {
+                    *yi += a * vi;
+                }
+            }
+        });
+    }
+
+    fn scale(&mut self, alpha: f64, x: &mut Vec<f64>) {
+        x.par_iter_mut().with_min_len(PAR_MIN).for_each(|v| *v *= alpha);
+    }
+
+    fn masked(&mut self, mask: &Vec<f64>, x: &Vec<f64>, y: &mut Vec<f64>) {
+        y.par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .zip(mask.par_iter().zip(x.par_iter()))
+            .for_each(|(yi, (m, xi))| *yi = m * xi);
+    }
+
+    fn sum(&mut self, x: &Vec<f64>) -> f64 {
+        x.par_chunks(4096).map(|c| c.iter().sum::<f64>()).sum()
+    }
+
+    fn gap(&mut self, g: &Vec<f64>, u: &Vec<f64>, delta: f64, out: &mut Vec<f64>) {
+        out.par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .zip(g.par_iter().zip(u.par_iter()))
+            .for_each(|(o, (gi, ui))| *o = gi - delta + ui);
+    }
+
+    fn update_active_set(&mut self, p: &Vec<f64>, gap: &Vec<f64>, mask: &mut Vec<f64>) -> (usize, usize) {
+        mask.par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .zip(p.par_iter().zip(gap.par_iter()))
+            .map(|(m, (pi, gi))| {
+                let was = *m > 0.5;
+                let now = if was { *pi > 0.0 } else { *gi < 0.0 };
+                *m = if now { 1.0 } else { 0.0 };
+                (usize::from(was != now), usize::from(now))
+            })
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+    }
+
+    fn complementarity(&mut self, p: &Vec<f64>, gap: &Vec<f64>, stiffness: f64) -> (f64, f64) {
+        p.par_iter()
+            .with_min_len(PAR_MIN)
+            .zip(gap.par_iter())
+            .map(|(pi, gi)| {
+                let r = pi.min(stiffness * gi);
+                (r * r, pi * pi)
+            })
+            .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1))
+    }
+}

@@ -1,0 +1,48 @@
+//! The linear map `u = L p` of the discretised Green's function (paper Eq. 7,
+//! `u_i = L_ik(v) sigma_k`) on a uniform grid.
+//!
+//! On a uniform grid `L_ik` depends only on the cell offset, so `L` is
+//! block-Toeplitz: [`ToeplitzFft`] applies it as an exact linear
+//! (non-periodic) convolution through zero-padded real FFTs; [`DenseOperator`]
+//! stores every entry (faer) and is the naive control.
+
+mod dense;
+mod toeplitz;
+
+pub use dense::DenseOperator;
+pub use toeplitz::{fast_size, ToeplitzFft};
+
+/// A square linear map on grid vectors (C order, axis 0 = x).
+pub trait GridOperator: Send + Sync {
+    /// `(nx, ny)` of the grid.
+    fn shape(&self) -> (usize, usize);
+    /// `y = L x`.
+    fn apply(&mut self, x: &[f64], y: &mut [f64]);
+}
+
+/// Entries of a block-Toeplitz operator: `table(di, dj)` is the response at
+/// cell `(i, j)` to a unit input at `(i - di, j - dj)`, stored as in
+/// [`crate::kernel::CoefficientTable`]: `values[(di + nx - 1) * (2 ny - 1) + dj + ny - 1]`.
+#[derive(Debug, Clone, Copy)]
+pub struct OffsetTable<'a> {
+    pub nx: usize,
+    pub ny: usize,
+    pub values: &'a [f64],
+}
+
+impl OffsetTable<'_> {
+    /// The entry for offset `(di, dj)`.
+    #[inline]
+    pub fn get(&self, di: isize, dj: isize) -> f64 {
+        let w = 2 * self.ny - 1;
+        self.values[(di + self.nx as isize - 1) as usize * w + (dj + self.ny as isize - 1) as usize]
+    }
+
+    pub(crate) fn check(&self) {
+        assert_eq!(
+            self.values.len(),
+            (2 * self.nx - 1) * (2 * self.ny - 1),
+            "offset table must hold (2nx-1)(2ny-1) entries"
+        );
+    }
+}

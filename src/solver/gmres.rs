@@ -1,0 +1,166 @@
+//! Restarted GMRES with classical Gram-Schmidt and one re-orthogonalisation
+//! (CGS2), written against [`Backend`] so that every long vector may live on
+//! a device and each iteration reads back only a few scalars (two batched
+//! dot-product sets and a norm). Vectors may carry one extra host scalar, so
+//! the same routine solves the bordered system of load control.
+
+use crate::backend::Backend;
+
+/// A grid vector plus an optional bordering scalar.
+pub struct AugVec<V> {
+    pub v: V,
+    pub s: f64,
+}
+
+/// The map a Krylov method applies: `y = A x`.
+pub trait AugOperator<B: Backend> {
+    /// `y = A (x_v, x_s)`.
+    fn apply(&mut self, backend: &mut B, x_v: &B::Vector, x_s: f64, y: &mut AugVec<B::Vector>);
+    /// Whether the bordering scalar is an unknown.
+    fn bordered(&self) -> bool;
+}
+
+/// Outcome of one GMRES solve.
+#[derive(Debug, Clone, Copy)]
+pub struct GmresOutcome {
+    /// Whether `|b - A x| <= tol |b|` was reached.
+    pub converged: bool,
+}
+
+/// Work space for [`gmres`]: `restart + 1` basis vectors and scratch.
+pub struct GmresWork<V> {
+    basis: Vec<V>,
+    basis_s: Vec<f64>,
+    w: AugVec<V>,
+    h: Vec<f64>,
+}
+
+impl<V> GmresWork<V> {
+    pub fn new<B: Backend<Vector = V>>(backend: &mut B, restart: usize) -> Self {
+        let restart = restart.max(1);
+        Self {
+            basis: (0..=restart).map(|_| backend.zeros()).collect(),
+            basis_s: vec![0.0; restart + 1],
+            w: AugVec {
+                v: backend.zeros(),
+                s: 0.0,
+            },
+            h: vec![0.0; (restart + 1) * restart],
+        }
+    }
+}
+
+/// Solve `A x = rhs` to `|r| <= tol |rhs|`, starting from `x`, with at most
+/// `max_matvecs` applications of `A`.
+pub fn gmres<B: Backend, A: AugOperator<B>>(
+    backend: &mut B,
+    op: &mut A,
+    rhs: &AugVec<B::Vector>,
+    x: &mut AugVec<B::Vector>,
+    work: &mut GmresWork<B::Vector>,
+    tol: f64,
+    max_matvecs: usize,
+) -> GmresOutcome {
+    let bordered = op.bordered();
+    let m = work.basis.len() - 1;
+    let sq = |s: f64| if bordered { s * s } else { 0.0 };
+    let bnorm = (backend.dot(&rhs.v, &rhs.v) + sq(rhs.s)).sqrt();
+    let mut matvecs = 0;
+    if bnorm == 0.0 {
+        backend.scale(0.0, &mut x.v);
+        x.s = 0.0;
+        return GmresOutcome { converged: true };
+    }
+    let mut cs = vec![0.0; m];
+    let mut sn = vec![0.0; m];
+    let mut gvec = vec![0.0; m + 1];
+    let mut y = vec![0.0; m];
+    let mut hcol = vec![0.0; m + 1];
+    let mut dots = vec![0.0; m + 1];
+    let mut neg = vec![0.0; m + 1];
+    loop {
+        // r0 = rhs - A x, stored in basis[0] (the operator writes into w).
+        op.apply(backend, &x.v, x.s, &mut work.w);
+        matvecs += 1;
+        backend.copy(&rhs.v, &mut work.basis[0]);
+        backend.axpy(-1.0, &work.w.v, &mut work.basis[0]);
+        work.basis_s[0] = if bordered { rhs.s - work.w.s } else { 0.0 };
+        let beta = (backend.dot(&work.basis[0], &work.basis[0]) + sq(work.basis_s[0])).sqrt();
+        let rel = beta / bnorm;
+        if rel <= tol || matvecs >= max_matvecs {
+            return GmresOutcome {
+                converged: rel <= tol,
+            };
+        }
+        backend.scale(1.0 / beta, &mut work.basis[0]);
+        work.basis_s[0] /= beta;
+        gvec.fill(0.0);
+        gvec[0] = beta;
+        let mut k_done = 0;
+        for j in 0..m {
+            op.apply(backend, &work.basis[j], work.basis_s[j], &mut work.w);
+            matvecs += 1;
+            // CGS2: classical Gram-Schmidt twice, each pass one batched
+            // reduction and one fused update.
+            hcol.fill(0.0);
+            for _pass in 0..2 {
+                backend.dots(&work.basis[..=j], &work.w.v, &mut dots[..=j]);
+                for k in 0..=j {
+                    dots[k] += sq(1.0) * work.basis_s[k] * work.w.s;
+                    hcol[k] += dots[k];
+                    neg[k] = -dots[k];
+                }
+                backend.combine(&neg[..=j], &work.basis[..=j], &mut work.w.v);
+                if bordered {
+                    for k in 0..=j {
+                        work.w.s += neg[k] * work.basis_s[k];
+                    }
+                }
+            }
+            let hn = (backend.dot(&work.w.v, &work.w.v) + sq(work.w.s)).sqrt();
+            hcol[j + 1] = hn;
+            for k in 0..j {
+                let t = cs[k] * hcol[k] + sn[k] * hcol[k + 1];
+                hcol[k + 1] = -sn[k] * hcol[k] + cs[k] * hcol[k + 1];
+                hcol[k] = t;
+            }
+            let (a, b) = (hcol[j], hcol[j + 1]);
+            let r = a.hypot(b);
+            let (c, s) = if r == 0.0 { (1.0, 0.0) } else { (a / r, b / r) };
+            cs[j] = c;
+            sn[j] = s;
+            hcol[j] = r;
+            gvec[j + 1] = -s * gvec[j];
+            gvec[j] *= c;
+            for k in 0..=j {
+                work.h[k * m + j] = hcol[k];
+            }
+            k_done = j + 1;
+            let rel = gvec[j + 1].abs() / bnorm;
+            let breakdown = hn <= f64::MIN_POSITIVE * 1e10;
+            if !breakdown {
+                backend.copy(&work.w.v, &mut work.basis[j + 1]);
+                backend.scale(1.0 / hn, &mut work.basis[j + 1]);
+                work.basis_s[j + 1] = work.w.s / hn;
+            }
+            if rel <= tol || breakdown || matvecs >= max_matvecs {
+                break;
+            }
+        }
+        // Back substitution and update of x.
+        for i in (0..k_done).rev() {
+            let mut acc = gvec[i];
+            for k in i + 1..k_done {
+                acc -= work.h[i * m + k] * y[k];
+            }
+            let d = work.h[i * m + i];
+            y[i] = if d != 0.0 { acc / d } else { 0.0 };
+        }
+        backend.combine(&y[..k_done], &work.basis[..k_done], &mut x.v);
+        if bordered {
+            for k in 0..k_done {
+                x.s += y[k] * work.basis_s[k];
+            }
+        }
+    }
+}
