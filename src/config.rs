@@ -33,6 +33,53 @@ pub enum ConfigError {
 pub struct Config {
     pub material: Option<MaterialConfig>,
     pub surface: Option<SurfaceConfig>,
+    pub loading: Option<LoadingConfig>,
+    pub solver: Option<SolverConfig>,
+}
+
+/// `[loading]`: what presses the bodies together and how fast they slide.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct LoadingConfig {
+    /// Normal load `F_N` [N].
+    pub normal_load: Option<f64>,
+    /// Nominal mean pressure `p0 = F_N / A0` [Pa] (`A0` the map's area).
+    pub mean_pressure: Option<f64>,
+    /// Rigid approach `delta` [m] (displacement control instead of load).
+    pub approach: Option<f64>,
+    /// Sliding speed `v` [m/s].
+    pub speed: Option<f64>,
+    /// Dimensionless speed `xi = v tau / L` (single-relaxation materials;
+    /// `tau` the creep time, `L` the map's side along x).
+    pub xi: Option<f64>,
+    /// Sliding direction, degrees from +x (default 0).
+    pub direction_deg: Option<f64>,
+}
+
+/// Which discretisation of the half-space the solver uses. Typed so that a
+/// non-periodic run can never silently become periodic.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Formulation {
+    /// Finite rough pad on an infinite solid: exact linear convolution (paper Eq. 6-7).
+    #[default]
+    NonPeriodic,
+}
+
+/// `[solver]`: iteration controls.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct SolverConfig {
+    /// Relative complementarity residual (default 1e-8).
+    pub tolerance: Option<f64>,
+    /// Active-set iterations (default 200).
+    pub max_iterations: Option<usize>,
+    /// Operator applications (default 50000).
+    pub max_matvecs: Option<usize>,
+    /// GMRES restart length (default 30).
+    pub restart: Option<usize>,
+    /// Discretisation (default `non_periodic`).
+    pub formulation: Option<Formulation>,
 }
 
 /// A parsed config with the directory its relative paths refer to.

@@ -23,3 +23,5 @@ pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 pub mod operator;
 pub mod solver;
 pub mod analysis;
+pub mod report;
+pub mod run;

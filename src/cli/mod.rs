@@ -4,6 +4,7 @@
 mod gpu;
 mod kernel;
 mod material;
+mod solve;
 mod surface;
 
 use std::path::PathBuf;
@@ -32,6 +33,8 @@ pub enum Command {
     Surface(surface::SurfaceCommand),
     /// Print influence coefficients for given cell offsets.
     Kernel(kernel::KernelArgs),
+    /// Solve one steady sliding contact and write its results.
+    Solve(solve::SolveArgs),
     /// List the GPU adapters wgpu can use.
     Gpu(gpu::GpuArgs),
 }
@@ -59,6 +62,7 @@ pub fn run() -> Result<()> {
         Command::Material(c) => material::run(c),
         Command::Surface(c) => surface::run(c),
         Command::Kernel(a) => kernel::run(a),
+        Command::Solve(a) => solve::run(a),
         Command::Gpu(a) => gpu::run(a),
     }
 }

@@ -1,0 +1,84 @@
+//! Contact-solver throughput on the CPU path: one matvec (padded-FFT
+//! convolution) and full solves, viscoelastic at the friction peak
+//! (xi = 1.17e-2, a few percent contact) and elastic (v = 0).
+//! With `CI` set the grids shrink so the bench only proves it runs.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use viscoslide::backend::CpuBackend;
+use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::material::{CreepSpectrum, Material};
+use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
+use viscoslide::solver::{self, Control, SolverParams};
+use viscoslide::surface::{self, GenerateParams, Normalisation, UpperCutoff};
+
+fn material() -> Material {
+    Material::new(CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(), 0.5).unwrap()
+}
+
+fn sizes() -> Vec<usize> {
+    if std::env::var_os("CI").is_some() {
+        vec![64]
+    } else {
+        vec![256, 512]
+    }
+}
+
+fn surface_gap(n: usize) -> Vec<f64> {
+    let params = GenerateParams {
+        nx: n,
+        ny: n,
+        length: 0.01,
+        hurst: 0.8,
+        upper: UpperCutoff::Scales((n / 8) as f64),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 1,
+        ..Default::default()
+    };
+    let h = surface::generate(&params).unwrap();
+    let zmax = h.heights.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    h.heights.iter().map(|z| zmax - z).collect()
+}
+
+fn bench(c: &mut Criterion) {
+    let m = material();
+    let mut group = c.benchmark_group("solve");
+    group.sample_size(10).measurement_time(Duration::from_secs(20));
+    for n in sizes() {
+        let a = 0.01 / n as f64;
+        let g = surface_gap(n);
+        for (label, speed) in [("viscoelastic_peak", 1.17e-2), ("elastic", 0.0)] {
+            if label == "elastic" && n < 512 && std::env::var_os("CI").is_none() {
+                continue;
+            }
+            let kernel = SlidingKernel::new(&m, KernelParams { speed, ..Default::default() }).unwrap();
+            let table = kernel.table(n, n, a);
+            let tab = OffsetTable { nx: n, ny: n, values: &table.values };
+            let mut op = ToeplitzFft::new(tab);
+            if label == "viscoelastic_peak" {
+                let x: Vec<f64> = (0..n * n).map(|k| ((k * 7919) % 101) as f64).collect();
+                let mut y = vec![0.0; n * n];
+                group.bench_function(format!("matvec_{n}"), |b| b.iter(|| op.apply(black_box(&x), &mut y)));
+            }
+            let mut be = CpuBackend::new(op);
+            let mut last = None;
+            group.bench_function(format!("{label}_{n}"), |b| {
+                b.iter(|| {
+                    let r = solver::solve(&mut be, &g, a * a, tab.get(0, 0), Control::Load(0.3), &SolverParams::default(), &mut solver::Silent)
+                        .unwrap();
+                    last = Some(r.1.clone());
+                    black_box(r)
+                })
+            });
+            if let Some(info) = last {
+                eprintln!("{label}_{n}: {} iterations, {} matvecs, residual {:.2e}", info.iterations, info.matvecs, info.residual);
+            }
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

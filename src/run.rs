@@ -1,0 +1,280 @@
+//! One steady-sliding solve from a configuration: build the material, the
+//! surface and the coefficient tables, run the constrained iteration on a
+//! backend, and compute the scalar results. Orchestration only: the numerics
+//! live in `kernel`, `operator`, `solver` and `analysis`.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::analysis::{self, ContactStatistics};
+use crate::backend::CpuBackend;
+use crate::config::{Formulation, LoadedConfig};
+use crate::error::{Error, Result};
+use crate::kernel::{Axis, KernelParams, Layer, SlidingKernel};
+use crate::material::Material;
+use crate::operator::{OffsetTable, ToeplitzFft};
+use crate::solver::{self, ContactSolution, Control, Observer, SolveInfo, SolverParams};
+use crate::surface::HeightMap;
+
+/// Everything one solve needs, checked.
+#[derive(Debug, Clone)]
+pub struct SolveSetup {
+    pub material: Material,
+    pub surface: HeightMap,
+    pub control: Control,
+    /// Sliding speed [m/s].
+    pub speed: f64,
+    /// Sliding direction [rad] from +x.
+    pub direction_rad: f64,
+    pub layer: Option<Layer>,
+    pub params: SolverParams,
+    pub formulation: Formulation,
+    /// Seed of a generated surface.
+    pub seed: Option<u64>,
+    /// The merged configuration document.
+    pub document: toml::Table,
+}
+
+/// Scalar and field results of a solve.
+#[derive(Debug, Clone)]
+pub struct SolveOutcome {
+    pub solution: ContactSolution,
+    pub info: SolveInfo,
+    pub stats: ContactStatistics,
+    /// `mu = -F_T / F_N` from the exact-work stencil (paper Eq. 9).
+    pub friction_coefficient: f64,
+    /// `mu` from the dissipated power (Appendix A3-A4).
+    pub friction_coefficient_dissipation: f64,
+    pub backend: String,
+    pub timings: Timings,
+}
+
+/// Wall-clock split of a solve [s].
+#[derive(Debug, Clone, Copy, Serialize, Default)]
+pub struct Timings {
+    pub coefficients_s: f64,
+    pub operator_setup_s: f64,
+    pub iteration_s: f64,
+    pub analysis_s: f64,
+    pub total_s: f64,
+}
+
+fn invalid(msg: impl Into<String>) -> Error {
+    Error::Invalid(msg.into())
+}
+
+impl SolveSetup {
+    /// Read and check the `[material]`, `[surface]`, `[loading]`, `[solver]`
+    /// and optional `[layer]` sections.
+    pub fn from_config(cfg: &LoadedConfig) -> Result<Self> {
+        let material = cfg.material()?.build(&cfg.base_dir)?;
+        let surface_cfg = cfg.surface()?;
+        let surface = surface_cfg.load(&cfg.base_dir)?;
+        let seed = surface_cfg.generate.as_ref().map(|g| g.seed.unwrap_or(0));
+        let loading = cfg.config.loading.clone().ok_or_else(|| {
+            invalid(format!("{}: section [loading] is required (normal_load or mean_pressure, and speed or xi)", cfg.path.display()))
+        })?;
+        let area0 = surface.length_x() * surface.length_y();
+        let control = match (loading.normal_load, loading.mean_pressure, loading.approach) {
+            (Some(f), None, None) => Control::Load(f),
+            (None, Some(p), None) => Control::Load(p * area0),
+            (None, None, Some(d)) => Control::Approach(d),
+            (None, None, None) => {
+                return Err(invalid("[loading] needs one of normal_load (N), mean_pressure (Pa) or approach (m)"))
+            }
+            _ => {
+                return Err(invalid(
+                    "[loading] give only one of normal_load (N), mean_pressure (Pa) and approach (m)",
+                ))
+            }
+        };
+        match control {
+            Control::Load(f) if !(f.is_finite() && f > 0.0) => {
+                return Err(invalid(format!("[loading] the normal load must be positive, got {f} N")))
+            }
+            Control::Approach(d) if !(d.is_finite() && d > 0.0) => {
+                return Err(invalid(format!("[loading] approach must be positive, got {d} m")))
+            }
+            _ => {}
+        }
+        let speed = match (loading.speed, loading.xi) {
+            (Some(v), None) => v,
+            (None, Some(xi)) => {
+                let terms = &material.spectrum.terms;
+                if terms.len() != 1 {
+                    return Err(invalid(format!(
+                        "[loading] xi = v tau / L needs a single-relaxation material (this one has {} creep terms); give speed (m/s)",
+                        terms.len()
+                    )));
+                }
+                xi * surface.length_x() / terms[0].time
+            }
+            (None, None) => return Err(invalid("[loading] needs speed (m/s) or xi (v tau / L)")),
+            _ => return Err(invalid("[loading] give only one of speed (m/s) and xi")),
+        };
+        if !(speed >= 0.0) || speed.is_nan() {
+            return Err(invalid(format!("[loading] speed must be >= 0, got {speed} m/s")));
+        }
+        let direction_rad = loading.direction_deg.unwrap_or(0.0).to_radians();
+        if !direction_rad.is_finite() {
+            return Err(invalid("[loading] direction_deg must be finite"));
+        }
+        let sc = cfg.config.solver.clone().unwrap_or_default();
+        let defaults = SolverParams::default();
+        let params = SolverParams {
+            tolerance: sc.tolerance.unwrap_or(defaults.tolerance),
+            max_iterations: sc.max_iterations.unwrap_or(defaults.max_iterations),
+            max_matvecs: sc.max_matvecs.unwrap_or(defaults.max_matvecs),
+            restart: sc.restart.unwrap_or(defaults.restart),
+        };
+        if !(params.tolerance > 0.0 && params.tolerance < 1.0) {
+            return Err(invalid(format!("[solver] tolerance must be in (0, 1), got {}", params.tolerance)));
+        }
+        let layer = cfg.config.layer.as_ref().map(Layer::from);
+        let setup = Self {
+            material,
+            surface,
+            control,
+            speed,
+            direction_rad,
+            layer,
+            params,
+            formulation: sc.formulation.unwrap_or_default(),
+            seed,
+            document: cfg.document.clone(),
+        };
+        setup.check_memory()?;
+        Ok(setup)
+    }
+
+    /// `xi = v tau / L` for single-relaxation materials.
+    pub fn xi(&self) -> Option<f64> {
+        match self.material.spectrum.terms.as_slice() {
+            [t] => Some(self.speed * t.time / self.surface.length_x()),
+            _ => None,
+        }
+    }
+
+    /// Bytes the CPU path needs, roughly: padded FFT buffers and tables
+    /// (about 40 grid vectors) plus the Krylov basis.
+    pub fn memory_estimate(&self) -> u64 {
+        let n = (self.surface.nx * self.surface.ny) as u64;
+        n * 8 * (40 + self.params.restart as u64 + 8)
+    }
+
+    fn check_memory(&self) -> Result<()> {
+        let need = self.memory_estimate();
+        if let Some(avail) = available_memory() {
+            if need > avail {
+                return Err(invalid(format!(
+                    "a {} x {} grid needs about {:.1} GiB, but only {:.1} GiB of memory is available",
+                    self.surface.nx,
+                    self.surface.ny,
+                    need as f64 / (1u64 << 30) as f64,
+                    avail as f64 / (1u64 << 30) as f64
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Gap profile `g = max(z) - z` (physics.md section 1).
+    pub fn gap_profile(&self) -> Vec<f64> {
+        let zmax = self.surface.heights.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        self.surface.heights.iter().map(|z| zmax - z).collect()
+    }
+}
+
+fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// Solve on the CPU backend (the reference path).
+pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<SolveOutcome> {
+    let t0 = Instant::now();
+    let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
+    let kernel = SlidingKernel::new(
+        &setup.material,
+        KernelParams {
+            speed: setup.speed,
+            direction_rad: setup.direction_rad,
+            layer: setup.layer,
+        },
+    )?;
+    let table = kernel.table(nx, ny, a);
+    let t_coeff = t0.elapsed().as_secs_f64();
+    let tab = OffsetTable {
+        nx,
+        ny,
+        values: &table.values,
+    };
+    let l00 = tab.get(0, 0);
+    let mut backend = CpuBackend::new(ToeplitzFft::new(tab));
+    let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
+    let g = setup.gap_profile();
+    let t1 = Instant::now();
+    let (solution, info) = solver::solve(&mut backend, &g, a * a, l00, setup.control, &setup.params, observer)
+        .map_err(|e| invalid(e.to_string()))?;
+    let t_iter = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
+    let (mu, mu_d, stats) = friction_and_stats(setup, &kernel, &solution)?;
+    let t_an = t2.elapsed().as_secs_f64();
+    Ok(SolveOutcome {
+        solution,
+        info,
+        stats,
+        friction_coefficient: mu,
+        friction_coefficient_dissipation: mu_d,
+        backend: "cpu".into(),
+        timings: Timings {
+            coefficients_s: t_coeff,
+            operator_setup_s: t_setup,
+            iteration_s: t_iter,
+            analysis_s: t_an,
+            total_s: t0.elapsed().as_secs_f64(),
+        },
+    })
+}
+
+/// Friction by both routes and the contact statistics.
+pub fn friction_and_stats(
+    setup: &SolveSetup,
+    kernel: &SlidingKernel,
+    solution: &ContactSolution,
+) -> Result<(f64, f64, ContactStatistics)> {
+    let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
+    let stats = analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, a);
+    let load = stats.normal_load;
+    if !(load > 0.0) {
+        return Err(invalid("the solution carries no load: the surfaces do not touch"));
+    }
+    let (c, s) = (setup.direction_rad.cos(), setup.direction_rad.sin());
+    let mut force = 0.0;
+    for (axis, w) in [(Axis::X, c), (Axis::Y, s)] {
+        if w.abs() < 1e-15 {
+            continue;
+        }
+        let d = kernel.derivative_table(nx, ny, a, axis);
+        let mut op = ToeplitzFft::new(OffsetTable {
+            nx,
+            ny,
+            values: &d.values,
+        });
+        force += w * analysis::friction_force_stencil(&mut op, &solution.pressure, a);
+    }
+    let force_d = analysis::friction_force_dissipation(
+        &solution.pressure,
+        nx,
+        ny,
+        a,
+        &setup.material.spectrum,
+        setup.material.poisson,
+        setup.speed,
+        setup.direction_rad,
+    );
+    Ok((-force / load, -force_d / load, stats))
+}
