@@ -15,6 +15,22 @@ use rustfft::FftPlanner;
 
 use super::SurfaceError;
 
+/// `sum_k f(k, chunk_k)` over consecutive chunks of `chunk` elements,
+/// evaluated in parallel but added in a fixed order, so the result does not
+/// depend on the number of threads (bit-reproducible runs).
+pub(crate) fn ordered_sum<T: Sync>(
+    data: &[T],
+    chunk: usize,
+    f: impl Fn(usize, &[T]) -> f64 + Sync + Send,
+) -> f64 {
+    let parts: Vec<f64> = data
+        .par_chunks(chunk.max(1))
+        .enumerate()
+        .map(|(k, c)| f(k, c))
+        .collect();
+    parts.iter().sum()
+}
+
 /// Number of stored `ky` rows of a half spectrum.
 pub(crate) fn half_len(ny: usize) -> usize {
     ny / 2 + 1

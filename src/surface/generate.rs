@@ -367,21 +367,20 @@ pub fn generate_with_target(
 
     // Spectral moments of the unscaled surface: sum C dq^2 and sum |q|^2 C dq^2
     // over the full plane (rows 0 < ky < ny/2 stand for themselves and -ky).
-    let (m0, m2) = spec
-        .par_chunks(nx)
-        .enumerate()
-        .map(|(ky, row)| {
+    let moment = |power: i32| {
+        fft2::ordered_sum(&spec, nx, |ky, row| {
             let w = if self_conj_row(ky) { 1.0 } else { 2.0 };
             let qy = ky as f64 * dqy;
             row.iter()
                 .enumerate()
-                .fold((0.0, 0.0), |(s0, s2), (kx, v)| {
+                .map(|(kx, v)| {
                     let qx = signed(kx, nx) * dqx;
-                    let p = w * v.norm_sqr();
-                    (s0 + p, s2 + (qx * qx + qy * qy) * p)
+                    w * (qx * qx + qy * qy).powi(power) * v.norm_sqr()
                 })
+                .sum()
         })
-        .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+    };
+    let (m0, m2) = (moment(0), moment(1));
     if !(m0 > 0.0) {
         return Err(SurfaceError::Invalid(
             "the prescribed PSD has no Fourier mode on this grid (check ql, q1 and the grid size)"
@@ -395,7 +394,7 @@ pub fn generate_with_target(
     target.c0 = scale * scale;
 
     let mut heights = fft2::inverse(spec, nx, ny)?;
-    let mean = heights.par_iter().sum::<f64>() / heights.len() as f64;
+    let mean = fft2::ordered_sum(&heights, ny, |_, r| r.iter().sum()) / heights.len() as f64;
     heights
         .par_iter_mut()
         .for_each(|h| *h = (*h - mean) * scale);

@@ -66,18 +66,13 @@ impl Psd2d {
     /// `sum_q f(qx, qy) C(q) dqx dqy`, parallel over rows.
     pub fn integrate(&self, f: impl Fn(f64, f64) -> f64 + Sync) -> f64 {
         let dq2 = self.dqx * self.dqy;
-        self.values
-            .par_chunks(self.ny)
-            .enumerate()
-            .map(|(kx, row)| {
-                let qx = signed(kx, self.nx) * self.dqx;
-                row.iter()
-                    .enumerate()
-                    .map(|(ky, c)| f(qx, signed(ky, self.ny) * self.dqy) * c)
-                    .sum::<f64>()
-            })
-            .sum::<f64>()
-            * dq2
+        fft2::ordered_sum(&self.values, self.ny, |kx, row| {
+            let qx = signed(kx, self.nx) * self.dqx;
+            row.iter()
+                .enumerate()
+                .map(|(ky, c)| f(qx, signed(ky, self.ny) * self.dqy) * c)
+                .sum::<f64>()
+        }) * dq2
     }
 
     /// `sum C dq^2 = <h^2>` (including the squared mean at `q = 0`) [m^2].
@@ -95,6 +90,10 @@ impl Psd2d {
     }
 }
 
+fn mean_of(map: &HeightMap) -> f64 {
+    fft2::ordered_sum(&map.heights, map.ny, |_, r| r.iter().sum()) / map.heights.len() as f64
+}
+
 /// 2-D PSD of `map` (normalisation in the module doc).
 pub fn psd_2d(map: &HeightMap, window: Window) -> Result<Psd2d, SurfaceError> {
     let (nx, ny) = (map.nx, map.ny);
@@ -109,7 +108,7 @@ pub fn psd_2d(map: &HeightMap, window: Window) -> Result<Psd2d, SurfaceError> {
             let (wx, wy) = (hann(nx), hann(ny));
             let msq = |w: &[f64]| w.iter().map(|v| v * v).sum::<f64>() / w.len() as f64;
             let norm = 1.0 / (msq(&wx) * msq(&wy)).sqrt();
-            let mean = map.heights.par_iter().sum::<f64>() / map.heights.len() as f64;
+            let mean = mean_of(map);
             let mut h = map.heights.clone();
             h.par_chunks_mut(ny).enumerate().for_each(|(i, row)| {
                 for (j, v) in row.iter_mut().enumerate() {
@@ -164,14 +163,19 @@ pub fn radial_average(psd: &Psd2d) -> RadialPsd {
     let dq = psd.dqx.max(psd.dqy);
     let qmax = (psd.nx as f64 * psd.dqx).min(psd.ny as f64 * psd.dqy) / 2.0;
     let nbins = (qmax / dq + 0.5).floor() as usize + 1;
-    let (sq, sc, cnt) = psd
+    // Fixed blocks of rows, partial histograms added in order: the result
+    // does not depend on the number of threads.
+    const ROWS: usize = 16;
+    let parts: Vec<(Vec<f64>, Vec<f64>, Vec<usize>)> = psd
         .values
-        .par_chunks(psd.ny)
+        .par_chunks(ROWS * psd.ny)
         .enumerate()
-        .fold(
-            || (vec![0.0; nbins], vec![0.0; nbins], vec![0usize; nbins]),
-            |(mut sq, mut sc, mut cnt), (kx, row)| {
-                let qx = signed(kx, psd.nx) * psd.dqx;
+        .map(|(block, rows)| {
+            let mut sq = vec![0.0; nbins];
+            let mut sc = vec![0.0; nbins];
+            let mut cnt = vec![0usize; nbins];
+            for (r, row) in rows.chunks(psd.ny).enumerate() {
+                let qx = signed(block * ROWS + r, psd.nx) * psd.dqx;
                 for (ky, &c) in row.iter().enumerate() {
                     let q = qx.hypot(signed(ky, psd.ny) * psd.dqy);
                     if q > qmax * (1.0 + 1e-12) {
@@ -184,20 +188,20 @@ pub fn radial_average(psd: &Psd2d) -> RadialPsd {
                         cnt[b] += 1;
                     }
                 }
-                (sq, sc, cnt)
-            },
-        )
-        .reduce(
-            || (vec![0.0; nbins], vec![0.0; nbins], vec![0usize; nbins]),
-            |mut a, b| {
-                for i in 0..nbins {
-                    a.0[i] += b.0[i];
-                    a.1[i] += b.1[i];
-                    a.2[i] += b.2[i];
-                }
-                a
-            },
-        );
+            }
+            (sq, sc, cnt)
+        })
+        .collect();
+    let mut sq = vec![0.0; nbins];
+    let mut sc = vec![0.0; nbins];
+    let mut cnt = vec![0usize; nbins];
+    for (a, b, c) in &parts {
+        for i in 0..nbins {
+            sq[i] += a[i];
+            sc[i] += b[i];
+            cnt[i] += c[i];
+        }
+    }
     let mut out = RadialPsd {
         dq,
         q: Vec::new(),
