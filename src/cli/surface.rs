@@ -22,6 +22,7 @@ pub enum SurfaceCommand {
 
 /// Flags override the keys of `[surface.generate]` in `--config`.
 #[derive(Debug, clap::Args)]
+#[command(allow_negative_numbers = true)]
 pub struct GenerateArgs {
     /// TOML config with a [surface.generate] table.
     #[arg(long)]
@@ -75,7 +76,7 @@ pub struct StatsArgs {
     /// Height map: .npy (float64/float32) or text matrix (rows = x).
     pub file: PathBuf,
     /// Side along x [m].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub length: f64,
     /// Print JSON instead of a table.
     #[arg(long)]
