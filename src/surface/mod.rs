@@ -5,14 +5,89 @@
 //! `heights[i * ny + j]` is the height at the centre of cell `(i, j)`.
 
 mod config;
+mod fft2;
+mod generate;
+mod io;
+mod psd;
 
-pub use config::SurfaceConfig;
+pub use config::{AnisotropyConfig, GenerateConfig, SurfaceConfig};
+pub use generate::{
+    generate, generate_with_target, Anisotropy, GenerateParams, Normalisation, SelfAffinePsd,
+    UpperCutoff,
+};
+pub use io::{
+    encode_npy, load_npy, load_text, parse_text, read_height_map, save_npy, validate_heights,
+    NpyPrecision,
+};
+pub use psd::{
+    fit_hurst, psd_2d, radial_average, stats, stats_with_window, HurstFit, Psd2d, RadialPsd,
+    SurfaceStats, Window,
+};
 
-/// Errors reading, generating or validating a surface.
+use crate::io::npy::NpyError;
+
+/// Errors reading, generating or validating a surface. Each message is one
+/// line and says what to fix.
 #[derive(Debug, thiserror::Error)]
 pub enum SurfaceError {
+    /// A configuration or argument that cannot be used as given.
     #[error("{0}")]
     Invalid(String),
+    /// A generator or analysis parameter outside its range.
+    #[error("surface parameter `{name}` = {value}: {why}")]
+    Parameter {
+        name: &'static str,
+        value: String,
+        why: String,
+    },
+    /// A height map whose shape cannot be used (not 2-D, or fewer than 2 x 2 cells).
+    #[error(
+        "{path}: height map must be a 2-D array of at least 2 x 2 cells, found shape {shape:?}"
+    )]
+    Shape { path: String, shape: Vec<usize> },
+    /// A NaN or infinite height; `row` is the x index (axis 0), `col` the y index.
+    #[error("{path}: non-finite height {value} at index [{row}, {col}] (first bad value; heights must be finite)")]
+    NonFinite {
+        path: String,
+        row: usize,
+        col: usize,
+        value: f64,
+    },
+    /// A text matrix whose rows have different lengths.
+    #[error("{path}: line {line}: ragged text matrix, row has {found} values but the first row has {expected}")]
+    Ragged {
+        path: String,
+        line: usize,
+        expected: usize,
+        found: usize,
+    },
+    /// A token in a text matrix that is not a number.
+    #[error("{path}: line {line}: cannot read '{token}' as a number")]
+    TextNumber {
+        path: String,
+        line: usize,
+        token: String,
+    },
+    /// A `.npy` file that cannot be decoded.
+    #[error(transparent)]
+    Npy(#[from] NpyError),
+    /// A file that cannot be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+impl SurfaceError {
+    pub(crate) fn param(name: &'static str, value: impl ToString, why: impl Into<String>) -> Self {
+        SurfaceError::Parameter {
+            name,
+            value: value.to_string(),
+            why: why.into(),
+        }
+    }
 }
 
 /// A height map on a uniform grid of square cells.
@@ -29,6 +104,36 @@ pub struct HeightMap {
 }
 
 impl HeightMap {
+    /// A validated height map: at least 2 x 2 cells, `heights.len() == nx * ny`,
+    /// finite heights, `length_x > 0` (the side along x, m; cells are square).
+    pub fn new(
+        nx: usize,
+        ny: usize,
+        length_x: f64,
+        heights: Vec<f64>,
+    ) -> Result<Self, SurfaceError> {
+        if !(length_x.is_finite() && length_x > 0.0) {
+            return Err(SurfaceError::param(
+                "length",
+                length_x,
+                "the side along x must be a finite length > 0 (m)",
+            ));
+        }
+        if nx < 2 || ny < 2 || heights.len() != nx * ny {
+            return Err(SurfaceError::Shape {
+                path: "height map".into(),
+                shape: vec![nx, ny],
+            });
+        }
+        validate_heights("height map", ny, &heights)?;
+        Ok(Self {
+            nx,
+            ny,
+            cell_size: length_x / nx as f64,
+            heights,
+        })
+    }
+
     /// Side of the map along x [m].
     pub fn length_x(&self) -> f64 {
         self.nx as f64 * self.cell_size
@@ -36,5 +141,9 @@ impl HeightMap {
     /// Side of the map along y [m].
     pub fn length_y(&self) -> f64 {
         self.ny as f64 * self.cell_size
+    }
+    /// Height of cell `(i, j)` [m].
+    pub fn at(&self, i: usize, j: usize) -> f64 {
+        self.heights[i * self.ny + j]
     }
 }

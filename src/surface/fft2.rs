@@ -1,0 +1,198 @@
+//! 2-D real <-> half-complex transforms for arbitrary grid sizes (rustfft /
+//! realfft plan any length, not only powers of two), parallel over rows.
+//!
+//! Layout of a half spectrum: `spec[ky * nx + kx]` for `ky = 0..=ny/2` and
+//! `kx = 0..nx` (FFT order), i.e. transposed with respect to the heights so
+//! that the complex transform along x runs over contiguous rows. The
+//! transforms are unnormalised: `forward` computes `H_k = sum_x h(x) e^{-i q.x}`
+//! and `inverse` computes `sum_k H_k e^{+i q.x}` over the full Hermitian
+//! spectrum.
+
+use num_complex::Complex64;
+use rayon::prelude::*;
+use realfft::RealFftPlanner;
+use rustfft::FftPlanner;
+
+use super::SurfaceError;
+
+/// `sum_k f(k, chunk_k)` over consecutive chunks of `chunk` elements,
+/// evaluated in parallel but added in a fixed order, so the result does not
+/// depend on the number of threads (bit-reproducible runs).
+pub(crate) fn ordered_sum<T: Sync>(
+    data: &[T],
+    chunk: usize,
+    f: impl Fn(usize, &[T]) -> f64 + Sync + Send,
+) -> f64 {
+    let parts: Vec<f64> = data
+        .par_chunks(chunk.max(1))
+        .enumerate()
+        .map(|(k, c)| f(k, c))
+        .collect();
+    parts.iter().sum()
+}
+
+/// Number of stored `ky` rows of a half spectrum.
+pub(crate) fn half_len(ny: usize) -> usize {
+    ny / 2 + 1
+}
+
+fn rows_per_task(rows: usize) -> usize {
+    (rows / (4 * rayon::current_num_threads())).max(1)
+}
+
+/// Out-of-place transpose of a `rows x cols` C-order matrix into `cols x rows`.
+pub(crate) fn transpose<T: Copy + Send + Sync + Default>(
+    src: &[T],
+    rows: usize,
+    cols: usize,
+) -> Vec<T> {
+    const BLOCK: usize = 16;
+    let mut out = vec![T::default(); rows * cols];
+    out.par_chunks_mut(rows * BLOCK)
+        .enumerate()
+        .for_each(|(b, chunk)| {
+            let c0 = b * BLOCK;
+            let nc = chunk.len() / rows;
+            for r in 0..rows {
+                let src_row = &src[r * cols + c0..r * cols + c0 + nc];
+                for (dc, &v) in src_row.iter().enumerate() {
+                    chunk[dc * rows + r] = v;
+                }
+            }
+        });
+    out
+}
+
+/// In-place complex FFT of every contiguous row of length `len`.
+fn fft_rows(data: &mut [Complex64], len: usize, inverse: bool) {
+    let mut planner = FftPlanner::<f64>::new();
+    let fft = if inverse {
+        planner.plan_fft_inverse(len)
+    } else {
+        planner.plan_fft_forward(len)
+    };
+    let rows = data.len() / len;
+    let scratch_len = fft.get_inplace_scratch_len();
+    data.par_chunks_mut(len * rows_per_task(rows))
+        .for_each_init(
+            || vec![Complex64::default(); scratch_len],
+            |scratch, chunk| fft.process_with_scratch(chunk, scratch),
+        );
+}
+
+/// Half spectrum (layout above) of a real `nx x ny` field in C order.
+pub(crate) fn forward(
+    heights: &[f64],
+    nx: usize,
+    ny: usize,
+) -> Result<Vec<Complex64>, SurfaceError> {
+    let nh = half_len(ny);
+    let r2c = RealFftPlanner::<f64>::new().plan_fft_forward(ny);
+    let mut rows = vec![Complex64::default(); nx * nh];
+    rows.par_chunks_mut(nh)
+        .zip(heights.par_chunks(ny))
+        .try_for_each_init(
+            || (vec![0.0; ny], r2c.make_scratch_vec()),
+            |(input, scratch), (out, h)| {
+                input.copy_from_slice(h);
+                r2c.process_with_scratch(input, out, scratch)
+            },
+        )
+        .map_err(|e| SurfaceError::Invalid(format!("real FFT failed: {e}")))?;
+    let mut spec = transpose(&rows, nx, nh);
+    drop(rows);
+    fft_rows(&mut spec, nx, false);
+    Ok(spec)
+}
+
+/// Real `nx x ny` field (C order) whose full Hermitian spectrum has the given
+/// half spectrum. The `ky = 0` and (even `ny`) `ky = ny/2` rows must already
+/// be Hermitian along `kx`; their round-off imaginary parts after the x
+/// transform are discarded.
+pub(crate) fn inverse(
+    mut spec: Vec<Complex64>,
+    nx: usize,
+    ny: usize,
+) -> Result<Vec<f64>, SurfaceError> {
+    let nh = half_len(ny);
+    debug_assert_eq!(spec.len(), nx * nh);
+    fft_rows(&mut spec, nx, true);
+    let mut rows = transpose(&spec, nh, nx);
+    drop(spec);
+    let c2r = RealFftPlanner::<f64>::new().plan_fft_inverse(ny);
+    let mut out = vec![0.0; nx * ny];
+    out.par_chunks_mut(ny)
+        .zip(rows.par_chunks_mut(nh))
+        .try_for_each_init(
+            || c2r.make_scratch_vec(),
+            |scratch, (o, input)| {
+                input[0].im = 0.0;
+                if ny % 2 == 0 {
+                    input[nh - 1].im = 0.0;
+                }
+                c2r.process_with_scratch(input, o, scratch)
+            },
+        )
+        .map_err(|e| SurfaceError::Invalid(format!("inverse real FFT failed: {e}")))?;
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Naive 2-D DFT of a real field, full spectrum `[kx * ny + ky]`.
+    fn naive_dft(h: &[f64], nx: usize, ny: usize) -> Vec<Complex64> {
+        let mut out = vec![Complex64::default(); nx * ny];
+        for kx in 0..nx {
+            for ky in 0..ny {
+                let mut s = Complex64::default();
+                for i in 0..nx {
+                    for j in 0..ny {
+                        let ph = -2.0
+                            * std::f64::consts::PI
+                            * ((kx * i) as f64 / nx as f64 + (ky * j) as f64 / ny as f64);
+                        s += h[i * ny + j] * Complex64::from_polar(1.0, ph);
+                    }
+                }
+                out[kx * ny + ky] = s;
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn forward_matches_naive_dft_and_inverse_round_trips() {
+        for &(nx, ny) in &[(8, 8), (9, 7), (12, 10), (5, 16), (33, 20)] {
+            let h: Vec<f64> = (0..nx * ny)
+                .map(|k| ((k * 7919) % 101) as f64 / 50.0 - 1.0)
+                .collect();
+            let spec = forward(&h, nx, ny).unwrap();
+            let full = naive_dft(&h, nx, ny);
+            let nh = half_len(ny);
+            for ky in 0..nh {
+                for kx in 0..nx {
+                    let d = (spec[ky * nx + kx] - full[kx * ny + ky]).norm();
+                    assert!(d < 1e-10, "{nx}x{ny} mode ({kx},{ky}): {d}");
+                }
+            }
+            let back = inverse(spec, nx, ny).unwrap();
+            let n = (nx * ny) as f64;
+            for (a, b) in back.iter().zip(&h) {
+                assert!((a / n - b).abs() < 1e-13, "{nx}x{ny}: {a} vs {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn transpose_is_exact() {
+        let (r, c) = (37, 53);
+        let a: Vec<u32> = (0..(r * c) as u32).collect();
+        let t = transpose(&a, r, c);
+        for i in 0..r {
+            for j in 0..c {
+                assert_eq!(t[j * r + i], a[i * c + j]);
+            }
+        }
+    }
+}

@@ -1,0 +1,198 @@
+//! `viscoslide surface ...` end to end.
+
+use std::path::Path;
+use std::process::Command;
+
+use viscoslide::surface::{generate, GenerateParams, Normalisation, UpperCutoff};
+
+fn viscoslide(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn files(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn generate_writes_four_files_and_records_seed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("run");
+    let o = viscoslide(&[
+        "surface",
+        "generate",
+        "--n",
+        "96",
+        "--length",
+        "0.01",
+        "--hurst",
+        "0.8",
+        "--scales",
+        "32",
+        "--rms-height",
+        "1e-5",
+        "--seed",
+        "7",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        files(&out),
+        ["heights.npy", "psd.csv", "psd.png", "surface.json"]
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("surface.json")).unwrap()).unwrap();
+    assert_eq!(json["seed"], 7);
+    assert_eq!(json["version"], viscoslide::VERSION);
+    assert_eq!(json["params"]["hurst"], 0.8);
+    let rms = json["stats"]["rms_height"].as_f64().unwrap();
+    assert!((rms / 1e-5 - 1.0).abs() < 1e-12, "{rms}");
+    // The heights are the library's, bit for bit.
+    let lib = generate(&GenerateParams {
+        nx: 96,
+        ny: 96,
+        length: 0.01,
+        hurst: 0.8,
+        upper: UpperCutoff::Scales(32.0),
+        normalisation: Normalisation::RmsHeight(1e-5),
+        seed: 7,
+        ..GenerateParams::default()
+    })
+    .unwrap();
+    let a = viscoslide::io::npy::read(out.join("heights.npy")).unwrap();
+    assert_eq!(a.shape, vec![96, 96]);
+    assert!(a
+        .data
+        .iter()
+        .zip(&lib.heights)
+        .all(|(x, y)| x.to_bits() == y.to_bits()));
+    // psd.csv: header and three numeric columns.
+    let csv = std::fs::read_to_string(out.join("psd.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next().unwrap(), "q_per_m,c_radial_m4,c_target_m4");
+    let row: Vec<f64> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert_eq!(row.len(), 3);
+
+    // Stats of the written file, as JSON.
+    let o = viscoslide(&[
+        "surface",
+        "stats",
+        out.join("heights.npy").to_str().unwrap(),
+        "--length",
+        "0.01",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(s["stats"]["nx"], 96);
+    let rms2 = s["stats"]["rms_height"].as_f64().unwrap();
+    assert!((rms2 / rms - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn generate_from_config_with_overrides() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = tmp.path().join("c.toml");
+    std::fs::write(
+        &cfg,
+        "[surface.generate]\nn = 64\nlength = 0.01\nhurst = 0.6\nscales = 16\nrms_slope = 0.1\nseed = 1\nanisotropy = { ratio = 2.0, angle_deg = 45.0 }\n",
+    )
+    .unwrap();
+    let out = tmp.path().join("run");
+    let o = viscoslide(&[
+        "surface",
+        "generate",
+        "--config",
+        cfg.to_str().unwrap(),
+        "--set",
+        "surface.generate.seed=9",
+        "--rms-height",
+        "2e-6",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("surface.json")).unwrap()).unwrap();
+    assert_eq!(json["seed"], 9);
+    // The flag replaced the config's rms_slope.
+    assert_eq!(json["params"]["normalisation"]["rms_height"], 2e-6);
+    assert_eq!(json["params"]["anisotropy"]["ratio"], 2.0);
+    assert_eq!(json["config"]["document"]["surface"]["generate"]["seed"], 9);
+}
+
+/// A bad input fails with a one-line error and leaves no output directory.
+#[test]
+fn bad_inputs_write_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let mut nan = vec![0.0; 16];
+    nan[5] = f64::NAN;
+    std::fs::write(
+        d.join("nan.npy"),
+        viscoslide::io::npy::encode_f64(&[4, 4], &nan),
+    )
+    .unwrap();
+    std::fs::write(d.join("ragged.txt"), "1 2\n3\n").unwrap();
+    let cases: Vec<Vec<String>> = vec![
+        vec![
+            "surface".into(),
+            "stats".into(),
+            d.join("nan.npy").display().to_string(),
+            "--length".into(),
+            "0.01".into(),
+        ],
+        vec![
+            "surface".into(),
+            "stats".into(),
+            d.join("ragged.txt").display().to_string(),
+            "--length".into(),
+            "0.01".into(),
+        ],
+        vec![
+            "surface".into(),
+            "stats".into(),
+            d.join("nan.npy").display().to_string(),
+            "--length".into(),
+            "-1".into(),
+        ],
+        "surface generate --n 4 --length 0.01 --hurst 0.8 --scales 2 --rms-height 1e-5"
+            .split(' ')
+            .map(String::from)
+            .collect(),
+        "surface generate --n 64 --length 0.01 --hurst 0.8 --scales 64 --rms-height 1e-5"
+            .split(' ')
+            .map(String::from)
+            .collect(),
+        "surface generate --n 64 --length 0.01 --hurst 0.8 --scales 8"
+            .split(' ')
+            .map(String::from)
+            .collect(),
+    ];
+    for (k, mut args) in cases.into_iter().enumerate() {
+        let out = d.join(format!("out{k}"));
+        args.push("--out".into());
+        args.push(out.display().to_string());
+        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = viscoslide(&refs);
+        let err = String::from_utf8_lossy(&o.stderr);
+        eprintln!("{}: {}", args[1], err.trim());
+        assert!(!o.status.success(), "{args:?} should fail");
+        assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
+        assert!(err.starts_with("error: "), "{err}");
+        assert!(!out.exists(), "{} was created", out.display());
+    }
+}
