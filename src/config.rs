@@ -33,6 +33,7 @@ pub enum ConfigError {
 pub struct Config {
     pub material: Option<MaterialConfig>,
     pub surface: Option<SurfaceConfig>,
+    pub layer: Option<crate::kernel::LayerConfig>,
 }
 
 /// A parsed config with the directory its relative paths refer to.
