@@ -35,6 +35,7 @@ pub struct Config {
     pub surface: Option<SurfaceConfig>,
     pub loading: Option<LoadingConfig>,
     pub solver: Option<SolverConfig>,
+    pub layer: Option<crate::kernel::LayerConfig>,
 }
 
 /// `[loading]`: what presses the bodies together and how fast they slide.

@@ -131,7 +131,7 @@ impl SolveSetup {
         if !(params.tolerance > 0.0 && params.tolerance < 1.0) {
             return Err(invalid(format!("[solver] tolerance must be in (0, 1), got {}", params.tolerance)));
         }
-        let layer = cfg.config.layer.as_ref().map(Layer::from);
+        let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
         let setup = Self {
             material,
             surface,

@@ -1,0 +1,68 @@
+//! Coefficient-table throughput (physics.md section 3): the full
+//! `(2n-1)^2` table for the paper's single-relaxation material at
+//! `v tau / a = 3` and for a 34-term spectrum. Set `CI` to shrink to 128^2.
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::material::{CreepSpectrum, CreepTerm, Material};
+
+fn sls() -> Material {
+    let s = CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap();
+    Material::new(s, 0.5).unwrap()
+}
+
+/// 34 creep times in ratio e from 1e-9 s, log-normal-like compliances summing
+/// to `1/E0 - 1/E_inf` with `E_inf/E0 = 3`.
+fn spectrum34() -> Material {
+    let e_inf = 1e7;
+    let total = 3.0 / e_inf - 1.0 / e_inf;
+    let raw: Vec<f64> = (0..34)
+        .map(|k| (-((k as f64 - 16.5) / 8.0).powi(2)).exp())
+        .collect();
+    let sum: f64 = raw.iter().sum();
+    let terms = raw
+        .iter()
+        .enumerate()
+        .map(|(k, r)| CreepTerm {
+            compliance: total * r / sum,
+            time: 1e-9 * (k as f64).exp(),
+        })
+        .collect();
+    Material::new(CreepSpectrum::new(e_inf, terms).unwrap(), 0.5).unwrap()
+}
+
+fn bench(c: &mut Criterion) {
+    let ci = std::env::var_os("CI").is_some();
+    let n = if ci { 128 } else { 1024 };
+    let cell = 1e-3;
+    let mut group = c.benchmark_group("kernel_table");
+    group.sample_size(10);
+    let sls_kernel = SlidingKernel::new(
+        &sls(),
+        KernelParams {
+            speed: 3.0 * cell / 0.01,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    group.bench_function(format!("sls_vtau3_{n}"), |b| {
+        b.iter(|| black_box(sls_kernel.table(black_box(n), n, cell)))
+    });
+    let spec_kernel = SlidingKernel::new(
+        &spectrum34(),
+        KernelParams {
+            speed: 1e-3,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    group.bench_function(format!("spectrum34_{n}"), |b| {
+        b.iter(|| black_box(spec_kernel.table(black_box(n), n, cell)))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
