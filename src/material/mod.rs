@@ -7,16 +7,38 @@
 //! (zero frequency, rubbery), `glassy_modulus` is `E_inf`.
 
 mod config;
+pub mod dma;
+pub mod eval;
+pub mod file;
+pub mod nnls;
+mod prony;
 mod spectrum;
 
 pub use config::{MaterialConfig, MaterialModel};
+pub use dma::{fit_spectrum, DmaData, DmaPoint, FitInfo, FitParams, SpectrumFit, Wlf};
+pub use eval::{ComplexModulus, DynamicModuli};
+pub use file::{load_material_file, material_toml, FitRecord};
+pub use prony::{PronySeries, PronyTerm};
 pub use spectrum::{CreepSpectrum, CreepTerm};
 
 /// Errors building or fitting a material; each names the offending value.
 #[derive(Debug, thiserror::Error)]
 pub enum MaterialError {
+    /// A value or combination of values is not acceptable.
     #[error("{0}")]
     Invalid(String),
+    /// A data or material file cannot be read or has a bad line.
+    #[error("{source_name}: {message}")]
+    Data {
+        source_name: String,
+        message: String,
+    },
+    /// A spectrum fit cannot be done.
+    #[error("fit: {0}")]
+    Fit(String),
+    /// An exact creep <-> relaxation conversion failed.
+    #[error("spectrum conversion: {0}")]
+    Conversion(String),
 }
 
 /// A linear viscoelastic, isotropic solid: creep spectrum and Poisson ratio.
