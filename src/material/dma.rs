@@ -350,9 +350,13 @@ pub struct FitInfo {
     pub shortest_time: f64,
     pub longest_time: f64,
     /// Decades of margin of the time grid beyond the data, at the high- and
-    /// low-frequency ends (`log10(w_max theta_min)`, `log10(1/(w_min theta_max))`
-    /// with sign: negative means the data reach past the grid).
+    /// low-frequency ends: `log10(1 / (w_max theta_min))` and
+    /// `log10(w_min theta_max)`; negative means the data reach past the grid.
     pub margin_decades: (f64, f64),
+    /// Loss tangent of the fit at the lowest data frequency. When it is not
+    /// small the data do not reach the rubbery plateau and the relaxed modulus
+    /// `E0` is an extrapolation (the fit may place relaxation below the data).
+    pub tan_delta_at_lowest_frequency: f64,
     /// Relaxation terms with a positive weight.
     pub nonzero_terms: usize,
     /// NNLS outer iterations.
@@ -488,7 +492,11 @@ pub fn fit_spectrum(
         max_relative_loss: stats.3,
         shortest_time: times[0],
         longest_time: times[n - 1],
-        margin_decades: (-(wmax * times[0]).log10(), -(wmin * times[n - 1]).log10()),
+        margin_decades: (-(wmax * times[0]).log10(), (wmin * times[n - 1]).log10()),
+        tan_delta_at_lowest_frequency: {
+            let e = creep.modulus(wmin);
+            e.im / e.re
+        },
         nonzero_terms,
         nnls_iterations: nn.iterations,
     };
