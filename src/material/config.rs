@@ -170,9 +170,9 @@ impl MaterialConfig {
                     // theta = tau E0 / E_inf  =>  tau = theta E_inf / E0.
                     (None, Some(t)) => positive(t, "relaxation_time")? * einf / e0,
                     (None, None) => {
-                        return Err(MaterialError::Invalid(format!(
+                        return Err(MaterialError::Invalid(
                             "[material] model = \"sls\" needs `creep_time` (s) or `relaxation_time` (s)"
-                        )))
+                        .into()))
                     }
                 };
                 CreepSpectrum::standard_linear_solid(e0, einf, tau)?

@@ -405,9 +405,8 @@ pub fn fit_spectrum(
         )));
     }
     for (w, e) in omega.iter().zip(measured) {
-        if !(w.is_finite() && *w > 0.0 && e.re.is_finite() && e.re > 0.0)
-            || !(e.im.is_finite() && e.im > 0.0)
-        {
+        let ok = |v: f64| v.is_finite() && v > 0.0;
+        if !(ok(*w) && ok(e.re) && ok(e.im)) {
             return Err(MaterialError::Fit(format!(
                 "data point w = {w} rad/s, E = {} + {} i Pa: frequency, E1 and E2 must be positive and finite",
                 e.re, e.im

@@ -223,7 +223,7 @@ fn bisect_between_poles(
     let (mut a, mut b) = (lo, hi);
     let mut ha = if lo_is_pole { None } else { Some(h(lo)) };
     let mut hb = if hi_is_pole { None } else { Some(h(hi)) };
-    if ha.is_some_and(|v| !(v < 0.0)) || hb.is_some_and(|v| !(v > 0.0)) {
+    if ha.is_some_and(|v| v.is_nan() || v >= 0.0) || hb.is_some_and(|v| v.is_nan() || v <= 0.0) {
         return Err(fail());
     }
     loop {
