@@ -311,6 +311,11 @@ fn fit(args: &FitArgs) -> Result<()> {
         "  time grid {:.3e} .. {:.3e} s, margin beyond data {:.2} / {:.2} decades (high / low frequency)",
         info.shortest_time, info.longest_time, info.margin_decades.0, info.margin_decades.1
     );
+    if info.margin_decades.0 < 0.5 || info.margin_decades.1 < 0.5 {
+        println!(
+            "  note: the time grid reaches less than half a decade beyond the data at one end; consider more --terms or a larger --ratio"
+        );
+    }
     if info.tan_delta_at_lowest_frequency > 0.05 {
         println!(
             "  note: tan delta = {:.3} at the lowest data frequency: the data do not reach the rubbery plateau, so E0 is extrapolated",

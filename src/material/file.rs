@@ -44,11 +44,21 @@ pub struct FitRecord {
     pub version: String,
 }
 
-#[derive(Debug, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MaterialFile {
+/// The file as written.
+#[derive(Debug, Serialize)]
+struct MaterialFileOut<'a> {
     material: MaterialConfig,
-    fit: Option<FitRecord>,
+    fit: Option<&'a FitRecord>,
+}
+
+/// The file as read: `[material]` is checked strictly; `[fit]` is provenance
+/// for people and is not interpreted, so files from other versions load.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialFileIn {
+    material: MaterialConfig,
+    #[serde(rename = "fit")]
+    _fit: Option<toml::Value>,
 }
 
 /// The text of a `material.toml` for `material` with optional provenance.
@@ -74,9 +84,9 @@ pub fn material_toml(
         poisson: Some(material.poisson),
         file: None,
     };
-    let doc = MaterialFile {
+    let doc = MaterialFileOut {
         material: config,
-        fit: fit.cloned(),
+        fit,
     };
     let body = toml::to_string(&doc).map_err(|e| MaterialError::Invalid(e.to_string()))?;
     Ok(format!(
@@ -96,7 +106,7 @@ pub fn load_material_file(path: &Path, poisson: Option<f64>) -> Result<Material,
         source_name: name.clone(),
         message: e.to_string(),
     })?;
-    let doc: MaterialFile = toml::from_str(&text).map_err(|e| MaterialError::Data {
+    let doc: MaterialFileIn = toml::from_str(&text).map_err(|e| MaterialError::Data {
         source_name: name.clone(),
         message: e.message().replace('\n', " "),
     })?;
