@@ -5,6 +5,16 @@
 //! `J*(w) = 1/E_inf + sum_k C_k / (1 + i w tau_k)` (time factor `exp(+i w t)`),
 //! and `E(w) = 1/J*(w)`. Names are unambiguous: `relaxed_modulus` is `E0`
 //! (zero frequency, rubbery), `glassy_modulus` is `E_inf`.
+//!
+//! Parts:
+//! * [`CreepSpectrum`] (Eq. 2) and [`PronySeries`] (generalized Maxwell), with
+//!   exact conversions both ways ([`PronySeries::to_creep`],
+//!   [`CreepSpectrum::to_prony`]; physics.md section 2, route (b));
+//! * [`eval`]: `E(w)`, `J*(w)`, `E1`, `E2`, `tan delta` over frequency arrays;
+//! * [`dma`]: DMA data from CSV, WLF shift ([`Wlf`]), NNLS spectrum fit
+//!   ([`fit_spectrum`], solver in [`nnls`]);
+//! * [`file`]: the `material.toml` written by `viscoslide material fit`;
+//! * [`MaterialConfig`]: the `[material]` section of a run config.
 
 mod config;
 pub mod dma;

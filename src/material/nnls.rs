@@ -267,6 +267,47 @@ mod tests {
         assert!(info.residual_norm < 1e-13);
     }
 
+    /// Karush-Kuhn-Tucker conditions of `min ||Ax - b||, x >= 0`:
+    /// `x >= 0`, gradient `g = A^T (b - A x) <= 0` where `x = 0` and `g = 0`
+    /// where `x > 0` (to `tol` relative to `||A|| ||b||`).
+    fn assert_kkt(m: usize, n: usize, data: &[f64], b: &[f64], x: &[f64], tol: f64) {
+        let r: Vec<f64> = (0..m)
+            .map(|i| b[i] - (0..n).map(|j| data[j * m + i] * x[j]).sum::<f64>())
+            .collect();
+        let scale = data.iter().map(|v| v * v).sum::<f64>().sqrt()
+            * b.iter().map(|v| v * v).sum::<f64>().sqrt();
+        for j in 0..n {
+            assert!(x[j] >= 0.0);
+            let g: f64 = (0..m).map(|i| data[j * m + i] * r[i]).sum();
+            if x[j] > 0.0 {
+                assert!(g.abs() <= tol * scale, "g[{j}] = {g}, x = {}", x[j]);
+            } else {
+                assert!(g <= tol * scale, "g[{j}] = {g}");
+            }
+        }
+    }
+
+    #[test]
+    fn kkt_holds_on_seeded_random_problems() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        for &(m, n) in &[(5, 3), (20, 8), (50, 20), (8, 12), (100, 35)] {
+            for _ in 0..5 {
+                let data: Vec<f64> = (0..m * n).map(|_| rng.random::<f64>() - 0.3).collect();
+                let b: Vec<f64> = (0..m).map(|_| rng.random::<f64>() - 0.5).collect();
+                let a = ColMajor {
+                    rows: m,
+                    cols: n,
+                    data: &data,
+                };
+                let (x, _) = nnls(a, &b, NnlsParams::default()).unwrap();
+                // Well-conditioned random matrices: 1e-10 of the scale is
+                // far above round-off and far below any real violation.
+                assert_kkt(m, n, &data, &b, &x, 1e-10);
+            }
+        }
+    }
+
     #[test]
     fn clamps_negative_component_and_satisfies_kkt() {
         // Unconstrained solution of this system has x1 < 0.
