@@ -4,7 +4,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::{CreepSpectrum, Material, MaterialError};
+use super::file::load_material_file;
+use super::{CreepSpectrum, CreepTerm, Material, MaterialError, PronySeries, PronyTerm};
 
 /// Which material description a config gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -44,34 +45,197 @@ pub struct MaterialConfig {
     pub file: Option<PathBuf>,
 }
 
+/// Each key of `[material]` with the unit its error messages quote.
+const KEYS: [(&str, &str); 8] = [
+    ("relaxed_modulus", "E0 in Pa"),
+    ("glassy_modulus", "E_inf in Pa"),
+    ("creep_time", "s"),
+    ("relaxation_time", "s"),
+    ("creep_spectrum", "[[C_k in 1/Pa, tau_k in s], ...]"),
+    ("prony", "[[E_j in Pa, theta_j in s], ...]"),
+    ("file", "path of a material.toml, relative to the config"),
+    ("poisson", "dimensionless, in (-1, 0.5]"),
+];
+
+fn unit(key: &str) -> &'static str {
+    KEYS.iter()
+        .find(|(k, _)| *k == key)
+        .map(|(_, u)| *u)
+        .unwrap_or("")
+}
+
 impl MaterialConfig {
     /// Build the material; `base_dir` resolves relative file paths.
+    ///
+    /// * `sls`: `relaxed_modulus`, `glassy_modulus` and exactly one of
+    ///   `creep_time` (`tau` of Eq. 2) or `relaxation_time`
+    ///   (`theta = tau E0 / E_inf`, physics.md section 2);
+    /// * `creep_spectrum`: `glassy_modulus` and `creep_spectrum` (Eq. 2);
+    /// * `prony`: `relaxed_modulus` and `prony` (generalized Maxwell), converted
+    ///   exactly to a creep spectrum ([`super::PronySeries::to_creep`]);
+    /// * `file`: `file` (a `material.toml` from `viscoslide material fit`);
+    ///   `poisson` here overrides the file's.
+    ///
+    /// `poisson` defaults to 0.5. A key the model does not use is an error
+    /// (it would be silently ignored otherwise), as is any non-finite or
+    /// non-positive value.
     pub fn build(&self, base_dir: &Path) -> Result<Material, MaterialError> {
-        let _ = base_dir;
-        let nu = self.poisson.unwrap_or(0.5);
-        let need = |v: Option<f64>, key: &str, unit: &str| {
+        let model = self.model_name();
+        let invalid = |key: &str, what: String| {
+            MaterialError::Invalid(format!("[material] {key} ({}): {what}", unit(key)))
+        };
+        let allowed: &[&str] = match self.model {
+            MaterialModel::Sls => &[
+                "relaxed_modulus",
+                "glassy_modulus",
+                "creep_time",
+                "relaxation_time",
+            ],
+            MaterialModel::CreepSpectrum => &["glassy_modulus", "creep_spectrum"],
+            MaterialModel::Prony => &["relaxed_modulus", "prony"],
+            MaterialModel::File => &["file"],
+        };
+        for key in self.present_keys() {
+            if key != "poisson" && !allowed.contains(&key) {
+                return Err(MaterialError::Invalid(format!(
+                    "[material] model = \"{model}\" does not use `{key}` ({}); remove it (this model takes {})",
+                    unit(key),
+                    allowed.join(", ")
+                )));
+            }
+        }
+        let need = |v: Option<f64>, key: &str| {
             v.ok_or_else(|| {
                 MaterialError::Invalid(format!(
-                    "[material] model = \"{}\" needs `{key}` ({unit})",
-                    self.model_name()
+                    "[material] model = \"{model}\" needs `{key}` ({})",
+                    unit(key)
                 ))
             })
         };
+        let positive = |v: f64, key: &str| {
+            if v.is_finite() && v > 0.0 {
+                Ok(v)
+            } else {
+                Err(invalid(key, format!("{v} must be positive and finite")))
+            }
+        };
+        let pairs = |list: &Option<Vec<[f64; 2]>>, key: &str| {
+            let list = list.as_ref().ok_or_else(|| {
+                MaterialError::Invalid(format!(
+                    "[material] model = \"{model}\" needs `{key}` ({})",
+                    unit(key)
+                ))
+            })?;
+            for (i, [w, t]) in list.iter().enumerate() {
+                if !(w.is_finite() && *w >= 0.0 && t.is_finite() && *t > 0.0) {
+                    return Err(invalid(
+                        key,
+                        format!(
+                            "entry {i} = [{w}, {t}]: weight must be >= 0 and time > 0, both finite"
+                        ),
+                    ));
+                }
+            }
+            Ok(list.clone())
+        };
+        let nu = match self.poisson {
+            None => 0.5,
+            Some(v) if v.is_finite() && v > -1.0 && v <= 0.5 => v,
+            Some(v) => return Err(invalid("poisson", format!("{v} is outside (-1, 0.5]"))),
+        };
         let spectrum = match self.model {
             MaterialModel::Sls => {
-                let e0 = need(self.relaxed_modulus, "relaxed_modulus", "E0 in Pa")?;
-                let einf = need(self.glassy_modulus, "glassy_modulus", "E_inf in Pa")?;
-                let tau = need(self.creep_time, "creep_time", "s")?;
+                let e0 = positive(
+                    need(self.relaxed_modulus, "relaxed_modulus")?,
+                    "relaxed_modulus",
+                )?;
+                let einf = positive(
+                    need(self.glassy_modulus, "glassy_modulus")?,
+                    "glassy_modulus",
+                )?;
+                if einf < e0 {
+                    return Err(invalid(
+                        "glassy_modulus",
+                        format!("{einf} must be >= relaxed_modulus = {e0} Pa"),
+                    ));
+                }
+                let tau = match (self.creep_time, self.relaxation_time) {
+                    (Some(_), Some(_)) => {
+                        return Err(MaterialError::Invalid(
+                            "[material] give either `creep_time` (s) or `relaxation_time` (s), not both"
+                                .into(),
+                        ))
+                    }
+                    (Some(t), None) => positive(t, "creep_time")?,
+                    // theta = tau E0 / E_inf  =>  tau = theta E_inf / E0.
+                    (None, Some(t)) => positive(t, "relaxation_time")? * einf / e0,
+                    (None, None) => {
+                        return Err(MaterialError::Invalid(
+                            "[material] model = \"sls\" needs `creep_time` (s) or `relaxation_time` (s)"
+                        .into()))
+                    }
+                };
                 CreepSpectrum::standard_linear_solid(e0, einf, tau)?
             }
-            _ => {
-                return Err(MaterialError::Invalid(format!(
-                    "model {} not available",
-                    self.model_name()
-                )))
+            MaterialModel::CreepSpectrum => {
+                let einf = positive(
+                    need(self.glassy_modulus, "glassy_modulus")?,
+                    "glassy_modulus",
+                )?;
+                let terms = pairs(&self.creep_spectrum, "creep_spectrum")?
+                    .into_iter()
+                    .map(|[c, t]| CreepTerm {
+                        compliance: c,
+                        time: t,
+                    })
+                    .collect();
+                CreepSpectrum::new(einf, terms)?
+            }
+            MaterialModel::Prony => {
+                let e0 = positive(
+                    need(self.relaxed_modulus, "relaxed_modulus")?,
+                    "relaxed_modulus",
+                )?;
+                let terms = pairs(&self.prony, "prony")?
+                    .into_iter()
+                    .map(|[e, t]| PronyTerm {
+                        modulus: e,
+                        time: t,
+                    })
+                    .collect();
+                PronySeries::new(e0, terms)?.to_creep()?
+            }
+            MaterialModel::File => {
+                let rel = self.file.as_ref().ok_or_else(|| {
+                    MaterialError::Invalid(format!(
+                        "[material] model = \"file\" needs `file` ({})",
+                        unit("file")
+                    ))
+                })?;
+                let path = base_dir.join(rel);
+                return load_material_file(&path, self.poisson.map(|_| nu));
             }
         };
         Material::new(spectrum, nu)
+    }
+
+    /// Names of the keys this table sets (besides `model`).
+    fn present_keys(&self) -> Vec<&'static str> {
+        let mut k = Vec::new();
+        let mut add = |set: bool, name: &'static str| {
+            if set {
+                k.push(name);
+            }
+        };
+        add(self.relaxed_modulus.is_some(), "relaxed_modulus");
+        add(self.glassy_modulus.is_some(), "glassy_modulus");
+        add(self.creep_time.is_some(), "creep_time");
+        add(self.relaxation_time.is_some(), "relaxation_time");
+        add(self.creep_spectrum.is_some(), "creep_spectrum");
+        add(self.prony.is_some(), "prony");
+        add(self.file.is_some(), "file");
+        add(self.poisson.is_some(), "poisson");
+        k
     }
 
     fn model_name(&self) -> &'static str {

@@ -5,18 +5,50 @@
 //! `J*(w) = 1/E_inf + sum_k C_k / (1 + i w tau_k)` (time factor `exp(+i w t)`),
 //! and `E(w) = 1/J*(w)`. Names are unambiguous: `relaxed_modulus` is `E0`
 //! (zero frequency, rubbery), `glassy_modulus` is `E_inf`.
+//!
+//! Parts:
+//! * [`CreepSpectrum`] (Eq. 2) and [`PronySeries`] (generalized Maxwell), with
+//!   exact conversions both ways ([`PronySeries::to_creep`],
+//!   [`CreepSpectrum::to_prony`]; physics.md section 2, route (b));
+//! * [`eval`]: `E(w)`, `J*(w)`, `E1`, `E2`, `tan delta` over frequency arrays;
+//! * [`dma`]: DMA data from CSV, WLF shift ([`Wlf`]), NNLS spectrum fit
+//!   ([`fit_spectrum`], solver in [`nnls`]);
+//! * [`file`]: the `material.toml` written by `viscoslide material fit`;
+//! * [`MaterialConfig`]: the `[material]` section of a run config.
 
 mod config;
+pub mod dma;
+pub mod eval;
+pub mod file;
+pub mod nnls;
+mod prony;
 mod spectrum;
 
 pub use config::{MaterialConfig, MaterialModel};
+pub use dma::{fit_spectrum, DmaData, DmaPoint, FitInfo, FitParams, SpectrumFit, Wlf};
+pub use eval::{ComplexModulus, DynamicModuli};
+pub use file::{load_material_file, material_toml, FitRecord};
+pub use prony::{PronySeries, PronyTerm};
 pub use spectrum::{CreepSpectrum, CreepTerm};
 
 /// Errors building or fitting a material; each names the offending value.
 #[derive(Debug, thiserror::Error)]
 pub enum MaterialError {
+    /// A value or combination of values is not acceptable.
     #[error("{0}")]
     Invalid(String),
+    /// A data or material file cannot be read or has a bad line.
+    #[error("{source_name}: {message}")]
+    Data {
+        source_name: String,
+        message: String,
+    },
+    /// A spectrum fit cannot be done.
+    #[error("fit: {0}")]
+    Fit(String),
+    /// An exact creep <-> relaxation conversion failed.
+    #[error("spectrum conversion: {0}")]
+    Conversion(String),
 }
 
 /// A linear viscoelastic, isotropic solid: creep spectrum and Poisson ratio.

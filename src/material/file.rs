@@ -1,0 +1,131 @@
+//! The `material.toml` file written by `viscoslide material fit` and read by
+//! `model = "file"`: a `[material]` table in the config's own key names
+//! (`model = "creep_spectrum"`, Eq. 2) plus a `[fit]` table of provenance.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::Material;
+use super::{MaterialConfig, MaterialError, MaterialModel};
+
+/// Provenance of a fitted material, stored as `[fit]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FitRecord {
+    /// The DMA data file as given on the command line.
+    pub data: String,
+    /// Data points used.
+    pub points: usize,
+    /// Number and ratio of the relaxation-time grid.
+    pub terms: usize,
+    pub ratio: f64,
+    /// Shortest and longest relaxation time of the grid [s].
+    pub shortest_time: f64,
+    pub longest_time: f64,
+    /// Terms of the fitted relaxation spectrum with positive weight.
+    pub nonzero_terms: usize,
+    /// WLF constants used to build the master curve, if any.
+    pub wlf_c1: Option<f64>,
+    pub wlf_c2: Option<f64>,
+    pub wlf_reference_temperature: Option<f64>,
+    /// Temperature the material describes [C], if known.
+    pub temperature: Option<f64>,
+    /// How residuals were weighted.
+    pub weighting: String,
+    /// RMS and largest relative error of `E1` and `E2` over the data.
+    pub rms_relative_error_e1: f64,
+    pub rms_relative_error_e2: f64,
+    pub max_relative_error_e1: f64,
+    pub max_relative_error_e2: f64,
+    /// `E0` [Pa] of the fit (also implied by the spectrum).
+    pub relaxed_modulus: f64,
+    /// viscoslide version that wrote the file.
+    pub version: String,
+}
+
+/// The file as written.
+#[derive(Debug, Serialize)]
+struct MaterialFileOut<'a> {
+    material: MaterialConfig,
+    fit: Option<&'a FitRecord>,
+}
+
+/// The file as read: `[material]` is checked strictly; `[fit]` is provenance
+/// for people and is not interpreted, so files from other versions load.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialFileIn {
+    material: MaterialConfig,
+    #[serde(rename = "fit")]
+    _fit: Option<toml::Value>,
+}
+
+/// The text of a `material.toml` for `material` with optional provenance.
+pub fn material_toml(
+    material: &Material,
+    fit: Option<&FitRecord>,
+) -> Result<String, MaterialError> {
+    let config = MaterialConfig {
+        model: MaterialModel::CreepSpectrum,
+        relaxed_modulus: None,
+        glassy_modulus: Some(material.spectrum.glassy_modulus),
+        creep_time: None,
+        relaxation_time: None,
+        creep_spectrum: Some(
+            material
+                .spectrum
+                .terms
+                .iter()
+                .map(|t| [t.compliance, t.time])
+                .collect(),
+        ),
+        prony: None,
+        poisson: Some(material.poisson),
+        file: None,
+    };
+    let doc = MaterialFileOut {
+        material: config,
+        fit,
+    };
+    let body = toml::to_string(&doc).map_err(|e| MaterialError::Invalid(e.to_string()))?;
+    Ok(format!(
+        "# Material written by viscoslide {}: creep spectrum of Eq. 2\n\
+         # (Carbone & Putignano, PRE 89, 032408, 2014), SI units:\n\
+         # creep_spectrum = [[C_k (1/Pa), tau_k (s)], ...], glassy_modulus = E_inf (Pa).\n\
+         # Load it from a config with [material] model = \"file\", file = \"<this path>\".\n\n{body}",
+        crate::VERSION
+    ))
+}
+
+/// Read a `material.toml` and build its material. `poisson`, when given,
+/// replaces the file's Poisson ratio.
+pub fn load_material_file(path: &Path, poisson: Option<f64>) -> Result<Material, MaterialError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| MaterialError::Data {
+        source_name: name.clone(),
+        message: e.to_string(),
+    })?;
+    let doc: MaterialFileIn = toml::from_str(&text).map_err(|e| MaterialError::Data {
+        source_name: name.clone(),
+        message: e.message().replace('\n', " "),
+    })?;
+    let mut cfg = doc.material;
+    if cfg.model == MaterialModel::File {
+        return Err(MaterialError::Data {
+            source_name: name,
+            message: "a material file may not itself use model = \"file\"".into(),
+        });
+    }
+    if poisson.is_some() {
+        cfg.poisson = poisson;
+    }
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    cfg.build(dir).map_err(|e| MaterialError::Data {
+        source_name: name,
+        message: e.to_string(),
+    })
+}
