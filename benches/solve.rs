@@ -15,7 +15,11 @@ use viscoslide::solver::{self, Control, SolverParams};
 use viscoslide::surface::{self, GenerateParams, Normalisation, UpperCutoff};
 
 fn material() -> Material {
-    Material::new(CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(), 0.5).unwrap()
+    Material::new(
+        CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
+        0.5,
+    )
+    .unwrap()
 }
 
 fn sizes() -> Vec<usize> {
@@ -45,7 +49,9 @@ fn surface_gap(n: usize) -> Vec<f64> {
 fn bench(c: &mut Criterion) {
     let m = material();
     let mut group = c.benchmark_group("solve");
-    group.sample_size(10).measurement_time(Duration::from_secs(20));
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(20));
     for n in sizes() {
         let a = 0.01 / n as f64;
         let g = surface_gap(n);
@@ -53,27 +59,51 @@ fn bench(c: &mut Criterion) {
             if label == "elastic" && n < 512 && std::env::var_os("CI").is_none() {
                 continue;
             }
-            let kernel = SlidingKernel::new(&m, KernelParams { speed, ..Default::default() }).unwrap();
+            let kernel = SlidingKernel::new(
+                &m,
+                KernelParams {
+                    speed,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
             let table = kernel.table(n, n, a);
-            let tab = OffsetTable { nx: n, ny: n, values: &table.values };
+            let tab = OffsetTable {
+                nx: n,
+                ny: n,
+                values: &table.values,
+            };
             let mut op = ToeplitzFft::new(tab);
             if label == "viscoelastic_peak" {
                 let x: Vec<f64> = (0..n * n).map(|k| ((k * 7919) % 101) as f64).collect();
                 let mut y = vec![0.0; n * n];
-                group.bench_function(format!("matvec_{n}"), |b| b.iter(|| op.apply(black_box(&x), &mut y)));
+                group.bench_function(format!("matvec_{n}"), |b| {
+                    b.iter(|| op.apply(black_box(&x), &mut y))
+                });
             }
             let mut be = CpuBackend::new(op);
             let mut last = None;
             group.bench_function(format!("{label}_{n}"), |b| {
                 b.iter(|| {
-                    let r = solver::solve(&mut be, &g, a * a, tab.get(0, 0), Control::Load(0.3), &SolverParams::default(), &mut solver::Silent)
-                        .unwrap();
+                    let r = solver::solve(
+                        &mut be,
+                        &g,
+                        a * a,
+                        tab.get(0, 0),
+                        Control::Load(0.3),
+                        &SolverParams::default(),
+                        &mut solver::Silent,
+                    )
+                    .unwrap();
                     last = Some(r.1.clone());
                     black_box(r)
                 })
             });
             if let Some(info) = last {
-                eprintln!("{label}_{n}: {} iterations, {} matvecs, residual {:.2e}", info.iterations, info.matvecs, info.residual);
+                eprintln!(
+                    "{label}_{n}: {} iterations, {} matvecs, residual {:.2e}",
+                    info.iterations, info.matvecs, info.residual
+                );
             }
         }
     }

@@ -20,8 +20,8 @@ pub use error::{Error, Result};
 
 /// Crate version recorded in every report.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
-pub mod operator;
-pub mod solver;
 pub mod analysis;
+pub mod operator;
 pub mod report;
 pub mod run;
+pub mod solver;

@@ -71,7 +71,9 @@ pub fn write_solve(dir: &Path, setup: &SolveSetup, out: &SolveOutcome) -> Result
     let doc = summary(setup, out);
     staged.write(
         "summary.json",
-        serde_json::to_string_pretty(&doc).expect("summary is serialisable").as_bytes(),
+        serde_json::to_string_pretty(&doc)
+            .expect("summary is serialisable")
+            .as_bytes(),
     )?;
     let sol = &out.solution;
     for (name, field) in [

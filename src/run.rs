@@ -73,7 +73,10 @@ impl SolveSetup {
         let surface = surface_cfg.load(&cfg.base_dir)?;
         let seed = surface_cfg.generate.as_ref().map(|g| g.seed.unwrap_or(0));
         let loading = cfg.config.loading.clone().ok_or_else(|| {
-            invalid(format!("{}: section [loading] is required (normal_load or mean_pressure, and speed or xi)", cfg.path.display()))
+            invalid(format!(
+                "{}: section [loading] is required (normal_load or mean_pressure, and speed or xi)",
+                cfg.path.display()
+            ))
         })?;
         let area0 = surface.length_x() * surface.length_y();
         let control = match (loading.normal_load, loading.mean_pressure, loading.approach) {
@@ -81,20 +84,24 @@ impl SolveSetup {
             (None, Some(p), None) => Control::Load(p * area0),
             (None, None, Some(d)) => Control::Approach(d),
             (None, None, None) => {
-                return Err(invalid("[loading] needs one of normal_load (N), mean_pressure (Pa) or approach (m)"))
-            }
-            _ => {
                 return Err(invalid(
-                    "[loading] give only one of normal_load (N), mean_pressure (Pa) and approach (m)",
+                    "[loading] needs one of normal_load (N), mean_pressure (Pa) or approach (m)",
                 ))
             }
+            _ => return Err(invalid(
+                "[loading] give only one of normal_load (N), mean_pressure (Pa) and approach (m)",
+            )),
         };
         match control {
             Control::Load(f) if !(f.is_finite() && f > 0.0) => {
-                return Err(invalid(format!("[loading] the normal load must be positive, got {f} N")))
+                return Err(invalid(format!(
+                    "[loading] the normal load must be positive, got {f} N"
+                )))
             }
             Control::Approach(d) if !(d.is_finite() && d > 0.0) => {
-                return Err(invalid(format!("[loading] approach must be positive, got {d} m")))
+                return Err(invalid(format!(
+                    "[loading] approach must be positive, got {d} m"
+                )))
             }
             _ => {}
         }
@@ -114,7 +121,9 @@ impl SolveSetup {
             _ => return Err(invalid("[loading] give only one of speed (m/s) and xi")),
         };
         if !(speed >= 0.0) || speed.is_nan() {
-            return Err(invalid(format!("[loading] speed must be >= 0, got {speed} m/s")));
+            return Err(invalid(format!(
+                "[loading] speed must be >= 0, got {speed} m/s"
+            )));
         }
         let direction_rad = loading.direction_deg.unwrap_or(0.0).to_radians();
         if !direction_rad.is_finite() {
@@ -129,7 +138,10 @@ impl SolveSetup {
             restart: sc.restart.unwrap_or(defaults.restart),
         };
         if !(params.tolerance > 0.0 && params.tolerance < 1.0) {
-            return Err(invalid(format!("[solver] tolerance must be in (0, 1), got {}", params.tolerance)));
+            return Err(invalid(format!(
+                "[solver] tolerance must be in (0, 1), got {}",
+                params.tolerance
+            )));
         }
         let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
         let setup = Self {
@@ -181,7 +193,12 @@ impl SolveSetup {
 
     /// Gap profile `g = max(z) - z` (physics.md section 1).
     pub fn gap_profile(&self) -> Vec<f64> {
-        let zmax = self.surface.heights.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        let zmax = self
+            .surface
+            .heights
+            .iter()
+            .cloned()
+            .fold(f64::NEG_INFINITY, f64::max);
         self.surface.heights.iter().map(|z| zmax - z).collect()
     }
 }
@@ -217,8 +234,16 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
     let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
     let g = setup.gap_profile();
     let t1 = Instant::now();
-    let (solution, info) = solver::solve(&mut backend, &g, a * a, l00, setup.control, &setup.params, observer)
-        .map_err(|e| invalid(e.to_string()))?;
+    let (solution, info) = solver::solve(
+        &mut backend,
+        &g,
+        a * a,
+        l00,
+        setup.control,
+        &setup.params,
+        observer,
+    )
+    .map_err(|e| invalid(e.to_string()))?;
     let t_iter = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
     let (mu, mu_d, stats) = friction_and_stats(setup, &kernel, &solution)?;
@@ -250,7 +275,9 @@ pub fn friction_and_stats(
     let stats = analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, a);
     let load = stats.normal_load;
     if !(load > 0.0) {
-        return Err(invalid("the solution carries no load: the surfaces do not touch"));
+        return Err(invalid(
+            "the solution carries no load: the surfaces do not touch",
+        ));
     }
     let (c, s) = (setup.direction_rad.cos(), setup.direction_rad.sin());
     let mut force = 0.0;

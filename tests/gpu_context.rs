@@ -16,5 +16,9 @@ fn adapter_is_listed_and_device_opens() {
     );
     // Every adapter the engine may use must allow at least 128 MiB per
     // storage binding (the lavapipe cap the buffer layout is designed for).
-    assert!(ctx.adapter.max_storage_binding >= 128 << 20, "{}", ctx.adapter);
+    assert!(
+        ctx.adapter.max_storage_binding >= 128 << 20,
+        "{}",
+        ctx.adapter
+    );
 }

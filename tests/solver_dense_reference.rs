@@ -60,7 +60,9 @@ fn rough(n: usize, seed: u64, a: f64) -> Vec<f64> {
             let (x, y) = (i as f64 * a, j as f64 * a);
             z[i * n + j] = modes
                 .iter()
-                .map(|(kx, ky, ph, amp)| amp * (6.283 * (kx * x + ky * y) / l + ph).cos() / (kx * kx + ky * ky))
+                .map(|(kx, ky, ph, amp)| {
+                    amp * (6.283 * (kx * x + ky * y) / l + ph).cos() / (kx * kx + ky * ky)
+                })
                 .sum::<f64>()
                 * 1e-6;
         }
@@ -83,7 +85,12 @@ fn fft_operator_matches_dense_on_random_vectors() {
         use viscoslide::operator::GridOperator;
         fft.apply(&x, &mut y1);
         dense.apply(&x, &mut y2);
-        let num: f64 = y1.iter().zip(&y2).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
+        let num: f64 = y1
+            .iter()
+            .zip(&y2)
+            .map(|(a, b)| (a - b).powi(2))
+            .sum::<f64>()
+            .sqrt();
         let den: f64 = y2.iter().map(|b| b * b).sum::<f64>().sqrt();
         // Both are exact up to round-off; FFT round-off is ~eps log N.
         assert!(num / den < 1e-12, "{nx}x{ny}: rel err {}", num / den);
@@ -95,7 +102,11 @@ fn iterative_matches_dense_direct_on_nonsymmetric_operator() {
     for &(n, memory) in &[(24usize, 0.0), (24, 1.0), (32, 1.0)] {
         let a = 1e-4;
         let t = table(n, n, a, memory);
-        let tab = OffsetTable { nx: n, ny: n, values: &t };
+        let tab = OffsetTable {
+            nx: n,
+            ny: n,
+            values: &t,
+        };
         let g = rough(n, 7 + n as u64, a);
         let load = 0.02 * 1e7 * 1e-6 * (n as f64 * a); // a few percent contact
         let dense = DenseOperator::new(tab);
@@ -116,13 +127,29 @@ fn iterative_matches_dense_direct_on_nonsymmetric_operator() {
         let cells = sol.contact.iter().filter(|&&c| c > 0.5).count();
         assert!(cells > 3 && cells < n * n / 3, "partial contact: {cells}");
         for i in 0..n * n {
-            assert_eq!(sol.pressure[i] > 0.0, p_ref[i] > 0.0, "contact set differs at {i}");
+            assert_eq!(
+                sol.pressure[i] > 0.0,
+                p_ref[i] > 0.0,
+                "contact set differs at {i}"
+            );
         }
-        let num: f64 = sol.pressure.iter().zip(&p_ref).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
+        let num: f64 = sol
+            .pressure
+            .iter()
+            .zip(&p_ref)
+            .map(|(x, y)| (x - y).powi(2))
+            .sum::<f64>()
+            .sqrt();
         let den: f64 = p_ref.iter().map(|y| y * y).sum::<f64>().sqrt();
         assert!(num / den < 1e-8, "n={n}: pressure rel err {}", num / den);
         assert!((sol.approach - d_ref).abs() <= 1e-8 * d_ref.abs().max(1e-12));
         assert!(info.residual <= 1e-8 && info.load_error < 1e-10, "{info:?}");
-        eprintln!("n={n} memory={memory}: {} cells, {} iters, {} matvecs, rel err {:.2e}", cells, info.iterations, info.matvecs, num / den);
+        eprintln!(
+            "n={n} memory={memory}: {} cells, {} iters, {} matvecs, rel err {:.2e}",
+            cells,
+            info.iterations,
+            info.matvecs,
+            num / den
+        );
     }
 }

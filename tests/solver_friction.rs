@@ -8,59 +8,110 @@ use common::*;
 use viscoslide::analysis;
 use viscoslide::backend::CpuBackend;
 use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
-use viscoslide::operator::{OffsetTable, ToeplitzFft};
+use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
 use viscoslide::solver::{self, Control, SolverParams};
 
-/// Friction of a full-contact sinusoid `g = h0 cos(k x)` on a long strip pad
-/// (`nx x ny` cells of side `a`), minus the friction of the same flat pad
-/// without texture: in full contact the problem is linear, so this removes
-/// the pad-edge (flat-punch) contribution and leaves the texture's.
-fn strip_friction(speed: f64, h0: f64, k: f64, p0: f64, nx: usize, ny: usize, a: f64) -> (f64, f64) {
+/// Friction force per unit area of a sinusoidal texture `g = h0 cos(k x)`
+/// in full contact on a square pad of `n x n` cells of side `a`: in full
+/// contact the problem is linear, so the texture's own pressure follows from
+/// one solve with zero net load, and its friction is the quadratic form of
+/// the exact-work stencil. Also returns the smallest total pressure of the
+/// loaded pad (`p0` added), to confirm full contact with the contact solver.
+fn texture_friction(speed: f64, h0: f64, k: f64, p0: f64, n: usize, a: f64) -> (f64, f64) {
     let m = paper_material();
-    let kernel = SlidingKernel::new(&m, KernelParams { speed, ..Default::default() }).unwrap();
-    let table = kernel.table(nx, ny, a);
-    let tab = OffsetTable { nx, ny, values: &table.values };
-    let d = kernel.derivative_table(nx, ny, a, Axis::X);
-    let load = p0 * (nx * ny) as f64 * a * a;
-    let mut forces = Vec::new();
-    for amp in [h0, 0.0] {
-        let mut g = vec![0.0; nx * ny];
-        for i in 0..nx {
-            let x = (i as f64 + 0.5) * a;
-            for j in 0..ny {
-                g[i * ny + j] = amp * (1.0 - (k * x).cos());
-            }
+    let kernel = SlidingKernel::new(
+        &m,
+        KernelParams {
+            speed,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let table = kernel.table(n, n, a);
+    let tab = OffsetTable {
+        nx: n,
+        ny: n,
+        values: &table.values,
+    };
+    let d = kernel.derivative_table(n, n, a, Axis::X);
+    let mut g = vec![0.0; n * n];
+    for i in 0..n {
+        let x = (i as f64 + 0.5) * a;
+        for j in 0..n {
+            g[i * n + j] = h0 * (1.0 - (k * x).cos());
         }
-        let mut be = CpuBackend::new(ToeplitzFft::new(tab));
-        let (sol, _) = solver::solve(&mut be, &g, a * a, tab.get(0, 0), Control::Load(load), &SolverParams::default(), &mut solver::Silent).unwrap();
-        assert!(sol.contact.iter().all(|&c| c > 0.5), "full contact expected");
-        let mut op = ToeplitzFft::new(OffsetTable { nx, ny, values: &d.values });
-        forces.push(analysis::friction_force_stencil(&mut op, &sol.pressure, a));
     }
-    (-(forces[0] - forces[1]) / load, -forces[0] / load)
+    let mut be = CpuBackend::new(ToeplitzFft::new(tab));
+    let params = SolverParams::default();
+    let (tex, _) = solver::solve_full_contact(
+        &mut be,
+        &g,
+        a * a,
+        tab.get(0, 0),
+        Control::Load(0.0),
+        &params,
+    )
+    .unwrap();
+    let mut op = ToeplitzFft::new(OffsetTable {
+        nx: n,
+        ny: n,
+        values: &d.values,
+    });
+    // Friction density in the central half of the pad, away from the edges
+    // where the cut texture has its own (edge) response.
+    let mut dp = vec![0.0; n * n];
+    op.apply(&tex.pressure, &mut dp);
+    let (lo, hi) = (n / 4, 3 * n / 4);
+    let mut force = 0.0;
+    for i in lo..hi {
+        for j in lo..hi {
+            force += a * a * tex.pressure[i * n + j] * dp[i * n + j];
+        }
+    }
+    let area = ((hi - lo) * (hi - lo)) as f64 * a * a;
+    // The loaded pad with the contact solver: full contact in the interior.
+    let load = p0 * (n * n) as f64 * a * a;
+    let (sol, _) = solver::solve(
+        &mut be,
+        &g,
+        a * a,
+        tab.get(0, 0),
+        Control::Load(load),
+        &params,
+        &mut solver::Silent,
+    )
+    .unwrap();
+    let out = sol.contact.iter().filter(|&&c| c < 0.5).count();
+    assert!(out < n * n / 100, "{out} cells out of contact");
+    (force / area, out as f64)
 }
 
 #[test]
 fn full_contact_sinusoid_matches_closed_form() {
     let m = paper_material();
-    let (nx, ny, per) = (512, 16, 16);
+    // A square pad 16 wavelengths wide: the texture must extend over many
+    // wavelengths in y too, or the 1/r kernel sees a strip, not a plane.
+    let (n, per) = (256, 16);
     let length = 0.01;
-    let a = length / nx as f64;
+    let a = length / n as f64;
     let k = std::f64::consts::TAU / (per as f64 * a);
     let h0 = 1e-6;
     for wtau in [0.3, 1.0, 3.0] {
         let speed = wtau / (k * 0.01);
         let e = m.spectrum.modulus(k * speed);
         let composite = 1.0 - m.poisson * m.poisson;
-        // Full contact needs p0 >= k h0 |E| / (2 (1 - nu^2)); use twice that.
-        let p0 = k * h0 * e.norm() / composite;
+        // Full contact of the infinite texture needs p0 >= k h0 |E| / (2 (1 - nu^2));
+        // a finite flat pad carries about half its mean pressure in the middle
+        // (flat-punch profile), so use four times that.
+        let p0 = 2.0 * k * h0 * e.norm() / composite;
         let exact = k * k * h0 * h0 * e.im / (4.0 * composite * p0);
-        let (mu, mu_raw) = strip_friction(speed, h0, k, p0, nx, ny, a);
+        let (force_per_area, out) = texture_friction(speed, h0, k, p0, n, a);
+        let mu = -force_per_area / p0;
         let err = (mu - exact).abs() / exact;
-        eprintln!("k v tau = {wtau}: mu = {mu:.5e} (with pad edges {mu_raw:.5e}), exact {exact:.5e}, rel err {err:.3e}");
-        // 16 cells per wavelength: piecewise-constant pressure and the finite
-        // pad leave a few percent; the issue asks for 5 %.
-        assert!(err < 0.05, "rel err {err}");
+        eprintln!("k v tau = {wtau}: mu = {mu:.5e}, exact {exact:.5e}, rel err {err:.3e} ({out} pad cells out of contact)");
+        // 16 cells per wavelength: the piecewise-constant pressure leaves
+        // at most about (k a)^2 / 12 ~ 1.3 % (the issue allows 5 %).
+        assert!(err < 0.02, "rel err {err}");
     }
 }
 
@@ -82,7 +133,10 @@ fn rough_patch_friction_two_ways_and_limits() {
         mus.push((mu, mu_d, frac));
     }
     let (mu_p, mu_dp, frac_p) = mus[1];
-    assert!(frac_p > 0.005 && frac_p < 0.2, "partial contact with many spots: {frac_p}");
+    assert!(
+        frac_p > 0.005 && frac_p < 0.2,
+        "partial contact with many spots: {frac_p}"
+    );
     assert!(mu_p > 0.0);
     // Both routes compute the same integral for the piecewise-constant
     // pressure; they differ only by the Fourier quadrature.
@@ -110,6 +164,10 @@ fn refinement_of_friction_and_area() {
     }
     let dmu = (res[1].0 - res[0].0).abs() / res[1].0;
     let da = (res[1].1 - res[0].1).abs() / res[1].1;
-    eprintln!("refinement 128 -> 256: friction changes {:.2} %, area {:.2} %", 100.0 * dmu, 100.0 * da);
+    eprintln!(
+        "refinement 128 -> 256: friction changes {:.2} %, area {:.2} %",
+        100.0 * dmu,
+        100.0 * da
+    );
     assert!(dmu < 0.03 && da < 0.03, "friction {dmu}, area {da}");
 }

@@ -23,7 +23,13 @@ pub struct ContactStatistics {
 
 /// Statistics of `pressure` and the contact map (`contact[i] > 0.5` in
 /// contact) on an `nx x ny` grid of cells of side `a`.
-pub fn contact_statistics(pressure: &[f64], contact: &[f64], nx: usize, ny: usize, a: f64) -> ContactStatistics {
+pub fn contact_statistics(
+    pressure: &[f64],
+    contact: &[f64],
+    nx: usize,
+    ny: usize,
+    a: f64,
+) -> ContactStatistics {
     let cells = contact.iter().filter(|&&c| c > 0.5).count();
     let total: f64 = pressure.iter().sum();
     let (mut sx, mut sy) = (0.0, 0.0);
@@ -43,6 +49,10 @@ pub fn contact_statistics(pressure: &[f64], contact: &[f64], nx: usize, ny: usiz
         max_pressure: pressure.iter().cloned().fold(0.0, f64::max),
         normal_load: load,
         mean_pressure: load / area0,
-        pressure_centroid: if total > 0.0 { [sx / total, sy / total] } else { [0.0, 0.0] },
+        pressure_centroid: if total > 0.0 {
+            [sx / total, sy / total]
+        } else {
+            [0.0, 0.0]
+        },
     }
 }

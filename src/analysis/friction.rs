@@ -18,6 +18,7 @@
 //! `mu = -F_T / F_N` (physics.md section 5).
 
 use num_complex::Complex64;
+use rayon::prelude::*;
 use realfft::RealFftPlanner;
 use rustfft::FftPlanner;
 
@@ -35,6 +36,9 @@ pub fn friction_force_stencil(derivative: &mut dyn GridOperator, pressure: &[f64
 /// Alias images summed on each side in each direction.
 const ALIASES: i32 = 3;
 
+/// Zero-padding factor of the Fourier quadrature.
+const PAD: usize = 4;
+
 /// `F_T` [N] from the dissipated power in Fourier space (Appendix A3-A4).
 #[allow(clippy::too_many_arguments)]
 pub fn friction_force_dissipation(
@@ -50,82 +54,120 @@ pub fn friction_force_dissipation(
     if speed == 0.0 || !speed.is_finite() {
         return 0.0;
     }
-    // Zero padding by 2 makes |P|^2 sampled finely enough for the
-    // trapezoidal rule over the zone.
-    let mx = crate::operator::fast_size(2 * nx);
-    let my = crate::operator::fast_size(2 * ny);
+    // Zero padding by PAD samples |P|^2 finely enough for the trapezoidal
+    // rule over the zone: the integrand has a cusp at q = 0 (|q|^-1 q_v^2)
+    // where the error falls like the cube of the spacing (measured on a
+    // sliding sphere: 3.4 % with padding 2, 0.3 % with 4, 0.03 % with 8).
+    let mx = crate::operator::fast_size(PAD * nx);
+    let my = crate::operator::fast_size(PAD * ny);
     let myh = my / 2 + 1;
     let mut rp = RealFftPlanner::<f64>::new();
     let r2c = rp.plan_fft_forward(my);
-    let mut rows = vec![0.0; mx * my];
-    let mut spec = vec![Complex64::default(); mx * myh];
-    for i in 0..nx {
-        rows[i * my..i * my + ny].copy_from_slice(&pressure[i * ny..(i + 1) * ny]);
-    }
-    for (r, s) in rows.chunks_exact_mut(my).zip(spec.chunks_exact_mut(myh)) {
-        r2c.process(r, s).expect("sizes match the plan");
-    }
+    // Row transforms of the nx non-zero rows only (O(N) memory).
+    let mut spec = vec![Complex64::default(); nx * myh];
+    spec.par_chunks_mut(myh).enumerate().for_each_init(
+        || (vec![0.0; my], r2c.make_scratch_vec()),
+        |(row, scratch), (i, s)| {
+            row.fill(0.0);
+            row[..ny].copy_from_slice(&pressure[i * ny..(i + 1) * ny]);
+            r2c.process_with_scratch(row, s, scratch)
+                .expect("sizes match the plan");
+        },
+    );
     let fft = FftPlanner::<f64>::new().plan_fft_forward(mx);
-    let mut col = vec![Complex64::default(); mx];
     let (ex, ey) = (direction_rad.cos(), direction_rad.sin());
     let two_pi = 2.0 * std::f64::consts::PI;
     let gx = two_pi / a;
     let composite = 1.0 - poisson * poisson;
-    let sinc = |t: f64| if t.abs() < 1e-8 { 1.0 - t * t / 6.0 } else { t.sin() / t };
+    let sinc = |t: f64| {
+        if t.abs() < 1e-8 {
+            1.0 - t * t / 6.0
+        } else {
+            t.sin() / t
+        }
+    };
     let along_x = ey.abs() < 1e-15;
     // For sliding along x, Im J* depends on q_x only: cache it per (i, alias).
-    let mut imj_cache = vec![0.0; if along_x { mx * (2 * ALIASES as usize + 1) } else { 0 }];
+    let mut imj_cache = vec![
+        0.0;
+        if along_x {
+            mx * (2 * ALIASES as usize + 1)
+        } else {
+            0
+        }
+    ];
     let qx_of = |i: usize| {
-        let k = if i <= mx / 2 { i as f64 } else { i as f64 - mx as f64 };
+        let k = if i <= mx / 2 {
+            i as f64
+        } else {
+            i as f64 - mx as f64
+        };
         two_pi * k / (mx as f64 * a)
     };
     let qy_of = |j: usize| two_pi * j as f64 / (my as f64 * a);
     if along_x {
         for i in 0..mx {
-            for (m, slot) in (-ALIASES..=ALIASES).zip(imj_cache[i * (2 * ALIASES as usize + 1)..].iter_mut()) {
+            for (m, slot) in
+                (-ALIASES..=ALIASES).zip(imj_cache[i * (2 * ALIASES as usize + 1)..].iter_mut())
+            {
                 let qx = qx_of(i) + m as f64 * gx;
                 *slot = spectrum.compliance(-qx * ex * speed).im;
             }
         }
     }
-    let mut total = 0.0;
-    for j in 0..myh {
-        for i in 0..mx {
-            col[i] = spec[i * myh + j];
-        }
-        fft.process(&mut col);
-        let weight = if j == 0 || (my % 2 == 0 && j == myh - 1) { 1.0 } else { 2.0 };
-        let qy0 = qy_of(j);
-        for (i, c) in col.iter().enumerate() {
-            let p2 = c.norm_sqr();
-            if p2 == 0.0 {
-                continue;
-            }
-            let qx0 = qx_of(i);
-            let mut w = 0.0;
-            for (mi, mxa) in (-ALIASES..=ALIASES).enumerate() {
-                let qx = qx0 + mxa as f64 * gx;
-                let sx = sinc(0.5 * qx * a);
-                for mya in -ALIASES..=ALIASES {
-                    let qy = qy0 + mya as f64 * gx;
-                    let q = qx.hypot(qy);
-                    if q == 0.0 {
+    let total: f64 = (0..myh)
+        .into_par_iter()
+        .map_init(
+            || vec![Complex64::default(); mx],
+            |col, j| {
+                for (i, c) in col.iter_mut().enumerate() {
+                    *c = if i < nx {
+                        spec[i * myh + j]
+                    } else {
+                        Complex64::default()
+                    };
+                }
+                fft.process(col);
+                let weight = if j == 0 || (my % 2 == 0 && j == myh - 1) {
+                    1.0
+                } else {
+                    2.0
+                };
+                let qy0 = qy_of(j);
+                let mut acc = 0.0;
+                for (i, c) in col.iter().enumerate() {
+                    let p2 = c.norm_sqr();
+                    if p2 == 0.0 {
                         continue;
                     }
-                    let qv = qx * ex + qy * ey;
-                    let imj = if along_x {
-                        imj_cache[i * (2 * ALIASES as usize + 1) + mi]
-                    } else {
-                        spectrum.compliance(-qv * speed).im
-                    };
-                    let s = sx * sinc(0.5 * qy * a);
-                    // Re[i q_v G^] = -q_v Im G^ = -q_v 2 (1-nu^2) Im J* / |q|
-                    w += s * s * (-qv * 2.0 * composite * imj / q);
+                    let qx0 = qx_of(i);
+                    let mut w = 0.0;
+                    for (mi, mxa) in (-ALIASES..=ALIASES).enumerate() {
+                        let qx = qx0 + mxa as f64 * gx;
+                        let sx = sinc(0.5 * qx * a);
+                        for mya in -ALIASES..=ALIASES {
+                            let qy = qy0 + mya as f64 * gx;
+                            let q = qx.hypot(qy);
+                            if q == 0.0 {
+                                continue;
+                            }
+                            let qv = qx * ex + qy * ey;
+                            let imj = if along_x {
+                                imj_cache[i * (2 * ALIASES as usize + 1) + mi]
+                            } else {
+                                spectrum.compliance(-qv * speed).im
+                            };
+                            let s = sx * sinc(0.5 * qy * a);
+                            // Re[i q_v G^] = -q_v Im G^ = -q_v 2 (1-nu^2) Im J* / |q|
+                            w += s * s * (-qv * 2.0 * composite * imj / q);
+                        }
+                    }
+                    acc += p2 * w;
                 }
-            }
-            total += weight * p2 * w;
-        }
-    }
+                weight * acc
+            },
+        )
+        .sum();
     // P(q) = a^2 sum p e^{-iqx}: |P|^2 = a^4 |FFT|^2; the zone integral is
     // sum dq^2 / (2 pi)^2 with dq^2 = (2 pi)^2 / (mx my a^2).
     total * a.powi(4) / (mx as f64 * my as f64 * a * a)

@@ -100,7 +100,9 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
     }
 
     fn scale(&mut self, alpha: f64, x: &mut Vec<f64>) {
-        x.par_iter_mut().with_min_len(PAR_MIN).for_each(|v| *v *= alpha);
+        x.par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .for_each(|v| *v *= alpha);
     }
 
     fn masked(&mut self, mask: &Vec<f64>, x: &Vec<f64>, y: &mut Vec<f64>) {
@@ -121,7 +123,12 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
             .for_each(|(o, (gi, ui))| *o = gi - delta + ui);
     }
 
-    fn update_active_set(&mut self, p: &Vec<f64>, gap: &Vec<f64>, mask: &mut Vec<f64>) -> (usize, usize) {
+    fn update_active_set(
+        &mut self,
+        p: &Vec<f64>,
+        gap: &Vec<f64>,
+        mask: &mut Vec<f64>,
+    ) -> (usize, usize) {
         mask.par_iter_mut()
             .with_min_len(PAR_MIN)
             .zip(p.par_iter().zip(gap.par_iter()))

@@ -57,7 +57,12 @@ pub trait Backend {
     ) -> (usize, usize);
     /// `(sum min(p, k gap)^2, sum p^2)`: the complementarity residual of the
     /// LCP with `k` converting a gap into a pressure.
-    fn complementarity(&mut self, p: &Self::Vector, gap: &Self::Vector, stiffness: f64) -> (f64, f64);
+    fn complementarity(
+        &mut self,
+        p: &Self::Vector,
+        gap: &Self::Vector,
+        stiffness: f64,
+    ) -> (f64, f64);
 }
 use serde::{Deserialize, Serialize};
 

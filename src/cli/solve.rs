@@ -40,10 +40,13 @@ pub fn run(args: SolveArgs) -> Result<()> {
     match choice {
         BackendChoice::Gpu => {
             return Err(Error::Invalid(
-                "the GPU contact iteration is not available in this version; use --backend cpu".into(),
+                "the GPU contact iteration is not available in this version; use --backend cpu"
+                    .into(),
             ))
         }
-        BackendChoice::Auto => eprintln!("backend: cpu (the GPU contact iteration is not available in this version)"),
+        BackendChoice::Auto => {
+            eprintln!("backend: cpu (the GPU contact iteration is not available in this version)")
+        }
         BackendChoice::Cpu => eprintln!("backend: cpu"),
     }
     eprintln!(
@@ -51,10 +54,16 @@ pub fn run(args: SolveArgs) -> Result<()> {
         setup.surface.nx,
         setup.surface.ny,
         setup.speed,
-        setup.xi().map(|x| format!(" (xi = {x:.4e})")).unwrap_or_default()
+        setup
+            .xi()
+            .map(|x| format!(" (xi = {x:.4e})"))
+            .unwrap_or_default()
     );
     let bar = ProgressBar::new_spinner();
-    bar.set_style(ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}").expect("valid template"));
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}")
+            .expect("valid template"),
+    );
     bar.set_message("computing influence coefficients");
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
     let mut spinner = Spinner(bar);

@@ -96,17 +96,20 @@ pub(super) fn per_offset(
     let rect = LoveRect::new(cell, cell);
     let mut t = CoefficientTable::zeros(nx, ny, cell);
     let w = 2 * ny - 1;
-    t.values.par_chunks_mut(w).enumerate().for_each(|(ii, row)| {
-        let di = ii as isize - (nx as isize - 1);
-        for (jj, v) in row.iter_mut().enumerate() {
-            let dj = jj as isize - (ny as isize - 1);
-            let (x, y) = (di as f64 * cell, dj as f64 * cell);
-            *v = match derivative {
-                None => k.coefficient_with(&rect, x, y).total(),
-                Some(axis) => k.derivative_with(&rect, x, y, axis),
-            };
-        }
-    });
+    t.values
+        .par_chunks_mut(w)
+        .enumerate()
+        .for_each(|(ii, row)| {
+            let di = ii as isize - (nx as isize - 1);
+            for (jj, v) in row.iter_mut().enumerate() {
+                let dj = jj as isize - (ny as isize - 1);
+                let (x, y) = (di as f64 * cell, dj as f64 * cell);
+                *v = match derivative {
+                    None => k.coefficient_with(&rect, x, y).total(),
+                    Some(axis) => k.derivative_with(&rect, x, y, axis),
+                };
+            }
+        });
     t
 }
 
@@ -271,7 +274,10 @@ impl Plan {
             .collect();
         plan.marched.extend(mid_marched);
         if !peaked_terms.is_empty() {
-            let lmin = peaked_terms.iter().map(|t| t.1).fold(f64::INFINITY, f64::min);
+            let lmin = peaked_terms
+                .iter()
+                .map(|t| t.1)
+                .fold(f64::INFINITY, f64::min);
             let (xs, ws) = fine_geometric(lmin / 16.0, 0.25, 20);
             let wts: Vec<f64> = xs
                 .iter()
@@ -286,11 +292,7 @@ impl Plan {
             plan.peaked = Some(gauss_from_samples(&xs, &wts, 10));
         }
         if !plan.marched.is_empty() {
-            let lmax = plan
-                .marched
-                .iter()
-                .map(|t| 1.0 / t.1)
-                .fold(0.0, f64::max);
+            let lmax = plan.marched.iter().map(|t| 1.0 / t.1).fold(0.0, f64::max);
             let s_hi = 46.0 * lmax.max(a);
             let (gx, gw) = gauss_legendre_unit(10);
             let mut edges = vec![0.0];
@@ -421,7 +423,11 @@ fn march_row(
                 s *= 4.0;
             }
         }
-        let hi = if len.is_infinite() { 46.0 * l.max(a) } else { len };
+        let hi = if len.is_infinite() {
+            46.0 * l.max(a)
+        } else {
+            len
+        };
         let br = clean_breaks(br, 0.0, hi);
         let scale = g(x).abs() + g(x + a).abs();
         adaptive(
@@ -466,11 +472,7 @@ fn march_row(
                     state[t] = plan.shared[t].1 * state[t] + p;
                 }
                 for (t, (nodes, wts)) in plan.mid_rule.iter().enumerate() {
-                    let p: f64 = nodes
-                        .iter()
-                        .zip(wts)
-                        .map(|(tq, w)| w * g(x + a * tq))
-                        .sum();
+                    let p: f64 = nodes.iter().zip(wts).map(|(tq, w)| w * g(x + a * tq)).sum();
                     state[ns + t] = plan.mid[t].1 * state[ns + t] + p;
                 }
             }

@@ -316,7 +316,11 @@ mod tests {
             (100.0, 0.019_985_850_304_223_12),
         ];
         for (x, v) in cases {
-            assert!((bessel_j0(x) - v).abs() < 2e-15, "J0({x}) = {} vs {v}", bessel_j0(x));
+            assert!(
+                (bessel_j0(x) - v).abs() < 2e-15,
+                "J0({x}) = {} vs {v}",
+                bessel_j0(x)
+            );
         }
     }
 

@@ -89,7 +89,9 @@ impl ToeplitzFft {
             rows: vec![0.0; mx * my],
             spec: vec![Complex64::default(); mx * myh],
             spec_t: vec![Complex64::default(); myh * mx],
-            pool: (0..groups).map(|_| vec![Complex64::default(); scratch_len]).collect(),
+            pool: (0..groups)
+                .map(|_| vec![Complex64::default(); scratch_len])
+                .collect(),
         };
         // Wrap the offset table into the circular kernel.
         op.rows.fill(0.0);

@@ -105,7 +105,14 @@ pub struct ContactSolution {
 
 /// Something that wants to hear about progress.
 pub trait Observer {
-    fn iteration(&mut self, _iteration: usize, _matvecs: usize, _residual: f64, _contact_cells: usize) {}
+    fn iteration(
+        &mut self,
+        _iteration: usize,
+        _matvecs: usize,
+        _residual: f64,
+        _contact_cells: usize,
+    ) {
+    }
 }
 
 /// An observer that ignores everything.
@@ -160,17 +167,26 @@ pub fn solve<B: Backend>(
 ) -> Result<(ContactSolution, SolveInfo), SolverError> {
     let n = backend.len();
     if g.len() != n {
-        return Err(SolverError::Invalid(format!("gap has {} cells, grid has {n}", g.len())));
+        return Err(SolverError::Invalid(format!(
+            "gap has {} cells, grid has {n}",
+            g.len()
+        )));
     }
     if !(cell_area > 0.0 && self_coefficient > 0.0) {
-        return Err(SolverError::Invalid("cell area and self coefficient must be positive".into()));
+        return Err(SolverError::Invalid(
+            "cell area and self coefficient must be positive".into(),
+        ));
     }
     match control {
         Control::Load(f) if !(f.is_finite() && f > 0.0) => {
-            return Err(SolverError::Invalid(format!("normal load {f} N must be positive")))
+            return Err(SolverError::Invalid(format!(
+                "normal load {f} N must be positive"
+            )))
         }
         Control::Approach(d) if !d.is_finite() => {
-            return Err(SolverError::Invalid(format!("approach {d} m must be finite")))
+            return Err(SolverError::Invalid(format!(
+                "approach {d} m must be finite"
+            )))
         }
         _ => {}
     }
@@ -215,7 +231,11 @@ pub fn solve<B: Backend>(
     let mut last_changes = usize::MAX;
     let mut residual = f64::INFINITY;
     for iteration in 1..=params.max_iterations {
-        let inner_tol = if last_changes <= (contact_cells / 200).max(1) { tight } else { loose };
+        let inner_tol = if last_changes <= (contact_cells / 200).max(1) {
+            tight
+        } else {
+            loose
+        };
         let m = contact_cells.max(1) as f64;
         let load_scale = self_coefficient / m.sqrt();
         // rhs = (mask * (delta - g) or -mask*g, load row)
@@ -256,7 +276,11 @@ pub fn solve<B: Backend>(
         matvecs += 1;
         backend.gap(&gv, &u, delta, &mut gap);
         let (r2, p2) = backend.complementarity(&p.v, &gap, stiffness);
-        residual = if p2 > 0.0 { (r2 / p2).sqrt() } else { f64::INFINITY };
+        residual = if p2 > 0.0 {
+            (r2 / p2).sqrt()
+        } else {
+            f64::INFINITY
+        };
         let (changes, size) = backend.update_active_set(&p.v, &gap, &mut mask);
         history.push(residual);
         contact_history.push(size);
@@ -294,7 +318,8 @@ pub fn solve<B: Backend>(
         }
         if size == 0 {
             return Err(SolverError::Invalid(
-                "the contact set became empty: under approach control the surfaces do not touch".into(),
+                "the contact set became empty: under approach control the surfaces do not touch"
+                    .into(),
             ));
         }
         last_changes = changes;
@@ -311,10 +336,123 @@ pub fn solve<B: Backend>(
     })
 }
 
+/// Full contact: the pressure that keeps every cell in contact, from one
+/// linear solve of the bordered system on the whole grid (no sign
+/// constraint). Physical when every pressure comes out positive; with
+/// `Control::Load(0.0)` it gives the pure response to the profile `g`.
+pub fn solve_full_contact<B: Backend>(
+    backend: &mut B,
+    g: &[f64],
+    cell_area: f64,
+    self_coefficient: f64,
+    control: Control,
+    params: &SolverParams,
+) -> Result<(ContactSolution, SolveInfo), SolverError> {
+    let n = backend.len();
+    if g.len() != n {
+        return Err(SolverError::Invalid(format!(
+            "gap has {} cells, grid has {n}",
+            g.len()
+        )));
+    }
+    let mut mask = backend.zeros();
+    backend.upload(&vec![1.0; n], &mut mask);
+    let mut gv = backend.zeros();
+    backend.upload(g, &mut gv);
+    let bordered = matches!(control, Control::Load(_));
+    let load_scale = self_coefficient / (n as f64).sqrt();
+    let mut rhs = AugVec {
+        v: backend.zeros(),
+        s: 0.0,
+    };
+    backend.copy(&gv, &mut rhs.v);
+    backend.scale(-1.0, &mut rhs.v);
+    match control {
+        Control::Load(f) => rhs.s = load_scale * f / cell_area,
+        Control::Approach(d) => backend.axpy(d, &mask, &mut rhs.v),
+    }
+    let mut op = Bordered {
+        mask: &mask,
+        tmp_in: backend.zeros(),
+        tmp_out: backend.zeros(),
+        delta_scale: self_coefficient,
+        load_scale,
+        bordered,
+        matvecs: 0,
+    };
+    let mut p = AugVec {
+        v: backend.zeros(),
+        s: 0.0,
+    };
+    let mut work = GmresWork::new(backend, params.restart);
+    let outcome = gmres(
+        backend,
+        &mut op,
+        &rhs,
+        &mut p,
+        &mut work,
+        0.01 * params.tolerance,
+        params.max_matvecs,
+    );
+    let mut matvecs = op.matvecs;
+    if !outcome.converged {
+        return Err(SolverError::NoConvergence {
+            iterations: 1,
+            matvecs,
+            residual: f64::NAN,
+            history: vec![],
+        });
+    }
+    let delta = match control {
+        Control::Load(_) => p.s * self_coefficient,
+        Control::Approach(d) => d,
+    };
+    let mut u = backend.zeros();
+    backend.apply(&p.v, &mut u);
+    matvecs += 1;
+    let mut gap = backend.zeros();
+    backend.gap(&gv, &u, delta, &mut gap);
+    let (r2, p2) = backend.complementarity(&p.v, &gap, 1.0 / self_coefficient);
+    let load_error = match control {
+        Control::Load(f) if f > 0.0 => (cell_area * backend.sum(&p.v) - f).abs() / f,
+        _ => 0.0,
+    };
+    let mut out = |v: &B::Vector| {
+        let mut h = vec![0.0; n];
+        backend.download(v, &mut h);
+        h
+    };
+    let solution = ContactSolution {
+        pressure: out(&p.v),
+        displacement: out(&u),
+        gap: out(&gap),
+        contact: vec![1.0; n],
+        approach: delta,
+    };
+    let residual = if p2 > 0.0 { (r2 / p2).sqrt() } else { 0.0 };
+    Ok((
+        solution,
+        SolveInfo {
+            iterations: 1,
+            matvecs,
+            residual,
+            load_error,
+            history: vec![residual],
+            contact_history: vec![n],
+        },
+    ))
+}
+
 /// Initial contact set and pressure: the cells with the smallest gap, as
 /// many as the linear area-load law (paper Eq. 10, `A/A0 ~ 2 p0 / (E* m)`,
 /// here with the cell stiffness standing in for `E*/m`) suggests.
-fn initial_guess(g: &[f64], cell_area: f64, l00: f64, control: Control, mask: &mut [f64]) -> (f64, f64) {
+fn initial_guess(
+    g: &[f64],
+    cell_area: f64,
+    l00: f64,
+    control: Control,
+    mask: &mut [f64],
+) -> (f64, f64) {
     let n = g.len();
     let mut sorted: Vec<f64> = g.to_vec();
     sorted.sort_by(|a, b| a.total_cmp(b));

@@ -12,7 +12,11 @@ use viscoslide::solver::{self, ContactSolution, Control, SolveInfo, SolverParams
 /// The paper's single-relaxation material: E_inf = 1e7 Pa, E_inf/E0 = 3,
 /// creep time 0.01 s, nu = 0.5.
 pub fn paper_material() -> Material {
-    Material::new(CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(), 0.5).unwrap()
+    Material::new(
+        CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
+        0.5,
+    )
+    .unwrap()
 }
 
 /// Band-limited isotropic random surface evaluated as a trigonometric sum,
@@ -20,7 +24,14 @@ pub fn paper_material() -> Material {
 /// integer wave numbers `1 <= |k| <= kmax` (in units of 2 pi / L), amplitude
 /// `|k|^-(1+H)`, random phases; scaled to the rms slope `slope`. Returns
 /// heights at cell centres, C order, axis 0 = x.
-pub fn trig_surface(n: usize, length: f64, kmax: i32, hurst: f64, slope: f64, seed: u64) -> Vec<f64> {
+pub fn trig_surface(
+    n: usize,
+    length: f64,
+    kmax: i32,
+    hurst: f64,
+    slope: f64,
+    seed: u64,
+) -> Vec<f64> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut modes = Vec::new();
     for kx in -kmax..=kmax {
@@ -33,19 +44,31 @@ pub fn trig_surface(n: usize, length: f64, kmax: i32, hurst: f64, slope: f64, se
                 continue;
             }
             let amp = k2.powf(-(1.0 + hurst) / 2.0);
-            modes.push((kx as f64, ky as f64, amp, rng.random_range(0.0..std::f64::consts::TAU)));
+            modes.push((
+                kx as f64,
+                ky as f64,
+                amp,
+                rng.random_range(0.0..std::f64::consts::TAU),
+            ));
         }
     }
     let q = std::f64::consts::TAU / length;
     // rms slope of sum A cos(q k.x + phi) is sqrt(sum A^2 q^2 |k|^2 / 2).
-    let s2: f64 = modes.iter().map(|m| m.2 * m.2 * q * q * (m.0 * m.0 + m.1 * m.1) / 2.0).sum();
+    let s2: f64 = modes
+        .iter()
+        .map(|m| m.2 * m.2 * q * q * (m.0 * m.0 + m.1 * m.1) / 2.0)
+        .sum();
     let scale = slope / s2.sqrt();
     let a = length / n as f64;
     let mut z = vec![0.0; n * n];
     for i in 0..n {
         for j in 0..n {
             let (x, y) = ((i as f64 + 0.5) * a, (j as f64 + 0.5) * a);
-            z[i * n + j] = scale * modes.iter().map(|m| m.2 * (q * (m.0 * x + m.1 * y) + m.3).cos()).sum::<f64>();
+            z[i * n + j] = scale
+                * modes
+                    .iter()
+                    .map(|m| m.2 * (q * (m.0 * x + m.1 * y) + m.3).cos())
+                    .sum::<f64>();
         }
     }
     z
@@ -97,7 +120,14 @@ pub fn solve_grid(
 }
 
 /// Friction coefficients `(stencil, dissipation)` of a solution along +x.
-pub fn friction(kernel: &SlidingKernel, material: &Material, sol: &ContactSolution, n: usize, a: f64, speed: f64) -> (f64, f64) {
+pub fn friction(
+    kernel: &SlidingKernel,
+    material: &Material,
+    sol: &ContactSolution,
+    n: usize,
+    a: f64,
+    speed: f64,
+) -> (f64, f64) {
     use viscoslide::analysis;
     use viscoslide::kernel::Axis;
     let d = kernel.derivative_table(n, n, a, Axis::X);
@@ -108,6 +138,15 @@ pub fn friction(kernel: &SlidingKernel, material: &Material, sol: &ContactSoluti
     });
     let load: f64 = sol.pressure.iter().sum::<f64>() * a * a;
     let fs = analysis::friction_force_stencil(&mut op, &sol.pressure, a);
-    let fd = analysis::friction_force_dissipation(&sol.pressure, n, n, a, &material.spectrum, material.poisson, speed, 0.0);
+    let fd = analysis::friction_force_dissipation(
+        &sol.pressure,
+        n,
+        n,
+        a,
+        &material.spectrum,
+        material.poisson,
+        speed,
+        0.0,
+    );
     (-fs / load, -fd / load)
 }
