@@ -35,6 +35,8 @@ pub fn friction_force_stencil(derivative: &mut dyn GridOperator, pressure: &[f64
 
 /// Alias images summed on each side in each direction.
 const ALIASES: i32 = 3;
+/// Alias images per direction.
+const NA: usize = 2 * ALIASES as usize + 1;
 
 /// Zero-padding factor of the Fourier quadrature.
 const PAD: usize = 4;
@@ -105,6 +107,16 @@ pub fn friction_force_dissipation(
         two_pi * k / (mx as f64 * a)
     };
     let qy_of = |j: usize| two_pi * j as f64 / (my as f64 * a);
+    let mut qxs = vec![0.0; mx * NA];
+    let mut sx2s = vec![0.0; mx * NA];
+    for i in 0..mx {
+        for (k, m) in (-ALIASES..=ALIASES).enumerate() {
+            let qx = qx_of(i) + m as f64 * gx;
+            let s = sinc(0.5 * qx * a);
+            qxs[i * NA + k] = qx;
+            sx2s[i * NA + k] = s * s;
+        }
+    }
     if along_x {
         for i in 0..mx {
             for (m, slot) in
@@ -134,32 +146,37 @@ pub fn friction_force_dissipation(
                     2.0
                 };
                 let qy0 = qy_of(j);
+                let mut qys = [0.0; NA];
+                let mut sy2 = [0.0; NA];
+                for (k, m) in (-ALIASES..=ALIASES).enumerate() {
+                    qys[k] = qy0 + m as f64 * gx;
+                    let s = sinc(0.5 * qys[k] * a);
+                    sy2[k] = s * s;
+                }
                 let mut acc = 0.0;
                 for (i, c) in col.iter().enumerate() {
                     let p2 = c.norm_sqr();
                     if p2 == 0.0 {
                         continue;
                     }
-                    let qx0 = qx_of(i);
                     let mut w = 0.0;
-                    for (mi, mxa) in (-ALIASES..=ALIASES).enumerate() {
-                        let qx = qx0 + mxa as f64 * gx;
-                        let sx = sinc(0.5 * qx * a);
-                        for mya in -ALIASES..=ALIASES {
-                            let qy = qy0 + mya as f64 * gx;
+                    for mi in 0..NA {
+                        let qx = qxs[i * NA + mi];
+                        let sx2 = sx2s[i * NA + mi];
+                        for k in 0..NA {
+                            let qy = qys[k];
                             let q = qx.hypot(qy);
                             if q == 0.0 {
                                 continue;
                             }
                             let qv = qx * ex + qy * ey;
                             let imj = if along_x {
-                                imj_cache[i * (2 * ALIASES as usize + 1) + mi]
+                                imj_cache[i * NA + mi]
                             } else {
                                 spectrum.compliance(-qv * speed).im
                             };
-                            let s = sx * sinc(0.5 * qy * a);
                             // Re[i q_v G^] = -q_v Im G^ = -q_v 2 (1-nu^2) Im J* / |q|
-                            w += s * s * (-qv * 2.0 * composite * imj / q);
+                            w += sx2 * sy2[k] * (-qv * 2.0 * composite * imj / q);
                         }
                     }
                     acc += p2 * w;

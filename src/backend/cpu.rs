@@ -41,17 +41,22 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 impl<Op: GridOperator> Backend for CpuBackend<Op> {
     type Vector = Vec<f64>;
+    type Index = Vec<usize>;
 
     fn name(&self) -> String {
         format!("cpu ({} threads)", rayon::current_num_threads())
     }
 
-    fn len(&self) -> usize {
+    fn grid_len(&self) -> usize {
         self.n
     }
 
-    fn zeros(&mut self) -> Vec<f64> {
-        vec![0.0; self.n]
+    fn zeros(&mut self, len: usize) -> Vec<f64> {
+        vec![0.0; len]
+    }
+
+    fn resize(&mut self, v: &mut Vec<f64>, len: usize) {
+        v.resize(len, 0.0);
     }
 
     fn upload(&mut self, host: &[f64], dst: &mut Vec<f64>) {
@@ -75,9 +80,15 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
     }
 
     fn dots(&mut self, basis: &[Vec<f64>], w: &Vec<f64>, out: &mut [f64]) {
-        out.par_iter_mut()
-            .zip(basis.par_iter())
-            .for_each(|(o, v)| *o = dot(v, w));
+        if w.len() < PAR_MIN {
+            for (o, v) in out.iter_mut().zip(basis) {
+                *o = dot(v, w);
+            }
+        } else {
+            out.par_iter_mut()
+                .zip(basis.par_iter())
+                .for_each(|(o, v)| *o = dot(v, w));
+        }
     }
 
     fn axpy(&mut self, alpha: f64, x: &Vec<f64>, y: &mut Vec<f64>) {
@@ -105,15 +116,43 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
             .for_each(|v| *v *= alpha);
     }
 
-    fn masked(&mut self, mask: &Vec<f64>, x: &Vec<f64>, y: &mut Vec<f64>) {
-        y.par_iter_mut()
+    fn add_scalar(&mut self, alpha: f64, x: &mut Vec<f64>) {
+        x.par_iter_mut()
             .with_min_len(PAR_MIN)
-            .zip(mask.par_iter().zip(x.par_iter()))
-            .for_each(|(yi, (m, xi))| *yi = m * xi);
+            .for_each(|v| *v += alpha);
     }
 
     fn sum(&mut self, x: &Vec<f64>) -> f64 {
         x.par_chunks(4096).map(|c| c.iter().sum::<f64>()).sum()
+    }
+
+    fn index_of(&mut self, mask: &Vec<f64>) -> Vec<usize> {
+        mask.iter()
+            .enumerate()
+            .filter(|(_, &m)| m > 0.5)
+            .map(|(i, _)| i)
+            .collect()
+    }
+
+    fn index_len(&self, index: &Vec<usize>) -> usize {
+        index.len()
+    }
+
+    fn gather(&mut self, index: &Vec<usize>, full: &Vec<f64>, short: &mut Vec<f64>) {
+        short
+            .par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .zip(index.par_iter())
+            .for_each(|(s, &i)| *s = full[i]);
+    }
+
+    fn scatter(&mut self, index: &Vec<usize>, short: &Vec<f64>, full: &mut Vec<f64>) {
+        full.par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .for_each(|v| *v = 0.0);
+        for (&i, &s) in index.iter().zip(short) {
+            full[i] = s;
+        }
     }
 
     fn gap(&mut self, g: &Vec<f64>, u: &Vec<f64>, delta: f64, out: &mut Vec<f64>) {

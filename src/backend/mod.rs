@@ -7,29 +7,30 @@ pub mod gpu;
 
 pub use cpu::CpuBackend;
 
-/// Storage and kernels the constrained iteration needs. Vectors are grid
-/// vectors of length `nx ny` (C order). Scalars come back to the host; all
-/// vectors may stay on the device.
+/// Storage and kernels the constrained iteration needs. Vectors are either
+/// grid vectors (length `nx ny`, C order) or short vectors over the current
+/// contact set, addressed through an [`Backend::Index`]. Scalars come back to
+/// the host; all vectors may stay on the device.
 pub trait Backend {
     type Vector;
+    /// Positions of the cells of a contact set.
+    type Index;
 
     /// Executor name for reports (e.g. `cpu (2 threads)` or the adapter).
     fn name(&self) -> String;
-    /// Length of every vector.
-    fn len(&self) -> usize;
-    /// Whether vectors are empty (never, for a valid grid).
-    fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-    /// A new zero vector.
-    fn zeros(&mut self) -> Self::Vector;
-    /// Host -> vector.
+    /// Length of a grid vector.
+    fn grid_len(&self) -> usize;
+    /// A new zero vector of `len` entries.
+    fn zeros(&mut self, len: usize) -> Self::Vector;
+    /// Change the length of `v` to `len` (contents unspecified).
+    fn resize(&mut self, v: &mut Self::Vector, len: usize);
+    /// Host -> vector (lengths equal).
     fn upload(&mut self, host: &[f64], dst: &mut Self::Vector);
-    /// Vector -> host.
+    /// Vector -> host (lengths equal).
     fn download(&mut self, src: &Self::Vector, host: &mut [f64]);
     /// `dst = src`.
     fn copy(&mut self, src: &Self::Vector, dst: &mut Self::Vector);
-    /// `y = L x`, the influence operator (paper Eq. 7).
+    /// `y = L x` on grid vectors, the influence operator (paper Eq. 7).
     fn apply(&mut self, x: &Self::Vector, y: &mut Self::Vector);
     /// `a . b`.
     fn dot(&mut self, a: &Self::Vector, b: &Self::Vector) -> f64;
@@ -41,14 +42,23 @@ pub trait Backend {
     fn combine(&mut self, coeffs: &[f64], basis: &[Self::Vector], y: &mut Self::Vector);
     /// `x *= alpha`.
     fn scale(&mut self, alpha: f64, x: &mut Self::Vector);
-    /// `y = mask * x` (elementwise; mask entries are 0 or 1).
-    fn masked(&mut self, mask: &Self::Vector, x: &Self::Vector, y: &mut Self::Vector);
+    /// `x[i] += alpha` for every entry.
+    fn add_scalar(&mut self, alpha: f64, x: &mut Self::Vector);
     /// `sum x`.
     fn sum(&mut self, x: &Self::Vector) -> f64;
+    /// The cells where `mask > 0.5`.
+    fn index_of(&mut self, mask: &Self::Vector) -> Self::Index;
+    /// Number of cells in an index.
+    fn index_len(&self, index: &Self::Index) -> usize;
+    /// `short[k] = full[index[k]]`.
+    fn gather(&mut self, index: &Self::Index, full: &Self::Vector, short: &mut Self::Vector);
+    /// `full = 0` except `full[index[k]] = short[k]`.
+    fn scatter(&mut self, index: &Self::Index, short: &Self::Vector, full: &mut Self::Vector);
     /// `out = g - delta + u`: the gap of physics.md section 1.
     fn gap(&mut self, g: &Self::Vector, u: &Self::Vector, delta: f64, out: &mut Self::Vector);
-    /// Primal-dual active-set update: a cell in the set stays iff `p > 0`, a
-    /// cell outside joins iff `gap < 0`. Returns `(changes, size of the new set)`.
+    /// Primal-dual active-set update on grid vectors: a cell in the set
+    /// stays iff `p > 0`, a cell outside joins iff `gap < 0`. Returns
+    /// `(changes, size of the new set)`.
     fn update_active_set(
         &mut self,
         p: &Self::Vector,
@@ -64,6 +74,7 @@ pub trait Backend {
         stiffness: f64,
     ) -> (f64, f64);
 }
+
 use serde::{Deserialize, Serialize};
 
 /// Which executor runs a computation.

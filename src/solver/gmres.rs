@@ -36,17 +36,26 @@ pub struct GmresWork<V> {
 }
 
 impl<V> GmresWork<V> {
-    pub fn new<B: Backend<Vector = V>>(backend: &mut B, restart: usize) -> Self {
+    /// Work space for vectors of `len` entries.
+    pub fn new<B: Backend<Vector = V>>(backend: &mut B, restart: usize, len: usize) -> Self {
         let restart = restart.max(1);
         Self {
-            basis: (0..=restart).map(|_| backend.zeros()).collect(),
+            basis: (0..=restart).map(|_| backend.zeros(len)).collect(),
             basis_s: vec![0.0; restart + 1],
             w: AugVec {
-                v: backend.zeros(),
+                v: backend.zeros(len),
                 s: 0.0,
             },
             h: vec![0.0; (restart + 1) * restart],
         }
+    }
+
+    /// Re-size every vector to `len` entries (storage is kept).
+    pub fn resize<B: Backend<Vector = V>>(&mut self, backend: &mut B, len: usize) {
+        for v in &mut self.basis {
+            backend.resize(v, len);
+        }
+        backend.resize(&mut self.w.v, len);
     }
 }
 

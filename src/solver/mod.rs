@@ -119,11 +119,12 @@ pub trait Observer {
 pub struct Silent;
 impl Observer for Silent {}
 
-/// The bordered operator on the contact set.
-struct Bordered<'a, V> {
-    mask: &'a V,
-    tmp_in: V,
-    tmp_out: V,
+/// The bordered operator on the contact set `I` (short vectors over `I`):
+/// `y = (L_II x - delta_scale s 1, load_scale sum x)`.
+struct Bordered<'a, B: Backend> {
+    index: &'a B::Index,
+    full_in: &'a mut B::Vector,
+    full_out: &'a mut B::Vector,
     /// `delta = delta_scale * s`.
     delta_scale: f64,
     /// Load row scale.
@@ -132,15 +133,15 @@ struct Bordered<'a, V> {
     matvecs: usize,
 }
 
-impl<B: Backend> AugOperator<B> for Bordered<'_, B::Vector> {
+impl<B: Backend> AugOperator<B> for Bordered<'_, B> {
     fn apply(&mut self, backend: &mut B, x_v: &B::Vector, x_s: f64, y: &mut AugVec<B::Vector>) {
-        backend.masked(self.mask, x_v, &mut self.tmp_in);
-        backend.apply(&self.tmp_in, &mut self.tmp_out);
+        backend.scatter(self.index, x_v, self.full_in);
+        backend.apply(self.full_in, self.full_out);
         self.matvecs += 1;
-        backend.masked(self.mask, &self.tmp_out, &mut y.v);
+        backend.gather(self.index, self.full_out, &mut y.v);
         if self.bordered {
-            backend.axpy(-self.delta_scale * x_s, self.mask, &mut y.v);
-            y.s = self.load_scale * backend.sum(&self.tmp_in);
+            backend.add_scalar(-self.delta_scale * x_s, &mut y.v);
+            y.s = self.load_scale * backend.sum(x_v);
         } else {
             y.s = 0.0;
         }
@@ -165,31 +166,8 @@ pub fn solve<B: Backend>(
     params: &SolverParams,
     observer: &mut dyn Observer,
 ) -> Result<(ContactSolution, SolveInfo), SolverError> {
-    let n = backend.len();
-    if g.len() != n {
-        return Err(SolverError::Invalid(format!(
-            "gap has {} cells, grid has {n}",
-            g.len()
-        )));
-    }
-    if !(cell_area > 0.0 && self_coefficient > 0.0) {
-        return Err(SolverError::Invalid(
-            "cell area and self coefficient must be positive".into(),
-        ));
-    }
-    match control {
-        Control::Load(f) if !(f.is_finite() && f > 0.0) => {
-            return Err(SolverError::Invalid(format!(
-                "normal load {f} N must be positive"
-            )))
-        }
-        Control::Approach(d) if !d.is_finite() => {
-            return Err(SolverError::Invalid(format!(
-                "approach {d} m must be finite"
-            )))
-        }
-        _ => {}
-    }
+    let n = backend.grid_len();
+    check_problem(g, n, cell_area, self_coefficient, control)?;
     let stiffness = 1.0 / self_coefficient;
     let tight = 0.01 * params.tolerance;
     let loose = 1e-4_f64.max(tight);
@@ -197,32 +175,30 @@ pub fn solve<B: Backend>(
     // Initial contact set.
     let mut host_mask = vec![0.0; n];
     let (delta0, p0) = initial_guess(g, cell_area, self_coefficient, control, &mut host_mask);
-    let mut mask = backend.zeros();
+    let mut mask = backend.zeros(n);
     backend.upload(&host_mask, &mut mask);
-    let mut gv = backend.zeros();
+    let mut gv = backend.zeros(n);
     backend.upload(g, &mut gv);
-    let mut p = AugVec {
-        v: backend.zeros(),
-        s: 0.0,
-    };
-    let mut host = vec![0.0; n];
-    for (h, m) in host.iter_mut().zip(&host_mask) {
-        *h = p0 * m;
-    }
-    backend.upload(&host, &mut p.v);
+    let mut p_full = backend.zeros(n);
+    let host: Vec<f64> = host_mask.iter().map(|m| p0 * m).collect();
+    backend.upload(&host, &mut p_full);
 
     let bordered = matches!(control, Control::Load(_));
     let delta_scale = self_coefficient;
-    p.s = delta0 / delta_scale;
-    let mut work = GmresWork::new(backend, params.restart);
+    let mut delta = delta0;
+    let mut work = GmresWork::new(backend, params.restart, 0);
     let mut rhs = AugVec {
-        v: backend.zeros(),
+        v: backend.zeros(0),
         s: 0.0,
     };
-    let mut u = backend.zeros();
-    let mut gap = backend.zeros();
-    let mut tmp_in = backend.zeros();
-    let mut tmp_out = backend.zeros();
+    let mut p = AugVec {
+        v: backend.zeros(0),
+        s: 0.0,
+    };
+    let mut u = backend.zeros(n);
+    let mut gap = backend.zeros(n);
+    let mut full_in = backend.zeros(n);
+    let mut full_out = backend.zeros(n);
 
     let mut matvecs = 0usize;
     let mut history = Vec::new();
@@ -236,74 +212,76 @@ pub fn solve<B: Backend>(
         } else {
             loose
         };
-        let m = contact_cells.max(1) as f64;
-        let load_scale = self_coefficient / m.sqrt();
-        // rhs = (mask * (delta - g) or -mask*g, load row)
-        backend.masked(&mask, &gv, &mut rhs.v);
+        let index = backend.index_of(&mask);
+        let m = backend.index_len(&index);
+        if m == 0 {
+            return Err(SolverError::Invalid(
+                "the contact set is empty: under approach control the surfaces do not touch".into(),
+            ));
+        }
+        let load_scale = self_coefficient / (m as f64).sqrt();
+        work.resize(backend, m);
+        backend.resize(&mut rhs.v, m);
+        backend.resize(&mut p.v, m);
+        // rhs = -g_I (+ delta under approach control); load row.
+        backend.gather(&index, &gv, &mut rhs.v);
         backend.scale(-1.0, &mut rhs.v);
         match control {
             Control::Load(f) => rhs.s = load_scale * f / cell_area,
             Control::Approach(d) => {
-                backend.axpy(d, &mask, &mut rhs.v);
+                backend.add_scalar(d, &mut rhs.v);
                 rhs.s = 0.0;
             }
         }
-        let mut op = Bordered {
-            mask: &mask,
-            tmp_in,
-            tmp_out,
+        // Warm start: the previous pressure on the new set, the previous approach.
+        backend.gather(&index, &p_full, &mut p.v);
+        p.s = delta / delta_scale;
+        let mut op = Bordered::<B> {
+            index: &index,
+            full_in: &mut full_in,
+            full_out: &mut full_out,
             delta_scale,
             load_scale,
             bordered,
             matvecs: 0,
         };
-        // Warm start: restrict the previous pressure to the new set.
-        backend.masked(&mask, &p.v, &mut u);
-        backend.copy(&u, &mut p.v);
         let budget = params.max_matvecs.saturating_sub(matvecs).max(1);
         let outcome = gmres(backend, &mut op, &rhs, &mut p, &mut work, inner_tol, budget);
         matvecs += op.matvecs;
-        tmp_in = op.tmp_in;
-        tmp_out = op.tmp_out;
-        let delta = match control {
-            Control::Load(_) => p.s * delta_scale,
-            Control::Approach(d) => d,
-        };
+        if bordered {
+            delta = p.s * delta_scale;
+        }
         // Gap everywhere.
-        backend.masked(&mask, &p.v, &mut tmp_in);
-        backend.copy(&tmp_in, &mut p.v);
-        backend.apply(&p.v, &mut u);
+        backend.scatter(&index, &p.v, &mut p_full);
+        backend.apply(&p_full, &mut u);
         matvecs += 1;
         backend.gap(&gv, &u, delta, &mut gap);
-        let (r2, p2) = backend.complementarity(&p.v, &gap, stiffness);
+        let (r2, p2) = backend.complementarity(&p_full, &gap, stiffness);
         residual = if p2 > 0.0 {
             (r2 / p2).sqrt()
         } else {
             f64::INFINITY
         };
-        let (changes, size) = backend.update_active_set(&p.v, &gap, &mut mask);
+        let (changes, size) = backend.update_active_set(&p_full, &gap, &mut mask);
         history.push(residual);
         contact_history.push(size);
         observer.iteration(iteration, matvecs, residual, size);
         if changes == 0 && inner_tol == tight && outcome.converged && residual <= params.tolerance {
             let load_error = match control {
-                Control::Load(f) => (cell_area * backend.sum(&p.v) - f).abs() / f,
+                Control::Load(f) => (cell_area * backend.sum(&p_full) - f).abs() / f,
                 Control::Approach(_) => 0.0,
             };
-            let mut pressure = vec![0.0; n];
-            backend.download(&p.v, &mut pressure);
-            let mut displacement = vec![0.0; n];
-            backend.download(&u, &mut displacement);
-            let mut gap_h = vec![0.0; n];
-            backend.download(&gap, &mut gap_h);
-            let mut contact = vec![0.0; n];
-            backend.download(&mask, &mut contact);
+            let mut out = |v: &B::Vector| {
+                let mut h = vec![0.0; n];
+                backend.download(v, &mut h);
+                h
+            };
             return Ok((
                 ContactSolution {
-                    pressure,
-                    displacement,
-                    gap: gap_h,
-                    contact,
+                    pressure: out(&p_full),
+                    displacement: out(&u),
+                    gap: out(&gap),
+                    contact: out(&mask),
                     approach: delta,
                 },
                 SolveInfo {
@@ -314,12 +292,6 @@ pub fn solve<B: Backend>(
                     history,
                     contact_history,
                 },
-            ));
-        }
-        if size == 0 {
-            return Err(SolverError::Invalid(
-                "the contact set became empty: under approach control the surfaces do not touch"
-                    .into(),
             ));
         }
         last_changes = changes;
@@ -336,6 +308,40 @@ pub fn solve<B: Backend>(
     })
 }
 
+fn check_problem(
+    g: &[f64],
+    n: usize,
+    cell_area: f64,
+    self_coefficient: f64,
+    control: Control,
+) -> Result<(), SolverError> {
+    if g.len() != n {
+        return Err(SolverError::Invalid(format!(
+            "gap has {} cells, grid has {n}",
+            g.len()
+        )));
+    }
+    if let Some(i) = g.iter().position(|v| !v.is_finite()) {
+        return Err(SolverError::Invalid(format!(
+            "gap profile is not finite at cell {i}"
+        )));
+    }
+    if !(cell_area > 0.0 && self_coefficient > 0.0) {
+        return Err(SolverError::Invalid(
+            "cell area and self coefficient must be positive".into(),
+        ));
+    }
+    match control {
+        Control::Load(f) if !(f.is_finite() && f >= 0.0) => Err(SolverError::Invalid(format!(
+            "normal load {f} N must be positive"
+        ))),
+        Control::Approach(d) if !d.is_finite() => Err(SolverError::Invalid(format!(
+            "approach {d} m must be finite"
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// Full contact: the pressure that keeps every cell in contact, from one
 /// linear solve of the bordered system on the whole grid (no sign
 /// constraint). Physical when every pressure comes out positive; with
@@ -348,43 +354,41 @@ pub fn solve_full_contact<B: Backend>(
     control: Control,
     params: &SolverParams,
 ) -> Result<(ContactSolution, SolveInfo), SolverError> {
-    let n = backend.len();
-    if g.len() != n {
-        return Err(SolverError::Invalid(format!(
-            "gap has {} cells, grid has {n}",
-            g.len()
-        )));
-    }
-    let mut mask = backend.zeros();
+    let n = backend.grid_len();
+    check_problem(g, n, cell_area, self_coefficient, control)?;
+    let mut mask = backend.zeros(n);
     backend.upload(&vec![1.0; n], &mut mask);
-    let mut gv = backend.zeros();
+    let index = backend.index_of(&mask);
+    let mut gv = backend.zeros(n);
     backend.upload(g, &mut gv);
     let bordered = matches!(control, Control::Load(_));
     let load_scale = self_coefficient / (n as f64).sqrt();
     let mut rhs = AugVec {
-        v: backend.zeros(),
+        v: backend.zeros(n),
         s: 0.0,
     };
     backend.copy(&gv, &mut rhs.v);
     backend.scale(-1.0, &mut rhs.v);
     match control {
         Control::Load(f) => rhs.s = load_scale * f / cell_area,
-        Control::Approach(d) => backend.axpy(d, &mask, &mut rhs.v),
+        Control::Approach(d) => backend.add_scalar(d, &mut rhs.v),
     }
-    let mut op = Bordered {
-        mask: &mask,
-        tmp_in: backend.zeros(),
-        tmp_out: backend.zeros(),
+    let mut full_in = backend.zeros(n);
+    let mut full_out = backend.zeros(n);
+    let mut op = Bordered::<B> {
+        index: &index,
+        full_in: &mut full_in,
+        full_out: &mut full_out,
         delta_scale: self_coefficient,
         load_scale,
         bordered,
         matvecs: 0,
     };
     let mut p = AugVec {
-        v: backend.zeros(),
+        v: backend.zeros(n),
         s: 0.0,
     };
-    let mut work = GmresWork::new(backend, params.restart);
+    let mut work = GmresWork::new(backend, params.restart, n);
     let outcome = gmres(
         backend,
         &mut op,
@@ -407,10 +411,10 @@ pub fn solve_full_contact<B: Backend>(
         Control::Load(_) => p.s * self_coefficient,
         Control::Approach(d) => d,
     };
-    let mut u = backend.zeros();
+    let mut u = backend.zeros(n);
     backend.apply(&p.v, &mut u);
     matvecs += 1;
-    let mut gap = backend.zeros();
+    let mut gap = backend.zeros(n);
     backend.gap(&gv, &u, delta, &mut gap);
     let (r2, p2) = backend.complementarity(&p.v, &gap, 1.0 / self_coefficient);
     let load_error = match control {
@@ -443,9 +447,11 @@ pub fn solve_full_contact<B: Backend>(
     ))
 }
 
-/// Initial contact set and pressure: the cells with the smallest gap, as
-/// many as the linear area-load law (paper Eq. 10, `A/A0 ~ 2 p0 / (E* m)`,
-/// here with the cell stiffness standing in for `E*/m`) suggests.
+/// Initial contact set and pressure. Under load control: the cells with the
+/// smallest gap, as many as the linear area-load law predicts (paper Eq. 10,
+/// `A/A0 = kappa p0 / (E* m)` with `kappa = 2`, `m` the rms slope of the
+/// gap profile and `E*` read off the self coefficient: for a square cell
+/// `L_00 = (1 - nu^2) / (pi E) 4 a asinh(1)`, so `E* = 4 asinh(1) a / (pi L_00)`).
 fn initial_guess(
     g: &[f64],
     cell_area: f64,
@@ -458,11 +464,16 @@ fn initial_guess(
     sorted.sort_by(|a, b| a.total_cmp(b));
     let count = match control {
         Control::Load(f) => {
-            // Pressure that closes the typical gap spread on one cell.
-            let spread = (sorted[n / 2] - sorted[0]).max(f64::MIN_POSITIVE);
-            let p_close = spread / l00;
+            let a = cell_area.sqrt();
+            let e_star = 4.0 * 1f64.asinh() * a / (std::f64::consts::PI * l00);
             let mean_p = f / (cell_area * n as f64);
-            ((2.0 * mean_p / p_close * n as f64).ceil() as usize).clamp(1, n.div_ceil(2))
+            let slope = rms_slope_along_rows(g, a);
+            let fraction = if slope > 0.0 {
+                2.0 * mean_p / (e_star * slope)
+            } else {
+                1.0
+            };
+            ((fraction * n as f64).ceil() as usize).clamp(1, n.div_ceil(2))
         }
         Control::Approach(d) => sorted.iter().filter(|&&x| x < d).count().max(1),
     };
@@ -479,4 +490,31 @@ fn initial_guess(
         Control::Approach(_) => 0.0,
     };
     (threshold, p0)
+}
+
+/// rms of the finite-difference slope of `g` along the storage rows and
+/// columns of a square grid (`sqrt(<|grad g|^2>)`); the grid shape is taken
+/// as square when `n` is a perfect square, else as one row.
+fn rms_slope_along_rows(g: &[f64], a: f64) -> f64 {
+    let n = g.len();
+    let side = (n as f64).sqrt().round() as usize;
+    if side * side != n || side < 2 {
+        return 0.0;
+    }
+    let mut s2 = 0.0;
+    let mut count = 0usize;
+    for i in 0..side {
+        for j in 0..side - 1 {
+            let d = g[i * side + j + 1] - g[i * side + j];
+            s2 += d * d;
+            count += 1;
+        }
+    }
+    for i in 0..side - 1 {
+        for j in 0..side {
+            let d = g[(i + 1) * side + j] - g[i * side + j];
+            s2 += d * d;
+        }
+    }
+    (2.0 * s2 / (2 * count) as f64).sqrt() / a
 }
