@@ -15,7 +15,7 @@ use crate::surface::{
 pub enum SurfaceCommand {
     /// Generate a self-affine random surface; writes heights.npy, psd.csv,
     /// psd.png and surface.json into --out (all or nothing).
-    Generate(GenerateArgs),
+    Generate(Box<GenerateArgs>),
     /// Print statistics of a height map (.npy or text matrix).
     Stats(StatsArgs),
 }
@@ -111,7 +111,7 @@ fn parse_anisotropy(s: &str) -> std::result::Result<AnisotropyConfig, String> {
 
 pub fn run(cmd: SurfaceCommand) -> Result<()> {
     match cmd {
-        SurfaceCommand::Generate(a) => run_generate(a),
+        SurfaceCommand::Generate(a) => run_generate(*a),
         SurfaceCommand::Stats(a) => run_stats(a),
     }
 }

@@ -381,7 +381,7 @@ pub fn generate_with_target(
         })
     };
     let (m0, m2) = (moment(0), moment(1));
-    if !(m0 > 0.0) {
+    if m0.is_nan() || m0 <= 0.0 {
         return Err(SurfaceError::Invalid(
             "the prescribed PSD has no Fourier mode on this grid (check ql, q1 and the grid size)"
                 .into(),
