@@ -170,7 +170,7 @@ fn psd_normalisation_identity() {
 #[test]
 fn anisotropy_gives_slope_ratio() {
     let ql = 2.0 * PI / 0.01;
-    for &(s, theta) in &[(2.0, 30.0), (0.5, 0.0), (1.5, 120.0)] {
+    for &(s, theta) in &[(2.0, 30.0_f64), (0.5, 0.0), (1.5, 120.0)] {
         let mut p = params(256, 0.8, 48.0, 9);
         p.rolloff_q0 = Some(8.0 * ql);
         p.anisotropy = Some(Anisotropy {
@@ -179,7 +179,7 @@ fn anisotropy_gives_slope_ratio() {
         });
         let map = generate(&p).unwrap();
         let m = psd_2d(&map, Window::None).unwrap().slope_tensor();
-        let (sn, cs) = (theta as f64).to_radians().sin_cos();
+        let (sn, cs) = theta.to_radians().sin_cos();
         let e = [cs, sn];
         let ep = [-sn, cs];
         let quad = |v: [f64; 2]| {

@@ -15,7 +15,7 @@ use crate::surface::{
 pub enum SurfaceCommand {
     /// Generate a self-affine random surface; writes heights.npy, psd.csv,
     /// psd.png and surface.json into --out (all or nothing).
-    Generate(GenerateArgs),
+    Generate(Box<GenerateArgs>),
     /// Print statistics of a height map (.npy or text matrix).
     Stats(StatsArgs),
 }
@@ -111,7 +111,7 @@ fn parse_anisotropy(s: &str) -> std::result::Result<AnisotropyConfig, String> {
 
 pub fn run(cmd: SurfaceCommand) -> Result<()> {
     match cmd {
-        SurfaceCommand::Generate(a) => run_generate(a),
+        SurfaceCommand::Generate(a) => run_generate(*a),
         SurfaceCommand::Stats(a) => run_stats(a),
     }
 }
@@ -283,20 +283,29 @@ fn psd_plot(
 ) -> Result<()> {
     // Modes outside the band hold FFT round-off (~1e-30 of the peak); keep
     // them off the log axis.
-    let floor = radial.c.iter().copied().fold(0.0, f64::max) * 1e-12;
+    let peak = radial.c.iter().copied().fold(0.0, f64::max);
+    let floor = peak * 1e-12;
+    // The log axis is drawn in units of 10^k m^4 with the peak in [1, 10):
+    // plotters places no ticks on log axes over very small values.
+    let k = if peak > 0.0 {
+        peak.log10().floor()
+    } else {
+        0.0
+    };
+    let unit = 10f64.powf(k);
     let measured: Vec<(f64, f64)> = radial
         .q
         .iter()
         .zip(&radial.c)
         .filter(|(_, c)| **c > floor)
-        .map(|(q, c)| (*q, *c))
+        .map(|(q, c)| (*q, *c / unit))
         .collect();
     let mut series = vec![Series::points("radial average", measured, 2)];
     if let Some(t) = target {
         let line: Vec<(f64, f64)> = radial
             .q
             .iter()
-            .map(|&q| (q, t.eval_radial(q)))
+            .map(|&q| (q, t.eval_radial(q) / unit))
             .filter(|p| p.1 > 0.0)
             .collect();
         series.push(Series::line(format!("target, H = {}", t.hurst), line, 0));
@@ -304,7 +313,11 @@ fn psd_plot(
     let chart = XyChart {
         title: title.into(),
         x_label: "q [1/m]".into(),
-        y_label: "C(q) [m^4]".into(),
+        y_label: if k == 0.0 {
+            "C(q) [m^4]".into()
+        } else {
+            format!("C(q) [1e{k} m^4]")
+        },
         log_x: true,
         log_y: true,
         series,

@@ -177,7 +177,8 @@ pub fn radial_average(psd: &Psd2d) -> RadialPsd {
             for (r, row) in rows.chunks(psd.ny).enumerate() {
                 let qx = signed(block * ROWS + r, psd.nx) * psd.dqx;
                 for (ky, &c) in row.iter().enumerate() {
-                    let q = qx.hypot(signed(ky, psd.ny) * psd.dqy);
+                    let qy = signed(ky, psd.ny) * psd.dqy;
+                    let q = (qx * qx + qy * qy).sqrt();
                     if q > qmax * (1.0 + 1e-12) {
                         continue;
                     }
