@@ -94,7 +94,11 @@ fn love_ref(x: f64, y: f64) -> f64 {
             for j in 0..8 {
                 let v = gw[i] * gw[j] / (x - h * gx[i]).hypot(y - h * gx[j]);
                 let t = s + v;
-                c += if s.abs() >= v.abs() { (s - t) + v } else { (v - t) + s };
+                c += if s.abs() >= v.abs() {
+                    (s - t) + v
+                } else {
+                    (v - t) + s
+                };
                 s = t;
             }
         }
@@ -309,7 +313,21 @@ fn oblique_direction_matches_reference() {
 
 fn table_offsets(n: isize) -> Vec<(isize, isize)> {
     let mut v = vec![];
-    for i in [-(n - 1), -n / 2, -5, -4, -3, -1, 0, 1, 3, 4, 5, n / 3, n - 1] {
+    for i in [
+        -(n - 1),
+        -n / 2,
+        -5,
+        -4,
+        -3,
+        -1,
+        0,
+        1,
+        3,
+        4,
+        5,
+        n / 3,
+        n - 1,
+    ] {
         for j in [0, 1, 3, 4, 7, -(n - 1)] {
             v.push((i, j));
         }
@@ -329,7 +347,11 @@ fn sls_table_matches_reference() {
             let want = k_ref(&m, v, 0.0, i as f64 * A, j as f64 * A);
             let e = rel(t.get(i, j), want);
             worst = worst.max(e);
-            assert!(e < TOL, "xi={xi} ({i},{j}) {} vs {want}: {e:e}", t.get(i, j));
+            assert!(
+                e < TOL,
+                "xi={xi} ({i},{j}) {} vs {want}: {e:e}",
+                t.get(i, j)
+            );
         }
     }
     println!("sls table: max rel error {worst:e}");
@@ -358,7 +380,10 @@ fn long_row_table_matches_reference() {
     let mut worst = 0.0f64;
     for (m, v) in [(sls(), 3.0 * A / 0.01), (spectrum34(), 1e-2)] {
         let t = kernel(&m, v, 0.0).table(n, 1, A);
-        for i in (-(n as isize - 1)..=(n as isize - 1)).step_by(97).chain([-1000, -4, -1, 0, 1, 4, 1000]) {
+        for i in (-(n as isize - 1)..=(n as isize - 1))
+            .step_by(97)
+            .chain([-1000, -4, -1, 0, 1, 4, 1000])
+        {
             let want = k_ref(&m, v, 0.0, i as f64 * A, 0.0);
             let e = rel(t.get(i, 0), want);
             worst = worst.max(e);
@@ -393,18 +418,33 @@ fn derivative_matches_reference() {
         let k = kernel(&m, v, 0.0);
         let n = 12;
         let t = k.derivative_table(n, n, A, Axis::X);
-        for (i, j) in [(0, 0), (1, 0), (-1, 0), (-2, 1), (5, 0), (-6, 2), (0, 9), (-11, -11)] {
+        for (i, j) in [
+            (0, 0),
+            (1, 0),
+            (-1, 0),
+            (-2, 1),
+            (5, 0),
+            (-6, 2),
+            (0, 9),
+            (-11, -11),
+        ] {
             let (dx, dy) = (i as f64 * A, j as f64 * A);
             let want = (kbar_ref(&m, v, dx + 0.5 * A, dy) - kbar_ref(&m, v, dx - 0.5 * A, dy)) / A;
             let got = k.derivative(dx, dy, A, A, Axis::X);
             // Scale: D ~ K / a; compare to the magnitude of K/a at that offset
             // (D itself vanishes by symmetry at some offsets in the elastic limit).
-            let scale = want.abs().max(k.coefficient(dx, dy, A, A).total() / A * 1e-3);
+            let scale = want
+                .abs()
+                .max(k.coefficient(dx, dy, A, A).total() / A * 1e-3);
             let e = (got - want).abs() / scale;
             let et = (t.get(i, j) - want).abs() / scale;
             worst = worst.max(e).max(et);
             assert!(e < TOL, "xi={xi} ({i},{j}) {got} vs {want}: {e:e}");
-            assert!(et < TOL, "table xi={xi} ({i},{j}) {} vs {want}: {et:e}", t.get(i, j));
+            assert!(
+                et < TOL,
+                "table xi={xi} ({i},{j}) {} vs {want}: {et:e}",
+                t.get(i, j)
+            );
         }
     }
     println!("D_x: max rel error {worst:e}");

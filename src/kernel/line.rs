@@ -69,11 +69,18 @@ pub fn memory_integral(p: &LineProblem, f: impl Fn(f64, f64) -> f64) -> f64 {
             active.push((c / l, 1.0 / l));
         }
     }
-    let mut total = if relaxed != 0.0 { relaxed * f(dx, dy) } else { 0.0 };
+    let mut total = if relaxed != 0.0 {
+        relaxed * f(dx, dy)
+    } else {
+        0.0
+    };
     if active.is_empty() {
         return total;
     }
-    let l_min = active.iter().map(|t| 1.0 / t.1).fold(f64::INFINITY, f64::min);
+    let l_min = active
+        .iter()
+        .map(|t| 1.0 / t.1)
+        .fold(f64::INFINITY, f64::min);
     let l_max = active.iter().map(|t| 1.0 / t.1).fold(0.0, f64::max);
     let s_hi = 46.0 * l_max;
     let mut breaks = Vec::new();

@@ -345,7 +345,12 @@ impl SlidingKernel {
     }
 
     /// [`Self::table`] with the cell size checked.
-    pub fn try_table(&self, nx: usize, ny: usize, cell: f64) -> Result<CoefficientTable, KernelError> {
+    pub fn try_table(
+        &self,
+        nx: usize,
+        ny: usize,
+        cell: f64,
+    ) -> Result<CoefficientTable, KernelError> {
         Self::check_cell(cell, cell)?;
         check_grid(nx, ny)?;
         Ok(table::build(self, nx, ny, cell, None))
@@ -353,7 +358,13 @@ impl SlidingKernel {
 
     /// Table of the cell-averaged derivative `D_x` or `D_y` [1/Pa] over all
     /// offsets. Panics on an invalid cell size.
-    pub fn derivative_table(&self, nx: usize, ny: usize, cell: f64, axis: Axis) -> CoefficientTable {
+    pub fn derivative_table(
+        &self,
+        nx: usize,
+        ny: usize,
+        cell: f64,
+        axis: Axis,
+    ) -> CoefficientTable {
         self.try_derivative_table(nx, ny, cell, axis)
             .expect("valid cell size")
     }
@@ -373,7 +384,13 @@ impl SlidingKernel {
 
     /// The reference per-offset table (no fast path), for tests and for
     /// directions off the grid axes.
-    pub fn table_per_offset(&self, nx: usize, ny: usize, cell: f64, derivative: Option<Axis>) -> CoefficientTable {
+    pub fn table_per_offset(
+        &self,
+        nx: usize,
+        ny: usize,
+        cell: f64,
+        derivative: Option<Axis>,
+    ) -> CoefficientTable {
         table::per_offset(self, nx, ny, cell, derivative)
     }
 }

@@ -315,7 +315,11 @@ mod tests {
             let (x, w) = gauss_legendre(n);
             for p in 0..(2 * n) {
                 let got: f64 = x.iter().zip(&w).map(|(x, w)| w * x.powi(p as i32)).sum();
-                let exact = if p % 2 == 1 { 0.0 } else { 2.0 / (p as f64 + 1.0) };
+                let exact = if p % 2 == 1 {
+                    0.0
+                } else {
+                    2.0 / (p as f64 + 1.0)
+                };
                 assert!((got - exact).abs() < 1e-14, "n={n} p={p} {got} {exact}");
             }
         }
@@ -349,7 +353,10 @@ mod tests {
         for p in 0..16 {
             let exact: f64 = xs.iter().zip(&ws).map(|(x, w)| w * x.powi(p)).sum();
             let got: f64 = nx.iter().zip(&nw).map(|(x, w)| w * x.powi(p)).sum();
-            assert!((got - exact).abs() <= 1e-13 * exact.abs(), "p={p} {got} {exact}");
+            assert!(
+                (got - exact).abs() <= 1e-13 * exact.abs(),
+                "p={p} {got} {exact}"
+            );
         }
     }
 }

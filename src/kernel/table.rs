@@ -96,17 +96,20 @@ pub(super) fn per_offset(
     let rect = LoveRect::new(cell, cell);
     let mut t = CoefficientTable::zeros(nx, ny, cell);
     let w = 2 * ny - 1;
-    t.values.par_chunks_mut(w).enumerate().for_each(|(ii, row)| {
-        let di = ii as isize - (nx as isize - 1);
-        for (jj, v) in row.iter_mut().enumerate() {
-            let dj = jj as isize - (ny as isize - 1);
-            let (x, y) = (di as f64 * cell, dj as f64 * cell);
-            *v = match derivative {
-                None => k.coefficient_with(&rect, x, y).total(),
-                Some(axis) => k.derivative_with(&rect, x, y, axis),
-            };
-        }
-    });
+    t.values
+        .par_chunks_mut(w)
+        .enumerate()
+        .for_each(|(ii, row)| {
+            let di = ii as isize - (nx as isize - 1);
+            for (jj, v) in row.iter_mut().enumerate() {
+                let dj = jj as isize - (ny as isize - 1);
+                let (x, y) = (di as f64 * cell, dj as f64 * cell);
+                *v = match derivative {
+                    None => k.coefficient_with(&rect, x, y).total(),
+                    Some(axis) => k.derivative_with(&rect, x, y, axis),
+                };
+            }
+        });
     t
 }
 
@@ -142,7 +145,7 @@ pub(super) fn build(
         Axis::X => (nx, ny),
         Axis::Y => (ny, nx),
     };
-    let canon = canonical(k, na, nt, cell, derivative.is_some());
+    let canon = canonical(k, na, nt, cell, derivative.is_some(), slide_axis, sign);
     let mut t = CoefficientTable::zeros(nx, ny, cell);
     let wt = 2 * nt - 1;
     for di in -(nx as isize - 1)..=(nx as isize - 1) {
@@ -271,7 +274,10 @@ impl Plan {
             .collect();
         plan.marched.extend(mid_marched);
         if !peaked_terms.is_empty() {
-            let lmin = peaked_terms.iter().map(|t| t.1).fold(f64::INFINITY, f64::min);
+            let lmin = peaked_terms
+                .iter()
+                .map(|t| t.1)
+                .fold(f64::INFINITY, f64::min);
             let (xs, ws) = fine_geometric(lmin / 16.0, 0.25, 20);
             let wts: Vec<f64> = xs
                 .iter()
@@ -286,11 +292,7 @@ impl Plan {
             plan.peaked = Some(gauss_from_samples(&xs, &wts, 10));
         }
         if !plan.marched.is_empty() {
-            let lmax = plan
-                .marched
-                .iter()
-                .map(|t| 1.0 / t.1)
-                .fold(0.0, f64::max);
+            let lmax = plan.marched.iter().map(|t| 1.0 / t.1).fold(0.0, f64::max);
             let s_hi = 46.0 * lmax.max(a);
             let (gx, gw) = gauss_legendre_unit(10);
             let mut edges = vec![0.0];
@@ -326,7 +328,15 @@ impl Plan {
 
 /// Canonical table for sliding along `+x`: `(2na-1) x (2nt-1)` values of `K`
 /// (or of `D_x` when `derivative`), row-major in the along index.
-fn canonical(k: &SlidingKernel, na: usize, nt: usize, a: f64, derivative: bool) -> Vec<f64> {
+fn canonical(
+    k: &SlidingKernel,
+    na: usize,
+    nt: usize,
+    a: f64,
+    derivative: bool,
+    slide_axis: Axis,
+    sign: f64,
+) -> Vec<f64> {
     let rect = LoveRect::new(a, a);
     let extent = (na.max(nt) as f64 + 1.0) * a * std::f64::consts::SQRT_2;
     let plan = Plan::new(k, a, extent);
@@ -364,9 +374,14 @@ fn canonical(k: &SlidingKernel, na: usize, nt: usize, a: f64, derivative: bool) 
             if di.unsigned_abs() >= na || dj as usize >= nt {
                 continue;
             }
-            let (x, y) = (di as f64 * a, dj as f64 * a);
+            // Physical offset of the canonical (along, across) offset.
+            let (along, across) = (sign * di as f64 * a, dj as f64 * a);
+            let (x, y) = match slide_axis {
+                Axis::X => (along, across),
+                Axis::Y => (across, along),
+            };
             let v = if derivative {
-                k.derivative_with(&rect, x, y, Axis::X)
+                sign * k.derivative_with(&rect, x, y, slide_axis)
             } else {
                 k.coefficient_with(&rect, x, y).total()
             };
@@ -421,7 +436,11 @@ fn march_row(
                 s *= 4.0;
             }
         }
-        let hi = if len.is_infinite() { 46.0 * l.max(a) } else { len };
+        let hi = if len.is_infinite() {
+            46.0 * l.max(a)
+        } else {
+            len
+        };
         let br = clean_breaks(br, 0.0, hi);
         let scale = g(x).abs() + g(x + a).abs();
         adaptive(
@@ -466,11 +485,7 @@ fn march_row(
                     state[t] = plan.shared[t].1 * state[t] + p;
                 }
                 for (t, (nodes, wts)) in plan.mid_rule.iter().enumerate() {
-                    let p: f64 = nodes
-                        .iter()
-                        .zip(wts)
-                        .map(|(tq, w)| w * g(x + a * tq))
-                        .sum();
+                    let p: f64 = nodes.iter().zip(wts).map(|(tq, w)| w * g(x + a * tq)).sum();
                     state[ns + t] = plan.mid[t].1 * state[ns + t] + p;
                 }
             }
