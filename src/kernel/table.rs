@@ -480,9 +480,9 @@ fn march_row(
                 for (q, v) in fv.iter_mut().enumerate() {
                     *v = g(x + a * plan.gl_t[q]);
                 }
-                for t in 0..ns {
+                for (t, st) in state.iter_mut().take(ns).enumerate() {
                     let p: f64 = plan.shared_w[t].iter().zip(&fv).map(|(w, v)| w * v).sum();
-                    state[t] = plan.shared[t].1 * state[t] + p;
+                    *st = plan.shared[t].1 * *st + p;
                 }
                 for (t, (nodes, wts)) in plan.mid_rule.iter().enumerate() {
                     let p: f64 = nodes.iter().zip(wts).map(|(tq, w)| w * g(x + a * tq)).sum();
