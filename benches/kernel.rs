@@ -13,11 +13,12 @@ fn sls() -> Material {
     Material::new(s, 0.5).unwrap()
 }
 
-/// 34 creep times in ratio e from 1e-9 s, log-normal-like compliances summing
-/// to `1/E0 - 1/E_inf` with `E_inf/E0 = 3`.
+/// 34 creep times in ratio e from 1e6 s down to 4.7e-9 s, log-normal-like
+/// compliances summing to `1/E0 - 1/E_inf` (`E0 = 1e6`, `E_inf = 1e9` Pa);
+/// the same spectrum as tests/kernel_accuracy.rs.
 fn spectrum34() -> Material {
-    let e_inf = 1e7;
-    let total = 3.0 / e_inf - 1.0 / e_inf;
+    let (e0, e_inf) = (1e6, 1e9);
+    let total = 1.0 / e0 - 1.0 / e_inf;
     let raw: Vec<f64> = (0..34)
         .map(|k| (-((k as f64 - 16.5) / 8.0).powi(2)).exp())
         .collect();
@@ -27,7 +28,7 @@ fn spectrum34() -> Material {
         .enumerate()
         .map(|(k, r)| CreepTerm {
             compliance: total * r / sum,
-            time: 1e-9 * (k as f64).exp(),
+            time: 1e6 * (-(33.0 - k as f64)).exp(),
         })
         .collect();
     Material::new(CreepSpectrum::new(e_inf, terms).unwrap(), 0.5).unwrap()

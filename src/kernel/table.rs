@@ -169,6 +169,13 @@ pub(super) fn build(
     t
 }
 
+/// Panels at least this many cells from the source use [`FAR_NODES`]-point
+/// rules: the nearest singularity of `g` is then beyond a Bernstein ellipse
+/// of parameter ~80 around a one-cell panel, so 4 nodes (exact for degree 7)
+/// leave ~80^-8 ~ 6e-16.
+const FAR_CELLS: f64 = 20.0;
+const FAR_NODES: usize = 4;
+
 /// Shared pieces of the row march for one kernel and cell size.
 struct Plan {
     a: f64,
@@ -184,6 +191,11 @@ struct Plan {
     marched: Vec<(f64, f64)>,
     /// Peaked class: combined rule, nodes in fractions of `a`, weights incl. `C_k`.
     peaked: Option<(Vec<f64>, Vec<f64>)>,
+    /// Far from the source: 4-point Gauss rules per marched term (weight
+    /// `lambda_k e^{-lambda_k s}` on the cell, nodes in fractions of `a`) and
+    /// for the peaked group.
+    far_rule: Vec<(Vec<f64>, Vec<f64>)>,
+    peaked_far: Option<(Vec<f64>, Vec<f64>)>,
     /// Tail rule: offsets `s` [m] and per-marched-term weights.
     tail_s: Vec<f64>,
     tail_w: Vec<Vec<f64>>,
@@ -223,6 +235,8 @@ impl Plan {
             mid_rule: vec![],
             marched: vec![],
             peaked: None,
+            far_rule: vec![],
+            peaked_far: None,
             tail_s: vec![],
             tail_w: vec![],
         };
@@ -290,7 +304,22 @@ impl Plan {
                 })
                 .collect();
             plan.peaked = Some(gauss_from_samples(&xs, &wts, 10));
+            plan.peaked_far = Some(gauss_from_samples(&xs, &wts, FAR_NODES));
         }
+        plan.far_rule = plan
+            .marched
+            .iter()
+            .map(|&(_, lam)| {
+                let la = lam * a;
+                let (xs, ws) = fine_geometric((1.0 / (16.0 * la)).min(1.0 / 16.0), 1.0, 20);
+                let wts: Vec<f64> = xs
+                    .iter()
+                    .zip(&ws)
+                    .map(|(t, w)| w * la * (-la * t).exp())
+                    .collect();
+                gauss_from_samples(&xs, &wts, FAR_NODES)
+            })
+            .collect();
         if !plan.marched.is_empty() {
             let lmax = plan.marched.iter().map(|t| 1.0 / t.1).fold(0.0, f64::max);
             let s_hi = 46.0 * lmax.max(a);
@@ -422,6 +451,7 @@ fn march_row(
     let hx = 0.5 * a;
     let hy = if averaged { a } else { 0.5 * a };
     let near = |xa: f64, xb: f64| seg_rect_dist(xa, xb, y, hx, hy) < 2.5 * a;
+    let far = |xa: f64, xb: f64| seg_rect_dist(xa, xb, y, hx, hy) >= FAR_CELLS * a;
     let mut out = vec![0.0; count];
     let nm = plan.marched.len();
     let ns = plan.shared.len();
@@ -476,6 +506,29 @@ fn march_row(
                     };
                     *st = e * *st + adaptive_panel(x, plan.marched[t].1, a);
                 }
+            } else if far(x, x + a) {
+                // Per-term 4-point rules (shared terms too when there are at
+                // most two of them: 4 ns <= 8 evaluations).
+                let per_term_shared = ns <= 2;
+                if !per_term_shared {
+                    for (q, v) in fv.iter_mut().enumerate() {
+                        *v = g(x + a * plan.gl_t[q]);
+                    }
+                }
+                for (t, st) in state.iter_mut().enumerate() {
+                    let p: f64 = if t < ns && !per_term_shared {
+                        plan.shared_w[t].iter().zip(&fv).map(|(w, v)| w * v).sum()
+                    } else {
+                        let (nodes, wts) = &plan.far_rule[t];
+                        nodes.iter().zip(wts).map(|(tq, w)| w * g(x + a * tq)).sum()
+                    };
+                    let e = if t < ns {
+                        plan.shared[t].1
+                    } else {
+                        plan.mid[t - ns].1
+                    };
+                    *st = e * *st + p;
+                }
             } else {
                 for (q, v) in fv.iter_mut().enumerate() {
                     *v = g(x + a * plan.gl_t[q]);
@@ -494,7 +547,12 @@ fn march_row(
         for (t, st) in state.iter().enumerate() {
             v += plan.marched[t].0 * st;
         }
-        if let Some((nodes, wts)) = &plan.peaked {
+        let peaked = if far(x, x + 0.25 * a) {
+            &plan.peaked_far
+        } else {
+            &plan.peaked
+        };
+        if let Some((nodes, wts)) = peaked {
             v += nodes
                 .iter()
                 .zip(wts)
