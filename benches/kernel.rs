@@ -1,11 +1,12 @@
 //! Coefficient-table throughput (physics.md section 3): the full
 //! `(2n-1)^2` table for the paper's single-relaxation material at
-//! `v tau / a = 3` and for a 34-term spectrum. Set `CI` to shrink to 128^2.
+//! `v tau / a = 3` (and its friction-stencil table `D_x`) and for a 34-term
+//! spectrum. Set `CI` to shrink to 128^2.
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, CreepTerm, Material};
 
 fn sls() -> Material {
@@ -50,6 +51,9 @@ fn bench(c: &mut Criterion) {
     .unwrap();
     group.bench_function(format!("sls_vtau3_{n}"), |b| {
         b.iter(|| black_box(sls_kernel.table(black_box(n), n, cell)))
+    });
+    group.bench_function(format!("sls_vtau3_dx_{n}"), |b| {
+        b.iter(|| black_box(sls_kernel.derivative_table(black_box(n), n, cell, Axis::X)))
     });
     let spec_kernel = SlidingKernel::new(
         &spectrum34(),

@@ -156,6 +156,23 @@ fn ninety_degrees_is_the_transpose() {
             assert!((a - b).abs() <= 1e-14 * a, "({di},{dj}) {a} {b}");
         }
     }
+    // Derivative tables rotate with the direction.
+    let d0 = k0.derivative_table(7, 5, A, Axis::X);
+    let d90 = k90.derivative_table(5, 7, A, Axis::Y);
+    let peak = d0.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for di in -6..=6 {
+        for dj in -4..=4 {
+            let (a, b) = (d0.get(di, dj), d90.get(dj, di));
+            assert!((a - b).abs() <= 1e-13 * peak, "D90 ({di},{dj}) {a} {b}");
+        }
+    }
+    let d180 = kernel(v, std::f64::consts::PI).derivative_table(7, 5, A, Axis::X);
+    for di in -6..=6 {
+        for dj in -4..=4 {
+            let (a, b) = (d0.get(di, dj), -d180.get(-di, dj));
+            assert!((a - b).abs() <= 1e-13 * peak, "D180 ({di},{dj}) {a} {b}");
+        }
+    }
     // Sliding along -x mirrors x.
     let k180 = kernel(v, std::f64::consts::PI);
     let t180 = k180.table(7, 5, A);
