@@ -50,7 +50,7 @@ pub enum LayerBase {
 }
 
 /// A viscoelastic layer of finite thickness on a rigid base (Eq. 5).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Layer {
     /// Thickness `h` [m].
     pub thickness: f64,
