@@ -73,6 +73,42 @@ fn theta_is_one_near_the_load_and_decays_far() {
     assert!(worst_interp < 2e-9, "{worst_interp:e}");
 }
 
+/// Total displacement volume under a point load: `int w dA = P lim_{q->0}
+/// 2 (1-nu^2) S(qh) / (E q)`, i.e. `int_0^inf Theta(rho) drho = S'(0)`: 1/2 for
+/// the frictionless base, `(1-2nu) / (2 (1-nu)^2)` for the bonded one. An
+/// independent check of the Hankel-transform normalisation of Eq. 5.
+#[test]
+fn theta_integral_equals_the_long_wave_compliance() {
+    let (g, w) = viscoslide::kernel::quad::gauss_legendre(8);
+    let nu: f64 = 0.3;
+    for (base, want) in [
+        (LayerBase::Frictionless, 0.5),
+        (
+            LayerBase::Bonded,
+            (1.0 - 2.0 * nu) / (2.0 * (1.0 - nu).powi(2)),
+        ),
+    ] {
+        let t = ThetaTable::new(
+            Layer {
+                thickness: 1.0,
+                base,
+            },
+            nu,
+        )
+        .unwrap();
+        let h = 0.01;
+        let mut s = 0.0;
+        for p in 0..6000 {
+            let a = p as f64 * h;
+            for (x, wt) in g.iter().zip(&w) {
+                s += 0.5 * h * wt * t.eval(a + 0.5 * h * (x + 1.0));
+            }
+        }
+        println!("{base:?}: int Theta = {s}, S'(0) = {want}");
+        assert!((s - want).abs() < 1e-7, "{base:?}: {s} vs {want}");
+    }
+}
+
 fn kernel(layer: Option<Layer>, nu: f64) -> SlidingKernel {
     SlidingKernel::new(
         &sls(nu),
