@@ -247,6 +247,7 @@ impl Plan {
             tail_w: vec![],
         };
         let mut peaked_terms = vec![];
+        let mut mid_marched = vec![];
         for &(c, l) in &k.terms {
             if c == 0.0 {
                 continue;
@@ -270,6 +271,7 @@ impl Plan {
                 plan.marched.push((c, 1.0 / l));
             } else if la <= 200.0 {
                 plan.mid.push((c, (-la).exp()));
+                mid_marched.push((c, 1.0 / l));
                 let (xs, ws) = fine_geometric(1.0 / (16.0 * la), 1.0, 20);
                 let wts: Vec<f64> = xs
                     .iter()
@@ -281,17 +283,6 @@ impl Plan {
                 peaked_terms.push((c, l / a));
             }
         }
-        let mid_marched: Vec<(f64, f64)> = k
-            .terms
-            .iter()
-            .filter(|&&(c, l)| {
-                c != 0.0 && l >= RELAXED * a && l.is_finite() && l <= GLASSY * (extent + a) && {
-                    let la = a / l;
-                    la > 2.0 && la <= 200.0
-                }
-            })
-            .map(|&(c, l)| (c, 1.0 / l))
-            .collect();
         plan.marched.extend(mid_marched);
         if !peaked_terms.is_empty() {
             let lmin = peaked_terms
