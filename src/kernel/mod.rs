@@ -342,8 +342,10 @@ impl SlidingKernel {
     }
 
     /// Table of `K` over all `(2nx-1) x (2ny-1)` offsets of an `nx x ny` grid
-    /// of square cells of side `cell` [m] (rayon). Panics on an invalid cell
-    /// size; see [`Self::try_table`].
+    /// of square cells of side `cell` [m] (rayon). Uses the row march when
+    /// `e_v` is along a grid axis (see the `table` module docs), per-offset
+    /// evaluation otherwise. Panics on an invalid cell size; see
+    /// [`Self::try_table`].
     pub fn table(&self, nx: usize, ny: usize, cell: f64) -> CoefficientTable {
         self.try_table(nx, ny, cell).expect("valid cell size")
     }
@@ -361,7 +363,8 @@ impl SlidingKernel {
     }
 
     /// Table of the cell-averaged derivative `D_x` or `D_y` [1/Pa] over all
-    /// offsets. Panics on an invalid cell size.
+    /// offsets (same layout as [`Self::table`]). Fast when `axis` is the
+    /// sliding axis; per-offset otherwise. Panics on an invalid cell size.
     pub fn derivative_table(
         &self,
         nx: usize,
