@@ -452,9 +452,14 @@ fn derivative_matches_reference() {
 
 #[test]
 fn fast_table_matches_per_offset_table() {
-    let n = 24;
     let mut worst = 0.0f64;
-    for (m, v) in [(sls(), 0.3 * A / 0.01), (spectrum34(), 1e-2)] {
+    for (n, m, v) in [
+        (24, sls(), 0.3 * A / 0.01),
+        (24, spectrum34(), 1e-2),
+        (2, sls(), 30.0 * A / 0.01),
+        (5, spectrum34(), 1e-6),
+        (1, sls(), 3.0 * A / 0.01),
+    ] {
         let k = kernel(&m, v, 0.0);
         let fast = k.table(n, n, A);
         let slow = k.table_per_offset(n, n, A, None);
