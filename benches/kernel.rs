@@ -1,11 +1,12 @@
 //! Coefficient-table throughput (physics.md section 3): the full
 //! `(2n-1)^2` table for the paper's single-relaxation material at
-//! `v tau / a = 3` and for a 34-term spectrum. Set `CI` to shrink to 128^2.
+//! `v tau / a = 3` (and its friction-stencil table `D_x`) and for a 34-term
+//! spectrum. Set `CI` to shrink to 128^2.
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, CreepTerm, Material};
 
 fn sls() -> Material {
@@ -13,11 +14,12 @@ fn sls() -> Material {
     Material::new(s, 0.5).unwrap()
 }
 
-/// 34 creep times in ratio e from 1e-9 s, log-normal-like compliances summing
-/// to `1/E0 - 1/E_inf` with `E_inf/E0 = 3`.
+/// 34 creep times in ratio e from 1e6 s down to 4.7e-9 s, log-normal-like
+/// compliances summing to `1/E0 - 1/E_inf` (`E0 = 1e6`, `E_inf = 1e9` Pa);
+/// the same spectrum as tests/kernel_accuracy.rs.
 fn spectrum34() -> Material {
-    let e_inf = 1e7;
-    let total = 3.0 / e_inf - 1.0 / e_inf;
+    let (e0, e_inf) = (1e6, 1e9);
+    let total = 1.0 / e0 - 1.0 / e_inf;
     let raw: Vec<f64> = (0..34)
         .map(|k| (-((k as f64 - 16.5) / 8.0).powi(2)).exp())
         .collect();
@@ -27,7 +29,7 @@ fn spectrum34() -> Material {
         .enumerate()
         .map(|(k, r)| CreepTerm {
             compliance: total * r / sum,
-            time: 1e-9 * (k as f64).exp(),
+            time: 1e6 * (-(33.0 - k as f64)).exp(),
         })
         .collect();
     Material::new(CreepSpectrum::new(e_inf, terms).unwrap(), 0.5).unwrap()
@@ -49,6 +51,9 @@ fn bench(c: &mut Criterion) {
     .unwrap();
     group.bench_function(format!("sls_vtau3_{n}"), |b| {
         b.iter(|| black_box(sls_kernel.table(black_box(n), n, cell)))
+    });
+    group.bench_function(format!("sls_vtau3_dx_{n}"), |b| {
+        b.iter(|| black_box(sls_kernel.derivative_table(black_box(n), n, cell, Axis::X)))
     });
     let spec_kernel = SlidingKernel::new(
         &spectrum34(),

@@ -126,7 +126,7 @@ const WK: [f64; 8] = [
     0.169_004_726_639_267_9,
     0.190_350_578_064_785_4,
     0.204_432_940_075_298_9,
-    0.209_482_141_084_728_0,
+    0.209_482_141_084_728,
 ];
 const WG7: [f64; 4] = [
     0.129_484_966_168_869_7,
@@ -452,9 +452,14 @@ fn derivative_matches_reference() {
 
 #[test]
 fn fast_table_matches_per_offset_table() {
-    let n = 24;
     let mut worst = 0.0f64;
-    for (m, v) in [(sls(), 0.3 * A / 0.01), (spectrum34(), 1e-2)] {
+    for (n, m, v) in [
+        (24, sls(), 0.3 * A / 0.01),
+        (24, spectrum34(), 1e-2),
+        (2, sls(), 30.0 * A / 0.01),
+        (5, spectrum34(), 1e-6),
+        (1, sls(), 3.0 * A / 0.01),
+    ] {
         let k = kernel(&m, v, 0.0);
         let fast = k.table(n, n, A);
         let slow = k.table_per_offset(n, n, A, None);

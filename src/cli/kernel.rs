@@ -1,13 +1,117 @@
-//! `viscoslide kernel ...`
+//! `viscoslide kernel ...`: influence coefficients of Eq. 4-6 for chosen
+//! cell offsets (physics.md section 3) and the cell-averaged derivative used
+//! by the friction stencil (physics.md section 5).
 
 use crate::error::{Error, Result};
+use crate::kernel::{Axis, KernelParams, SlidingKernel};
 
 #[derive(Debug, clap::Args)]
 pub struct KernelArgs {
+    /// TOML configuration file with `[material]` and optional `[layer]`.
     #[arg(long)]
     pub config: std::path::PathBuf,
+    /// Override any key, e.g. `--set layer.thickness=0.0075` (repeatable).
+    #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Side of the square cell [m].
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub cell_size: f64,
+    /// Sliding speed [m/s] (0: relaxed; `inf`: glassy).
+    #[arg(long, value_name = "M/S", allow_negative_numbers = true)]
+    pub speed: f64,
+    /// Sliding direction, degrees from +x.
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pub direction_deg: f64,
+    /// Cell offset `I,J` (i along x); repeatable.
+    #[arg(long = "offset", value_name = "I,J", value_parser = parse_offset, required = true, allow_hyphen_values = true)]
+    pub offsets: Vec<(i64, i64)>,
+    /// Print a JSON array instead of a table.
+    #[arg(long)]
+    pub json: bool,
 }
 
-pub fn run(_args: KernelArgs) -> Result<()> {
-    Err(Error::Invalid("kernel evaluation is not built yet".into()))
+fn parse_offset(s: &str) -> std::result::Result<(i64, i64), String> {
+    let (i, j) = s
+        .split_once(',')
+        .ok_or_else(|| format!("offset '{s}' must be I,J (two integers)"))?;
+    let p = |t: &str| {
+        t.trim()
+            .parse::<i64>()
+            .map_err(|e| format!("offset '{s}': '{t}' is not an integer ({e})"))
+    };
+    Ok((p(i)?, p(j)?))
+}
+
+pub fn run(args: KernelArgs) -> Result<()> {
+    let cfg = super::ConfigArgs {
+        config: args.config.clone(),
+        set: args.set.clone(),
+    }
+    .load()?;
+    let material = cfg.material()?.build(&cfg.base_dir)?;
+    let layer = match &cfg.config.layer {
+        Some(l) => Some(l.build()?),
+        None => None,
+    };
+    if !args.direction_deg.is_finite() {
+        return Err(Error::Invalid(format!(
+            "--direction-deg {} must be finite",
+            args.direction_deg
+        )));
+    }
+    let kernel = SlidingKernel::new(
+        &material,
+        KernelParams {
+            speed: args.speed,
+            direction_rad: args.direction_deg.to_radians(),
+            layer,
+        },
+    )?;
+    let a = args.cell_size;
+    SlidingKernel::check_cell(a, a)?;
+    let rows: Vec<serde_json::Value> = args
+        .offsets
+        .iter()
+        .map(|&(i, j)| {
+            let (dx, dy) = (i as f64 * a, j as f64 * a);
+            let c = kernel.coefficient(dx, dy, a, a);
+            let d = kernel.derivative(dx, dy, a, a, Axis::X);
+            serde_json::json!({
+                "i": i,
+                "j": j,
+                "K": c.total(),
+                "K_elastic": c.elastic,
+                "K_viscoelastic": c.viscoelastic,
+                "dK_dx": d,
+            })
+        })
+        .collect();
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&rows).map_err(|e| Error::Invalid(e.to_string()))?
+        );
+        return Ok(());
+    }
+    println!(
+        "{:>6} {:>6} {:>24} {:>24} {:>24} {:>24}",
+        "i", "j", "K [m/Pa]", "K_elastic [m/Pa]", "K_viscoelastic [m/Pa]", "dK/dx [1/Pa]"
+    );
+    for r in &rows {
+        println!(
+            "{:>6} {:>6} {:>24.16e} {:>24.16e} {:>24.16e} {:>24.16e}",
+            r["i"].as_i64().unwrap_or_default(),
+            r["j"].as_i64().unwrap_or_default(),
+            r["K"].as_f64().unwrap_or(f64::NAN),
+            r["K_elastic"].as_f64().unwrap_or(f64::NAN),
+            r["K_viscoelastic"].as_f64().unwrap_or(f64::NAN),
+            r["dK_dx"].as_f64().unwrap_or(f64::NAN),
+        );
+    }
+    Ok(())
 }

@@ -30,6 +30,8 @@ pub struct LoveRect {
     pub ay: f64,
     area: f64,
     switch_r2: f64,
+    /// Squared half-diagonal.
+    rho2: f64,
     /// `poly[k][p]`: coefficient of `U^p` (`U = (x/r)^2`) in the averaged
     /// Legendre term of degree `2k`, already divided by nothing: the term is
     /// `poly[k](U) / r^(2k)`.
@@ -98,6 +100,7 @@ impl LoveRect {
             ay,
             area: ax * ay,
             switch_r2: SWITCH * SWITCH * rho2,
+            rho2,
             poly,
         }
     }
@@ -134,13 +137,21 @@ impl LoveRect {
         let u2 = x * x * inv_r2;
         let mut sum = 0.0;
         let mut scale = 1.0;
+        // |term k| <= (rho^2/r^2)^k (|P_l| <= 1, |x'| <= rho): stop once the
+        // bound of the next term is below 1e-17.
+        let ratio = self.rho2 * inv_r2;
+        let mut bound = 1.0;
         for (k, row) in self.poly.iter().enumerate() {
+            if bound < 1e-17 {
+                break;
+            }
             let mut t = 0.0;
             for p in (0..=k).rev() {
                 t = t * u2 + row[p];
             }
             sum += t * scale;
             scale *= inv_r2;
+            bound *= ratio;
         }
         self.area * sum / r2.sqrt()
     }

@@ -24,10 +24,15 @@
 //! with `c1 = int (S-1) du`, `c3 = -1/4 int u^2 (S-1) du`,
 //! `c5 = 1/64 int u^4 (S-1) du` (from the series of `J0`).
 //!
-//! `Theta` is tabulated on a log grid of `rho` (64 nodes per decade, from
-//! `1e-2` until `|Theta| < 1e-16`) and interpolated with cubic Lagrange
-//! polynomials in `ln rho`; below the grid the series is used, above it
-//! `Theta = 0`.
+//! `Theta` is tabulated on a log grid of `rho` (256 nodes per decade, from
+//! `1e-2` until `|Theta| < 1e-13` for a quarter decade, i.e. `rho ~ 30` for
+//! the bonded base) and interpolated with cubic Lagrange polynomials in
+//! `ln rho` (interpolation error ~1e-9 absolute, largest near `rho ~ 1-2`
+//! where `Theta` turns over); below the grid the series is used, above it
+//! `Theta = 0`. The curve depends only on the base and `nu`, so it is
+//! computed once per process and shared by all thicknesses.
+
+use std::sync::{Arc, Mutex, OnceLock};
 
 use serde::{Deserialize, Serialize};
 
@@ -45,7 +50,7 @@ pub enum LayerBase {
 }
 
 /// A viscoelastic layer of finite thickness on a rigid base (Eq. 5).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Layer {
     /// Thickness `h` [m].
     pub thickness: f64,
@@ -137,18 +142,19 @@ pub fn compliance_ratio_minus_one(base: LayerBase, nu: f64, u: f64) -> f64 {
 
 /// Bessel function `J0(x)` to ~1e-16 absolute: for `|x| <= 25` the midpoint
 /// rule on `J0(x) = (1/pi) int_0^pi cos(x sin t) dt` (periodic analytic
-/// integrand: error ~ `2 J_{2N}(x)`, negligible for `N = 48`), beyond it the
+/// integrand: error ~ `2 J_{2N}(x)`, negligible for `N = 16 + 0.8 x`), beyond it the
 /// Hankel asymptotic expansion (smallest term ~ `e^{-2x}`).
 pub fn bessel_j0(x: f64) -> f64 {
     let x = x.abs();
     if x <= 25.0 {
-        const N: usize = 48;
+        // N >= 16 + 0.8 x keeps 2 J_{2N}(x) below 1e-19.
+        let n = 16 + (0.8 * x) as usize;
         let mut s = 0.0;
-        for j in 0..N {
-            let t = std::f64::consts::PI * (j as f64 + 0.5) / N as f64;
+        for j in 0..n {
+            let t = std::f64::consts::PI * (j as f64 + 0.5) / n as f64;
             s += (x * t.sin()).cos();
         }
-        return s / N as f64;
+        return s / n as f64;
     }
     // P, Q series: a_k = prod_{m=1..k} (2m-1)^2 / (k! 8^k), alternating.
     let mut p = 1.0;
@@ -175,23 +181,32 @@ pub fn bessel_j0(x: f64) -> f64 {
     (2.0 / (std::f64::consts::PI * x)).sqrt() * (p * phase.cos() - q * phase.sin())
 }
 
-/// Tabulated `Theta(r/h)` for one base condition and Poisson ratio.
+/// Tabulated `Theta(r/h)` for one layer (thickness, base) and Poisson ratio.
 #[derive(Debug, Clone)]
 pub struct ThetaTable {
     pub layer: Layer,
     pub poisson: f64,
+    curve: Arc<ThetaCurve>,
+}
+
+/// `Theta(rho)` samples for one (base, nu); independent of the thickness,
+/// so it is computed once per process and shared.
+#[derive(Debug)]
+struct ThetaCurve {
     /// `ln rho` of the first node.
     ln_rho0: f64,
     /// Node spacing in `ln rho`.
     step: f64,
     values: Vec<f64>,
-    /// Series coefficients `c1, c3, c5` for `rho < rho0`.
+    /// Series coefficients `c1, c3, c5` for `rho < RHO_MIN`.
     series: [f64; 3],
 }
 
 const RHO_MIN: f64 = 1e-2;
-const PER_DECADE: f64 = 64.0;
-const U_MAX: f64 = 24.0;
+const PER_DECADE: f64 = 256.0;
+const U_MAX: f64 = 20.0;
+/// The table ends once `|Theta|` stays below this for a quarter decade.
+const THETA_FLOOR: f64 = 1e-13;
 
 /// `int_0^U_MAX g(u) du` by 16-point Gauss-Legendre panels of width `<= width`.
 fn integrate_u(mut g: impl FnMut(f64) -> f64, width: f64, gl: &(Vec<f64>, Vec<f64>)) -> f64 {
@@ -207,15 +222,16 @@ fn integrate_u(mut g: impl FnMut(f64) -> f64, width: f64, gl: &(Vec<f64>, Vec<f6
     s
 }
 
-/// `Theta(rho)` by direct quadrature of Eq. 5 (second form).
+/// `Theta(rho)` by direct quadrature of Eq. 5 (second form): 16-point
+/// Gauss-Legendre panels of at most half a period of `J0(rho u)` and at most
+/// 0.5 in `u`, up to `u = 20` (`|S - 1| < 1e-14` beyond).
 pub fn theta_direct(base: LayerBase, nu: f64, rho: f64) -> f64 {
     let gl = gauss_legendre_unit(16);
     theta_direct_with(base, nu, rho, &gl)
 }
 
 fn theta_direct_with(base: LayerBase, nu: f64, rho: f64, gl: &(Vec<f64>, Vec<f64>)) -> f64 {
-    // Panels of at most a quarter period of J0(rho u) (and <= 0.25 in u).
-    let width = (0.25f64).min(std::f64::consts::FRAC_PI_2 / rho);
+    let width = (0.5f64).min(std::f64::consts::PI / rho);
     1.0 + rho
         * integrate_u(
             |u| compliance_ratio_minus_one(base, nu, u) * bessel_j0(rho * u),
@@ -224,12 +240,9 @@ fn theta_direct_with(base: LayerBase, nu: f64, rho: f64, gl: &(Vec<f64>, Vec<f64
         )
 }
 
-impl ThetaTable {
-    /// Tabulate `Theta` for `layer` and Poisson ratio `nu` (rayon over nodes).
-    pub fn new(layer: Layer, nu: f64) -> Result<Self, KernelError> {
+impl ThetaCurve {
+    fn new(base: LayerBase, nu: f64) -> Self {
         use rayon::prelude::*;
-        layer.validate()?;
-        let base = layer.base;
         let gl = gauss_legendre_unit(16);
         let m = |p: i32, c: f64| {
             c * integrate_u(
@@ -242,8 +255,7 @@ impl ThetaTable {
         let step = std::f64::consts::LN_10 / PER_DECADE;
         let ln_rho0 = RHO_MIN.ln() - step; // one node below for the cubic stencil
         let mut values: Vec<f64> = Vec::new();
-        // Grow in chunks until Theta has decayed below 1e-16 for a decade.
-        let chunk = 64usize;
+        let chunk = (PER_DECADE / 4.0) as usize;
         loop {
             let start = values.len();
             let new: Vec<f64> = (start..start + chunk)
@@ -253,28 +265,19 @@ impl ThetaTable {
             values.extend(new);
             let tail = &values[values.len().saturating_sub(chunk)..];
             let rho_end = (ln_rho0 + step * values.len() as f64).exp();
-            if tail.iter().all(|v| v.abs() < 1e-16) || rho_end > 1e3 {
+            if tail.iter().all(|v| v.abs() < THETA_FLOOR) || rho_end > 1e3 {
                 break;
             }
         }
-        Ok(Self {
-            layer,
-            poisson: nu,
+        Self {
             ln_rho0,
             step,
             values,
             series,
-        })
+        }
     }
 
-    /// `Theta(r / h)` at distance `r` [m].
-    #[inline]
-    pub fn at_distance(&self, r: f64) -> f64 {
-        self.eval(r / self.layer.thickness)
-    }
-
-    /// `Theta(rho)`.
-    pub fn eval(&self, rho: f64) -> f64 {
+    fn eval(&self, rho: f64) -> f64 {
         if rho < RHO_MIN {
             let r2 = rho * rho;
             return 1.0 + rho * (self.series[0] + r2 * (self.series[1] + r2 * self.series[2]));
@@ -292,6 +295,52 @@ impl ThetaTable {
         let (a, b, c, d) = (f, f - 1.0, f - 2.0, f - 3.0);
         -v[0] * b * c * d / 6.0 + v[1] * a * c * d / 2.0 - v[2] * a * b * d / 2.0
             + v[3] * a * b * c / 6.0
+    }
+}
+
+type CurveCache = Mutex<Vec<((LayerBase, u64), Arc<ThetaCurve>)>>;
+
+fn cached_curve(base: LayerBase, nu: f64) -> Arc<ThetaCurve> {
+    static CACHE: OnceLock<CurveCache> = OnceLock::new();
+    let cache = CACHE.get_or_init(|| Mutex::new(Vec::new()));
+    let key = (base, nu.to_bits());
+    if let Some((_, c)) = cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .iter()
+        .find(|(k, _)| *k == key)
+    {
+        return c.clone();
+    }
+    let curve = Arc::new(ThetaCurve::new(base, nu));
+    cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push((key, curve.clone()));
+    curve
+}
+
+impl ThetaTable {
+    /// Tabulate `Theta` for `layer` and Poisson ratio `nu` (rayon over nodes;
+    /// the curve for a given base and `nu` is computed once per process).
+    pub fn new(layer: Layer, nu: f64) -> Result<Self, KernelError> {
+        layer.validate()?;
+        Ok(Self {
+            layer,
+            poisson: nu,
+            curve: cached_curve(layer.base, nu),
+        })
+    }
+
+    /// `Theta(r / h)` at distance `r` [m].
+    #[inline]
+    pub fn at_distance(&self, r: f64) -> f64 {
+        self.curve.eval(r / self.layer.thickness)
+    }
+
+    /// `Theta(rho)`.
+    pub fn eval(&self, rho: f64) -> f64 {
+        self.curve.eval(rho)
     }
 }
 

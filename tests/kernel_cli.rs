@@ -1,0 +1,92 @@
+//! `viscoslide kernel`: JSON keys and values agree with the library, and bad
+//! input is rejected with a one-line error.
+
+use std::process::Command;
+
+use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
+use viscoslide::material::{CreepSpectrum, Material};
+
+const CONFIG: &str = "[material]\nmodel = \"sls\"\nrelaxed_modulus = 2e6\nglassy_modulus = 1e7\ncreep_time = 0.01\npoisson = 0.5\n";
+
+#[test]
+fn json_output_matches_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.toml");
+    std::fs::write(&path, CONFIG).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(["kernel", "--config"])
+        .arg(&path)
+        .args(["--cell-size", "1e-3", "--speed", "0.3", "--offset", "0,0"])
+        .args(["--offset", "-2,1", "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = v.as_array().unwrap();
+    assert_eq!(rows.len(), 2);
+    let m = Material::new(
+        CreepSpectrum::standard_linear_solid(2e6, 1e7, 0.01).unwrap(),
+        0.5,
+    )
+    .unwrap();
+    let k = SlidingKernel::new(
+        &m,
+        KernelParams {
+            speed: 0.3,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let r = &rows[1];
+    assert_eq!(r["i"], -2);
+    assert_eq!(r["j"], 1);
+    let c = k.coefficient(-2e-3, 1e-3, 1e-3, 1e-3);
+    // serde_json's default float parser may be one ulp off.
+    let close = |key: &str, want: f64| {
+        let got = r[key].as_f64().unwrap();
+        assert!(
+            (got - want).abs() <= 1e-15 * want.abs(),
+            "{key}: {got} {want}"
+        );
+    };
+    close("K", c.total());
+    close("K_elastic", c.elastic);
+    close("K_viscoelastic", c.viscoelastic);
+    close("dK_dx", k.derivative(-2e-3, 1e-3, 1e-3, 1e-3, Axis::X));
+}
+
+#[test]
+fn bad_input_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.toml");
+    std::fs::write(&path, CONFIG).unwrap();
+    for extra in [
+        vec!["--speed", "-1", "--cell-size", "1e-3"],
+        vec!["--speed", "1", "--cell-size", "0"],
+        vec![
+            "--speed",
+            "1",
+            "--cell-size",
+            "1e-3",
+            "--set",
+            "layer.thickness=-1",
+            "--set",
+            "layer.base=bonded",
+        ],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+            .args(["kernel", "--config"])
+            .arg(&path)
+            .args(["--offset", "0,0"])
+            .args(&extra)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{extra:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.trim().lines().count() == 1, "{err}");
+    }
+}
