@@ -120,7 +120,7 @@ impl SolveSetup {
             (None, None) => return Err(invalid("[loading] needs speed (m/s) or xi (v tau / L)")),
             _ => return Err(invalid("[loading] give only one of speed (m/s) and xi")),
         };
-        if !(speed >= 0.0) || speed.is_nan() {
+        if speed.is_nan() || speed < 0.0 {
             return Err(invalid(format!(
                 "[loading] speed must be >= 0, got {speed} m/s"
             )));
@@ -274,7 +274,7 @@ pub fn friction_and_stats(
     let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
     let stats = analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, a);
     let load = stats.normal_load;
-    if !(load > 0.0) {
+    if load.is_nan() || load <= 0.0 {
         return Err(invalid(
             "the solution carries no load: the surfaces do not touch",
         ));

@@ -5,7 +5,6 @@
 mod common;
 
 use common::*;
-use viscoslide::analysis;
 use viscoslide::backend::CpuBackend;
 use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
 use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};

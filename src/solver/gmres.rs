@@ -121,9 +121,11 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
                 }
                 backend.combine(&neg[..=j], &work.basis[..=j], &mut work.w.v);
                 if bordered {
-                    for k in 0..=j {
-                        work.w.s += neg[k] * work.basis_s[k];
-                    }
+                    work.w.s += neg[..=j]
+                        .iter()
+                        .zip(&work.basis_s)
+                        .map(|(a, b)| a * b)
+                        .sum::<f64>();
                 }
             }
             let hn = (backend.dot(&work.w.v, &work.w.v) + sq(work.w.s)).sqrt();
@@ -141,8 +143,8 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
             hcol[j] = r;
             gvec[j + 1] = -s * gvec[j];
             gvec[j] *= c;
-            for k in 0..=j {
-                work.h[k * m + j] = hcol[k];
+            for (k, hk) in hcol[..=j].iter().enumerate() {
+                work.h[k * m + j] = *hk;
             }
             k_done = j + 1;
             let rel = gvec[j + 1].abs() / bnorm;
@@ -158,18 +160,20 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
         }
         // Back substitution and update of x.
         for i in (0..k_done).rev() {
-            let mut acc = gvec[i];
-            for k in i + 1..k_done {
-                acc -= work.h[i * m + k] * y[k];
-            }
+            let acc = gvec[i]
+                - (i + 1..k_done)
+                    .map(|k| work.h[i * m + k] * y[k])
+                    .sum::<f64>();
             let d = work.h[i * m + i];
             y[i] = if d != 0.0 { acc / d } else { 0.0 };
         }
         backend.combine(&y[..k_done], &work.basis[..k_done], &mut x.v);
         if bordered {
-            for k in 0..k_done {
-                x.s += y[k] * work.basis_s[k];
-            }
+            x.s += y[..k_done]
+                .iter()
+                .zip(&work.basis_s)
+                .map(|(a, b)| a * b)
+                .sum::<f64>();
         }
     }
 }
