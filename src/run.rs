@@ -70,7 +70,14 @@ impl SolveSetup {
     pub fn from_config(cfg: &LoadedConfig) -> Result<Self> {
         let material = cfg.material()?.build(&cfg.base_dir)?;
         let surface_cfg = cfg.surface()?;
+        let sc = cfg.config.solver.clone().unwrap_or_default();
+        let restart = sc.restart.unwrap_or(SolverParams::default().restart);
+        // Refuse grids that cannot fit before generating them.
+        if let Some(gp) = surface_cfg.generate_params()? {
+            check_memory(gp.nx, gp.ny, restart)?;
+        }
         let surface = surface_cfg.load(&cfg.base_dir)?;
+        check_memory(surface.nx, surface.ny, restart)?;
         let seed = surface_cfg.generate.as_ref().map(|g| g.seed.unwrap_or(0));
         let loading = cfg.config.loading.clone().ok_or_else(|| {
             invalid(format!(
@@ -129,7 +136,6 @@ impl SolveSetup {
         if !direction_rad.is_finite() {
             return Err(invalid("[loading] direction_deg must be finite"));
         }
-        let sc = cfg.config.solver.clone().unwrap_or_default();
         let defaults = SolverParams::default();
         let params = SolverParams {
             tolerance: sc.tolerance.unwrap_or(defaults.tolerance),
@@ -156,7 +162,6 @@ impl SolveSetup {
             seed,
             document: cfg.document.clone(),
         };
-        setup.check_memory()?;
         Ok(setup)
     }
 
@@ -166,29 +171,6 @@ impl SolveSetup {
             [t] => Some(self.speed * t.time / self.surface.length_x()),
             _ => None,
         }
-    }
-
-    /// Bytes the CPU path needs, roughly: padded FFT buffers and tables
-    /// (about 40 grid vectors) plus the Krylov basis.
-    pub fn memory_estimate(&self) -> u64 {
-        let n = (self.surface.nx * self.surface.ny) as u64;
-        n * 8 * (40 + self.params.restart as u64 + 8)
-    }
-
-    fn check_memory(&self) -> Result<()> {
-        let need = self.memory_estimate();
-        if let Some(avail) = available_memory() {
-            if need > avail {
-                return Err(invalid(format!(
-                    "a {} x {} grid needs about {:.1} GiB, but only {:.1} GiB of memory is available",
-                    self.surface.nx,
-                    self.surface.ny,
-                    need as f64 / (1u64 << 30) as f64,
-                    avail as f64 / (1u64 << 30) as f64
-                )));
-            }
-        }
-        Ok(())
     }
 
     /// Gap profile `g = max(z) - z` (physics.md section 1).
@@ -201,6 +183,28 @@ impl SolveSetup {
             .fold(f64::NEG_INFINITY, f64::max);
         self.surface.heights.iter().map(|z| zmax - z).collect()
     }
+}
+
+/// Bytes the CPU path needs for an `nx x ny` grid, roughly: padded FFT
+/// buffers and coefficient tables (about 40 grid vectors) plus the Krylov
+/// basis of `restart + 1` vectors.
+pub fn memory_estimate(nx: usize, ny: usize, restart: usize) -> u64 {
+    let n = (nx as u64).saturating_mul(ny as u64);
+    n.saturating_mul(8 * (48 + restart as u64))
+}
+
+fn check_memory(nx: usize, ny: usize, restart: usize) -> Result<()> {
+    let need = memory_estimate(nx, ny, restart);
+    if let Some(avail) = available_memory() {
+        if need > avail {
+            return Err(invalid(format!(
+                "a {nx} x {ny} grid needs about {:.1} GiB of memory, but only {:.1} GiB is available",
+                need as f64 / (1u64 << 30) as f64,
+                avail as f64 / (1u64 << 30) as f64
+            )));
+        }
+    }
+    Ok(())
 }
 
 fn available_memory() -> Option<u64> {

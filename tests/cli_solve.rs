@@ -1,0 +1,132 @@
+//! `viscoslide solve` end to end: outputs, fixed summary keys, and clear
+//! one-line errors that write nothing.
+
+use std::path::Path;
+use std::process::Command;
+
+const CONFIG: &str = r#"
+[material]
+model = "sls"
+relaxed_modulus = 3.3333333333333335e6
+glassy_modulus = 1.0e7
+creep_time = 0.01
+poisson = 0.5
+
+[surface.generate]
+n = 48
+length = 0.01
+hurst = 0.8
+scales = 8
+rms_slope = 0.02
+seed = 3
+
+[loading]
+normal_load = 0.30
+xi = 1.17e-2
+"#;
+
+fn run(dir: &Path, config: &str, extra: &[&str]) -> (bool, String, String) {
+    let cfg = dir.join("c.toml");
+    std::fs::write(&cfg, config).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .arg("solve")
+        .arg(&cfg)
+        .args(["--backend", "cpu", "--out"])
+        .arg(dir.join("out"))
+        .args(extra)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn solve_writes_every_output_with_the_fixed_keys() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (ok, stdout, stderr) = run(tmp.path(), CONFIG, &[]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("friction coefficient"), "{stdout}");
+    let out = tmp.path().join("out");
+    for f in [
+        "summary.json",
+        "pressure.npy",
+        "displacement.npy",
+        "gap.npy",
+        "contact.npy",
+        "pressure.png",
+        "contact.png",
+    ] {
+        assert!(out.join(f).is_file(), "missing {f}");
+    }
+    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    for key in [
+        "friction_coefficient",
+        "friction_coefficient_dissipation",
+        "contact_area_fraction",
+        "contact_area",
+        "approach",
+        "max_pressure",
+        "mean_pressure",
+        "normal_load",
+        "speed",
+        "xi",
+        "grid",
+        "cell_size",
+        "iterations",
+        "matvecs",
+        "residual",
+        "backend",
+        "wall_time_s",
+        "seed",
+        "version",
+    ] {
+        assert!(s.get(key).is_some(), "summary.json lacks {key}");
+    }
+    assert_eq!(s["grid"], serde_json::json!([48, 48]));
+    assert_eq!(s["seed"], 3);
+    assert!((s["normal_load"].as_f64().unwrap() - 0.30).abs() < 1e-9);
+    assert!((s["xi"].as_f64().unwrap() - 1.17e-2).abs() < 1e-12);
+    assert!(s["friction_coefficient"].as_f64().unwrap() > 0.0);
+    let (nx, ny, p) = viscoslide::io::npy::read_2d(out.join("pressure.npy")).unwrap();
+    assert_eq!((nx, ny), (48, 48));
+    assert!(p.iter().all(|v| *v >= 0.0));
+}
+
+#[test]
+fn bad_inputs_fail_with_one_line_and_write_nothing() {
+    let cases: Vec<(String, Vec<&str>, &str)> = vec![
+        (CONFIG.replace("normal_load = 0.30", "normal_load = 0.0"), vec![], "normal load"),
+        (CONFIG.replace("normal_load = 0.30", "normal_load = -1.0"), vec![], "normal load"),
+        (CONFIG.replace("seed = 3", "seed = 3\ncolour = 2"), vec![], "colour"),
+        (CONFIG.replace("relaxed_modulus = 3.3333333333333335e6", "relaxed_modulus = -3e6"), vec![], "relaxed_modulus"),
+        (CONFIG.to_string(), vec!["--set", "surface.generate.n=2000000"], "memory"),
+        (CONFIG.replace("xi = 1.17e-2", "xi = 1.17e-2\nspeed = 1.0"), vec![], "only one of speed"),
+    ];
+    for (config, extra, needle) in cases {
+        let tmp = tempfile::tempdir().unwrap();
+        let (ok, _, stderr) = run(tmp.path(), &config, &extra);
+        assert!(!ok, "should fail: {needle}");
+        let line = stderr.lines().find(|l| l.starts_with("error:")).unwrap_or_else(|| panic!("no error line: {stderr}"));
+        assert!(line.contains(needle), "error for {needle}: {line}");
+        assert!(!tmp.path().join("out").exists(), "{needle}: output written");
+    }
+}
+
+#[test]
+fn nan_heights_in_a_surface_file_are_rejected() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut z = vec![0.0; 16 * 16];
+    z[37] = f64::NAN;
+    std::fs::write(tmp.path().join("h.npy"), viscoslide::io::npy::encode_f64(&[16, 16], &z)).unwrap();
+    let config = CONFIG.replace(
+        "[surface.generate]\nn = 48\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\nseed = 3\n",
+        "[surface]\nfile = \"h.npy\"\nlength = 0.01\n",
+    );
+    let (ok, _, stderr) = run(tmp.path(), &config, &[]);
+    assert!(!ok);
+    assert!(stderr.to_lowercase().contains("nan") || stderr.contains("finite"), "{stderr}");
+    assert!(!tmp.path().join("out").exists());
+}
