@@ -297,7 +297,7 @@ pub fn friction_and_stats(
         });
         force += w * analysis::friction_force_stencil(&mut op, &solution.pressure, a);
     }
-    let force_d = analysis::friction_force_dissipation(
+    let force_d = analysis::friction::friction_force_dissipation_layered(
         &solution.pressure,
         nx,
         ny,
@@ -306,6 +306,7 @@ pub fn friction_and_stats(
         setup.material.poisson,
         setup.speed,
         setup.direction_rad,
+        setup.layer.as_ref(),
     );
     Ok((-force / load, -force_d / load, stats))
 }

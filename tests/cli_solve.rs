@@ -61,7 +61,8 @@ fn solve_writes_every_output_with_the_fixed_keys() {
     ] {
         assert!(out.join(f).is_file(), "missing {f}");
     }
-    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     for key in [
         "friction_coefficient",
         "friction_coefficient_dissipation",
@@ -98,18 +99,48 @@ fn solve_writes_every_output_with_the_fixed_keys() {
 #[test]
 fn bad_inputs_fail_with_one_line_and_write_nothing() {
     let cases: Vec<(String, Vec<&str>, &str)> = vec![
-        (CONFIG.replace("normal_load = 0.30", "normal_load = 0.0"), vec![], "normal load"),
-        (CONFIG.replace("normal_load = 0.30", "normal_load = -1.0"), vec![], "normal load"),
-        (CONFIG.replace("seed = 3", "seed = 3\ncolour = 2"), vec![], "colour"),
-        (CONFIG.replace("relaxed_modulus = 3.3333333333333335e6", "relaxed_modulus = -3e6"), vec![], "relaxed_modulus"),
-        (CONFIG.to_string(), vec!["--set", "surface.generate.n=2000000"], "memory"),
-        (CONFIG.replace("xi = 1.17e-2", "xi = 1.17e-2\nspeed = 1.0"), vec![], "only one of speed"),
+        (
+            CONFIG.replace("normal_load = 0.30", "normal_load = 0.0"),
+            vec![],
+            "normal load",
+        ),
+        (
+            CONFIG.replace("normal_load = 0.30", "normal_load = -1.0"),
+            vec![],
+            "normal load",
+        ),
+        (
+            CONFIG.replace("seed = 3", "seed = 3\ncolour = 2"),
+            vec![],
+            "colour",
+        ),
+        (
+            CONFIG.replace(
+                "relaxed_modulus = 3.3333333333333335e6",
+                "relaxed_modulus = -3e6",
+            ),
+            vec![],
+            "relaxed_modulus",
+        ),
+        (
+            CONFIG.to_string(),
+            vec!["--set", "surface.generate.n=2000000"],
+            "memory",
+        ),
+        (
+            CONFIG.replace("xi = 1.17e-2", "xi = 1.17e-2\nspeed = 1.0"),
+            vec![],
+            "only one of speed",
+        ),
     ];
     for (config, extra, needle) in cases {
         let tmp = tempfile::tempdir().unwrap();
         let (ok, _, stderr) = run(tmp.path(), &config, &extra);
         assert!(!ok, "should fail: {needle}");
-        let line = stderr.lines().find(|l| l.starts_with("error:")).unwrap_or_else(|| panic!("no error line: {stderr}"));
+        let line = stderr
+            .lines()
+            .find(|l| l.starts_with("error:"))
+            .unwrap_or_else(|| panic!("no error line: {stderr}"));
         assert!(line.contains(needle), "error for {needle}: {line}");
         assert!(!tmp.path().join("out").exists(), "{needle}: output written");
     }
@@ -120,13 +151,20 @@ fn nan_heights_in_a_surface_file_are_rejected() {
     let tmp = tempfile::tempdir().unwrap();
     let mut z = vec![0.0; 16 * 16];
     z[37] = f64::NAN;
-    std::fs::write(tmp.path().join("h.npy"), viscoslide::io::npy::encode_f64(&[16, 16], &z)).unwrap();
+    std::fs::write(
+        tmp.path().join("h.npy"),
+        viscoslide::io::npy::encode_f64(&[16, 16], &z),
+    )
+    .unwrap();
     let config = CONFIG.replace(
         "[surface.generate]\nn = 48\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\nseed = 3\n",
         "[surface]\nfile = \"h.npy\"\nlength = 0.01\n",
     );
     let (ok, _, stderr) = run(tmp.path(), &config, &[]);
     assert!(!ok);
-    assert!(stderr.to_lowercase().contains("nan") || stderr.contains("finite"), "{stderr}");
+    assert!(
+        stderr.to_lowercase().contains("nan") || stderr.contains("finite"),
+        "{stderr}"
+    );
     assert!(!tmp.path().join("out").exists());
 }

@@ -22,6 +22,8 @@ use rayon::prelude::*;
 use realfft::RealFftPlanner;
 use rustfft::FftPlanner;
 
+use crate::kernel::thickness::compliance_ratio;
+use crate::kernel::Layer;
 use crate::material::CreepSpectrum;
 use crate::operator::GridOperator;
 
@@ -41,7 +43,8 @@ const NA: usize = 2 * ALIASES as usize + 1;
 /// Zero-padding factor of the Fourier quadrature.
 const PAD: usize = 4;
 
-/// `F_T` [N] from the dissipated power in Fourier space (Appendix A3-A4).
+/// `F_T` [N] from the dissipated power in Fourier space (Appendix A3-A4),
+/// for a half-space.
 #[allow(clippy::too_many_arguments)]
 pub fn friction_force_dissipation(
     pressure: &[f64],
@@ -52,6 +55,36 @@ pub fn friction_force_dissipation(
     poisson: f64,
     speed: f64,
     direction_rad: f64,
+) -> f64 {
+    friction_force_dissipation_layered(
+        pressure,
+        nx,
+        ny,
+        a,
+        spectrum,
+        poisson,
+        speed,
+        direction_rad,
+        None,
+    )
+}
+
+/// [`friction_force_dissipation`] for a layer of finite thickness: the
+/// half-space transfer function is multiplied by the layer's compliance
+/// ratio `S(|q| h)` (Eq. 5). The coefficients of [`crate::kernel`] apply
+/// `Theta` at the centre-to-centre distance (paper Eq. 6), so the two routes
+/// agree as `a / h -> 0`.
+#[allow(clippy::too_many_arguments)]
+pub fn friction_force_dissipation_layered(
+    pressure: &[f64],
+    nx: usize,
+    ny: usize,
+    a: f64,
+    spectrum: &CreepSpectrum,
+    poisson: f64,
+    speed: f64,
+    direction_rad: f64,
+    layer: Option<&Layer>,
 ) -> f64 {
     if speed == 0.0 || !speed.is_finite() {
         return 0.0;
@@ -175,8 +208,11 @@ pub fn friction_force_dissipation(
                             } else {
                                 spectrum.compliance(-qv * speed).im
                             };
-                            // Re[i q_v G^] = -q_v Im G^ = -q_v 2 (1-nu^2) Im J* / |q|
-                            w += sx2 * sy2[k] * (-qv * 2.0 * composite * imj / q);
+                            // Re[i q_v G^] = -q_v Im G^ = -q_v 2 (1-nu^2) S Im J* / |q|
+                            let ratio = layer.map_or(1.0, |l| {
+                                compliance_ratio(l.base, poisson, q * l.thickness)
+                            });
+                            w += sx2 * sy2[k] * ratio * (-qv * 2.0 * composite * imj / q);
                         }
                     }
                     acc += p2 * w;

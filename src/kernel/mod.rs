@@ -322,23 +322,30 @@ impl SlidingKernel {
             }
             return 0.5 * s;
         }
-        if self.theta.is_none() {
-            let v = match axis {
-                Axis::X => rect.near_y_integral(u, w - 0.5 * width, w + 0.5 * width),
-                Axis::Y => {
-                    let tr = LoveRect::new(ay, ax);
-                    tr.near_y_integral(u, w - 0.5 * width, w + 0.5 * width)
-                }
-            };
-            return v / width;
+        let closed = match axis {
+            Axis::X => rect.near_y_integral(u, w - 0.5 * width, w + 0.5 * width),
+            Axis::Y => {
+                let tr = LoveRect::new(ay, ax);
+                tr.near_y_integral(u, w - 0.5 * width, w + 0.5 * width)
+            }
+        } / width;
+        match &self.theta {
+            None => closed,
+            // Near the source `Theta` is taken at the distance of the segment's
+            // centre, as paper Eq. 6 takes it at the centre-to-centre distance
+            // for `K`: the closed form stays exact for `L`, and the relative
+            // error of the approximation is O((a / h)^2).
+            Some(t) if !thin => t.at_distance(r2.sqrt()) * closed,
+            Some(_) => {
+                let breaks = quad::clean_breaks(
+                    vec![-0.5 * width, 0.5 * width],
+                    w - 0.5 * width,
+                    w + 0.5 * width,
+                );
+                let scale = f(px, py).abs().max(1e-300);
+                quad::adaptive(eval, &breaks, 1e-15 * scale * width, 1e-15, 2000) / width
+            }
         }
-        let breaks = quad::clean_breaks(
-            vec![-0.5 * width, 0.5 * width],
-            w - 0.5 * width,
-            w + 0.5 * width,
-        );
-        let scale = f(px, py).abs().max(1e-300);
-        quad::adaptive(eval, &breaks, 1e-15 * scale * width, 1e-15, 2000) / width
     }
 
     /// Table of `K` over all `(2nx-1) x (2ny-1)` offsets of an `nx x ny` grid
