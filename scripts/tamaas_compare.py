@@ -73,6 +73,19 @@ def tamaas_solve(h, p0, tol):
     }
 
 
+def tamaas_worker(surface_path, pressures, tol, threads):
+    """Run the Tamaas solves in a fresh interpreter so that OMP_NUM_THREADS
+    takes effect before Tamaas is loaded."""
+    env = dict(os.environ)
+    env.pop("OMP_NUM_THREADS", None)
+    if threads is not None:
+        env["OMP_NUM_THREADS"] = str(threads)
+    cmd = [sys.executable, os.path.abspath(__file__), "--worker", surface_path,
+           "--tol", repr(tol), "--pressures", ",".join(repr(p) for p in pressures)]
+    out = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout
+    return [json.loads(line) for line in out.splitlines() if line.startswith("{")]
+
+
 def viscoslide_solve(binary, surface_path, pressures, tol, threads):
     env = dict(os.environ)
     env.pop("RAYON_NUM_THREADS", None)
@@ -90,7 +103,14 @@ def main():
     ap.add_argument("--tol", type=float, default=1e-10)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--out", default="target/tamaas_compare")
+    ap.add_argument("--worker", help=argparse.SUPPRESS)
+    ap.add_argument("--pressures", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.worker:
+        h = np.load(args.worker)
+        for p in args.pressures.split(","):
+            print(json.dumps(tamaas_solve(h, float(p), args.tol)), flush=True)
+        return
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     out = os.path.join(root, args.out)
     os.makedirs(out, exist_ok=True)
@@ -104,24 +124,30 @@ def main():
     cores = os.cpu_count()
     print(f"tamaas {tm.__version__} (backend {tm.TamaasInfo.backend}), {args.n}^2, "
           f"tol {args.tol:g}, {cores} cores", file=sys.stderr)
-    os.environ["OMP_NUM_THREADS"] = "1"
-    tam = [tamaas_solve(h, p, args.tol) for p in pressures]
+    tam1 = tamaas_worker(surface_path, pressures, args.tol, 1)
     vs1 = viscoslide_solve(binary, surface_path, pressures, args.tol, 1)
+    tamn = tamaas_worker(surface_path, pressures, args.tol, None)
     vsn = viscoslide_solve(binary, surface_path, pressures, args.tol, None)
     rows = []
     print("| p0/E* | A/A0 Tamaas | A/A0 viscoslide | rel. diff | mean gap Tamaas [m] | "
-          "mean gap viscoslide [m] | rel. diff | Tamaas [s] | viscoslide 1 thread [s] | "
-          f"viscoslide {cores} threads [s] | ratio 1 thread | ratio {cores} threads |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for f, t, v1, vn in zip(FRACTIONS, tam, vs1, vsn):
-        da = abs(v1["contact_fraction"] - t["contact_fraction"]) / t["contact_fraction"]
-        dg = abs(v1["mean_gap"] - t["mean_gap"]) / t["mean_gap"]
-        r1 = v1["seconds"] / t["seconds"]
-        rn = vn["seconds"] / t["seconds"]
-        print(f"| {f:g} | {t['contact_fraction']:.6f} | {v1['contact_fraction']:.6f} | {da:.1e} | "
-              f"{t['mean_gap']:.9e} | {v1['mean_gap']:.9e} | {dg:.1e} | {t['seconds']:.3f} | "
-              f"{v1['seconds']:.3f} | {vn['seconds']:.3f} | {r1:.2f} | {rn:.2f} |")
-        rows.append({"p0_over_estar": f, "tamaas": t, "viscoslide_1": v1, "viscoslide_all": vn})
+          "mean gap viscoslide [m] | rel. diff |")
+    print("|---|---|---|---|---|---|---|")
+    for f, t, v in zip(FRACTIONS, tam1, vs1):
+        da = abs(v["contact_fraction"] - t["contact_fraction"]) / t["contact_fraction"]
+        dg = abs(v["mean_gap"] - t["mean_gap"]) / t["mean_gap"]
+        print(f"| {f:g} | {t['contact_fraction']:.6f} | {v['contact_fraction']:.6f} | {da:.1e} | "
+              f"{t['mean_gap']:.9e} | {v['mean_gap']:.9e} | {dg:.1e} |")
+    print()
+    print(f"| p0/E* | Tamaas 1 thread [s] | viscoslide 1 thread [s] | ratio | "
+          f"Tamaas {cores} threads [s] | viscoslide {cores} threads [s] | ratio | "
+          "viscoslide iterations / matvecs |")
+    print("|---|---|---|---|---|---|---|---|")
+    for f, t1, v1, tn, vn in zip(FRACTIONS, tam1, vs1, tamn, vsn):
+        print(f"| {f:g} | {t1['seconds']:.3f} | {v1['seconds']:.3f} | "
+              f"{v1['seconds'] / t1['seconds']:.2f} | {tn['seconds']:.3f} | {vn['seconds']:.3f} | "
+              f"{vn['seconds'] / tn['seconds']:.2f} | {v1['iterations']} / {v1['matvecs']} |")
+        rows.append({"p0_over_estar": f, "tamaas_1": t1, "tamaas_all": tn,
+                     "viscoslide_1": v1, "viscoslide_all": vn})
     with open(os.path.join(out, "results.json"), "w") as fh:
         json.dump(rows, fh, indent=1)
 
