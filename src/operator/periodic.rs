@@ -23,8 +23,10 @@
 //! - Nyquist modes (`k = n/2` for even `n`) are real grid functions that
 //!   sample both `+pi/a` and `-pi/a`; their multiplier is the average over
 //!   the signs of the Nyquist components. This keeps the operator real (a
-//!   Hermitian multiplier) and, for the derivative operator, reduces
-//!   `i q_x` to its real-valued symmetric part, as a spectral derivative must.
+//!   Hermitian multiplier). For the slope operator the average of
+//!   `i q_x m(q)` over `+-q_x` is the real `-q_x Im m(q)`: the derivative of
+//!   the Nyquist mode itself vanishes (as a spectral derivative must) and
+//!   only its dissipative, out-of-phase response is kept.
 //!
 //! Plans, the multiplier and all work buffers are built once; `apply`
 //! allocates nothing and runs its row and column transforms with rayon.
