@@ -65,6 +65,9 @@ pub enum Formulation {
     /// Finite rough pad on an infinite solid: exact linear convolution (paper Eq. 6-7).
     #[default]
     NonPeriodic,
+    /// Periodic cell solved spectrally (paper Appendix, Eq. A1-A2): the
+    /// domain must be much longer than the relaxation length `v tau`.
+    Periodic,
 }
 
 /// `[solver]`: iteration controls.

@@ -4,6 +4,8 @@
 
 pub mod contact;
 pub mod friction;
+pub mod periodic;
 
 pub use contact::{contact_statistics, ContactStatistics};
 pub use friction::{friction_force_dissipation, friction_force_stencil};
+pub use periodic::{friction_force_periodic, full_contact_friction_stress};

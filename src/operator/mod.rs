@@ -4,12 +4,15 @@
 //! On a uniform grid `L_ik` depends only on the cell offset, so `L` is
 //! block-Toeplitz: [`ToeplitzFft`] applies it as an exact linear
 //! (non-periodic) convolution through zero-padded real FFTs; [`DenseOperator`]
-//! stores every entry (faer) and is the naive control.
+//! stores every entry (faer) and is the naive control; [`SpectralPeriodic`]
+//! is the periodic-cell formulation of the paper's Appendix.
 
 mod dense;
+mod periodic;
 mod toeplitz;
 
 pub use dense::DenseOperator;
+pub use periodic::{periodic_multiplier, PeriodicResponse, SpectralPeriodic};
 pub use toeplitz::{fast_size, ToeplitzFft};
 
 /// A square linear map on grid vectors (C order, axis 0 = x).

@@ -1,0 +1,115 @@
+//! Periodic spectral operator (paper Appendix, Eq. A1-A2): one matvec
+//! against the non-periodic padded-FFT convolution on the same grid, and a
+//! full viscoelastic solve at the friction peak (xi = 1.17e-2, a few percent
+//! contact). With `CI` set the grids shrink so the bench only proves it runs.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use viscoslide::backend::CpuBackend;
+use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::material::{CreepSpectrum, Material};
+use viscoslide::operator::{GridOperator, OffsetTable, SpectralPeriodic, ToeplitzFft};
+use viscoslide::solver::{self, Control, SolverParams};
+use viscoslide::surface::{self, GenerateParams, Normalisation, UpperCutoff};
+
+fn material() -> Material {
+    Material::new(
+        CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
+        0.5,
+    )
+    .unwrap()
+}
+
+fn sizes() -> Vec<usize> {
+    if std::env::var_os("CI").is_some() {
+        vec![64]
+    } else {
+        vec![256, 512]
+    }
+}
+
+fn surface_gap(n: usize) -> Vec<f64> {
+    let params = GenerateParams {
+        nx: n,
+        ny: n,
+        length: 0.01,
+        hurst: 0.8,
+        upper: UpperCutoff::Scales((n / 8) as f64),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 1,
+        ..Default::default()
+    };
+    let h = surface::generate(&params).unwrap();
+    let zmax = h.heights.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    h.heights.iter().map(|z| zmax - z).collect()
+}
+
+fn bench(c: &mut Criterion) {
+    let m = material();
+    let (length, speed) = (0.01, 1.17e-2);
+    let mut group = c.benchmark_group("periodic");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(10));
+    for n in sizes() {
+        let a = length / n as f64;
+        let x: Vec<f64> = (0..n * n).map(|k| ((k * 7919) % 101) as f64).collect();
+        let mut y = vec![0.0; n * n];
+        let mut op = SpectralPeriodic::new(n, n, a, &m, speed, 0.0);
+        group.bench_function(format!("matvec_periodic_{n}"), |b| {
+            b.iter(|| op.apply(black_box(&x), &mut y))
+        });
+        let kernel = SlidingKernel::new(
+            &m,
+            KernelParams {
+                speed,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let table = kernel.table(n, n, a);
+        let mut np = ToeplitzFft::new(OffsetTable {
+            nx: n,
+            ny: n,
+            values: &table.values,
+        });
+        group.bench_function(format!("matvec_nonperiodic_{n}"), |b| {
+            b.iter(|| np.apply(black_box(&x), &mut y))
+        });
+        group.bench_function(format!("build_periodic_{n}"), |b| {
+            b.iter(|| black_box(SpectralPeriodic::new(n, n, a, &m, speed, 0.0)))
+        });
+        let g = surface_gap(n);
+        let l00 = op.self_coefficient();
+        let mut be = CpuBackend::new(op);
+        let mut last = None;
+        group.bench_function(format!("solve_periodic_{n}"), |b| {
+            b.iter(|| {
+                let r = solver::solve(
+                    &mut be,
+                    &g,
+                    a * a,
+                    l00,
+                    Control::Load(0.3),
+                    &SolverParams::default(),
+                    &mut solver::Silent,
+                )
+                .unwrap();
+                last = Some(r.1.clone());
+                black_box(r)
+            })
+        });
+        if let Some(info) = last {
+            eprintln!(
+                "solve_periodic_{n}: {} iterations, {} matvecs, residual {:.2e}",
+                info.iterations, info.matvecs, info.residual
+            );
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
