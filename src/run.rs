@@ -13,7 +13,7 @@ use crate::config::{Formulation, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::kernel::{Axis, KernelParams, Layer, SlidingKernel};
 use crate::material::Material;
-use crate::operator::{OffsetTable, ToeplitzFft};
+use crate::operator::{OffsetTable, SpectralPeriodic, ToeplitzFft};
 use crate::solver::{self, ContactSolution, Control, Observer, SolveInfo, SolverParams};
 use crate::surface::HeightMap;
 
@@ -150,6 +150,12 @@ impl SolveSetup {
             )));
         }
         let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
+        let formulation = sc.formulation.unwrap_or_default();
+        if layer.is_some() && formulation == Formulation::Periodic {
+            return Err(invalid(
+                "[layer] is not supported with [solver] formulation = \"periodic\" (use \"non_periodic\")",
+            ));
+        }
         let setup = Self {
             material,
             surface,
@@ -158,7 +164,7 @@ impl SolveSetup {
             direction_rad,
             layer,
             params,
-            formulation: sc.formulation.unwrap_or_default(),
+            formulation,
             seed,
             document: cfg.document.clone(),
         };
@@ -216,6 +222,9 @@ fn available_memory() -> Option<u64> {
 
 /// Solve on the CPU backend (the reference path).
 pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<SolveOutcome> {
+    if setup.formulation == Formulation::Periodic {
+        return solve_cpu_periodic(setup, observer);
+    }
     let t0 = Instant::now();
     let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
     let kernel = SlidingKernel::new(
@@ -261,6 +270,54 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
         backend: "cpu".into(),
         timings: Timings {
             coefficients_s: t_coeff,
+            operator_setup_s: t_setup,
+            iteration_s: t_iter,
+            analysis_s: t_an,
+            total_s: t0.elapsed().as_secs_f64(),
+        },
+    })
+}
+
+/// Solve a periodic cell spectrally (paper Appendix, Eq. A1-A2): the same
+/// constrained iteration on the [`SpectralPeriodic`] operator; friction by
+/// the spectral slope stencil and by the Fourier dissipation sum (A3-A4).
+fn solve_cpu_periodic(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<SolveOutcome> {
+    let t0 = Instant::now();
+    let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
+    let (m, v, dir) = (&setup.material, setup.speed, setup.direction_rad);
+    let op = SpectralPeriodic::new(nx, ny, a, m, v, dir);
+    let l00 = op.self_coefficient();
+    let mut backend = CpuBackend::new(op);
+    let t_setup = t0.elapsed().as_secs_f64();
+    let g = setup.gap_profile();
+    let t1 = Instant::now();
+    let (solution, info) = solver::solve(
+        &mut backend,
+        &g,
+        a * a,
+        l00,
+        setup.control,
+        &setup.params,
+        observer,
+    )
+    .map_err(|e| invalid(e.to_string()))?;
+    let t_iter = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
+    let stats = analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, a);
+    let load = stats.normal_load;
+    let mut slope = SpectralPeriodic::sliding_slope(nx, ny, a, m, v, dir);
+    let force = analysis::friction_force_stencil(&mut slope, &solution.pressure, a);
+    let force_d = analysis::friction_force_periodic(&solution.pressure, nx, ny, a, m, v, dir);
+    let t_an = t2.elapsed().as_secs_f64();
+    Ok(SolveOutcome {
+        solution,
+        info,
+        stats,
+        friction_coefficient: -force / load,
+        friction_coefficient_dissipation: -force_d / load,
+        backend: "cpu".into(),
+        timings: Timings {
+            coefficients_s: 0.0,
             operator_setup_s: t_setup,
             iteration_s: t_iter,
             analysis_s: t_an,

@@ -168,3 +168,32 @@ fn nan_heights_in_a_surface_file_are_rejected() {
     );
     assert!(!tmp.path().join("out").exists());
 }
+
+#[test]
+fn periodic_formulation_is_typed_and_recorded() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (ok, _, stderr) = run(
+        tmp.path(),
+        CONFIG,
+        &["--set", "solver.formulation=periodic"],
+    );
+    assert!(ok, "{stderr}");
+    let s: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(tmp.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(s["formulation"], "periodic");
+    // On a periodic field the stencil and the Fourier sum are the same sum.
+    let (mu, mu_d) = (
+        s["friction_coefficient"].as_f64().unwrap(),
+        s["friction_coefficient_dissipation"].as_f64().unwrap(),
+    );
+    assert!(mu > 0.0 && (mu - mu_d).abs() <= 1e-9 * mu, "{mu} vs {mu_d}");
+    let tmp = tempfile::tempdir().unwrap();
+    let (ok, _, stderr) = run(
+        tmp.path(),
+        CONFIG,
+        &["--set", "solver.formulation=\"sometimes\""],
+    );
+    assert!(!ok && stderr.contains("formulation"), "{stderr}");
+}

@@ -1,6 +1,8 @@
 //! Shared helpers for the integration tests.
 #![allow(dead_code)]
 
+pub mod domain;
+
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use viscoslide::backend::CpuBackend;
