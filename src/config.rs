@@ -36,6 +36,7 @@ pub struct Config {
     pub loading: Option<LoadingConfig>,
     pub solver: Option<SolverConfig>,
     pub layer: Option<crate::kernel::LayerConfig>,
+    pub sweep: Option<crate::sweep::SweepConfig>,
 }
 
 /// `[loading]`: what presses the bodies together and how fast they slide.

@@ -25,3 +25,4 @@ pub mod operator;
 pub mod report;
 pub mod run;
 pub mod solver;
+pub mod sweep;

@@ -6,6 +6,7 @@ mod kernel;
 mod material;
 mod solve;
 mod surface;
+mod sweep;
 
 use std::path::PathBuf;
 
@@ -35,6 +36,10 @@ pub enum Command {
     Kernel(kernel::KernelArgs),
     /// Solve one steady sliding contact and write its results.
     Solve(solve::SolveArgs),
+    /// Run (or resume) a sweep over speed, load and surface realisations.
+    Sweep(sweep::SweepArgs),
+    /// Aggregate a sweep directory into sweep.csv and plots.
+    Merge(sweep::MergeArgs),
     /// List the GPU adapters wgpu can use.
     Gpu(gpu::GpuArgs),
 }
@@ -63,6 +68,8 @@ pub fn run() -> Result<()> {
         Command::Surface(c) => surface::run(c),
         Command::Kernel(a) => kernel::run(a),
         Command::Solve(a) => solve::run(a),
+        Command::Sweep(a) => sweep::run(a),
+        Command::Merge(a) => sweep::merge(a),
         Command::Gpu(a) => gpu::run(a),
     }
 }

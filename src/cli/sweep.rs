@@ -1,0 +1,61 @@
+//! `viscoslide sweep CONFIG --out DIR [--shard K/N]` and `viscoslide merge DIR`.
+
+use std::path::PathBuf;
+
+use crate::error::Result;
+use crate::sweep::{self, Shard};
+
+#[derive(Debug, clap::Args)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    pub config: super::ConfigArgs,
+    /// Sweep directory: points go to DIR/points/, one JSON each; rerunning
+    /// the same command resumes.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Run only the points with index = K mod N (0 <= K < N), e.g. a Slurm
+    /// array task: `--shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<Shard>,
+    /// Stop after solving this many new points.
+    #[arg(long)]
+    pub limit: Option<usize>,
+    /// Do not merge after the run.
+    #[arg(long)]
+    pub no_merge: bool,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct MergeArgs {
+    /// Sweep directory.
+    pub dir: PathBuf,
+}
+
+pub fn run(args: SweepArgs) -> Result<()> {
+    let cfg = args.config.load()?;
+    let shard = args.shard.unwrap_or(Shard::ALL);
+    let r = sweep::run_sweep(&cfg, &args.out, shard, args.limit)?;
+    println!(
+        "{} points in the sweep, {} in this shard: {} already done, {} solved now",
+        r.total, r.in_shard, r.skipped, r.solved
+    );
+    if !args.no_merge && shard == Shard::ALL && r.skipped + r.solved == r.in_shard {
+        let rows = sweep::merge(&args.out)?;
+        println!(
+            "merged {} rows into {}",
+            rows.len(),
+            args.out.join("sweep.csv").display()
+        );
+    }
+    Ok(())
+}
+
+pub fn merge(args: MergeArgs) -> Result<()> {
+    let rows = sweep::merge(&args.dir)?;
+    println!(
+        "merged {} rows into {}",
+        rows.len(),
+        args.dir.join("sweep.csv").display()
+    );
+    Ok(())
+}

@@ -1,0 +1,274 @@
+//! Aggregation of finished sweep points: mean and standard deviation over
+//! surface realisations for every (load, speed), written to `sweep.csv`, and
+//! the sweep plots (friction vs xi as the paper's Fig. 1, `A / A(xi = 0)` as
+//! Fig. 7, anisotropy measures when present). The result depends only on
+//! the set of point files, not on the order they were written in.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde_json::Value;
+
+use crate::error::{Error, Result};
+use crate::io::StagedOutput;
+use crate::plot::{xy_chart, Series, XyChart};
+
+/// One row of `sweep.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MergedRow {
+    pub normal_load: f64,
+    pub speed: f64,
+    pub xi: Option<f64>,
+    pub realisations: usize,
+    /// `(mean, standard deviation)` of each quantity.
+    pub friction: (f64, f64),
+    pub friction_dissipation: (f64, f64),
+    pub area_fraction: (f64, f64),
+    /// `A / A(v = 0)` of the same realisation and load, when the static point exists.
+    pub area_ratio: Option<(f64, f64)>,
+    pub gamma: Option<(f64, f64)>,
+    pub lambda: Option<(f64, f64)>,
+}
+
+struct PointResult {
+    /// Grouping keys: the point's planned load (NaN when the config's) and speed.
+    key_load: f64,
+    key_speed: f64,
+    load: f64,
+    speed: f64,
+    xi: Option<f64>,
+    seed: i64,
+    mu: f64,
+    mu_d: f64,
+    area: f64,
+    gamma: Option<f64>,
+    lambda: Option<f64>,
+}
+
+fn mean_std(v: &[f64]) -> (f64, f64) {
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let var = if v.len() > 1 {
+        v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
+    (mean, var.sqrt())
+}
+
+fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
+    let points_dir = dir.join("points");
+    let entries = std::fs::read_dir(&points_dir).map_err(|e| Error::io(&points_dir, e))?;
+    let mut names: Vec<_> = entries
+        .filter_map(|e| e.ok())
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    names.sort();
+    let mut out = Vec::new();
+    for path in names {
+        let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+        let v: Value = serde_json::from_str(&text)
+            .map_err(|e| Error::Invalid(format!("{}: not a point result: {e}", path.display())))?;
+        let num = |key: &str| v.get(key).and_then(Value::as_f64);
+        let need = |key: &str| {
+            num(key).ok_or_else(|| Error::Invalid(format!("{}: no `{key}`", path.display())))
+        };
+        let analysis = |key: &str| {
+            v.get("analysis")
+                .and_then(|a| a.get(key))
+                .and_then(Value::as_f64)
+        };
+        let point = v.get("point");
+        let key_load = point
+            .and_then(|p| p.get("normal_load"))
+            .and_then(Value::as_f64)
+            .unwrap_or(f64::NAN);
+        let key_speed = point
+            .and_then(|p| p.get("speed"))
+            .and_then(|s| s.get("xi").or_else(|| s.get("speed")))
+            .and_then(Value::as_f64)
+            .ok_or_else(|| Error::Invalid(format!("{}: no planned point", path.display())))?;
+        out.push(PointResult {
+            key_load,
+            key_speed,
+            load: need("normal_load")?,
+            speed: need("speed")?,
+            xi: num("xi"),
+            seed: v.get("seed").and_then(Value::as_i64).unwrap_or(-1),
+            mu: need("friction_coefficient")?,
+            mu_d: need("friction_coefficient_dissipation")?,
+            area: need("contact_area_fraction")?,
+            gamma: analysis("gamma"),
+            lambda: analysis("lambda"),
+        });
+    }
+    if out.is_empty() {
+        return Err(Error::Invalid(format!(
+            "{}: no finished points",
+            points_dir.display()
+        )));
+    }
+    Ok(out)
+}
+
+/// Aggregate the points of `dir` into rows (sorted by load, then speed).
+pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
+    let mut points = read_points(dir)?;
+    let key = |p: &PointResult| (p.key_load.to_bits(), p.key_speed.to_bits());
+    points.sort_by_key(|p| (key(p), p.seed));
+    // Static areas per (planned load, seed) for A / A(0).
+    let mut static_area = BTreeMap::new();
+    for p in points.iter().filter(|p| p.speed == 0.0) {
+        static_area.insert((p.key_load.to_bits(), p.seed), p.area);
+    }
+    let mut groups: BTreeMap<(u64, u64), Vec<&PointResult>> = BTreeMap::new();
+    for p in &points {
+        groups.entry(key(p)).or_default().push(p);
+    }
+    let mut rows: Vec<MergedRow> = groups
+        .values()
+        .map(|g| {
+            let col = |f: &dyn Fn(&PointResult) -> f64| {
+                mean_std(&g.iter().map(|p| f(p)).collect::<Vec<_>>())
+            };
+            let opt = |f: &dyn Fn(&PointResult) -> Option<f64>| {
+                let v: Option<Vec<f64>> = g.iter().map(|p| f(p)).collect();
+                v.map(|v| mean_std(&v))
+            };
+            MergedRow {
+                normal_load: col(&|p| p.load).0,
+                speed: g[0].speed,
+                xi: g[0].xi,
+                realisations: g.len(),
+                friction: col(&|p| p.mu),
+                friction_dissipation: col(&|p| p.mu_d),
+                area_fraction: col(&|p| p.area),
+                area_ratio: opt(&|p| {
+                    static_area
+                        .get(&(p.key_load.to_bits(), p.seed))
+                        .map(|a0| p.area / a0)
+                }),
+                gamma: opt(&|p| p.gamma),
+                lambda: opt(&|p| p.lambda),
+            }
+        })
+        .collect();
+    rows.sort_by(|a, b| {
+        (a.normal_load, a.speed)
+            .partial_cmp(&(b.normal_load, b.speed))
+            .expect("finite")
+    });
+    Ok(rows)
+}
+
+fn fmt_opt(v: Option<(f64, f64)>) -> (String, String) {
+    v.map_or((String::new(), String::new()), |(m, s)| {
+        (format!("{m:.8e}"), format!("{s:.8e}"))
+    })
+}
+
+/// The CSV text of `rows`.
+pub fn csv(rows: &[MergedRow]) -> String {
+    let mut out = String::from(
+        "normal_load_n,speed_m_s,xi,realisations,friction_mean,friction_std,friction_dissipation_mean,friction_dissipation_std,area_fraction_mean,area_fraction_std,area_ratio_mean,area_ratio_std,gamma_mean,gamma_std,lambda_mean,lambda_std\n",
+    );
+    for r in rows {
+        let (arm, ars) = fmt_opt(r.area_ratio);
+        let (gm, gs) = fmt_opt(r.gamma);
+        let (lm, ls) = fmt_opt(r.lambda);
+        out.push_str(&format!(
+            "{:.8e},{:.8e},{},{},{:.8e},{:.8e},{:.8e},{:.8e},{:.8e},{:.8e},{arm},{ars},{gm},{gs},{lm},{ls}\n",
+            r.normal_load,
+            r.speed,
+            r.xi.map(|x| format!("{x:.8e}")).unwrap_or_default(),
+            r.realisations,
+            r.friction.0,
+            r.friction.1,
+            r.friction_dissipation.0,
+            r.friction_dissipation.1,
+            r.area_fraction.0,
+            r.area_fraction.1,
+        ));
+    }
+    out
+}
+
+/// Merge the finished points of `dir` into `dir/sweep.csv` and the plots
+/// (written atomically together). Returns the rows.
+pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
+    let rows = aggregate(dir)?;
+    let mut staged = StagedOutput::new(dir)?;
+    staged.write("sweep.csv", csv(&rows).as_bytes())?;
+    let use_xi = rows.iter().all(|r| r.xi.is_some());
+    let x_of = |r: &MergedRow| if use_xi { r.xi.unwrap_or(0.0) } else { r.speed };
+    let x_label = if use_xi { "xi = v tau / L" } else { "v [m/s]" };
+    // Loads as planned, to the precision a user types them.
+    let label = |r: &MergedRow| format!("{:.4e}", r.normal_load);
+    let mut loads: Vec<String> = rows.iter().map(label).collect();
+    loads.dedup();
+    type Pick = fn(&MergedRow) -> Option<(f64, f64)>;
+    let charts: [(&str, &str, &str, Pick); 4] = [
+        (
+            "friction_vs_xi.png",
+            "Viscoelastic friction (paper Fig. 1)",
+            "friction coefficient",
+            |r| Some(r.friction),
+        ),
+        (
+            "area_ratio_vs_xi.png",
+            "Contact area A / A(xi = 0) (paper Fig. 7)",
+            "A / A(0)",
+            |r| r.area_ratio,
+        ),
+        (
+            "gamma_vs_xi.png",
+            "Degree of isotropy of the deformed surface",
+            "gamma",
+            |r| r.gamma,
+        ),
+        (
+            "lambda_vs_xi.png",
+            "Contact-area anisotropy",
+            "lambda",
+            |r| r.lambda,
+        ),
+    ];
+    for (file, title, ylabel, pick) in charts {
+        let mut series = Vec::new();
+        for (c, load) in loads.iter().enumerate() {
+            let sel: Vec<(f64, f64, f64)> = rows
+                .iter()
+                .filter(|r| label(r) == *load && x_of(r) > 0.0)
+                .filter_map(|r| pick(r).map(|(m, s)| (x_of(r), m, s)))
+                .collect();
+            if sel.is_empty() {
+                continue;
+            }
+            let mut s = Series::points(
+                format!("F_N = {load} N"),
+                sel.iter().map(|t| (t.0, t.1)).collect(),
+                c,
+            );
+            s.mark = crate::plot::Mark::LineAndPoints;
+            s.errors = Some(sel.iter().map(|t| t.2).collect());
+            series.push(s);
+        }
+        if series.is_empty() {
+            continue;
+        }
+        xy_chart(
+            &staged.path(file),
+            &XyChart {
+                title: title.into(),
+                x_label: x_label.into(),
+                y_label: ylabel.into(),
+                log_x: true,
+                log_y: false,
+                series,
+            },
+        )?;
+    }
+    staged.commit()?;
+    Ok(rows)
+}

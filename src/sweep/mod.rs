@@ -1,0 +1,175 @@
+//! Sweeps over speed, load and surface realisation that survive interruption
+//! and scale out: every point is solved independently and written atomically
+//! to `DIR/points/<id>.json`; a rerun skips finished points; `--shard K/N`
+//! runs a deterministic subset; [`merge`] aggregates the points into
+//! `DIR/sweep.csv` (mean and standard deviation over realisations) and plots.
+
+mod merge;
+mod plan;
+
+pub use merge::{merge, MergedRow};
+pub use plan::{Point, Shard, SpeedAxis, SweepConfig, SweepPlan};
+
+use std::path::{Path, PathBuf};
+
+use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::Value;
+
+use crate::config::{self, LoadedConfig};
+use crate::error::{Error, Result};
+use crate::io::atomic::write_atomic;
+use crate::run::{self, SolveSetup};
+use crate::solver::Silent;
+
+/// File in the sweep directory that pins the configuration it was made with.
+pub const CONFIG_FILE: &str = "sweep.toml";
+
+/// What a sweep run did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SweepRun {
+    /// Points in the plan (all shards).
+    pub total: usize,
+    /// Points of this shard.
+    pub in_shard: usize,
+    /// Points already finished before this run.
+    pub skipped: usize,
+    /// Points solved by this run.
+    pub solved: usize,
+}
+
+/// Run (or resume) the sweep of `cfg` into `dir`. `limit` stops after that
+/// many new points (the rest is left for a later run).
+pub fn run_sweep(
+    cfg: &LoadedConfig,
+    dir: &Path,
+    shard: Shard,
+    limit: Option<usize>,
+) -> Result<SweepRun> {
+    let sweep = cfg.config.sweep.clone().ok_or_else(|| {
+        Error::Invalid(format!(
+            "{}: a sweep needs a [sweep] section",
+            cfg.path.display()
+        ))
+    })?;
+    let plan = SweepPlan::new(&sweep)?;
+    pin_config(cfg, dir)?;
+    let points_dir = dir.join("points");
+    std::fs::create_dir_all(&points_dir).map_err(|e| Error::io(&points_dir, e))?;
+    let mine: Vec<&Point> = plan
+        .points
+        .iter()
+        .filter(|p| shard.contains(p.index))
+        .collect();
+    let todo: Vec<&&Point> = mine
+        .iter()
+        .filter(|p| !point_done(&points_dir, p))
+        .collect();
+    let skipped = mine.len() - todo.len();
+    let count = limit.map_or(todo.len(), |l| l.min(todo.len()));
+    let bar = ProgressBar::new(count as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:30} {pos}/{len} points, {elapsed_precise} elapsed, ETA {eta_precise} {msg}",
+        )
+        .expect("valid template"),
+    );
+    let mut solved = 0;
+    for point in todo.into_iter().take(count) {
+        bar.set_message(point.id.clone());
+        let value = solve_point(cfg, point)?;
+        let path = point_path(&points_dir, point);
+        write_atomic(
+            &path,
+            serde_json::to_string_pretty(&value)
+                .expect("serialisable")
+                .as_bytes(),
+        )?;
+        solved += 1;
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(SweepRun {
+        total: plan.points.len(),
+        in_shard: mine.len(),
+        skipped,
+        solved,
+    })
+}
+
+/// Solve one point: the base configuration with the point's speed, load and
+/// seed substituted.
+pub fn solve_point(cfg: &LoadedConfig, point: &Point) -> Result<Value> {
+    let mut doc = cfg.document.clone();
+    doc.remove("sweep");
+    let loading = doc
+        .entry("loading")
+        .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+    let toml::Value::Table(loading) = loading else {
+        return Err(Error::Invalid("[loading] must be a table".into()));
+    };
+    match point.speed {
+        SpeedAxis::Speed(v) => {
+            loading.remove("xi");
+            loading.insert("speed".into(), toml::Value::Float(v));
+        }
+        SpeedAxis::Xi(x) => {
+            loading.remove("speed");
+            loading.insert("xi".into(), toml::Value::Float(x));
+        }
+    }
+    if let Some(f) = point.normal_load {
+        loading.remove("mean_pressure");
+        loading.remove("approach");
+        loading.insert("normal_load".into(), toml::Value::Float(f));
+    }
+    if let Some(seed) = point.seed {
+        config::apply_override(&mut doc, &format!("surface.generate.seed={seed}"))?;
+    }
+    let name = format!("{} (point {})", cfg.path.display(), point.id);
+    let config = config::parse_document(&doc, &name)?;
+    let point_cfg = LoadedConfig {
+        config,
+        path: cfg.path.clone(),
+        base_dir: cfg.base_dir.clone(),
+        document: doc,
+    };
+    let setup = SolveSetup::from_config(&point_cfg)?;
+    let outcome = run::solve_cpu(&setup, &mut Silent)?;
+    let mut value = crate::report::summary(&setup, &outcome);
+    if let Value::Object(map) = &mut value {
+        map.remove("config");
+        map.remove("residual_history");
+        map.remove("contact_history");
+        map.insert(
+            "point".into(),
+            serde_json::to_value(point).expect("serialisable"),
+        );
+    }
+    Ok(value)
+}
+
+fn point_path(points_dir: &Path, point: &Point) -> PathBuf {
+    points_dir.join(format!("{}.json", point.id))
+}
+
+fn point_done(points_dir: &Path, point: &Point) -> bool {
+    std::fs::read_to_string(point_path(points_dir, point))
+        .ok()
+        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
+        .is_some_and(|v| v.get("friction_coefficient").is_some())
+}
+
+/// Record the configuration in `dir`, or check that it matches the one
+/// recorded there: a sweep directory holds the points of one configuration.
+fn pin_config(cfg: &LoadedConfig, dir: &Path) -> Result<()> {
+    let text = toml::to_string(&cfg.document).expect("a parsed document serialises");
+    let pinned = dir.join(CONFIG_FILE);
+    match std::fs::read_to_string(&pinned) {
+        Ok(old) if old == text => Ok(()),
+        Ok(_) => Err(Error::Invalid(format!(
+            "{} holds a sweep made with a different configuration; use another --out directory (or delete it) instead of mixing results",
+            dir.display()
+        ))),
+        Err(_) => write_atomic(&pinned, text.as_bytes()),
+    }
+}

@@ -1,0 +1,260 @@
+//! The points of a sweep: speeds (a list or a log range of `v` or `xi`) x
+//! normal loads x surface realisations (seeds), in a fixed order, and the
+//! deterministic split into shards.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+
+/// `[sweep]`: the axes of a sweep. Exactly one speed axis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct SweepConfig {
+    /// Sliding speeds [m/s].
+    pub speed: Option<Vec<f64>>,
+    /// Dimensionless speeds `xi = v tau / L`.
+    pub xi: Option<Vec<f64>>,
+    /// Log-spaced speeds `[from, to, points]` [m/s].
+    pub speed_range: Option<[f64; 3]>,
+    /// Log-spaced `xi`: `[from, to, points]`.
+    pub xi_range: Option<[f64; 3]>,
+    /// Add the static point (`v = 0`, fully relaxed), the reference of
+    /// `A / A(xi = 0)` (default true).
+    pub include_static: Option<bool>,
+    /// Normal loads [N] (default: the `[loading]` one).
+    pub normal_load: Option<Vec<f64>>,
+    /// Surface realisations: seeds of `[surface.generate]` (default: its own).
+    pub seeds: Option<Vec<u64>>,
+}
+
+/// The speed of one point.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpeedAxis {
+    Speed(f64),
+    Xi(f64),
+}
+
+impl SpeedAxis {
+    /// The numeric value (m/s or xi).
+    pub fn value(&self) -> f64 {
+        match *self {
+            SpeedAxis::Speed(v) | SpeedAxis::Xi(v) => v,
+        }
+    }
+}
+
+/// One solve of the sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Point {
+    /// Position in the plan (0-based).
+    pub index: usize,
+    /// File stem of its result, `p0000`, `p0001`, ...
+    pub id: String,
+    pub speed: SpeedAxis,
+    pub normal_load: Option<f64>,
+    pub seed: Option<u64>,
+}
+
+/// All points of a sweep, in plan order (load, then speed, then seed).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweepPlan {
+    pub points: Vec<Point>,
+}
+
+fn log_range(r: [f64; 3], key: &str) -> Result<Vec<f64>> {
+    let [from, to, n] = r;
+    if !(from > 0.0 && to > 0.0 && from.is_finite() && to.is_finite())
+        || n < 1.0
+        || n.fract() != 0.0
+    {
+        return Err(Error::Invalid(format!(
+            "[sweep] {key} = [from, to, points] needs positive finite ends and a whole number of points, got {r:?}"
+        )));
+    }
+    let n = n as usize;
+    Ok((0..n)
+        .map(|k| {
+            if n == 1 {
+                from
+            } else {
+                from * (to / from).powf(k as f64 / (n - 1) as f64)
+            }
+        })
+        .collect())
+}
+
+impl SweepPlan {
+    /// Expand the axes of `cfg` into points.
+    pub fn new(cfg: &SweepConfig) -> Result<Self> {
+        let axes = [
+            cfg.speed.is_some(),
+            cfg.xi.is_some(),
+            cfg.speed_range.is_some(),
+            cfg.xi_range.is_some(),
+        ];
+        if axes.iter().filter(|&&a| a).count() != 1 {
+            return Err(Error::Invalid(
+                "[sweep] give exactly one of speed, xi, speed_range and xi_range".into(),
+            ));
+        }
+        let (mut speeds, xi) = if let Some(v) = &cfg.speed {
+            (v.clone(), false)
+        } else if let Some(v) = &cfg.xi {
+            (v.clone(), true)
+        } else if let Some(r) = cfg.speed_range {
+            (log_range(r, "speed_range")?, false)
+        } else {
+            (
+                log_range(cfg.xi_range.expect("one axis"), "xi_range")?,
+                true,
+            )
+        };
+        if let Some(bad) = speeds.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
+            return Err(Error::Invalid(format!(
+                "[sweep] speeds must be >= 0 and finite, got {bad}"
+            )));
+        }
+        if cfg.include_static.unwrap_or(true) && !speeds.contains(&0.0) {
+            speeds.insert(0, 0.0);
+        }
+        let loads: Vec<Option<f64>> = match &cfg.normal_load {
+            Some(l) => {
+                if let Some(bad) = l.iter().find(|f| !(f.is_finite() && **f > 0.0)) {
+                    return Err(Error::Invalid(format!(
+                        "[sweep] normal loads must be positive, got {bad} N"
+                    )));
+                }
+                l.iter().map(|&f| Some(f)).collect()
+            }
+            None => vec![None],
+        };
+        let seeds: Vec<Option<u64>> = match &cfg.seeds {
+            Some(s) if s.is_empty() => return Err(Error::Invalid("[sweep] seeds is empty".into())),
+            Some(s) => s.iter().map(|&x| Some(x)).collect(),
+            None => vec![None],
+        };
+        let mut points = Vec::new();
+        for &normal_load in &loads {
+            for &v in &speeds {
+                for &seed in &seeds {
+                    let index = points.len();
+                    points.push(Point {
+                        index,
+                        id: format!("p{index:04}"),
+                        speed: if xi {
+                            SpeedAxis::Xi(v)
+                        } else {
+                            SpeedAxis::Speed(v)
+                        },
+                        normal_load,
+                        seed,
+                    });
+                }
+            }
+        }
+        Ok(Self { points })
+    }
+}
+
+/// `K/N`: this job runs the points whose index is `K` modulo `N`
+/// (`0 <= K < N`, as Slurm's `SLURM_ARRAY_TASK_ID` with `--array=0-(N-1)`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    pub k: usize,
+    pub n: usize,
+}
+
+impl Shard {
+    /// Every point.
+    pub const ALL: Shard = Shard { k: 0, n: 1 };
+
+    /// Whether the point with plan index `index` belongs to this shard.
+    pub fn contains(&self, index: usize) -> bool {
+        index % self.n == self.k
+    }
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let (k, n) = s
+            .split_once('/')
+            .ok_or_else(|| format!("shard '{s}': expected K/N"))?;
+        let k: usize = k
+            .trim()
+            .parse()
+            .map_err(|_| format!("shard '{s}': K is not a number"))?;
+        let n: usize = n
+            .trim()
+            .parse()
+            .map_err(|_| format!("shard '{s}': N is not a number"))?;
+        if n == 0 || k >= n {
+            return Err(format!("shard '{s}': need 0 <= K < N"));
+        }
+        Ok(Shard { k, n })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plan() -> SweepPlan {
+        SweepPlan::new(&SweepConfig {
+            xi_range: Some([1e-4, 1e-1, 7.0]),
+            normal_load: Some(vec![0.1, 0.3]),
+            seeds: Some(vec![1, 2, 3]),
+            ..Default::default()
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn axes_expand_in_a_fixed_order() {
+        let p = plan();
+        assert_eq!(p.points.len(), 2 * 8 * 3);
+        assert_eq!(p.points[0].speed, SpeedAxis::Xi(0.0));
+        assert!((p.points[3].speed.value() - 1e-4).abs() < 1e-18);
+        assert!((p.points[3 * 7].speed.value() - 1e-1).abs() < 1e-15);
+        assert_eq!(p.points[47].normal_load, Some(0.3));
+        assert_eq!(p, plan(), "deterministic");
+    }
+
+    #[test]
+    fn shards_partition_the_points_exactly() {
+        let p = plan();
+        for n in 1..=7 {
+            let mut seen = vec![0; p.points.len()];
+            for k in 0..n {
+                let s: Shard = format!("{k}/{n}").parse().unwrap();
+                for pt in &p.points {
+                    if s.contains(pt.index) {
+                        seen[pt.index] += 1;
+                    }
+                }
+            }
+            assert!(seen.iter().all(|&c| c == 1), "n = {n}: {seen:?}");
+        }
+        assert!("3/3".parse::<Shard>().is_err());
+        assert!("1/0".parse::<Shard>().is_err());
+        assert!("a/2".parse::<Shard>().is_err());
+    }
+
+    #[test]
+    fn bad_axes_are_refused() {
+        assert!(SweepPlan::new(&SweepConfig::default()).is_err());
+        assert!(SweepPlan::new(&SweepConfig {
+            xi: Some(vec![1.0]),
+            speed: Some(vec![1.0]),
+            ..Default::default()
+        })
+        .is_err());
+        assert!(SweepPlan::new(&SweepConfig {
+            xi_range: Some([0.0, 1.0, 3.0]),
+            ..Default::default()
+        })
+        .is_err());
+    }
+}

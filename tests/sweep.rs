@@ -1,0 +1,196 @@
+//! Sweeps: resume after interruption without recomputation, exact shards,
+//! deterministic order-independent merge, refusal of a changed config.
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant, SystemTime};
+
+const CONFIG: &str = r#"
+[material]
+model = "sls"
+relaxed_modulus = 3.3333333333333335e6
+glassy_modulus = 1.0e7
+creep_time = 0.01
+
+[surface.generate]
+n = 32
+length = 0.01
+hurst = 0.8
+scales = 4
+rms_slope = 0.02
+seed = 1
+
+[loading]
+normal_load = 0.30
+xi = 1e-2
+
+[sweep]
+xi = [1e-3, 1e-2]
+seeds = [1, 2]
+"#;
+
+fn viscoslide(args: &[&str]) -> (bool, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn write_config(dir: &Path, text: &str) -> String {
+    let p = dir.join("sweep.toml.in");
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+fn point_times(dir: &Path) -> Vec<(String, SystemTime)> {
+    let mut v: Vec<_> = std::fs::read_dir(dir.join("points"))
+        .unwrap()
+        .map(|e| e.unwrap())
+        .map(|e| {
+            (
+                e.file_name().to_string_lossy().into_owned(),
+                e.metadata().unwrap().modified().unwrap(),
+            )
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn interrupted_sweep_resumes_without_recomputing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), CONFIG);
+    let out = tmp.path().join("run");
+    let o = out.display().to_string();
+    // Stop after 2 of 6 points (3 speeds incl. the static one x 2 seeds).
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o, "--limit", "2"]);
+    assert!(ok, "{err}");
+    let first = point_times(&out);
+    assert_eq!(first.len(), 2);
+    assert!(
+        !out.join("sweep.csv").exists(),
+        "no merge of an unfinished sweep"
+    );
+    std::thread::sleep(Duration::from_millis(20));
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o]);
+    assert!(ok, "{err}");
+    let second = point_times(&out);
+    assert_eq!(second.len(), 6);
+    for (name, t) in &first {
+        let again = second.iter().find(|(n, _)| n == name).unwrap();
+        assert_eq!(*t, again.1, "{name} was recomputed");
+    }
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 3, "{csv}");
+    assert!(out.join("friction_vs_xi.png").is_file());
+    assert!(out.join("area_ratio_vs_xi.png").is_file());
+}
+
+#[test]
+fn killed_sweep_loses_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    // Bigger points so that the kill lands mid-sweep.
+    let cfg = write_config(
+        tmp.path(),
+        &CONFIG
+            .replace("n = 32", "n = 96")
+            .replace("seeds = [1, 2]", "seeds = [1, 2, 3]"),
+    );
+    let out = tmp.path().join("run");
+    let o = out.display().to_string();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(["sweep", &cfg, "--out", &o])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let t0 = Instant::now();
+    loop {
+        let n = std::fs::read_dir(out.join("points"))
+            .map(|d| d.count())
+            .unwrap_or(0);
+        if n >= 1 || t0.elapsed() > Duration::from_secs(120) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let before = point_times(&out);
+    // Every file present is a complete result (atomic writes), none is a fragment.
+    for (name, _) in &before {
+        let text = std::fs::read_to_string(out.join("points").join(name)).unwrap();
+        let v: serde_json::Value =
+            serde_json::from_str(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(v.get("friction_coefficient").is_some());
+    }
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o]);
+    assert!(ok, "{err}");
+    let after = point_times(&out);
+    assert_eq!(after.len(), 9);
+    for (name, t) in &before {
+        assert_eq!(
+            *t,
+            after.iter().find(|(n, _)| n == name).unwrap().1,
+            "{name} recomputed"
+        );
+    }
+}
+
+#[test]
+fn shards_merge_to_the_same_result_in_any_order() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), CONFIG);
+    let whole = tmp.path().join("whole");
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &whole.display().to_string()]);
+    assert!(ok, "{err}");
+    let sharded = tmp.path().join("sharded");
+    let s = sharded.display().to_string();
+    for k in [2, 0, 1] {
+        let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &s, "--shard", &format!("{k}/3")]);
+        assert!(ok, "{err}");
+    }
+    assert_eq!(point_times(&sharded).len(), 6);
+    let (ok, err) = viscoslide(&["merge", &s]);
+    assert!(ok, "{err}");
+    let a = std::fs::read(whole.join("sweep.csv")).unwrap();
+    let b = std::fs::read(sharded.join("sweep.csv")).unwrap();
+    assert_eq!(
+        a, b,
+        "merge must not depend on the order points were made in"
+    );
+    let (ok, _) = viscoslide(&["merge", &s]);
+    assert!(ok);
+    assert_eq!(
+        b,
+        std::fs::read(sharded.join("sweep.csv")).unwrap(),
+        "merge is deterministic"
+    );
+}
+
+#[test]
+fn changed_config_in_an_existing_directory_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), CONFIG);
+    let out = tmp.path().join("run").display().to_string();
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &out, "--limit", "1"]);
+    assert!(ok, "{err}");
+    let (ok, err) = viscoslide(&[
+        "sweep",
+        &cfg,
+        "--out",
+        &out,
+        "--limit",
+        "1",
+        "--set",
+        "loading.normal_load=0.5",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("different configuration"), "{err}");
+    assert_eq!(point_times(&tmp.path().join("run")).len(), 1);
+}
