@@ -1,6 +1,7 @@
 //! The command line: clap derive, one file per command group. Each command
 //! turns its arguments into library calls; no numerics live here.
 
+mod analyze;
 mod gpu;
 mod kernel;
 mod material;
@@ -37,6 +38,8 @@ pub enum Command {
     Solve(solve::SolveArgs),
     /// List the GPU adapters wgpu can use.
     Gpu(gpu::GpuArgs),
+    /// Anisotropy (Eq. 11-13), C_chi contours and contact spots of a solve.
+    Analyze(analyze::AnalyzeArgs),
 }
 
 /// A config file plus `--set section.key=value` overrides.
@@ -64,5 +67,6 @@ pub fn run() -> Result<()> {
         Command::Kernel(a) => kernel::run(a),
         Command::Solve(a) => solve::run(a),
         Command::Gpu(a) => gpu::run(a),
+        Command::Analyze(a) => analyze::run(a),
     }
 }
