@@ -142,6 +142,8 @@ pub struct ChiReport {
     pub window_radius_cells: f64,
     /// Flat part of the window [cells].
     pub flat_radius_cells: f64,
+    /// Background subtracted from the autocorrelation [cells].
+    pub background_cells: f64,
     /// `C_chi(0)` [m^4].
     pub c0: f64,
     /// `q0 = 2 pi / Lx` [1/m]: the unit of the contour coordinates.
@@ -293,6 +295,7 @@ pub fn analyze_fields(
         Some(ChiReport {
             window_radius_cells: spec.window_radius_cells,
             flat_radius_cells: spec.flat_radius_cells,
+            background_cells: spec.background_cells,
             c0: spec.c0,
             q0: spec.dqx,
             levels,

@@ -10,22 +10,28 @@
 //! carries the squared mean `<chi>^2` as a spike at `q = 0`. The contours are
 //! therefore taken on the Blackman-Tukey estimate
 //!
-//! `C_chi(q) = a^4 / ((2 pi)^2 Lx Ly) sum_r w(|r|) R(r) cos(q.r)`,
+//! `C_chi(q) = a^4 / ((2 pi)^2 Lx Ly) sum_r w(|r|) (R(r) - R_b) cos(q.r)`,
 //!
 //! with `R(r) = sum_x chi(x) chi(x + r)` the non-periodic (zero-padded)
-//! autocorrelation of `chi` and `w` a flat-top window: `w = 1` for
-//! `|r| <= r_flat`, a cosine taper to zero at `r_c = 1.5 r_flat`. Without the
-//! window (`r_c -> infinity`, periodic map) this is exactly the periodogram in
-//! the normalisation of [`crate::surface::psd_2d`]. Within `r_flat`, `R` is
-//! the sum of the self-correlations of the spots (each supported on its own
-//! shape dilated by two) plus the near-neighbour pair terms, so the window
+//! autocorrelation of `chi`, `w` a flat-top window (`w = 1` for
+//! `|r| <= r_flat`, a cosine taper to zero at `r_c = 1.5 r_flat`) and `R_b`
+//! the mean of `R` over the taper ring `r_flat < |r| < r_c`. Without the
+//! window and background (`r_c -> infinity`, periodic map) this is exactly
+//! the periodogram in the normalisation of [`crate::surface::psd_2d`].
+//! Within `r_flat`, `R` is the sum of the self-correlations of the spots
+//! (each supported on its own shape dilated by two) plus the pair terms of
+//! neighbouring spots, which tend to the uniform level `<chi>^2` per cell
+//! pair beyond the correlation length of the spot positions. The window
 //! keeps the shape information of every spot and drops the random
-//! far-field phases. `R` is that of `chi` itself, not of `chi - <chi>`: the
-//! subtracted mean would add the isotropic term `-<chi>^2 W(q)` to every
-//! contour. `C_chi(0) = max_q C_chi(q)` because `w R >= 0`.
+//! far-field phases; `R_b` removes the uniform level, which would otherwise
+//! add the isotropic term `R_b W(q)` to every contour (dense maps). For
+//! spots farther apart than `r_c` the ring holds no pair term, `R_b = 0`,
+//! and the estimate is the exact sum of the spots' `|FT|^2`. `C_chi(0)` is
+//! the estimate at `q = 0` (the largest value when `R_b = 0`, since
+//! `w R >= 0`).
 //!
-//! The default `r_flat` is `4 sqrt(lambda_max)` of the spot with the largest
-//! second-moment eigenvalue `lambda_max` (`= 2 A` for an ellipse of
+//! The default `r_flat` is `4 sqrt(v_max)` of the spot with the largest
+//! second-moment eigenvalue `v_max` (`4 sqrt(v_max) = 2 A` for an ellipse of
 //! semi-major axis `A`: the full extent of its self-correlation), at least
 //! 2 cells, with `r_c` capped below half the shorter side of the map.
 //!
@@ -69,6 +75,8 @@ pub struct ChiSpectrum {
     pub window_radius_cells: f64,
     /// Flat part of the window `r_flat` [cells].
     pub flat_radius_cells: f64,
+    /// Background `R_b` subtracted from `R` [cells] (see the module doc).
+    pub background_cells: f64,
     /// Terms `(rx, ry, w R a^4 / ((2 pi)^2 Lx Ly))` of the cosine sum, `r` in m.
     terms: Vec<(f64, f64, f64)>,
 }
@@ -167,6 +175,27 @@ pub fn chi_spectrum(
     let (lx, ly) = (nx as f64 * cell_size, ny as f64 * cell_size);
     let factor = cell_size.powi(4) / ((2.0 * PI).powi(2) * lx * ly);
     let rmax = radius.ceil() as i64;
+    let lag = |dx: i64, dy: i64| {
+        // R counts overlapping cells: an integer up to round-off.
+        (buf[dx.rem_euclid(px as i64) as usize * py + dy.rem_euclid(py as i64) as usize].re * inv)
+            .round()
+    };
+    // Background: mean of R over the taper ring.
+    let (mut ring_sum, mut ring_count) = (0.0, 0usize);
+    for dx in -rmax..=rmax {
+        for dy in -rmax..=rmax {
+            let d = ((dx * dx + dy * dy) as f64).sqrt();
+            if d > flat && d < radius {
+                ring_sum += lag(dx, dy);
+                ring_count += 1;
+            }
+        }
+    }
+    let background = if ring_count > 0 {
+        ring_sum / ring_count as f64
+    } else {
+        0.0
+    };
     let mut terms = Vec::new();
     let mut grid = vec![0.0; nx * ny];
     for dx in -rmax..=rmax {
@@ -175,11 +204,7 @@ pub fn chi_spectrum(
             if w == 0.0 {
                 continue;
             }
-            let r = buf[dx.rem_euclid(px as i64) as usize * py + dy.rem_euclid(py as i64) as usize]
-                .re
-                * inv;
-            // R counts overlapping cells: an integer up to round-off.
-            let r = r.round();
+            let r = lag(dx, dy) - background;
             if r == 0.0 {
                 continue;
             }
@@ -201,6 +226,7 @@ pub fn chi_spectrum(
         c0,
         window_radius_cells: radius,
         flat_radius_cells: flat,
+        background_cells: background,
         terms,
     }
 }
@@ -288,6 +314,9 @@ pub enum FitFailure {
     TooFewPoints,
     /// The least-squares conic is a hyperbola or parabola.
     NotAnEllipse,
+    /// `C_chi(0) <= 0` after the background subtraction (densely packed
+    /// spots whose neighbour shell fills the taper ring): no contours.
+    NonPositiveC0,
 }
 
 /// Least-squares centred ellipse through `points` (see the module doc).
@@ -393,6 +422,15 @@ pub struct ChiLevel {
 /// ellipse; points are in units of `q0 = dqx`.
 pub fn contour_level(spec: &ChiSpectrum, level: f64, rays: usize) -> ChiLevel {
     let q0 = spec.dqx;
+    if !(spec.c0 > 0.0) {
+        return ChiLevel {
+            level,
+            points: 0,
+            ellipse: None,
+            failure: Some(FitFailure::NonPositiveC0),
+            contour: Vec::new(),
+        };
+    }
     let found: Vec<Option<f64>> = (0..rays)
         .into_par_iter()
         .map(|k| ray_crossing(spec, PI * k as f64 / rays as f64, level))
