@@ -96,7 +96,7 @@ pub struct AnalysisParams {
     /// is [`Window::Hann`]. Use [`Window::None`] for periodic fields.
     pub window: Window,
     /// Window radius `r_c` of the `C_chi` estimator [cells]; `None`: from
-    /// the largest spot (see [`super::chi`]).
+    /// the spot sizes (see [`super::chi`]).
     pub chi_window_cells: Option<f64>,
     /// Rays over a half turn along which contours are sampled.
     pub rays: usize,
@@ -280,11 +280,13 @@ pub fn analyze_fields(
         None
     } else {
         let radius = params.chi_window_cells.unwrap_or_else(|| {
-            let lmax = spots
-                .iter()
-                .map(|s| s.major_variance())
-                .fold(0.0f64, f64::max);
-            1.5 * (4.0 * lmax.sqrt()).max(2.0)
+            let (mut sw, mut sv) = (0.0, 0.0);
+            for s in &spots {
+                let w = s.cells as f64;
+                sw += w;
+                sv += w * s.major_variance();
+            }
+            1.5 * (4.0 * (sv / sw).sqrt()).max(2.0)
         });
         let spec = chi_spectrum(inputs.contact, nx, ny, a, radius);
         let levels: Vec<ChiLevel> = params

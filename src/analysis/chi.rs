@@ -30,10 +30,13 @@
 //! the estimate at `q = 0` (the largest value when `R_b = 0`, since
 //! `w R >= 0`).
 //!
-//! The default `r_flat` is `4 sqrt(v_max)` of the spot with the largest
-//! second-moment eigenvalue `v_max` (`4 sqrt(v_max) = 2 A` for an ellipse of
-//! semi-major axis `A`: the full extent of its self-correlation), at least
-//! 2 cells, with `r_c` capped below half the shorter side of the map.
+//! The default `r_flat` is `4 sqrt(v)`, with `v` the area-weighted mean
+//! over the spots of the largest eigenvalue of their second-moment tensor
+//! (`4 sqrt(v) = 2 A` for ellipses of semi-major axis `A`: the full extent of
+//! their self-correlation), at least 2 cells, with `r_c` capped below half
+//! the shorter side of the map. A window sized on the largest spot instead
+//! keeps more neighbour pairs, whose random arrangement makes the contours
+//! of a single contact map ragged.
 //!
 //! # Contours and ellipse fit
 //!
@@ -388,8 +391,9 @@ fn solve3(mut m: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
         b.swap(col, piv);
         for row in col + 1..3 {
             let f = m[row][col] / m[col][col];
-            for k in col..3 {
-                m[row][k] -= f * m[col][k];
+            let pivot_row = m[col];
+            for (v, p) in m[row].iter_mut().zip(pivot_row).skip(col) {
+                *v -= f * p;
             }
             b[row] -= f * b[col];
         }
@@ -422,7 +426,7 @@ pub struct ChiLevel {
 /// ellipse; points are in units of `q0 = dqx`.
 pub fn contour_level(spec: &ChiSpectrum, level: f64, rays: usize) -> ChiLevel {
     let q0 = spec.dqx;
-    if !(spec.c0 > 0.0) {
+    if spec.c0.is_nan() || spec.c0 <= 0.0 {
         return ChiLevel {
             level,
             points: 0,

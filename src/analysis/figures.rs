@@ -139,6 +139,15 @@ pub fn contact_map(
     Ok(())
 }
 
+/// Tick label on an axis spanning `[-r, r]`: round-off zeros print as 0.
+fn axis_tick(v: f64, r: f64) -> String {
+    if v.abs() < 1e-9 * r {
+        "0".into()
+    } else {
+        format_tick(v)
+    }
+}
+
 /// Square chart on `[-r, r]^2` with axis labels.
 fn square_chart<'a, 'b>(
     path: &Path,
@@ -162,8 +171,8 @@ fn square_chart<'a, 'b>(
         .x_desc(x_desc)
         .y_desc(y_desc)
         .label_style(("sans-serif", 12))
-        .x_label_formatter(&|v| format_tick(*v))
-        .y_label_formatter(&|v| format_tick(*v))
+        .x_label_formatter(&|v| axis_tick(*v, r))
+        .y_label_formatter(&|v| axis_tick(*v, r))
         .light_line_style(WHITE)
         .draw()
         .map_err(|e| err(path, e))?;
