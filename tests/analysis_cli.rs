@@ -170,3 +170,22 @@ fn missing_or_inconsistent_inputs_write_nothing() {
     solve_dir(&dir);
     assert_fails_cleanly(&dir, &["--levels", "0.5,1.5"], "levels");
 }
+
+#[test]
+fn no_contact_still_writes_every_figure() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("run");
+    solve_dir(&dir);
+    std::fs::write(
+        dir.join("contact.npy"),
+        npy::encode_f64(&[N, N], &vec![0.0; N * N]),
+    )
+    .unwrap();
+    let o = viscoslide(&["analyze", dir.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("analysis.json")).unwrap()).unwrap();
+    assert!(j["lambda"].is_null() && j["chi"].is_null());
+    assert_eq!(j["spots"]["count"], 0);
+    assert_eq!(files(&dir).len(), 11);
+}

@@ -70,28 +70,30 @@ fn contact_panel(
         .y_label_formatter(&|v| format_tick(*v))
         .draw()
         .map_err(|e| err(path, e))?;
-    let plotting = ctx.plotting_area();
-    let (px, py) = plotting.get_pixel_range();
-    let (w, h) = ((px.end - px.start).max(1), (py.end - py.start).max(1));
     let a = inputs.cell_size;
-    for ix in 0..w {
-        let x = x0 + (ix as f64 + 0.5) / w as f64 * (x1 - x0);
-        let ci = (x / a).floor();
-        if ci < 0.0 || ci >= inputs.nx as f64 {
-            continue;
-        }
-        for iy in 0..h {
-            let y = y1 - (iy as f64 + 0.5) / h as f64 * (y1 - y0);
-            let cj = (y / a).floor();
-            if cj < 0.0 || cj >= inputs.ny as f64 {
-                continue;
-            }
-            if inputs.contact[ci as usize * inputs.ny + cj as usize] > 0.5 {
-                area.draw_pixel((px.start + ix, py.start + iy), &BLACK)
-                    .map_err(|e| err(path, e))?;
-            }
-        }
-    }
+    let cells = |lo: f64, hi: f64, n: usize| {
+        let first = ((lo / a).floor().max(0.0) as usize).min(n);
+        let last = ((hi / a).ceil().max(0.0) as usize).min(n);
+        first..last
+    };
+    let (ri, rj) = (cells(x0, x1, inputs.nx), cells(y0, y1, inputs.ny));
+    let clip = |v: f64, lo: f64, hi: f64| v.clamp(lo, hi);
+    ctx.draw_series(
+        ri.flat_map(|i| rj.clone().map(move |j| (i, j)))
+            .filter(|&(i, j)| inputs.contact[i * inputs.ny + j] > 0.5)
+            .map(|(i, j)| {
+                let (xa, xb) = (i as f64 * a, (i + 1) as f64 * a);
+                let (ya, yb) = (j as f64 * a, (j + 1) as f64 * a);
+                Rectangle::new(
+                    [
+                        (clip(xa, x0, x1), clip(ya, y0, y1)),
+                        (clip(xb, x0, x1), clip(yb, y0, y1)),
+                    ],
+                    BLACK.filled(),
+                )
+            }),
+    )
+    .map_err(|e| err(path, e))?;
     if let Some((m0, m1, n0, n1)) = mark {
         ctx.draw_series(std::iter::once(Rectangle::new(
             [(m0, n0), (m1, n1)],
@@ -367,7 +369,7 @@ pub fn spot_areas(path: &Path, report: &AnalysisReport) -> Result<(), PlotError>
         .margin(12)
         .x_label_area_size(50)
         .y_label_area_size(60)
-        .build_cartesian_2d((0..nb).into_segmented(), 0.0..1.1 * ymax)
+        .build_cartesian_2d((0..nb - 1).into_segmented(), 0.0..1.1 * ymax)
         .map_err(|e| err(path, e))?;
     let labels: Vec<String> = h
         .iter()

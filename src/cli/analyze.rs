@@ -24,7 +24,7 @@ pub struct AnalyzeArgs {
     #[arg(long, value_delimiter = ',')]
     pub levels: Option<Vec<f64>>,
     /// Radius of the C_chi estimator window in cells (default: from the
-    /// largest spot).
+    /// area-weighted spot size).
     #[arg(long)]
     pub chi_window: Option<f64>,
     /// Do not taper the displacement before its PSD (periodic solves).
