@@ -197,8 +197,12 @@ mod tests {
         assert!((t.gamma - 0.25).abs() < 1e-12);
         assert!((t.theta_p_deg - 35.0).abs() < 1e-9, "{}", t.theta_p_deg);
         assert!((t.m2(th) - 4.0).abs() < 1e-12);
-        let t2 = AnisotropyTensor::from_components(m02, m20, -m11);
+        // Transpose (x <-> y): theta -> 90 - theta.
+        let t2 = AnisotropyTensor::from_components(m02, m20, m11);
         assert!((t2.theta_p_deg - 55.0).abs() < 1e-9, "{}", t2.theta_p_deg);
+        // Rotation by 90 degrees: theta -> theta + 90 = -55 (axial).
+        let t3 = AnisotropyTensor::from_components(m02, m20, -m11);
+        assert!((t3.theta_p_deg + 55.0).abs() < 1e-9, "{}", t3.theta_p_deg);
     }
 
     #[test]
