@@ -189,3 +189,36 @@ fn no_contact_still_writes_every_figure() {
     assert_eq!(j["spots"]["count"], 0);
     assert_eq!(files(&dir).len(), 11);
 }
+
+#[test]
+fn band_defaults_from_summary_config() {
+    use viscoslide::analysis::read_summary;
+    let tmp = tempfile::tempdir().unwrap();
+    let q0 = 2.0 * std::f64::consts::PI / L;
+    let cases = [
+        (
+            serde_json::json!({"scales": 16, "ql": 2.0 * q0}),
+            Some(32.0),
+        ),
+        (serde_json::json!({"q1": 20.0 * q0}), Some(20.0)),
+        (serde_json::json!({"hurst": 0.8}), None),
+    ];
+    for (k, (generate, want)) in cases.into_iter().enumerate() {
+        let p = tmp.path().join(format!("s{k}.json"));
+        let doc = serde_json::json!({
+            "grid": [N, N],
+            "cell_size": L / N as f64,
+            "config": {"surface": {"generate": generate}},
+        });
+        std::fs::write(&p, doc.to_string()).unwrap();
+        let s = read_summary(&p).unwrap();
+        match (s.scales, want) {
+            (Some(a), Some(b)) => assert!((a - b).abs() < 1e-9, "{a} vs {b}"),
+            (a, b) => assert_eq!(a, b),
+        }
+    }
+    let p = tmp.path().join("bad.json");
+    std::fs::write(&p, r#"{"grid": [4]}"#).unwrap();
+    let e = read_summary(&p).unwrap_err().to_string();
+    assert!(e.contains("grid"), "{e}");
+}
