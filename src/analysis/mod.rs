@@ -1,11 +1,27 @@
 //! Quantities computed from a solved contact: friction (paper Eq. 8-9 and the
 //! dissipated power of Appendix A3-A4), real contact area and pressure
-//! statistics. Nothing here depends on how the solve was done.
+//! statistics, and the anisotropy of the deformed surface and of the contact
+//! area (paper Section IV, Eq. 11-13, Fig. 8-10). Nothing here depends on how
+//! the solve was done.
 
+pub mod analyze;
+pub mod anisotropy;
+pub mod chi;
 pub mod contact;
+pub mod figures;
 pub mod friction;
 pub mod periodic;
+pub mod spots;
 
+pub use analyze::{
+    analyze_dir, analyze_fields, read_summary, write_analysis, AnalysisError, AnalysisInputs,
+    AnalysisParams, AnalysisReport, ChiReport, SolveSummary, ANALYSIS_FILES,
+};
+pub use anisotropy::{deformed_anisotropy, AnisotropyTensor, DeformedAnisotropy, ZetaBand};
+pub use chi::{
+    chi_spectrum, contour_level, fit_centred_ellipse, ChiLevel, ChiSpectrum, EllipseFit,
+};
 pub use contact::{contact_statistics, ContactStatistics};
 pub use friction::{friction_force_dissipation, friction_force_stencil};
 pub use periodic::{friction_force_periodic, full_contact_friction_stress};
+pub use spots::{find_spots, spot_statistics, Connectivity, Spot, SpotStatistics};

@@ -1,6 +1,7 @@
 //! The command line: clap derive, one file per command group. Each command
 //! turns its arguments into library calls; no numerics live here.
 
+mod analyze;
 mod gpu;
 mod kernel;
 mod material;
@@ -42,6 +43,8 @@ pub enum Command {
     Merge(sweep::MergeArgs),
     /// List the GPU adapters wgpu can use.
     Gpu(gpu::GpuArgs),
+    /// Anisotropy (Eq. 11-13), C_chi contours and contact spots of a solve.
+    Analyze(analyze::AnalyzeArgs),
 }
 
 /// A config file plus `--set section.key=value` overrides.
@@ -71,5 +74,6 @@ pub fn run() -> Result<()> {
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => sweep::merge(a),
         Command::Gpu(a) => gpu::run(a),
+        Command::Analyze(a) => analyze::run(a),
     }
 }

@@ -20,7 +20,7 @@ pub enum PlotError {
 static FONT: Once = Once::new();
 const DEJAVU: &[u8] = include_bytes!("DejaVuSans.ttf");
 
-fn ensure_font() {
+pub(crate) fn ensure_font() {
     FONT.call_once(|| {
         // The bundled font is a valid TrueType file; a failure here is a bug.
         let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, DEJAVU);

@@ -1,0 +1,502 @@
+//! Anisotropy of the contact area from the PSD `C_chi(q)` of the
+//! characteristic function `chi` (1 in contact, 0 elsewhere): contours of
+//! `C_chi(q) / C_chi(0)` and least-squares ellipses through them
+//! (Carbone & Putignano 2014, Section IV and Fig. 10; physics.md section 5).
+//!
+//! # Estimator
+//!
+//! The periodogram `|FT chi|^2` of a single map fluctuates by 100 % from one
+//! Fourier mode to the next (the phases of the spots add at random) and
+//! carries the squared mean `<chi>^2` as a spike at `q = 0`. The contours are
+//! therefore taken on the Blackman-Tukey estimate
+//!
+//! `C_chi(q) = a^4 / ((2 pi)^2 Lx Ly) sum_r w(|r|) (R(r) - R_b) cos(q.r)`,
+//!
+//! with `R(r) = sum_x chi(x) chi(x + r)` the non-periodic (zero-padded)
+//! autocorrelation of `chi`, `w` a flat-top window (`w = 1` for
+//! `|r| <= r_flat`, a cosine taper to zero at `r_c = 1.5 r_flat`) and `R_b`
+//! the mean of `R` over the taper ring `r_flat < |r| < r_c`. Without the
+//! window and background (`r_c -> infinity`, periodic map) this is exactly
+//! the periodogram in the normalisation of [`crate::surface::psd_2d`].
+//! Within `r_flat`, `R` is the sum of the self-correlations of the spots
+//! (each supported on its own shape dilated by two) plus the pair terms of
+//! neighbouring spots, which tend to the uniform level `<chi>^2` per cell
+//! pair beyond the correlation length of the spot positions. The window
+//! keeps the shape information of every spot and drops the random
+//! far-field phases; `R_b` removes the uniform level, which would otherwise
+//! add the isotropic term `R_b W(q)` to every contour (dense maps). For
+//! spots farther apart than `r_c` the ring holds no pair term, `R_b = 0`,
+//! and the estimate is the exact sum of the spots' `|FT|^2`. `C_chi(0)` is
+//! the estimate at `q = 0` (the largest value when `R_b = 0`, since
+//! `w R >= 0`).
+//!
+//! The default `r_flat` is `4 sqrt(v)`, with `v` the area-weighted mean
+//! over the spots of the largest eigenvalue of their second-moment tensor
+//! (`4 sqrt(v) = 2 A` for ellipses of semi-major axis `A`: the full extent of
+//! their self-correlation), at least 2 cells, with `r_c` capped below half
+//! the shorter side of the map. A window sized on the largest spot instead
+//! keeps more neighbour pairs, whose random arrangement makes the contours
+//! of a single contact map ragged.
+//!
+//! # Contours and ellipse fit
+//!
+//! For each level `l` the contour `C_chi(q) = l C_chi(0)` is sampled along
+//! `rays` directions `theta_k = pi k / rays` from `q = 0`: the first crossing
+//! is bracketed on the FFT grid (bilinear interpolation), then refined by
+//! bisection on the exact trigonometric sum. `C_chi(-q) = C_chi(q)`, so every
+//! crossing `q` gives the point `-q` too and the contour's centre is the
+//! origin: the ellipse `A qx^2 + B qx qy + C qy^2 = 1` (centre fixed at 0)
+//! is fitted by linear least squares to the points (in units of `q0`), and
+//! accepted when `4AC - B^2 > 0`, `A > 0`. `lambda` is the ratio of the minor
+//! to the major semi-axis; `ellipse_angle_deg` the direction of the major
+//! axis from `+q_x`, in (-90, 90]. Spots elongated along `e` give contours
+//! elongated along the perpendicular of `e` (reciprocal lengths).
+
+use std::f64::consts::PI;
+
+use num_complex::Complex64;
+use rayon::prelude::*;
+use rustfft::FftPlanner;
+use serde::Serialize;
+
+use super::anisotropy::wrap_axis_deg;
+
+/// Smoothed `C_chi(q)` of one contact map (see the module doc).
+#[derive(Debug, Clone)]
+pub struct ChiSpectrum {
+    pub nx: usize,
+    pub ny: usize,
+    /// `2 pi / Lx` [1/m].
+    pub dqx: f64,
+    /// `2 pi / Ly` [1/m].
+    pub dqy: f64,
+    /// `C_chi` on the FFT grid, `values[kx * ny + ky]`, FFT order [m^4].
+    pub values: Vec<f64>,
+    /// `C_chi(0)` [m^4].
+    pub c0: f64,
+    /// Window radius `r_c` [cells].
+    pub window_radius_cells: f64,
+    /// Flat part of the window `r_flat` [cells].
+    pub flat_radius_cells: f64,
+    /// Background `R_b` subtracted from `R` [cells] (see the module doc).
+    pub background_cells: f64,
+    /// Terms `(rx, ry, w R a^4 / ((2 pi)^2 Lx Ly))` of the cosine sum, `r` in m.
+    terms: Vec<(f64, f64, f64)>,
+}
+
+impl ChiSpectrum {
+    /// Exact `C_chi(q)` [m^4] at any wavevector.
+    pub fn eval(&self, qx: f64, qy: f64) -> f64 {
+        self.terms
+            .iter()
+            .map(|&(rx, ry, v)| v * (qx * rx + qy * ry).cos())
+            .sum()
+    }
+
+    /// Bilinear interpolation of the grid values at `(qx, qy)` [1/m] (the
+    /// grid is periodic in `q`).
+    fn interp(&self, qx: f64, qy: f64) -> f64 {
+        let fx = qx / self.dqx;
+        let fy = qy / self.dqy;
+        let (ix, iy) = (fx.floor(), fy.floor());
+        let (tx, ty) = (fx - ix, fy - iy);
+        let wrap = |k: f64, n: usize| (k as i64).rem_euclid(n as i64) as usize;
+        let (x0, x1) = (wrap(ix, self.nx), wrap(ix + 1.0, self.nx));
+        let (y0, y1) = (wrap(iy, self.ny), wrap(iy + 1.0, self.ny));
+        let v = |x: usize, y: usize| self.values[x * self.ny + y];
+        (1.0 - tx) * ((1.0 - ty) * v(x0, y0) + ty * v(x0, y1))
+            + tx * ((1.0 - ty) * v(x1, y0) + ty * v(x1, y1))
+    }
+}
+
+/// In-place 2-D complex FFT of an `n0 x n1` C-order array (unnormalised;
+/// `inverse` uses `e^{+i}`).
+fn fft2(data: &mut [Complex64], n0: usize, n1: usize, inverse: bool) {
+    let mut planner = FftPlanner::<f64>::new();
+    let (p1, p0) = if inverse {
+        (planner.plan_fft_inverse(n1), planner.plan_fft_inverse(n0))
+    } else {
+        (planner.plan_fft_forward(n1), planner.plan_fft_forward(n0))
+    };
+    data.par_chunks_mut(n1).for_each(|row| p1.process(row));
+    let mut t = vec![Complex64::default(); n0 * n1];
+    t.par_chunks_mut(n0).enumerate().for_each(|(j, col)| {
+        for (i, v) in col.iter_mut().enumerate() {
+            *v = data[i * n1 + j];
+        }
+    });
+    t.par_chunks_mut(n0).for_each(|col| p0.process(col));
+    data.par_chunks_mut(n1).enumerate().for_each(|(i, row)| {
+        for (j, v) in row.iter_mut().enumerate() {
+            *v = t[j * n0 + i];
+        }
+    });
+}
+
+/// The flat-top window: 1 up to `flat`, cosine taper to 0 at `radius`.
+fn window(r: f64, flat: f64, radius: f64) -> f64 {
+    if r <= flat {
+        1.0
+    } else if r >= radius {
+        0.0
+    } else {
+        0.5 * (1.0 + (PI * (r - flat) / (radius - flat)).cos())
+    }
+}
+
+/// Largest usable window radius [cells] on an `nx x ny` map: the windowed
+/// autocorrelation must fit on the FFT grid without aliasing.
+pub fn max_window_radius(nx: usize, ny: usize) -> f64 {
+    (nx.min(ny) / 2) as f64 - 1.0
+}
+
+/// Smoothed `C_chi` of `contact` (`> 0.5` in contact) with window radius
+/// `radius` cells (flat part `2/3` of it), capped at [`max_window_radius`].
+pub fn chi_spectrum(
+    contact: &[f64],
+    nx: usize,
+    ny: usize,
+    cell_size: f64,
+    radius: f64,
+) -> ChiSpectrum {
+    let radius = radius.min(max_window_radius(nx, ny)).max(1.0);
+    let flat = radius / 1.5;
+    let (px, py) = (2 * nx, 2 * ny);
+    let mut buf = vec![Complex64::default(); px * py];
+    for i in 0..nx {
+        for j in 0..ny {
+            if contact[i * ny + j] > 0.5 {
+                buf[i * py + j] = Complex64::new(1.0, 0.0);
+            }
+        }
+    }
+    fft2(&mut buf, px, py, false);
+    buf.par_iter_mut()
+        .for_each(|v| *v = Complex64::new(v.norm_sqr(), 0.0));
+    fft2(&mut buf, px, py, true);
+    let inv = 1.0 / (px * py) as f64;
+    let (lx, ly) = (nx as f64 * cell_size, ny as f64 * cell_size);
+    let factor = cell_size.powi(4) / ((2.0 * PI).powi(2) * lx * ly);
+    let rmax = radius.ceil() as i64;
+    let lag = |dx: i64, dy: i64| {
+        // R counts overlapping cells: an integer up to round-off.
+        (buf[dx.rem_euclid(px as i64) as usize * py + dy.rem_euclid(py as i64) as usize].re * inv)
+            .round()
+    };
+    // Background: mean of R over the taper ring.
+    let (mut ring_sum, mut ring_count) = (0.0, 0usize);
+    for dx in -rmax..=rmax {
+        for dy in -rmax..=rmax {
+            let d = ((dx * dx + dy * dy) as f64).sqrt();
+            if d > flat && d < radius {
+                ring_sum += lag(dx, dy);
+                ring_count += 1;
+            }
+        }
+    }
+    let background = if ring_count > 0 {
+        ring_sum / ring_count as f64
+    } else {
+        0.0
+    };
+    let mut terms = Vec::new();
+    let mut grid = vec![0.0; nx * ny];
+    for dx in -rmax..=rmax {
+        for dy in -rmax..=rmax {
+            let w = window(((dx * dx + dy * dy) as f64).sqrt(), flat, radius);
+            if w == 0.0 {
+                continue;
+            }
+            let r = lag(dx, dy) - background;
+            if r == 0.0 {
+                continue;
+            }
+            let v = w * r * factor;
+            terms.push((dx as f64 * cell_size, dy as f64 * cell_size, v));
+            grid[dx.rem_euclid(nx as i64) as usize * ny + dy.rem_euclid(ny as i64) as usize] += v;
+        }
+    }
+    let mut g: Vec<Complex64> = grid.iter().map(|&v| Complex64::new(v, 0.0)).collect();
+    fft2(&mut g, nx, ny, false);
+    let values: Vec<f64> = g.iter().map(|v| v.re).collect();
+    let c0 = terms.iter().map(|t| t.2).sum();
+    ChiSpectrum {
+        nx,
+        ny,
+        dqx: 2.0 * PI / lx,
+        dqy: 2.0 * PI / ly,
+        values,
+        c0,
+        window_radius_cells: radius,
+        flat_radius_cells: flat,
+        background_cells: background,
+        terms,
+    }
+}
+
+/// First crossing of `C_chi = level C_chi(0)` along the ray `e(theta)` from
+/// `q = 0`, as a distance [1/m]; `None` when the ray leaves the grid's
+/// `q` range first.
+pub fn ray_crossing(spec: &ChiSpectrum, theta: f64, level: f64) -> Option<f64> {
+    let target = level * spec.c0;
+    let (s, c) = theta.sin_cos();
+    let qxmax = (spec.nx / 2) as f64 * spec.dqx;
+    let qymax = (spec.ny / 2) as f64 * spec.dqy;
+    let tmax = (if c.abs() > 1e-12 {
+        qxmax / c.abs()
+    } else {
+        f64::INFINITY
+    })
+    .min(if s.abs() > 1e-12 {
+        qymax / s.abs()
+    } else {
+        f64::INFINITY
+    });
+    let step = 0.25 * spec.dqx.min(spec.dqy);
+    let exact = |t: f64| spec.eval(t * c, t * s) - target;
+    let bisect = |mut lo: f64, mut hi: f64| {
+        for _ in 0..50 {
+            let mid = 0.5 * (lo + hi);
+            if exact(mid) > 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+            if hi - lo < 1e-10 * hi {
+                break;
+            }
+        }
+        0.5 * (lo + hi)
+    };
+    // Bracket on the grid, confirm with the exact sum.
+    let mut t = 0.0;
+    while t < tmax {
+        let t1 = (t + step).min(tmax);
+        if spec.interp(t1 * c, t1 * s) <= target {
+            if exact(t) > 0.0 && exact(t1) <= 0.0 {
+                return Some(bisect(t, t1));
+            }
+            break;
+        }
+        t = t1;
+    }
+    // Fallback: march on the exact sum.
+    let mut t = 0.0;
+    while t < tmax {
+        let t1 = (t + step).min(tmax);
+        if exact(t1) <= 0.0 {
+            return Some(bisect(t, t1));
+        }
+        t = t1;
+    }
+    None
+}
+
+/// A centred ellipse `A x^2 + B x y + C y^2 = 1` fitted to contour points.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct EllipseFit {
+    /// Conic coefficients `[A, B, C]` (points in units of `q0`).
+    pub conic: [f64; 3],
+    /// Semi-major axis [in units of `q0`].
+    pub semi_major: f64,
+    /// Semi-minor axis [in units of `q0`].
+    pub semi_minor: f64,
+    /// `semi_minor / semi_major`.
+    pub lambda: f64,
+    /// Direction of the major axis from +x [degrees, (-90, 90]].
+    pub angle_deg: f64,
+    /// rms of `|p| / r_ellipse(direction of p) - 1` over the points.
+    pub rms_radial_residual: f64,
+}
+
+/// Why no ellipse came out of a set of points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FitFailure {
+    /// Fewer than 6 points (or all along one line).
+    TooFewPoints,
+    /// The least-squares conic is a hyperbola or parabola.
+    NotAnEllipse,
+    /// `C_chi(0) <= 0` after the background subtraction (densely packed
+    /// spots whose neighbour shell fills the taper ring): no contours.
+    NonPositiveC0,
+}
+
+/// Least-squares centred ellipse through `points` (see the module doc).
+pub fn fit_centred_ellipse(points: &[[f64; 2]]) -> Result<EllipseFit, FitFailure> {
+    if points.len() < 6 {
+        return Err(FitFailure::TooFewPoints);
+    }
+    // Normal equations of sum (A x^2 + B x y + C y^2 - 1)^2.
+    let mut n = [[0.0f64; 3]; 3];
+    let mut rhs = [0.0f64; 3];
+    for p in points {
+        let f = [p[0] * p[0], p[0] * p[1], p[1] * p[1]];
+        for i in 0..3 {
+            rhs[i] += f[i];
+            for j in 0..3 {
+                n[i][j] += f[i] * f[j];
+            }
+        }
+    }
+    let sol = solve3(n, rhs).ok_or(FitFailure::TooFewPoints)?;
+    let [a, b, c] = sol;
+    if !(4.0 * a * c - b * b > 0.0 && a > 0.0) {
+        return Err(FitFailure::NotAnEllipse);
+    }
+    let mean = 0.5 * (a + c);
+    let r = (0.5 * (a - c)).hypot(0.5 * b);
+    let (mu_min, mu_max) = (mean - r, mean + r);
+    let semi_major = 1.0 / mu_min.sqrt();
+    let semi_minor = 1.0 / mu_max.sqrt();
+    // Q(theta) = mean + (A-C)/2 cos 2theta + B/2 sin 2theta is smallest
+    // (longest radius) at 2 theta = atan2(B, A - C) + pi.
+    let angle_deg = wrap_axis_deg(0.5 * b.atan2(a - c).to_degrees() + 90.0);
+    let mut ss = 0.0;
+    for p in points {
+        let rp = p[0].hypot(p[1]);
+        let th = p[1].atan2(p[0]);
+        let (s, co) = th.sin_cos();
+        let q = a * co * co + b * s * co + c * s * s;
+        let re = 1.0 / q.sqrt();
+        ss += (rp / re - 1.0).powi(2);
+    }
+    Ok(EllipseFit {
+        conic: sol,
+        semi_major,
+        semi_minor,
+        lambda: semi_minor / semi_major,
+        angle_deg,
+        rms_radial_residual: (ss / points.len() as f64).sqrt(),
+    })
+}
+
+/// Gaussian elimination with partial pivoting on a 3 x 3 system.
+fn solve3(mut m: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
+    let scale = m
+        .iter()
+        .flat_map(|r| r.iter())
+        .fold(0.0f64, |s, v| s.max(v.abs()));
+    if scale == 0.0 {
+        return None;
+    }
+    for col in 0..3 {
+        let piv = (col..3)
+            .max_by(|&i, &j| m[i][col].abs().total_cmp(&m[j][col].abs()))
+            .unwrap_or(col);
+        if m[piv][col].abs() <= 1e-13 * scale {
+            return None;
+        }
+        m.swap(col, piv);
+        b.swap(col, piv);
+        for row in col + 1..3 {
+            let f = m[row][col] / m[col][col];
+            let pivot_row = m[col];
+            for (v, p) in m[row].iter_mut().zip(pivot_row).skip(col) {
+                *v -= f * p;
+            }
+            b[row] -= f * b[col];
+        }
+    }
+    let mut x = [0.0; 3];
+    for row in (0..3).rev() {
+        let s: f64 = (row + 1..3).map(|k| m[row][k] * x[k]).sum();
+        x[row] = (b[row] - s) / m[row][row];
+    }
+    Some(x)
+}
+
+/// One contour level of `C_chi / C_chi(0)` and its ellipse.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChiLevel {
+    /// `C_chi(q) / C_chi(0)` on the contour.
+    pub level: f64,
+    /// Contour points found (two per ray that crosses the level).
+    pub points: usize,
+    /// The fitted ellipse, if any.
+    pub ellipse: Option<EllipseFit>,
+    /// Why there is no ellipse, if none.
+    pub failure: Option<FitFailure>,
+    /// The contour points `(qx, qy)` in units of `q0` (for figures).
+    #[serde(skip)]
+    pub contour: Vec<[f64; 2]>,
+}
+
+/// Contour of `spec` at `level` sampled along `rays` directions, and its
+/// ellipse; points are in units of `q0 = dqx`.
+pub fn contour_level(spec: &ChiSpectrum, level: f64, rays: usize) -> ChiLevel {
+    let q0 = spec.dqx;
+    if spec.c0.is_nan() || spec.c0 <= 0.0 {
+        return ChiLevel {
+            level,
+            points: 0,
+            ellipse: None,
+            failure: Some(FitFailure::NonPositiveC0),
+            contour: Vec::new(),
+        };
+    }
+    let found: Vec<Option<f64>> = (0..rays)
+        .into_par_iter()
+        .map(|k| ray_crossing(spec, PI * k as f64 / rays as f64, level))
+        .collect();
+    let mut contour = Vec::with_capacity(2 * rays);
+    for (k, t) in found.iter().enumerate() {
+        if let Some(t) = t {
+            let (s, c) = (PI * k as f64 / rays as f64).sin_cos();
+            contour.push([t * c / q0, t * s / q0]);
+            contour.push([-t * c / q0, -t * s / q0]);
+        }
+    }
+    let fit = fit_centred_ellipse(&contour);
+    ChiLevel {
+        level,
+        points: contour.len(),
+        ellipse: fit.ok(),
+        failure: fit.err(),
+        contour,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ellipse_fit_recovers_exact_points() {
+        let (a, b, phi) = (3.0, 1.2, 25f64.to_radians());
+        let pts: Vec<[f64; 2]> = (0..40)
+            .map(|k| {
+                let t = 2.0 * PI * k as f64 / 40.0;
+                let (x, y) = (a * t.cos(), b * t.sin());
+                [x * phi.cos() - y * phi.sin(), x * phi.sin() + y * phi.cos()]
+            })
+            .collect();
+        let f = fit_centred_ellipse(&pts).unwrap();
+        assert!((f.semi_major - a).abs() < 1e-9 && (f.semi_minor - b).abs() < 1e-9);
+        assert!((f.angle_deg - 25.0).abs() < 1e-7, "{}", f.angle_deg);
+        assert!(f.rms_radial_residual < 1e-12);
+    }
+
+    #[test]
+    fn too_few_points_is_reported() {
+        assert_eq!(
+            fit_centred_ellipse(&[[1.0, 0.0], [0.0, 1.0]]),
+            Err(FitFailure::TooFewPoints)
+        );
+    }
+
+    #[test]
+    fn unwindowed_limit_is_the_periodogram_at_zero() {
+        // C_chi(0) = a^4 (sum chi)^2 / ((2 pi)^2 Lx Ly) when the window holds
+        // every pair of cells.
+        let (nx, ny) = (16, 16);
+        let mut chi = vec![0.0; nx * ny];
+        for (i, j) in [(2, 3), (2, 4), (3, 3), (4, 4)] {
+            chi[i * ny + j] = 1.0;
+        }
+        let s = chi_spectrum(&chi, nx, ny, 0.5, 7.0);
+        let want = 0.5f64.powi(4) * 16.0 / ((2.0 * PI).powi(2) * 64.0);
+        assert!((s.c0 / want - 1.0).abs() < 1e-12, "{} {}", s.c0, want);
+        assert!((s.eval(0.0, 0.0) - s.values[0]).abs() < 1e-12 * want);
+    }
+}
