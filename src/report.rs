@@ -7,13 +7,58 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value};
 
+use crate::analysis::{self, AnalysisInputs, AnalysisParams, AnalysisReport};
+use crate::config::Formulation;
 use crate::error::Result;
 use crate::io::{npy, StagedOutput};
 use crate::plot;
 use crate::run::{SolveOutcome, SolveSetup};
+use crate::surface::Window;
+
+/// The fields of a solve as the analysis sees them.
+pub fn analysis_inputs<'a>(setup: &SolveSetup, out: &'a SolveOutcome) -> AnalysisInputs<'a> {
+    let lx = setup.surface.length_x();
+    let config = serde_json::to_value(&setup.document).unwrap_or(Value::Null);
+    AnalysisInputs {
+        nx: setup.surface.nx,
+        ny: setup.surface.ny,
+        cell_size: setup.surface.cell_size,
+        displacement: &out.solution.displacement,
+        contact: &out.solution.contact,
+        pressure: &out.solution.pressure,
+        scales: analysis::scales_from_config(&config, 2.0 * std::f64::consts::PI / lx),
+        xi: setup.xi(),
+    }
+}
+
+/// Run the anisotropy analysis of a solve as `[analysis]` asks (`None`
+/// when disabled). Periodic solves have periodic fields: no taper.
+pub fn analyze(setup: &SolveSetup, out: &SolveOutcome) -> Result<Option<AnalysisReport>> {
+    let cfg = setup.analysis.clone().unwrap_or_default();
+    if !cfg.enabled.unwrap_or(true) {
+        return Ok(None);
+    }
+    let defaults = AnalysisParams::default();
+    let params = AnalysisParams {
+        zeta1: cfg.zeta1.unwrap_or(defaults.zeta1),
+        zeta2: cfg.zeta2,
+        chi_levels: cfg.chi_levels.unwrap_or(defaults.chi_levels),
+        window: if setup.formulation == Formulation::Periodic {
+            Window::None
+        } else {
+            defaults.window
+        },
+        ..defaults
+    };
+    Ok(Some(analysis::analyze_fields(
+        &analysis_inputs(setup, out),
+        &params,
+    )?))
+}
 
 /// The `summary.json` document. Key names are fixed: scripts read them.
-pub fn summary(setup: &SolveSetup, out: &SolveOutcome) -> Value {
+/// With an analysis, its headline numbers appear under `analysis`.
+pub fn summary(setup: &SolveSetup, out: &SolveOutcome, analysis: Option<&AnalysisReport>) -> Value {
     let s = &out.stats;
     let (nx, ny) = (setup.surface.nx, setup.surface.ny);
     let rel_diff = if out.friction_coefficient_dissipation != 0.0 {
@@ -61,14 +106,30 @@ pub fn summary(setup: &SolveSetup, out: &SolveOutcome) -> Value {
             "creep_spectrum": spec.terms.iter().map(|t| [t.compliance, t.time]).collect::<Vec<_>>(),
         },
         "config": setup.document,
+        "analysis": analysis.map(analysis_headline),
+    })
+}
+
+/// The headline numbers of an analysis, as recorded in `summary.json`.
+fn analysis_headline(r: &AnalysisReport) -> Value {
+    json!({
+        "gamma": r.gamma,
+        "theta_p_deg": r.theta_p_deg,
+        "m20": r.m20,
+        "m02": r.m02,
+        "m11": r.m11,
+        "lambda": r.lambda,
+        "ellipse_angle_deg": r.ellipse_angle_deg,
+        "spots": r.spots.count,
     })
 }
 
 /// Write every output of a solve into `dir`; returns the written paths.
 pub fn write_solve(dir: &Path, setup: &SolveSetup, out: &SolveOutcome) -> Result<Vec<PathBuf>> {
     let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
+    let report = analyze(setup, out)?;
     let mut staged = StagedOutput::new(dir)?;
-    let doc = summary(setup, out);
+    let doc = summary(setup, out, report.as_ref());
     staged.write(
         "summary.json",
         serde_json::to_string_pretty(&doc)
@@ -118,5 +179,8 @@ pub fn write_solve(dir: &Path, setup: &SolveSetup, out: &SolveOutcome) -> Result
         "in contact",
         None,
     )?;
+    if let Some(r) = &report {
+        analysis::write_analysis(&mut staged, &analysis_inputs(setup, out), r)?;
+    }
     staged.commit()
 }

@@ -34,6 +34,8 @@ pub struct SolveSetup {
     pub seed: Option<u64>,
     /// The merged configuration document.
     pub document: toml::Table,
+    /// `[analysis]` settings.
+    pub analysis: Option<crate::config::AnalysisConfig>,
 }
 
 /// Scalar and field results of a solve.
@@ -167,6 +169,7 @@ impl SolveSetup {
             formulation,
             seed,
             document: cfg.document.clone(),
+            analysis: cfg.config.analysis.clone(),
         };
         Ok(setup)
     }

@@ -373,6 +373,19 @@ pub fn write_analysis(
     Ok(())
 }
 
+/// Number of scales `N = q1 / q0` of a generated surface from a solve's
+/// configuration (as JSON): `scales` (with `ql` when set) or `q1`;
+/// `None` for a surface read from a file.
+pub fn scales_from_config(config: &serde_json::Value, q0: f64) -> Option<f64> {
+    let g = &config["surface"]["generate"];
+    let ql = g["ql"].as_f64().unwrap_or(q0);
+    match (g["scales"].as_f64(), g["q1"].as_f64()) {
+        (Some(n), _) => Some(n * ql / q0),
+        (None, Some(q1)) => Some(q1 / q0),
+        _ => None,
+    }
+}
+
 /// What [`analyze_dir`] reads from `summary.json`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolveSummary {
@@ -421,13 +434,7 @@ pub fn read_summary(path: &Path) -> Result<SolveSummary, AnalysisError> {
         .ok_or_else(|| bad("needs `cell_size` > 0 (m)"))?;
     let lx = grid[0] as f64 * cell_size;
     let q0 = 2.0 * std::f64::consts::PI / lx;
-    let g = &doc["config"]["surface"]["generate"];
-    let ql = g["ql"].as_f64().unwrap_or(q0);
-    let scales = match (g["scales"].as_f64(), g["q1"].as_f64()) {
-        (Some(n), _) => Some(n * ql / q0),
-        (None, Some(q1)) => Some(q1 / q0),
-        _ => None,
-    };
+    let scales = scales_from_config(&doc["config"], q0);
     Ok(SolveSummary {
         nx: grid[0],
         ny: grid[1],

@@ -14,8 +14,8 @@ pub mod periodic;
 pub mod spots;
 
 pub use analyze::{
-    analyze_dir, analyze_fields, read_summary, write_analysis, AnalysisError, AnalysisInputs,
-    AnalysisParams, AnalysisReport, ChiReport, SolveSummary, ANALYSIS_FILES,
+    analyze_dir, analyze_fields, read_summary, scales_from_config, write_analysis, AnalysisError,
+    AnalysisInputs, AnalysisParams, AnalysisReport, ChiReport, SolveSummary, ANALYSIS_FILES,
 };
 pub use anisotropy::{deformed_anisotropy, AnisotropyTensor, DeformedAnisotropy, ZetaBand};
 pub use chi::{

@@ -135,7 +135,8 @@ pub fn solve_point(cfg: &LoadedConfig, point: &Point) -> Result<Value> {
     };
     let setup = SolveSetup::from_config(&point_cfg)?;
     let outcome = run::solve_cpu(&setup, &mut Silent)?;
-    let mut value = crate::report::summary(&setup, &outcome);
+    let analysis = crate::report::analyze(&setup, &outcome)?;
+    let mut value = crate::report::summary(&setup, &outcome, analysis.as_ref());
     if let Value::Object(map) = &mut value {
         map.remove("config");
         map.remove("residual_history");
