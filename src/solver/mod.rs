@@ -169,7 +169,7 @@ pub fn solve<B: Backend>(
     let n = backend.grid_len();
     check_problem(g, n, cell_area, self_coefficient, control)?;
     let stiffness = 1.0 / self_coefficient;
-    let tight = 0.01 * params.tolerance;
+    let (tolerance, tight) = tolerances(params.tolerance, backend.epsilon());
     let loose = 1e-4_f64.max(tight);
 
     // Initial contact set.
@@ -266,7 +266,7 @@ pub fn solve<B: Backend>(
         history.push(residual);
         contact_history.push(size);
         observer.iteration(iteration, matvecs, residual, size);
-        if changes == 0 && inner_tol == tight && outcome.converged && residual <= params.tolerance {
+        if changes == 0 && inner_tol == tight && outcome.converged && residual <= tolerance {
             let load_error = match control {
                 Control::Load(f) => (cell_area * backend.sum(&p_full) - f).abs() / f,
                 Control::Approach(_) => 0.0,
@@ -306,6 +306,21 @@ pub fn solve<B: Backend>(
         residual,
         history,
     })
+}
+
+/// Smallest inner (GMRES) tolerance, in units of the backend's epsilon.
+const INNER_FLOOR: f64 = 16.0;
+/// Smallest outer (complementarity) tolerance, in units of the backend's
+/// epsilon.
+const OUTER_FLOOR: f64 = 128.0;
+
+/// `(outer, inner)` tolerances: the requested outer tolerance and
+/// `0.01` of it for the inner solves, each clamped to what the backend's
+/// arithmetic can reach (for f64 the defaults are far above the floors; f32
+/// storage gives about `1.5e-5` and `1.9e-6`).
+fn tolerances(tolerance: f64, epsilon: f64) -> (f64, f64) {
+    let outer = tolerance.max(OUTER_FLOOR * epsilon);
+    (outer, (0.01 * outer).max(INNER_FLOOR * epsilon))
 }
 
 fn check_problem(
@@ -395,7 +410,7 @@ pub fn solve_full_contact<B: Backend>(
         &rhs,
         &mut p,
         &mut work,
-        0.01 * params.tolerance,
+        tolerances(params.tolerance, backend.epsilon()).1,
         params.max_matvecs,
     );
     let mut matvecs = op.matvecs;
