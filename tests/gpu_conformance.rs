@@ -272,3 +272,101 @@ fn f16_spectrum_error_is_measured() {
         "f16 spectrum unexpectedly within the f32 bound: {e16:.3e}"
     );
 }
+
+/// One rough-patch solve on both backends: 3 kPa nominal on L = 0.01 m,
+/// rms slope 0.02, paper material, `xi = v tau / L`. Returns
+/// `(area fraction gpu, cpu, friction gpu, cpu, pressure relative L2)`.
+fn solve_both(n: usize, xi: f64) -> Option<(f64, f64, f64, f64, f64)> {
+    use viscoslide::solver::{self, Control, SolverParams};
+    let ctx = gpu::context_for_tests()?;
+    let length = 0.01;
+    let a = length / n as f64;
+    let speed = xi * length / 0.01;
+    let material = common::paper_material();
+    let kernel = SlidingKernel::new(
+        &material,
+        KernelParams {
+            speed,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let table = kernel.table(n, n, a);
+    let tab = OffsetTable {
+        nx: n,
+        ny: n,
+        values: &table.values,
+    };
+    let z = common::trig_surface(n, length, 16, 0.8, 0.02, 11);
+    let g = common::gap_of(&z);
+    let control = Control::Load(3e3 * length * length);
+    let params = SolverParams::default();
+    let t0 = std::time::Instant::now();
+    let mut cpu = CpuBackend::new(ToeplitzFft::new(tab));
+    let (sc, ic) = solver::solve(
+        &mut cpu,
+        &g,
+        a * a,
+        tab.get(0, 0),
+        control,
+        &params,
+        &mut solver::Silent,
+    )
+    .unwrap();
+    let t_cpu = t0.elapsed().as_secs_f64();
+    let t0 = std::time::Instant::now();
+    let mut gpu = GpuBackend::new(ctx, n, n, &table.values, GpuOptions::default()).unwrap();
+    let (sg, ig) = solver::solve(
+        &mut gpu,
+        &g,
+        a * a,
+        tab.get(0, 0),
+        control,
+        &params,
+        &mut solver::Silent,
+    )
+    .unwrap();
+    let t_gpu = t0.elapsed().as_secs_f64();
+    let area = |s: &solver::ContactSolution| {
+        s.contact.iter().filter(|&&c| c > 0.5).count() as f64 / (n * n) as f64
+    };
+    let (mu_g, _) = common::friction(&kernel, &material, &sg, n, a, speed);
+    let (mu_c, _) = common::friction(&kernel, &material, &sc, n, a, speed);
+    let e = rel_l2(&sg.pressure, &sc.pressure);
+    println!(
+        "solve {n}^2 xi = {xi:.3e}: area {:.5} (gpu) vs {:.5} (cpu), mu {mu_g:.6e} vs {mu_c:.6e} (rel {:.2e}), pressure rel L2 {e:.2e}; gpu {} it / {} matvecs / residual {:.1e} in {t_gpu:.1} s, cpu {} it / {} matvecs in {t_cpu:.1} s",
+        area(&sg),
+        area(&sc),
+        (mu_g - mu_c).abs() / mu_c.abs(),
+        ig.iterations,
+        ig.matvecs,
+        ig.residual,
+        ic.iterations,
+        ic.matvecs,
+    );
+    Some((area(&sg), area(&sc), mu_g, mu_c, e))
+}
+
+fn check_solves(n: usize) {
+    for xi in [1e-3, 1.17e-2, 1e-1] {
+        let Some((ag, ac, mg, mc, e)) = solve_both(n, xi) else {
+            return;
+        };
+        assert!((ag - ac).abs() <= 0.005, "{n}^2 xi {xi}: area {ag} vs {ac}");
+        assert!(
+            (mg - mc).abs() <= 0.01 * mc.abs(),
+            "{n}^2 xi {xi}: friction {mg} vs {mc}"
+        );
+        assert!(e <= 1e-3, "{n}^2 xi {xi}: pressure relative L2 {e:.3e}");
+    }
+}
+
+#[test]
+fn full_solve_64_matches_cpu() {
+    check_solves(64);
+}
+
+#[test]
+fn full_solve_128_matches_cpu() {
+    check_solves(128);
+}
