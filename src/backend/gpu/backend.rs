@@ -105,6 +105,23 @@ impl GpuBackend {
         })
     }
 
+    /// Whether an `nx x ny` grid fits the device's storage-binding limit
+    /// (the padded complex FFT buffer, `8 mx my` bytes, is the largest).
+    pub fn check_fits(ctx: &GpuContext, nx: usize, ny: usize) -> Result<(), GpuError> {
+        let (mx, my) = (super::fft::padded(nx.max(1)), super::fft::padded(ny.max(1)));
+        let need = 8 * (mx * my) as u64;
+        let limit = ctx.adapter.max_storage_binding.min(ctx.adapter.max_buffer);
+        if need > limit {
+            return Err(GpuError::TooLarge {
+                what: format!("the padded {mx} x {my} complex FFT of a {nx} x {ny} grid"),
+                need,
+                limit,
+                adapter: ctx.adapter.name.clone(),
+            });
+        }
+        Ok(())
+    }
+
     /// The adapter the backend runs on.
     pub fn adapter(&self) -> &super::AdapterSummary {
         &self.engine.ctx.adapter
