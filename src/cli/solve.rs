@@ -51,6 +51,13 @@ pub fn run(args: SolveArgs) -> Result<()> {
         BackendChoice::Auto => match GpuContext::open().and_then(|ctx| {
             GpuBackend::check_fits(&ctx, setup.surface.nx, setup.surface.ny).map(|()| ctx)
         }) {
+            Ok(ctx) if ctx.adapter.device_type == "Cpu" => {
+                eprintln!(
+                    "backend: cpu (auto: the only adapter, {}, is emulated on the CPU and slower than the CPU backend; --backend gpu forces it)",
+                    ctx.adapter
+                );
+                None
+            }
             Ok(ctx) => {
                 eprintln!("backend: gpu (auto), adapter {}", ctx.adapter);
                 Some(ctx)
