@@ -1,4 +1,5 @@
-//! GPU backend throughput: one matvec (padded Stockham FFT convolution, paper
+//! GPU backend throughput: the influence-coefficient table
+//! (`shaders/coefficients.wgsl`, paper Eq. 6), one matvec (padded Stockham FFT convolution, paper
 //! Eq. 7) and full contact solves at the friction peak (xi = 1.17e-2, paper
 //! material, 3 kPa on L = 0.01 m, rms slope 0.02). Timings include the
 //! device work (each measured call ends with a readback or a wait).
@@ -75,6 +76,31 @@ fn open() -> Option<GpuContext> {
     }
 }
 
+fn bench_coefficients(c: &mut Criterion) {
+    use viscoslide::backend::gpu::{coefficients, engine::Engine};
+    let sizes: Vec<usize> = if ci() { vec![64] } else { vec![256, 512] };
+    let mut group = c.benchmark_group("gpu_coefficients");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(10));
+    let Some(ctx) = open() else { return };
+    let mut engine = Engine::new(ctx);
+    let m = material();
+    let params = KernelParams {
+        speed: 1.17e-2,
+        ..Default::default()
+    };
+    for n in sizes {
+        group.bench_function(format!("{n}x{n}"), |b| {
+            b.iter(|| {
+                coefficients::coefficient_table(&mut engine, &m, &params, n, n, 0.01 / n as f64)
+                    .unwrap()
+            })
+        });
+    }
+    group.finish();
+}
+
 fn bench_matvec(c: &mut Criterion) {
     let sizes: Vec<usize> = if ci() {
         vec![64]
@@ -144,5 +170,5 @@ fn bench_solve(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_matvec, bench_solve);
+criterion_group!(benches, bench_coefficients, bench_matvec, bench_solve);
 criterion_main!(benches);

@@ -8,7 +8,8 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::analysis::{self, ContactStatistics};
-use crate::backend::gpu::{GpuBackend, GpuContext, GpuOptions};
+use crate::backend::gpu::engine::Engine;
+use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuOptions};
 use crate::backend::{Backend, CpuBackend};
 use crate::config::{Formulation, LoadedConfig};
 use crate::error::{Error, Result};
@@ -267,9 +268,11 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
 }
 
 /// Solve on the GPU backend (f32 on the device, [`crate::backend::gpu`]):
-/// the coefficient table and its spectrum are computed on the host in f64,
-/// the contact iteration runs on `ctx`'s device, and the friction analysis
-/// uses the downloaded pressure with the host's derivative tables, as in
+/// the coefficient table of a half-space is computed on the device
+/// (`shaders/coefficients.wgsl`, about 4e-7 relative to the host table; a
+/// finite layer's table on the host), its spectrum on the host in f64; the
+/// contact iteration runs on `ctx`'s device, and the friction analysis uses
+/// the downloaded pressure with the host's derivative tables, as in
 /// [`solve_cpu`].
 pub fn solve_gpu(
     setup: &SolveSetup,
@@ -286,15 +289,27 @@ pub fn solve_gpu(
             layer: setup.layer,
         },
     )?;
-    let table = kernel.table(nx, ny, a);
+    let mut engine = Engine::new(ctx);
+    let table = match setup.layer {
+        None => coefficients::coefficient_table(
+            &mut engine,
+            &setup.material,
+            kernel.params(),
+            nx,
+            ny,
+            a,
+        )
+        .map_err(|e| invalid(e.to_string()))?,
+        Some(_) => kernel.table(nx, ny, a).values,
+    };
     let t_coeff = t0.elapsed().as_secs_f64();
     let l00 = OffsetTable {
         nx,
         ny,
-        values: &table.values,
+        values: &table,
     }
     .get(0, 0);
-    let mut backend = GpuBackend::new(ctx, nx, ny, &table.values, GpuOptions::default())
+    let mut backend = GpuBackend::with_engine(engine, nx, ny, &table, GpuOptions::default())
         .map_err(|e| invalid(e.to_string()))?;
     let name = backend.name();
     let t_setup = t0.elapsed().as_secs_f64() - t_coeff;

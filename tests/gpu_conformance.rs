@@ -370,3 +370,76 @@ fn full_solve_64_matches_cpu() {
 fn full_solve_128_matches_cpu() {
     check_solves(128);
 }
+
+/// Worst relative error of the GPU coefficient table against the CPU table
+/// over the entries above 1e-6 of the table's largest magnitude.
+fn table_error(
+    material: &viscoslide::material::Material,
+    n: usize,
+    speed: f64,
+    direction: f64,
+) -> Option<f64> {
+    use viscoslide::backend::gpu::{coefficients, engine::Engine};
+    let ctx = gpu::context_for_tests()?;
+    let mut engine = Engine::new(ctx);
+    let a = 0.01 / n as f64;
+    let params = KernelParams {
+        speed,
+        direction_rad: direction,
+        layer: None,
+    };
+    let cpu = SlidingKernel::new(material, params)
+        .unwrap()
+        .table(n, n, a)
+        .values;
+    let gpu = coefficients::coefficient_table(&mut engine, material, &params, n, n, a).unwrap();
+    let max = cpu.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut worst = 0.0f64;
+    for (g, c) in gpu.iter().zip(&cpu) {
+        if c.abs() > 1e-6 * max {
+            worst = worst.max((g - c).abs() / c.abs());
+        }
+    }
+    Some(worst)
+}
+
+#[test]
+fn coefficient_table_matches_cpu() {
+    let m = common::paper_material();
+    for (n, lambda) in [(32, 0.3), (48, 3.0), (64, 30.0)] {
+        // lambda = v tau / a with tau = 0.01 s, a = 0.01 m / n.
+        let speed = lambda * (0.01 / n as f64) / 0.01;
+        let Some(e) = table_error(&m, n, speed, 0.0) else {
+            return;
+        };
+        println!("coefficients {n}^2, v tau / a = {lambda}: max relative error {e:.3e}");
+        assert!(e <= 1e-5, "{n}^2 v tau / a = {lambda}: {e:.3e}");
+    }
+    // Oblique sliding exercises kink crossings of both edge families.
+    let speed = 3.0 * (0.01 / 32.0) / 0.01;
+    let e = table_error(&m, 32, speed, 0.5).unwrap();
+    println!("coefficients 32^2, v tau / a = 3, direction 0.5 rad: max relative error {e:.3e}");
+    assert!(e <= 1e-5, "oblique: {e:.3e}");
+}
+
+#[test]
+fn coefficient_table_34_terms_matches_cpu() {
+    use viscoslide::material::{CreepSpectrum, CreepTerm, Material};
+    // 34 creep times in geometric progression of ratio e (as the paper's SBR
+    // fit), smooth positive compliances summing to 2/E_inf.
+    let terms: Vec<CreepTerm> = (0..34)
+        .map(|k| {
+            let x = (k as f64 - 17.0) / 6.0;
+            CreepTerm {
+                compliance: 2e-7 * (-x * x).exp() / 10.6,
+                time: 1e-9 * (k as f64).exp(),
+            }
+        })
+        .collect();
+    let m = Material::new(CreepSpectrum::new(1e7, terms).unwrap(), 0.5).unwrap();
+    let Some(e) = table_error(&m, 32, 1e-3, 0.0) else {
+        return;
+    };
+    println!("coefficients 32^2, 34-term spectrum at v = 1e-3 m/s: max relative error {e:.3e}");
+    assert!(e <= 1e-5, "{e:.3e}");
+}

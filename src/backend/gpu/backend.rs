@@ -76,7 +76,18 @@ impl GpuBackend {
         table: &[f64],
         options: GpuOptions,
     ) -> Result<Self, GpuError> {
-        let mut engine = Engine::new(ctx);
+        Self::with_engine(Engine::new(ctx), nx, ny, table, options)
+    }
+
+    /// As [`Self::new`] on an engine already in use (e.g. one that has just
+    /// computed the table with [`super::coefficients::coefficient_table`]).
+    pub fn with_engine(
+        mut engine: Engine,
+        nx: usize,
+        ny: usize,
+        table: &[f64],
+        options: GpuOptions,
+    ) -> Result<Self, GpuError> {
         let n = nx * ny;
         engine.check_binding(&format!("a {nx} x {ny} grid vector"), 4 * n as u64)?;
         let matvec = FftMatvec::new(&mut engine, nx, ny, table, options.spectrum)?;

@@ -58,6 +58,7 @@ pub enum Kernel {
     SpectralProduct,
     SpectralProductF16,
     FftExtract,
+    Coefficients,
 }
 
 impl Kernel {
@@ -83,6 +84,7 @@ impl Kernel {
             Kernel::SpectralProduct => "spectral_product.wgsl",
             Kernel::SpectralProductF16 => "spectral_product_f16.wgsl",
             Kernel::FftExtract => "fft_extract.wgsl",
+            Kernel::Coefficients => "coefficients.wgsl",
         }
     }
 
@@ -107,6 +109,7 @@ impl Kernel {
             Kernel::FftPass => &[R, W, R],
             Kernel::SpectralProduct | Kernel::SpectralProductF16 => &[W, R],
             Kernel::FftExtract => &[R, W],
+            Kernel::Coefficients => &[R, W],
         }
     }
 }

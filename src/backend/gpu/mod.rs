@@ -8,9 +8,11 @@
 //!   recording, submission and readback.
 //! - [`pool`]: grid-sized storage buffers, recycled.
 //! - [`fft`]: the padded Stockham FFT and the Toeplitz matvec (paper Eq. 7).
+//! - [`coefficients`]: the influence-coefficient table computed on the device.
 //! - [`backend`]: [`GpuBackend`], the [`crate::backend::Backend`] implementation.
 
 pub mod backend;
+pub mod coefficients;
 pub mod context;
 pub mod engine;
 pub mod fft;

@@ -52,6 +52,7 @@ kernels!(
     "spectral_product.wgsl",
     "spectral_product_f16.wgsl",
     "fft_extract.wgsl",
+    "coefficients.wgsl",
 );
 
 /// The source of kernel file `name` (e.g. `axpy.wgsl`) with the shared
