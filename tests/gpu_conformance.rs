@@ -443,3 +443,32 @@ fn coefficient_table_34_terms_matches_cpu() {
     println!("coefficients 32^2, 34-term spectrum at v = 1e-3 m/s: max relative error {e:.3e}");
     assert!(e <= 1e-5, "{e:.3e}");
 }
+
+/// Grids whose padded FFT exceeds one storage binding are refused with a
+/// clear error before any allocation (lavapipe: 128 MiB, so 2048 x 2048,
+/// padded 4096 x 4096 complex f32 = 128 MiB, is the largest square grid).
+#[test]
+fn oversized_grid_is_refused_clearly() {
+    let Some(ctx) = gpu::context_for_tests() else {
+        return;
+    };
+    let limit = ctx.adapter.max_storage_binding.min(ctx.adapter.max_buffer);
+    let side = |bytes: u64| {
+        // Largest n with 8 * padded(n)^2 <= bytes.
+        let mut n = 1usize;
+        while 8 * ((2 * (n + 1) - 1).next_power_of_two() as u64).pow(2) <= bytes {
+            n += 1;
+        }
+        n
+    };
+    let n = side(limit);
+    assert!(GpuBackend::check_fits(&ctx, n, n).is_ok());
+    let err = GpuBackend::check_fits(&ctx, n + 1, n + 1)
+        .unwrap_err()
+        .to_string();
+    println!("{n} x {n} fits; {} x {}: {err}", n + 1, n + 1);
+    assert!(err.contains("--backend cpu"), "{err}");
+    let table = vec![0.0; (2 * (n + 1) - 1) * (2 * (n + 1) - 1)];
+    let e = GpuBackend::new(ctx, n + 1, n + 1, &table, GpuOptions::default());
+    assert!(matches!(e, Err(gpu::GpuError::TooLarge { .. })));
+}
