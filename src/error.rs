@@ -17,6 +17,8 @@ pub enum Error {
     #[error(transparent)]
     Npy(#[from] crate::io::npy::NpyError),
     #[error(transparent)]
+    Solver(#[from] crate::solver::SolverError),
+    #[error(transparent)]
     Plot(#[from] crate::plot::PlotError),
     #[error("{context}: {source}")]
     Io {

@@ -8,7 +8,9 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::analysis::{self, ContactStatistics};
-use crate::backend::CpuBackend;
+use crate::backend::gpu::engine::Engine;
+use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuOptions};
+use crate::backend::{Backend, CpuBackend};
 use crate::config::{Formulation, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::kernel::{Axis, KernelParams, Layer, SlidingKernel};
@@ -258,8 +260,7 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
         setup.control,
         &setup.params,
         observer,
-    )
-    .map_err(|e| invalid(e.to_string()))?;
+    )?;
     let t_iter = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
     let (mu, mu_d, stats) = friction_and_stats(setup, &kernel, &solution)?;
@@ -302,8 +303,7 @@ fn solve_cpu_periodic(setup: &SolveSetup, observer: &mut dyn Observer) -> Result
         setup.control,
         &setup.params,
         observer,
-    )
-    .map_err(|e| invalid(e.to_string()))?;
+    )?;
     let t_iter = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
     let stats = analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, a);
@@ -321,6 +321,90 @@ fn solve_cpu_periodic(setup: &SolveSetup, observer: &mut dyn Observer) -> Result
         backend: "cpu".into(),
         timings: Timings {
             coefficients_s: 0.0,
+            operator_setup_s: t_setup,
+            iteration_s: t_iter,
+            analysis_s: t_an,
+            total_s: t0.elapsed().as_secs_f64(),
+        },
+    })
+}
+
+/// Solve on the GPU backend (f32 on the device, [`crate::backend::gpu`]):
+/// the coefficient table of a half-space is computed on the device
+/// (`shaders/coefficients.wgsl`, about 4e-7 relative to the host table; a
+/// finite layer's table on the host), its spectrum on the host in f64; the
+/// contact iteration runs on `ctx`'s device, and the friction analysis uses
+/// the downloaded pressure with the host's derivative tables, as in
+/// [`solve_cpu`]. The GPU path implements the non-periodic formulation.
+pub fn solve_gpu(
+    setup: &SolveSetup,
+    ctx: GpuContext,
+    observer: &mut dyn Observer,
+) -> Result<SolveOutcome> {
+    if setup.formulation == Formulation::Periodic {
+        return Err(invalid(
+            "the GPU path solves the non-periodic formulation; use --backend cpu for formulation = \"periodic\"",
+        ));
+    }
+    let t0 = Instant::now();
+    let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
+    let kernel = SlidingKernel::new(
+        &setup.material,
+        KernelParams {
+            speed: setup.speed,
+            direction_rad: setup.direction_rad,
+            layer: setup.layer,
+        },
+    )?;
+    let mut engine = Engine::new(ctx);
+    let table = match setup.layer {
+        None => coefficients::coefficient_table(
+            &mut engine,
+            &setup.material,
+            kernel.params(),
+            nx,
+            ny,
+            a,
+        )
+        .map_err(|e| invalid(e.to_string()))?,
+        Some(_) => kernel.table(nx, ny, a).values,
+    };
+    let t_coeff = t0.elapsed().as_secs_f64();
+    let l00 = OffsetTable {
+        nx,
+        ny,
+        values: &table,
+    }
+    .get(0, 0);
+    let mut backend = GpuBackend::with_engine(engine, nx, ny, &table, GpuOptions::default())
+        .map_err(|e| invalid(e.to_string()))?;
+    let name = backend.name();
+    let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
+    let g = setup.gap_profile();
+    let t1 = Instant::now();
+    let (solution, info) = solver::solve(
+        &mut backend,
+        &g,
+        a * a,
+        l00,
+        setup.control,
+        &setup.params,
+        observer,
+    )?;
+    let t_iter = t1.elapsed().as_secs_f64();
+    drop(backend);
+    let t2 = Instant::now();
+    let (mu, mu_d, stats) = friction_and_stats(setup, &kernel, &solution)?;
+    let t_an = t2.elapsed().as_secs_f64();
+    Ok(SolveOutcome {
+        solution,
+        info,
+        stats,
+        friction_coefficient: mu,
+        friction_coefficient_dissipation: mu_d,
+        backend: name,
+        timings: Timings {
+            coefficients_s: t_coeff,
             operator_setup_s: t_setup,
             iteration_s: t_iter,
             analysis_s: t_an,

@@ -20,6 +20,12 @@ pub trait Backend {
     fn name(&self) -> String;
     /// Length of a grid vector.
     fn grid_len(&self) -> usize;
+    /// Relative rounding unit of the vector arithmetic (`f64::EPSILON` for
+    /// f64 storage, `f32::EPSILON` for f32); the solver clamps its
+    /// tolerances to a small multiple of it.
+    fn epsilon(&self) -> f64 {
+        f64::EPSILON
+    }
     /// A new zero vector of `len` entries.
     fn zeros(&mut self, len: usize) -> Self::Vector;
     /// Change the length of `v` to `len` (contents unspecified).

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
+use crate::backend::gpu::{GpuBackend, GpuContext};
 use crate::backend::BackendChoice;
 use crate::error::{Error, Result};
 use crate::run::{self, SolveSetup};
@@ -37,18 +38,36 @@ pub fn run(args: SolveArgs) -> Result<()> {
     let cfg = args.config.load()?;
     let setup = SolveSetup::from_config(&cfg)?;
     let choice = BackendChoice::resolve(args.backend).map_err(Error::Invalid)?;
-    match choice {
+    let gpu = match choice {
+        BackendChoice::Cpu => {
+            eprintln!("backend: cpu");
+            None
+        }
         BackendChoice::Gpu => {
-            return Err(Error::Invalid(
-                "the GPU contact iteration is not available in this version; use --backend cpu"
-                    .into(),
-            ))
+            let ctx = GpuContext::open().map_err(|e| Error::Invalid(e.to_string()))?;
+            eprintln!("backend: gpu, adapter {}", ctx.adapter);
+            Some(ctx)
         }
-        BackendChoice::Auto => {
-            eprintln!("backend: cpu (the GPU contact iteration is not available in this version)")
-        }
-        BackendChoice::Cpu => eprintln!("backend: cpu"),
-    }
+        BackendChoice::Auto => match GpuContext::open().and_then(|ctx| {
+            GpuBackend::check_fits(&ctx, setup.surface.nx, setup.surface.ny).map(|()| ctx)
+        }) {
+            Ok(ctx) if ctx.adapter.device_type == "Cpu" => {
+                eprintln!(
+                    "backend: cpu (auto: the only adapter, {}, is emulated on the CPU and slower than the CPU backend; --backend gpu forces it)",
+                    ctx.adapter
+                );
+                None
+            }
+            Ok(ctx) => {
+                eprintln!("backend: gpu (auto), adapter {}", ctx.adapter);
+                Some(ctx)
+            }
+            Err(e) => {
+                eprintln!("backend: cpu (auto: {e})");
+                None
+            }
+        },
+    };
     eprintln!(
         "solving {} x {} cells, v = {:.4e} m/s{}",
         setup.surface.nx,
@@ -67,7 +86,10 @@ pub fn run(args: SolveArgs) -> Result<()> {
     bar.set_message("computing influence coefficients");
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
     let mut spinner = Spinner(bar);
-    let outcome = run::solve_cpu(&setup, &mut spinner);
+    let outcome = match gpu {
+        Some(ctx) => run::solve_gpu(&setup, ctx, &mut spinner),
+        None => run::solve_cpu(&setup, &mut spinner),
+    };
     spinner.0.finish_and_clear();
     let outcome = outcome?;
     let written = crate::report::write_solve(&args.out, &setup, &outcome)?;

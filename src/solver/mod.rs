@@ -35,7 +35,10 @@ pub enum Control {
 /// Parameters of [`solve`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolverParams {
-    /// Relative complementarity residual to reach (default 1e-8).
+    /// Relative complementarity residual to reach (default 1e-8). Clamped
+    /// to what the backend's arithmetic reaches ([`Backend::epsilon`]): in
+    /// f32 the outer test accepts about `16 eps k |u| / |p|` (2.5e-5 on a
+    /// 128 x 128 patch) and the inner solves stop at `16 eps`.
     pub tolerance: f64,
     /// Active-set (outer) iterations allowed.
     pub max_iterations: usize,
@@ -169,7 +172,7 @@ pub fn solve<B: Backend>(
     let n = backend.grid_len();
     check_problem(g, n, cell_area, self_coefficient, control)?;
     let stiffness = 1.0 / self_coefficient;
-    let tight = 0.01 * params.tolerance;
+    let (tolerance, tight) = tolerances(params.tolerance, backend.epsilon());
     let loose = 1e-4_f64.max(tight);
     let rough = 1e-2_f64.max(loose);
 
@@ -267,11 +270,23 @@ pub fn solve<B: Backend>(
         } else {
             f64::INFINITY
         };
+        // Rounding floor of the residual: on a contact cell the gap is a
+        // cancellation of terms of size |u|, so it carries an error of
+        // about epsilon |u|, i.e. epsilon k |u| in pressure units.
+        let floor = if p2 > 0.0 {
+            ROUNDING_FLOOR * backend.epsilon() * stiffness * (backend.dot(&u, &u) / p2).sqrt()
+        } else {
+            0.0
+        };
         let (changes, size) = backend.update_active_set(&p_full, &gap, &mut mask);
         history.push(residual);
         contact_history.push(size);
         observer.iteration(iteration, matvecs, residual, size);
-        if changes == 0 && inner_tol == tight && outcome.converged && residual <= params.tolerance {
+        if changes == 0
+            && inner_tol == tight
+            && outcome.converged
+            && residual <= tolerance.max(floor)
+        {
             let load_error = match control {
                 Control::Load(f) => (cell_area * backend.sum(&p_full) - f).abs() / f,
                 Control::Approach(_) => 0.0,
@@ -311,6 +326,28 @@ pub fn solve<B: Backend>(
         residual,
         history,
     })
+}
+
+/// Smallest inner (GMRES) tolerance, in units of the backend's epsilon.
+const INNER_FLOOR: f64 = 16.0;
+/// Smallest outer (complementarity) tolerance, in units of the backend's
+/// epsilon.
+const OUTER_FLOOR: f64 = 128.0;
+/// The outer test accepts a residual below this multiple of its rounding
+/// floor `epsilon k |u| / |p|` (which grows with the grid side: the
+/// displacement integrates the pressure over the patch, `k = 1 / L_00`
+/// only over one cell). Far below the default tolerance in f64; in f32 it
+/// is what can be reached (measured: 2.5e-5 on a 128 x 128 patch, where
+/// `epsilon k |u| / |p|` is 3.2e-6).
+const ROUNDING_FLOOR: f64 = 16.0;
+
+/// `(outer, inner)` tolerances: the requested outer tolerance and
+/// `0.01` of it for the inner solves, each clamped to what the backend's
+/// arithmetic can reach (for f64 the defaults are far above the floors; f32
+/// storage gives about `1.5e-5` and `1.9e-6`).
+fn tolerances(tolerance: f64, epsilon: f64) -> (f64, f64) {
+    let outer = tolerance.max(OUTER_FLOOR * epsilon);
+    (outer, (0.01 * outer).max(INNER_FLOOR * epsilon))
 }
 
 fn check_problem(
@@ -400,7 +437,7 @@ pub fn solve_full_contact<B: Backend>(
         &rhs,
         &mut p,
         &mut work,
-        0.01 * params.tolerance,
+        tolerances(params.tolerance, backend.epsilon()).1,
         params.max_matvecs,
     );
     let mut matvecs = op.matvecs;

@@ -1,0 +1,174 @@
+//! GPU backend throughput: the influence-coefficient table
+//! (`shaders/coefficients.wgsl`, paper Eq. 6), one matvec (padded Stockham FFT convolution, paper
+//! Eq. 7) and full contact solves at the friction peak (xi = 1.17e-2, paper
+//! material, 3 kPa on L = 0.01 m, rms slope 0.02). Timings include the
+//! device work (each measured call ends with a readback or a wait).
+//! With `CI` set the grids shrink to 64 x 64 so the bench only proves it
+//! runs; `VISCOSLIDE_GPU_BENCH_LARGE=1` adds the 512 x 512 full solve and
+//! the 1024 x 1024 matvec (minutes on a CPU-emulated adapter).
+//! Without an adapter the bench prints why and measures nothing.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use viscoslide::backend::gpu::{GpuBackend, GpuContext, GpuOptions};
+use viscoslide::backend::Backend;
+use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::material::{CreepSpectrum, Material};
+use viscoslide::solver::{self, Control, SolverParams};
+use viscoslide::surface::{self, GenerateParams, Normalisation, UpperCutoff};
+
+fn material() -> Material {
+    Material::new(
+        CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
+        0.5,
+    )
+    .unwrap()
+}
+
+fn ci() -> bool {
+    std::env::var_os("CI").is_some()
+}
+
+fn large() -> bool {
+    std::env::var("VISCOSLIDE_GPU_BENCH_LARGE").is_ok_and(|v| v == "1")
+}
+
+fn surface_gap(n: usize) -> Vec<f64> {
+    let params = GenerateParams {
+        nx: n,
+        ny: n,
+        length: 0.01,
+        hurst: 0.8,
+        upper: UpperCutoff::Scales((n / 8) as f64),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 1,
+        ..Default::default()
+    };
+    let h = surface::generate(&params).unwrap();
+    let zmax = h.heights.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    h.heights.iter().map(|z| zmax - z).collect()
+}
+
+fn table(n: usize) -> Vec<f64> {
+    let k = SlidingKernel::new(
+        &material(),
+        KernelParams {
+            speed: 1.17e-2,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    k.table(n, n, 0.01 / n as f64).values
+}
+
+fn open() -> Option<GpuContext> {
+    match GpuContext::open() {
+        Ok(c) => {
+            eprintln!("gpu bench on {}", c.adapter);
+            Some(c)
+        }
+        Err(e) => {
+            eprintln!("gpu bench skipped: {e}");
+            None
+        }
+    }
+}
+
+fn bench_coefficients(c: &mut Criterion) {
+    use viscoslide::backend::gpu::{coefficients, engine::Engine};
+    let sizes: Vec<usize> = if ci() { vec![64] } else { vec![256, 512] };
+    let mut group = c.benchmark_group("gpu_coefficients");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(10));
+    let Some(ctx) = open() else { return };
+    let mut engine = Engine::new(ctx);
+    let m = material();
+    let params = KernelParams {
+        speed: 1.17e-2,
+        ..Default::default()
+    };
+    for n in sizes {
+        group.bench_function(format!("{n}x{n}"), |b| {
+            b.iter(|| {
+                coefficients::coefficient_table(&mut engine, &m, &params, n, n, 0.01 / n as f64)
+                    .unwrap()
+            })
+        });
+    }
+    group.finish();
+}
+
+fn bench_matvec(c: &mut Criterion) {
+    let sizes: Vec<usize> = if ci() {
+        vec![64]
+    } else if large() {
+        vec![256, 512, 1024]
+    } else {
+        vec![256, 512]
+    };
+    let mut group = c.benchmark_group("gpu_matvec");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(10));
+    for n in sizes {
+        let Some(ctx) = open() else { return };
+        let t = table(n);
+        let mut be = GpuBackend::new(ctx, n, n, &t, GpuOptions::default()).unwrap();
+        let host: Vec<f64> = (0..n * n).map(|i| (i % 97) as f64).collect();
+        let mut x = be.zeros(n * n);
+        be.upload(&host, &mut x);
+        let mut y = be.zeros(n * n);
+        group.bench_function(format!("{n}x{n}"), |b| {
+            b.iter(|| {
+                be.apply(black_box(&x), &mut y);
+                be.synchronize();
+            })
+        });
+    }
+    group.finish();
+}
+
+fn bench_solve(c: &mut Criterion) {
+    let sizes: Vec<usize> = if ci() {
+        vec![64]
+    } else if large() {
+        vec![256, 512]
+    } else {
+        vec![256]
+    };
+    let mut group = c.benchmark_group("gpu_solve");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(30));
+    for n in sizes {
+        let Some(ctx) = open() else { return };
+        let a = 0.01 / n as f64;
+        let t = table(n);
+        let l00 = t[(n - 1) * (2 * n - 1) + n - 1];
+        let g = surface_gap(n);
+        let mut be = GpuBackend::new(ctx, n, n, &t, GpuOptions::default()).unwrap();
+        let load = 3e3 * 0.01 * 0.01;
+        group.bench_function(format!("viscoelastic_peak_{n}x{n}"), |b| {
+            b.iter(|| {
+                let (sol, info) = solver::solve(
+                    &mut be,
+                    black_box(&g),
+                    a * a,
+                    l00,
+                    Control::Load(load),
+                    &SolverParams::default(),
+                    &mut solver::Silent,
+                )
+                .unwrap();
+                black_box((sol.approach, info.matvecs))
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_coefficients, bench_matvec, bench_solve);
+criterion_main!(benches);

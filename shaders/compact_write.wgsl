@@ -1,0 +1,21 @@
+// Stream compaction, pass 3 of 3: each block writes the positions of its
+// cells with mask > 0.5, in increasing order, from its block offset on.
+// P.i.x: grid length; P.i.y: blocks.
+
+@group(0) @binding(1) var<storage, read> mask: array<f32>;
+@group(0) @binding(2) var<storage, read> offsets: array<u32>;
+@group(0) @binding(3) var<storage, read_write> index: array<u32>;
+
+@compute @workgroup_size(WG)
+fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let b = linear_group(wid, nwg);
+    let i = b * WG + lid;
+    var f = 0u;
+    if (i < P.i.x && mask[i] > 0.5) {
+        f = 1u;
+    }
+    let pos = workgroup_inclusive_scan(lid, f);
+    if (f == 1u && b < P.i.y) {
+        index[offsets[b] + pos - 1u] = i;
+    }
+}

@@ -1,0 +1,14 @@
+// short[k] = full[index[k]] (CPU twin: CpuBackend::gather).
+// P.i.x: index length.
+
+@group(0) @binding(1) var<storage, read> index: array<u32>;
+@group(0) @binding(2) var<storage, read> full: array<f32>;
+@group(0) @binding(3) var<storage, read_write> short: array<f32>;
+
+@compute @workgroup_size(WG)
+fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let k = linear_id(wid, nwg, lid);
+    if (k < P.i.x) {
+        short[k] = full[index[k]];
+    }
+}

@@ -1,0 +1,434 @@
+//! [`GpuBackend`]: the [`Backend`] of the contact iteration with every vector
+//! resident on the device (f32). Per GMRES step the host reads back only
+//! reduction partials (one small buffer per batched reduction, finished in
+//! f64); per outer iteration it reads back the new contact-set size. The
+//! contact set is compacted on the device (`compact_*.wgsl`: block counts,
+//! a one-workgroup scan, an ordered write).
+//!
+//! Precision: vectors and the matvec are f32 (relative matvec error about
+//! 1e-6); [`Backend::epsilon`] reports `f32::EPSILON`, and the solver clamps
+//! its tolerances to it.
+
+use super::context::{GpuContext, GpuError};
+use super::engine::{groups_for, Buf, Engine, Kernel, Params, WORKGROUP};
+use super::fft::FftMatvec;
+pub use super::fft::SpectrumPrecision;
+use super::pool::{Pool, Slot};
+use crate::backend::Backend;
+
+/// Workgroups of a grid-stride reduction at most (partials per slot).
+const REDUCE_GROUPS: usize = 256;
+/// Reduction slots of the partials buffer.
+const REDUCE_SLOTS: usize = 64;
+
+/// Options of [`GpuBackend`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct GpuOptions {
+    /// Storage of the kernel spectrum.
+    pub spectrum: SpectrumPrecision,
+}
+
+/// A device vector: a pool buffer of grid capacity and a logical length.
+pub struct GpuVector {
+    slot: Slot,
+    len: usize,
+}
+
+impl GpuVector {
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    fn buf(&self) -> &Buf {
+        self.slot.buf()
+    }
+}
+
+/// Positions of a contact set on the device (u32).
+pub struct GpuIndex {
+    slot: Slot,
+    len: usize,
+}
+
+/// The GPU executor of one grid and one influence operator.
+pub struct GpuBackend {
+    engine: Engine,
+    pool: Pool,
+    matvec: FftMatvec,
+    n: usize,
+    partials: Buf,
+    offsets: Buf,
+    blocks: usize,
+}
+
+impl GpuBackend {
+    /// The executor of an `nx x ny` grid whose operator has the offset
+    /// table `table` (`(2nx-1) x (2ny-1)` values, layout of
+    /// [`crate::operator::OffsetTable`]).
+    pub fn new(
+        ctx: GpuContext,
+        nx: usize,
+        ny: usize,
+        table: &[f64],
+        options: GpuOptions,
+    ) -> Result<Self, GpuError> {
+        Self::with_engine(Engine::new(ctx), nx, ny, table, options)
+    }
+
+    /// As [`Self::new`] on an engine already in use (e.g. one that has just
+    /// computed the table with [`super::coefficients::coefficient_table`]).
+    pub fn with_engine(
+        mut engine: Engine,
+        nx: usize,
+        ny: usize,
+        table: &[f64],
+        options: GpuOptions,
+    ) -> Result<Self, GpuError> {
+        let n = nx * ny;
+        engine.check_binding(&format!("a {nx} x {ny} grid vector"), 4 * n as u64)?;
+        let matvec = FftMatvec::new(&mut engine, nx, ny, table, options.spectrum)?;
+        let usage = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST;
+        let partials = engine.create_buffer(
+            "viscoslide reduction partials",
+            (4 * REDUCE_GROUPS * REDUCE_SLOTS) as u64,
+            usage,
+        );
+        let blocks = n.div_ceil(WORKGROUP as usize);
+        let offsets = engine.create_buffer(
+            "viscoslide compaction offsets",
+            4 * (blocks as u64 + 1),
+            usage,
+        );
+        Ok(Self {
+            engine,
+            pool: Pool::new(4 * n as u64),
+            matvec,
+            n,
+            partials,
+            offsets,
+            blocks,
+        })
+    }
+
+    /// Whether an `nx x ny` grid fits the device's storage-binding limit
+    /// (the padded complex FFT buffer, `8 mx my` bytes, is the largest).
+    pub fn check_fits(ctx: &GpuContext, nx: usize, ny: usize) -> Result<(), GpuError> {
+        let (mx, my) = (super::fft::padded(nx.max(1)), super::fft::padded(ny.max(1)));
+        let need = 8 * (mx * my) as u64;
+        let limit = ctx.adapter.max_storage_binding.min(ctx.adapter.max_buffer);
+        if need > limit {
+            return Err(GpuError::TooLarge {
+                what: format!("the padded {mx} x {my} complex FFT of a {nx} x {ny} grid"),
+                need,
+                limit,
+                adapter: ctx.adapter.name.clone(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The adapter the backend runs on.
+    pub fn adapter(&self) -> &super::AdapterSummary {
+        &self.engine.ctx.adapter
+    }
+
+    /// Padded FFT shape `(mx, my)`.
+    pub fn padded_shape(&self) -> (usize, usize) {
+        (self.matvec.mx, self.matvec.my)
+    }
+
+    /// Wait until the device has finished all submitted work.
+    pub fn synchronize(&mut self) {
+        self.engine.flush();
+        let _ = self
+            .engine
+            .ctx
+            .device
+            .poll(wgpu::PollType::wait_indefinitely());
+    }
+
+    fn reduce_groups(len: usize) -> usize {
+        len.div_ceil(WORKGROUP as usize).clamp(1, REDUCE_GROUPS)
+    }
+
+    /// Sums (f64) of `slots` consecutive reduction slots of `groups` partials.
+    fn finish(&mut self, slots: usize, groups: usize) -> Vec<f64> {
+        let p = self.engine.read_f32(&self.partials, 0, slots * groups);
+        p.chunks_exact(groups)
+            .map(|c| c.iter().map(|&v| v as f64).sum())
+            .collect()
+    }
+
+    fn elementwise(&mut self, kernel: Kernel, bufs: &[&Buf], len: usize, f: [f32; 4]) {
+        if len == 0 {
+            return;
+        }
+        self.engine.dispatch(
+            kernel,
+            bufs,
+            Params {
+                i: [len as u32, 0, 0, 0],
+                f,
+                ..Default::default()
+            },
+            groups_for(len as u64),
+        );
+    }
+
+    fn check_len(&self, len: usize) {
+        assert!(
+            len <= self.n,
+            "vector of {len} entries on a grid of {}",
+            self.n
+        );
+    }
+}
+
+impl Backend for GpuBackend {
+    type Vector = GpuVector;
+    type Index = GpuIndex;
+
+    fn name(&self) -> String {
+        format!("gpu: {}", self.engine.ctx.adapter)
+    }
+
+    fn epsilon(&self) -> f64 {
+        f32::EPSILON as f64
+    }
+
+    fn grid_len(&self) -> usize {
+        self.n
+    }
+
+    fn zeros(&mut self, len: usize) -> GpuVector {
+        self.check_len(len);
+        let slot = self.pool.take(&mut self.engine);
+        self.engine.clear(slot.buf());
+        GpuVector { slot, len }
+    }
+
+    fn resize(&mut self, v: &mut GpuVector, len: usize) {
+        self.check_len(len);
+        v.len = len;
+    }
+
+    fn upload(&mut self, host: &[f64], dst: &mut GpuVector) {
+        assert_eq!(host.len(), dst.len, "upload length");
+        let h: Vec<f32> = host.iter().map(|&v| v as f32).collect();
+        self.engine.write(dst.buf(), 0, bytemuck::cast_slice(&h));
+    }
+
+    fn download(&mut self, src: &GpuVector, host: &mut [f64]) {
+        assert_eq!(host.len(), src.len, "download length");
+        let d = self.engine.read_f32(src.buf(), 0, src.len);
+        for (h, v) in host.iter_mut().zip(d) {
+            *h = v as f64;
+        }
+    }
+
+    fn copy(&mut self, src: &GpuVector, dst: &mut GpuVector) {
+        assert_eq!(src.len, dst.len, "copy length");
+        self.engine
+            .copy(src.buf(), 0, dst.buf(), 0, 4 * src.len as u64);
+    }
+
+    fn apply(&mut self, x: &GpuVector, y: &mut GpuVector) {
+        assert_eq!(x.len, self.n);
+        assert_eq!(y.len, self.n);
+        self.matvec.record_apply(&mut self.engine, x.buf(), y.buf());
+    }
+
+    fn dot(&mut self, a: &GpuVector, b: &GpuVector) -> f64 {
+        let mut out = [0.0];
+        self.dots(std::slice::from_ref(a), b, &mut out);
+        out[0]
+    }
+
+    fn dots(&mut self, basis: &[GpuVector], w: &GpuVector, out: &mut [f64]) {
+        let len = w.len;
+        let groups = Self::reduce_groups(len);
+        for (chunk, out_chunk) in basis.chunks(REDUCE_SLOTS).zip(out.chunks_mut(REDUCE_SLOTS)) {
+            for (q, four) in chunk.chunks(4).enumerate() {
+                let b: Vec<&Buf> = (0..4).map(|c| four[c.min(four.len() - 1)].buf()).collect();
+                self.engine.dispatch(
+                    Kernel::Dot,
+                    &[b[0], b[1], b[2], b[3], w.buf(), &self.partials],
+                    Params {
+                        i: [len as u32, 4 * q as u32, groups as u32, four.len() as u32],
+                        ..Default::default()
+                    },
+                    (groups as u32, 1),
+                );
+            }
+            let sums = self.finish(chunk.len(), groups);
+            out_chunk[..chunk.len()].copy_from_slice(&sums);
+        }
+    }
+
+    fn axpy(&mut self, alpha: f64, x: &GpuVector, y: &mut GpuVector) {
+        assert_eq!(x.len, y.len, "axpy length");
+        self.elementwise(
+            Kernel::Axpy,
+            &[x.buf(), y.buf()],
+            y.len,
+            [alpha as f32, 0.0, 0.0, 0.0],
+        );
+    }
+
+    fn combine(&mut self, coeffs: &[f64], basis: &[GpuVector], y: &mut GpuVector) {
+        for (cs, four) in coeffs.chunks(4).zip(basis.chunks(4)) {
+            let mut f = [0.0f32; 4];
+            for (k, &c) in cs.iter().enumerate() {
+                f[k] = c as f32;
+            }
+            let b: Vec<&Buf> = (0..4).map(|c| four[c.min(four.len() - 1)].buf()).collect();
+            self.elementwise(
+                Kernel::Combine,
+                &[b[0], b[1], b[2], b[3], y.buf()],
+                y.len,
+                f,
+            );
+        }
+    }
+
+    fn scale(&mut self, alpha: f64, x: &mut GpuVector) {
+        self.elementwise(
+            Kernel::Scale,
+            &[x.buf()],
+            x.len,
+            [alpha as f32, 0.0, 0.0, 0.0],
+        );
+    }
+
+    fn add_scalar(&mut self, alpha: f64, x: &mut GpuVector) {
+        self.elementwise(
+            Kernel::AddScalar,
+            &[x.buf()],
+            x.len,
+            [alpha as f32, 0.0, 0.0, 0.0],
+        );
+    }
+
+    fn sum(&mut self, x: &GpuVector) -> f64 {
+        let groups = Self::reduce_groups(x.len);
+        self.engine.dispatch(
+            Kernel::Sum,
+            &[x.buf(), &self.partials],
+            Params {
+                i: [x.len as u32, 0, groups as u32, 0],
+                ..Default::default()
+            },
+            (groups as u32, 1),
+        );
+        self.finish(1, groups)[0]
+    }
+
+    fn index_of(&mut self, mask: &GpuVector) -> GpuIndex {
+        assert_eq!(mask.len, self.n, "index_of needs a grid mask");
+        let slot = self.pool.take(&mut self.engine);
+        let shape = Params {
+            i: [self.n as u32, self.blocks as u32, 0, 0],
+            ..Default::default()
+        };
+        let blocks = groups_for(self.blocks as u64 * WORKGROUP as u64);
+        self.engine.dispatch(
+            Kernel::CompactCount,
+            &[mask.buf(), &self.offsets],
+            shape,
+            blocks,
+        );
+        self.engine.dispatch(
+            Kernel::CompactScan,
+            &[&self.offsets],
+            Params {
+                i: [self.blocks as u32, 0, 0, 0],
+                ..Default::default()
+            },
+            (1, 1),
+        );
+        self.engine.dispatch(
+            Kernel::CompactWrite,
+            &[mask.buf(), &self.offsets, slot.buf()],
+            shape,
+            blocks,
+        );
+        let len = self.engine.read_u32(&self.offsets, self.blocks as u64) as usize;
+        GpuIndex { slot, len }
+    }
+
+    fn index_len(&self, index: &GpuIndex) -> usize {
+        index.len
+    }
+
+    fn gather(&mut self, index: &GpuIndex, full: &GpuVector, short: &mut GpuVector) {
+        assert_eq!(short.len, index.len, "gather length");
+        self.elementwise(
+            Kernel::Gather,
+            &[index.slot.buf(), full.buf(), short.buf()],
+            index.len,
+            [0.0; 4],
+        );
+    }
+
+    fn scatter(&mut self, index: &GpuIndex, short: &GpuVector, full: &mut GpuVector) {
+        assert_eq!(short.len, index.len, "scatter length");
+        self.engine.clear(full.buf());
+        self.elementwise(
+            Kernel::Scatter,
+            &[index.slot.buf(), short.buf(), full.buf()],
+            index.len,
+            [0.0; 4],
+        );
+    }
+
+    fn gap(&mut self, g: &GpuVector, u: &GpuVector, delta: f64, out: &mut GpuVector) {
+        self.elementwise(
+            Kernel::Gap,
+            &[g.buf(), u.buf(), out.buf()],
+            out.len,
+            [delta as f32, 0.0, 0.0, 0.0],
+        );
+    }
+
+    fn update_active_set(
+        &mut self,
+        p: &GpuVector,
+        gap: &GpuVector,
+        mask: &mut GpuVector,
+    ) -> (usize, usize) {
+        let groups = Self::reduce_groups(mask.len);
+        self.engine.dispatch(
+            Kernel::ActiveSet,
+            &[p.buf(), gap.buf(), mask.buf(), &self.partials],
+            Params {
+                i: [mask.len as u32, 0, groups as u32, 0],
+                ..Default::default()
+            },
+            (groups as u32, 1),
+        );
+        let s = self.finish(2, groups);
+        (s[0].round() as usize, s[1].round() as usize)
+    }
+
+    fn complementarity(&mut self, p: &GpuVector, gap: &GpuVector, stiffness: f64) -> (f64, f64) {
+        let groups = Self::reduce_groups(p.len);
+        self.engine.dispatch(
+            Kernel::Complementarity,
+            &[p.buf(), gap.buf(), &self.partials],
+            Params {
+                i: [p.len as u32, 0, groups as u32, 0],
+                f: [stiffness as f32, 0.0, 0.0, 0.0],
+                ..Default::default()
+            },
+            (groups as u32, 1),
+        );
+        let s = self.finish(2, groups);
+        (s[0], s[1])
+    }
+}

@@ -1,0 +1,163 @@
+//! Adapter discovery and the device context (wgpu: Vulkan, Metal, DX12). On
+//! machines without a GPU, Mesa's lavapipe provides a Vulkan adapter that
+//! runs on the CPU.
+
+use serde::Serialize;
+
+/// What a user needs to know about an adapter.
+#[derive(Debug, Clone, Serialize, PartialEq, Eq)]
+pub struct AdapterSummary {
+    pub name: String,
+    pub backend: String,
+    pub device_type: String,
+    pub driver: String,
+    /// Largest storage binding [bytes] (lavapipe: 128 MiB).
+    pub max_storage_binding: u64,
+    /// Largest buffer [bytes].
+    pub max_buffer: u64,
+}
+
+impl std::fmt::Display for AdapterSummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} ({}, {}, driver {}, max storage binding {} MiB)",
+            self.name,
+            self.backend,
+            self.device_type,
+            if self.driver.is_empty() {
+                "?"
+            } else {
+                &self.driver
+            },
+            self.max_storage_binding >> 20
+        )
+    }
+}
+
+fn instance() -> wgpu::Instance {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    desc.backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY);
+    wgpu::Instance::new(desc)
+}
+
+/// Every adapter wgpu can see, best first (discrete, integrated, virtual,
+/// CPU).
+pub fn list_adapters() -> Vec<AdapterSummary> {
+    let inst = instance();
+    let mut out: Vec<(u8, AdapterSummary)> =
+        pollster::block_on(inst.enumerate_adapters(wgpu::Backends::all()))
+            .into_iter()
+            .map(|a| {
+                let info = a.get_info();
+                let limits = a.limits();
+                let rank = match info.device_type {
+                    wgpu::DeviceType::DiscreteGpu => 0,
+                    wgpu::DeviceType::IntegratedGpu => 1,
+                    wgpu::DeviceType::VirtualGpu => 2,
+                    wgpu::DeviceType::Cpu => 3,
+                    wgpu::DeviceType::Other => 4,
+                };
+                (
+                    rank,
+                    AdapterSummary {
+                        name: info.name,
+                        backend: format!("{:?}", info.backend),
+                        device_type: format!("{:?}", info.device_type),
+                        driver: format!("{} {}", info.driver, info.driver_info)
+                            .trim()
+                            .to_string(),
+                        max_storage_binding: limits.max_storage_buffer_binding_size,
+                        max_buffer: limits.max_buffer_size,
+                    },
+                )
+            })
+            .collect();
+    out.sort_by_key(|(r, _)| *r);
+    out.into_iter().map(|(_, s)| s).collect()
+}
+
+/// Why no GPU could be used.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    #[error("no GPU adapter found ({0}); on CPU-only Linux install Mesa's lavapipe: apt-get install mesa-vulkan-drivers libvulkan1")]
+    NoAdapter(String),
+    #[error("cannot open a device on {adapter}: {what}")]
+    Device { adapter: String, what: String },
+    #[error("GPU readback failed: {0}")]
+    Readback(String),
+    #[error("{what} needs {need} bytes in one GPU buffer, but {adapter} allows {limit} per storage binding; use a smaller grid or --backend cpu")]
+    TooLarge {
+        what: String,
+        need: u64,
+        limit: u64,
+        adapter: String,
+    },
+    #[error("invalid GPU input: {0}")]
+    Invalid(String),
+}
+
+/// An open device and its queue.
+pub struct GpuContext {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub adapter: AdapterSummary,
+}
+
+impl GpuContext {
+    /// Open the best adapter (high-performance preference, fallback
+    /// adapters such as lavapipe allowed) with the adapter's own limits.
+    pub fn open() -> Result<Self, GpuError> {
+        let inst = instance();
+        let adapter = pollster::block_on(inst.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        let summary = AdapterSummary {
+            name: info.name.clone(),
+            backend: format!("{:?}", info.backend),
+            device_type: format!("{:?}", info.device_type),
+            driver: format!("{} {}", info.driver, info.driver_info)
+                .trim()
+                .to_string(),
+            max_storage_binding: limits.max_storage_buffer_binding_size,
+            max_buffer: limits.max_buffer_size,
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("viscoslide device"),
+            required_features: wgpu::Features::empty(),
+            required_limits: limits,
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::Device {
+            adapter: summary.name.clone(),
+            what: e.to_string(),
+        })?;
+        Ok(Self {
+            device,
+            queue,
+            adapter: summary,
+        })
+    }
+}
+
+/// Test helper: open a GPU or explain why not. With `REQUIRE_GPU=1` a
+/// missing adapter is a failure (CI installs lavapipe); otherwise the caller
+/// skips with the printed reason.
+pub fn context_for_tests() -> Option<GpuContext> {
+    match GpuContext::open() {
+        Ok(c) => Some(c),
+        Err(e) => {
+            if std::env::var("REQUIRE_GPU").is_ok_and(|v| v == "1") {
+                panic!("REQUIRE_GPU=1 but no usable GPU: {e}");
+            }
+            eprintln!("skipping GPU test: {e}");
+            None
+        }
+    }
+}

@@ -1,0 +1,482 @@
+//! Command recording and submission. Kernels are recorded into a pending
+//! list and submitted together when the host needs a result (a readback) or
+//! writes a buffer; the parameters of each dispatch occupy one slot of a
+//! uniform ring bound with a dynamic offset, written just before the
+//! submission. Pipelines and bind groups are created once and cached
+//! (DESIGN.md "plan once, apply many"); every resource carries a label.
+
+use std::collections::HashMap;
+use std::sync::mpsc;
+
+use bytemuck::{Pod, Zeroable};
+
+use super::context::{GpuContext, GpuError};
+use super::shaders;
+
+/// Invocations per workgroup of every kernel (`WG` in `shared/common.wgsl`).
+pub const WORKGROUP: u32 = 256;
+/// Workgroups of one dispatch along x (the WebGPU minimum limit).
+const MAX_GROUPS_X: u32 = 65_535;
+/// Slots of the parameter ring.
+const RING_SLOTS: u64 = 512;
+
+/// Parameters of one dispatch (`Params` in `shared/common.wgsl`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Params {
+    pub i: [u32; 4],
+    pub j: [u32; 4],
+    pub f: [f32; 4],
+}
+
+/// A buffer with a stable id (the key of the bind-group cache).
+#[derive(Debug, Clone)]
+pub struct Buf {
+    pub id: u64,
+    pub buffer: wgpu::Buffer,
+}
+
+/// The compute kernels, one per file in `shaders/`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Kernel {
+    Axpy,
+    Combine,
+    Scale,
+    AddScalar,
+    Gather,
+    Scatter,
+    Gap,
+    ActiveSet,
+    Complementarity,
+    Dot,
+    Sum,
+    CompactCount,
+    CompactScan,
+    CompactWrite,
+    FftLoad,
+    FftPass,
+    SpectralProduct,
+    SpectralProductF16,
+    FftExtract,
+    Coefficients,
+}
+
+impl Kernel {
+    /// File in `shaders/`.
+    pub fn file(self) -> &'static str {
+        match self {
+            Kernel::Axpy => "axpy.wgsl",
+            Kernel::Combine => "combine.wgsl",
+            Kernel::Scale => "scale.wgsl",
+            Kernel::AddScalar => "add_scalar.wgsl",
+            Kernel::Gather => "gather.wgsl",
+            Kernel::Scatter => "scatter.wgsl",
+            Kernel::Gap => "gap.wgsl",
+            Kernel::ActiveSet => "active_set.wgsl",
+            Kernel::Complementarity => "complementarity.wgsl",
+            Kernel::Dot => "dot.wgsl",
+            Kernel::Sum => "sum.wgsl",
+            Kernel::CompactCount => "compact_count.wgsl",
+            Kernel::CompactScan => "compact_scan.wgsl",
+            Kernel::CompactWrite => "compact_write.wgsl",
+            Kernel::FftLoad => "fft_load.wgsl",
+            Kernel::FftPass => "fft_pass.wgsl",
+            Kernel::SpectralProduct => "spectral_product.wgsl",
+            Kernel::SpectralProductF16 => "spectral_product_f16.wgsl",
+            Kernel::FftExtract => "fft_extract.wgsl",
+            Kernel::Coefficients => "coefficients.wgsl",
+        }
+    }
+
+    /// Access of the storage bindings 1, 2, ... (`true`: read-only).
+    fn storage(self) -> &'static [bool] {
+        const R: bool = true;
+        const W: bool = false;
+        match self {
+            Kernel::Axpy => &[R, W],
+            Kernel::Combine => &[R, R, R, R, W],
+            Kernel::Scale | Kernel::AddScalar => &[W],
+            Kernel::Gather | Kernel::Scatter => &[R, R, W],
+            Kernel::Gap => &[R, R, W],
+            Kernel::ActiveSet => &[R, R, W, W],
+            Kernel::Complementarity => &[R, R, W],
+            Kernel::Dot => &[R, R, R, R, R, W],
+            Kernel::Sum => &[R, W],
+            Kernel::CompactCount => &[R, W],
+            Kernel::CompactScan => &[W],
+            Kernel::CompactWrite => &[R, R, W],
+            Kernel::FftLoad => &[R, W, W],
+            Kernel::FftPass => &[R, W, R],
+            Kernel::SpectralProduct | Kernel::SpectralProductF16 => &[W, R],
+            Kernel::FftExtract => &[R, W],
+            Kernel::Coefficients => &[R, W],
+        }
+    }
+}
+
+struct Pipeline {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+}
+
+enum Command {
+    Dispatch {
+        pipeline: wgpu::ComputePipeline,
+        bind: wgpu::BindGroup,
+        offset: u32,
+        groups: (u32, u32),
+    },
+    Clear(wgpu::Buffer),
+    Copy {
+        src: wgpu::Buffer,
+        src_offset: u64,
+        dst: wgpu::Buffer,
+        dst_offset: u64,
+        size: u64,
+    },
+}
+
+/// The device, its caches and the pending commands.
+pub struct Engine {
+    pub ctx: GpuContext,
+    pipelines: HashMap<Kernel, Pipeline>,
+    binds: HashMap<(Kernel, [u64; 6]), wgpu::BindGroup>,
+    ring: Buf,
+    stride: u64,
+    staged: Vec<u8>,
+    commands: Vec<Command>,
+    staging: Option<Buf>,
+    next_id: u64,
+}
+
+/// Workgroup grid `(x, y)` covering `threads` invocations.
+pub fn groups_for(threads: u64) -> (u32, u32) {
+    let g = threads.div_ceil(WORKGROUP as u64).max(1);
+    let x = g.min(MAX_GROUPS_X as u64);
+    (x as u32, g.div_ceil(x) as u32)
+}
+
+impl Engine {
+    pub fn new(ctx: GpuContext) -> Self {
+        let align: u64 = ctx
+            .device
+            .limits()
+            .min_uniform_buffer_offset_alignment
+            .into();
+        let stride = (std::mem::size_of::<Params>() as u64).next_multiple_of(align.max(1));
+        let ring = wgpu::BufferDescriptor {
+            label: Some("viscoslide parameter ring"),
+            size: stride * RING_SLOTS,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        };
+        let ring = Buf {
+            id: 0,
+            buffer: ctx.device.create_buffer(&ring),
+        };
+        Self {
+            ctx,
+            pipelines: HashMap::new(),
+            binds: HashMap::new(),
+            ring,
+            stride,
+            staged: Vec::new(),
+            commands: Vec::new(),
+            staging: None,
+            next_id: 1,
+        }
+    }
+
+    /// Largest storage binding of the device [bytes].
+    pub fn max_binding(&self) -> u64 {
+        let l = self.ctx.device.limits();
+        l.max_storage_buffer_binding_size.min(l.max_buffer_size)
+    }
+
+    /// Fail with [`GpuError::TooLarge`] when `bytes` exceed one binding.
+    pub fn check_binding(&self, what: &str, bytes: u64) -> Result<(), GpuError> {
+        let limit = self.max_binding();
+        if bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: what.to_string(),
+                need: bytes,
+                limit,
+                adapter: self.ctx.adapter.name.clone(),
+            });
+        }
+        Ok(())
+    }
+
+    /// A new labelled buffer (zero-initialised by wgpu).
+    pub fn create_buffer(&mut self, label: &str, size: u64, usage: wgpu::BufferUsages) -> Buf {
+        let buffer = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: size.max(4).next_multiple_of(4),
+            usage,
+            mapped_at_creation: false,
+        });
+        self.next_id += 1;
+        Buf {
+            id: self.next_id,
+            buffer,
+        }
+    }
+
+    /// A storage buffer holding `data`.
+    pub fn storage_with(&mut self, label: &str, data: &[u8]) -> Buf {
+        let b = self.create_buffer(
+            label,
+            data.len() as u64,
+            wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+        );
+        self.write(&b, 0, data);
+        b
+    }
+
+    fn pipeline(&mut self, kernel: Kernel) -> &Pipeline {
+        if !self.pipelines.contains_key(&kernel) {
+            let device = &self.ctx.device;
+            let source = shaders::compose(kernel.file()).expect("every kernel has a shader file");
+            let label = format!("viscoslide {}", kernel.file());
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(&label),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+            let mut entries = vec![wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: true,
+                    min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<Params>() as u64),
+                },
+                count: None,
+            }];
+            for (k, &read_only) in kernel.storage().iter().enumerate() {
+                entries.push(wgpu::BindGroupLayoutEntry {
+                    binding: k as u32 + 1,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                });
+            }
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(&label),
+                entries: &entries,
+            });
+            let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(&label),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(&label),
+                layout: Some(&pl),
+                module: &module,
+                entry_point: Some("main"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            self.pipelines.insert(kernel, Pipeline { layout, pipeline });
+        }
+        &self.pipelines[&kernel]
+    }
+
+    /// Record `kernel` over a `groups` workgroup grid with storage bindings
+    /// `bufs` (in binding order) and parameters `params`.
+    pub fn dispatch(&mut self, kernel: Kernel, bufs: &[&Buf], params: Params, groups: (u32, u32)) {
+        assert_eq!(bufs.len(), kernel.storage().len(), "{kernel:?} bindings");
+        if self.staged.len() as u64 >= self.stride * RING_SLOTS {
+            self.flush();
+        }
+        let mut key = [0u64; 6];
+        for (k, b) in bufs.iter().enumerate() {
+            key[k] = b.id;
+        }
+        let pipeline = self.pipeline(kernel).pipeline.clone();
+        if !self.binds.contains_key(&(kernel, key)) {
+            let layout = &self.pipelines[&kernel].layout;
+            let mut entries = vec![wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &self.ring.buffer,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(std::mem::size_of::<Params>() as u64),
+                }),
+            }];
+            for (k, b) in bufs.iter().enumerate() {
+                entries.push(wgpu::BindGroupEntry {
+                    binding: k as u32 + 1,
+                    resource: b.buffer.as_entire_binding(),
+                });
+            }
+            let bind = self
+                .ctx
+                .device
+                .create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(&format!("viscoslide {} bindings", kernel.file())),
+                    layout,
+                    entries: &entries,
+                });
+            self.binds.insert((kernel, key), bind);
+        }
+        let bind = self.binds[&(kernel, key)].clone();
+        let offset = self.staged.len() as u32;
+        self.staged.extend_from_slice(bytemuck::bytes_of(&params));
+        self.staged
+            .resize(offset as usize + self.stride as usize, 0);
+        self.commands.push(Command::Dispatch {
+            pipeline,
+            bind,
+            offset,
+            groups,
+        });
+    }
+
+    /// Record zeroing a whole buffer.
+    pub fn clear(&mut self, buf: &Buf) {
+        self.commands.push(Command::Clear(buf.buffer.clone()));
+    }
+
+    /// Record a buffer-to-buffer copy of `size` bytes.
+    pub fn copy(&mut self, src: &Buf, src_offset: u64, dst: &Buf, dst_offset: u64, size: u64) {
+        if size == 0 {
+            return;
+        }
+        self.commands.push(Command::Copy {
+            src: src.buffer.clone(),
+            src_offset,
+            dst: dst.buffer.clone(),
+            dst_offset,
+            size,
+        });
+    }
+
+    /// Submit the pending commands.
+    pub fn flush(&mut self) {
+        if self.commands.is_empty() {
+            return;
+        }
+        if !self.staged.is_empty() {
+            self.ctx
+                .queue
+                .write_buffer(&self.ring.buffer, 0, &self.staged);
+        }
+        let mut enc = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("viscoslide commands"),
+            });
+        let mut k = 0;
+        let commands = std::mem::take(&mut self.commands);
+        while k < commands.len() {
+            match &commands[k] {
+                Command::Dispatch { .. } => {
+                    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("viscoslide kernels"),
+                        timestamp_writes: None,
+                    });
+                    while let Some(Command::Dispatch {
+                        pipeline,
+                        bind,
+                        offset,
+                        groups,
+                    }) = commands.get(k)
+                    {
+                        pass.set_pipeline(pipeline);
+                        pass.set_bind_group(0, bind, &[*offset]);
+                        pass.dispatch_workgroups(groups.0, groups.1, 1);
+                        k += 1;
+                    }
+                }
+                Command::Clear(b) => {
+                    enc.clear_buffer(b, 0, None);
+                    k += 1;
+                }
+                Command::Copy {
+                    src,
+                    src_offset,
+                    dst,
+                    dst_offset,
+                    size,
+                } => {
+                    enc.copy_buffer_to_buffer(src, *src_offset, dst, *dst_offset, *size);
+                    k += 1;
+                }
+            }
+        }
+        self.ctx.queue.submit([enc.finish()]);
+        self.staged.clear();
+    }
+
+    /// Write host bytes into a buffer, after the pending commands.
+    pub fn write(&mut self, dst: &Buf, offset: u64, data: &[u8]) {
+        if data.is_empty() {
+            return;
+        }
+        self.flush();
+        self.ctx.queue.write_buffer(&dst.buffer, offset, data);
+    }
+
+    /// Read `size` bytes of `src` from `offset`, after the pending
+    /// commands. Panics if the device is lost (the trait returns no error).
+    pub fn read(&mut self, src: &Buf, offset: u64, size: u64) -> Vec<u8> {
+        if size == 0 {
+            return Vec::new();
+        }
+        let need = size.next_multiple_of(4);
+        if self.staging.as_ref().is_none_or(|s| s.buffer.size() < need) {
+            let cap = need.next_power_of_two().max(1 << 16);
+            let b = self.create_buffer(
+                "viscoslide readback staging",
+                cap,
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            );
+            self.staging = Some(b);
+        }
+        let staging = self.staging.clone().expect("staging buffer exists");
+        self.copy(src, offset, &staging, 0, need);
+        self.flush();
+        let slice = staging.buffer.slice(0..need);
+        let (tx, rx) = mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.ctx
+            .device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .unwrap_or_else(|e| panic!("{}", GpuError::Readback(e.to_string())));
+        match rx.recv() {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => panic!("{}", GpuError::Readback(e.to_string())),
+            Err(e) => panic!("{}", GpuError::Readback(e.to_string())),
+        }
+        let out = {
+            let view = slice
+                .get_mapped_range()
+                .unwrap_or_else(|e| panic!("{}", GpuError::Readback(e.to_string())));
+            view[..size as usize].to_vec()
+        };
+        staging.buffer.unmap();
+        out
+    }
+
+    /// Read `count` f32 values from `src`.
+    pub fn read_f32(&mut self, src: &Buf, offset_elems: u64, count: usize) -> Vec<f32> {
+        let bytes = self.read(src, offset_elems * 4, count as u64 * 4);
+        bytemuck::cast_slice(&bytes).to_vec()
+    }
+
+    /// Read one u32 at element `offset_elems`.
+    pub fn read_u32(&mut self, src: &Buf, offset_elems: u64) -> u32 {
+        let bytes = self.read(src, offset_elems * 4, 4);
+        u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
+    }
+}

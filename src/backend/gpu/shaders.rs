@@ -1,0 +1,86 @@
+//! The WGSL sources of `shaders/`, embedded at compile time. WGSL has no
+//! include directive: every kernel is compiled with the shared helpers of
+//! `shaders/shared/` prepended. [`validate`] runs naga's front end and
+//! validator on a source, so a broken shader fails a test instead of a solve.
+
+/// Shared helpers, in the order they are prepended.
+pub const SHARED: &[(&str, &str)] = &[
+    (
+        "shared/common.wgsl",
+        include_str!("../../../shaders/shared/common.wgsl"),
+    ),
+    (
+        "shared/complex.wgsl",
+        include_str!("../../../shaders/shared/complex.wgsl"),
+    ),
+    (
+        "shared/reduce.wgsl",
+        include_str!("../../../shaders/shared/reduce.wgsl"),
+    ),
+    (
+        "shared/scan.wgsl",
+        include_str!("../../../shaders/shared/scan.wgsl"),
+    ),
+];
+
+macro_rules! kernels {
+    ($($name:literal),* $(,)?) => {
+        /// Kernel files (without the shared prelude), by file name.
+        pub const KERNELS: &[(&str, &str)] = &[
+            $(($name, include_str!(concat!("../../../shaders/", $name)))),*
+        ];
+    };
+}
+
+kernels!(
+    "axpy.wgsl",
+    "combine.wgsl",
+    "scale.wgsl",
+    "add_scalar.wgsl",
+    "gather.wgsl",
+    "scatter.wgsl",
+    "gap.wgsl",
+    "active_set.wgsl",
+    "complementarity.wgsl",
+    "dot.wgsl",
+    "sum.wgsl",
+    "compact_count.wgsl",
+    "compact_scan.wgsl",
+    "compact_write.wgsl",
+    "fft_load.wgsl",
+    "fft_pass.wgsl",
+    "spectral_product.wgsl",
+    "spectral_product_f16.wgsl",
+    "fft_extract.wgsl",
+    "coefficients.wgsl",
+);
+
+/// The source of kernel file `name` (e.g. `axpy.wgsl`) with the shared
+/// prelude.
+pub fn compose(name: &str) -> Option<String> {
+    let body = KERNELS.iter().find(|(n, _)| *n == name)?.1;
+    let mut s = String::new();
+    for (file, src) in SHARED {
+        s.push_str("// ---- ");
+        s.push_str(file);
+        s.push('\n');
+        s.push_str(src);
+    }
+    s.push_str("// ---- ");
+    s.push_str(name);
+    s.push('\n');
+    s.push_str(body);
+    Some(s)
+}
+
+/// Parse and validate WGSL with naga; the error is naga's report.
+pub fn validate(source: &str) -> Result<(), String> {
+    let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::empty(),
+    )
+    .validate(&module)
+    .map_err(|e| e.emit_to_string(source))?;
+    Ok(())
+}
