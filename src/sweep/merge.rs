@@ -112,7 +112,9 @@ fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
     Ok(out)
 }
 
-/// Aggregate the points of `dir` into rows (sorted by load, then speed).
+/// Aggregate the points of `dir` into rows, ordered by planned load, then
+/// speed (the group keys are bit patterns of non-negative floats, whose
+/// order is the numeric order).
 pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
     let mut points = read_points(dir)?;
     let key = |p: &PointResult| (p.key_load.to_bits(), p.key_speed.to_bits());
@@ -126,7 +128,7 @@ pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
     for p in &points {
         groups.entry(key(p)).or_default().push(p);
     }
-    let mut rows: Vec<MergedRow> = groups
+    let rows: Vec<MergedRow> = groups
         .values()
         .map(|g| {
             let col = |f: &dyn Fn(&PointResult) -> f64| {
@@ -154,11 +156,6 @@ pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
             }
         })
         .collect();
-    rows.sort_by(|a, b| {
-        (a.normal_load, a.speed)
-            .partial_cmp(&(b.normal_load, b.speed))
-            .expect("finite")
-    });
     Ok(rows)
 }
 
