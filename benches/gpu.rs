@@ -11,21 +11,14 @@
 use std::hint::black_box;
 use std::time::Duration;
 
+mod common;
+
+use common::{material, surface_gap};
 use criterion::{criterion_group, criterion_main, Criterion};
 use viscoslide::backend::gpu::{GpuBackend, GpuContext, GpuOptions};
 use viscoslide::backend::Backend;
 use viscoslide::kernel::{KernelParams, SlidingKernel};
-use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::solver::{self, Control, SolverParams};
-use viscoslide::surface::{self, GenerateParams, Normalisation, UpperCutoff};
-
-fn material() -> Material {
-    Material::new(
-        CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
-        0.5,
-    )
-    .unwrap()
-}
 
 fn ci() -> bool {
     std::env::var_os("CI").is_some()
@@ -33,22 +26,6 @@ fn ci() -> bool {
 
 fn large() -> bool {
     std::env::var("VISCOSLIDE_GPU_BENCH_LARGE").is_ok_and(|v| v == "1")
-}
-
-fn surface_gap(n: usize) -> Vec<f64> {
-    let params = GenerateParams {
-        nx: n,
-        ny: n,
-        length: 0.01,
-        hurst: 0.8,
-        upper: UpperCutoff::Scales((n / 8) as f64),
-        normalisation: Normalisation::RmsSlope(0.02),
-        seed: 1,
-        ..Default::default()
-    };
-    let h = surface::generate(&params).unwrap();
-    let zmax = h.heights.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-    h.heights.iter().map(|z| zmax - z).collect()
 }
 
 fn table(n: usize) -> Vec<f64> {

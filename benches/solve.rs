@@ -6,45 +6,14 @@
 use std::hint::black_box;
 use std::time::Duration;
 
+mod common;
+
+use common::{material, sizes, surface_gap};
 use criterion::{criterion_group, criterion_main, Criterion};
 use viscoslide::backend::CpuBackend;
 use viscoslide::kernel::{KernelParams, SlidingKernel};
-use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
 use viscoslide::solver::{self, Control, SolverParams};
-use viscoslide::surface::{self, GenerateParams, Normalisation, UpperCutoff};
-
-fn material() -> Material {
-    Material::new(
-        CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
-        0.5,
-    )
-    .unwrap()
-}
-
-fn sizes() -> Vec<usize> {
-    if std::env::var_os("CI").is_some() {
-        vec![64]
-    } else {
-        vec![256, 512]
-    }
-}
-
-fn surface_gap(n: usize) -> Vec<f64> {
-    let params = GenerateParams {
-        nx: n,
-        ny: n,
-        length: 0.01,
-        hurst: 0.8,
-        upper: UpperCutoff::Scales((n / 8) as f64),
-        normalisation: Normalisation::RmsSlope(0.02),
-        seed: 1,
-        ..Default::default()
-    };
-    let h = surface::generate(&params).unwrap();
-    let zmax = h.heights.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-    h.heights.iter().map(|z| zmax - z).collect()
-}
 
 fn bench(c: &mut Criterion) {
     let m = material();

@@ -250,18 +250,7 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
     let l00 = tab.get(0, 0);
     let mut backend = CpuBackend::new(ToeplitzFft::new(tab));
     let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
-    let g = setup.gap_profile();
-    let t1 = Instant::now();
-    let (solution, info) = solver::solve(
-        &mut backend,
-        &g,
-        a * a,
-        l00,
-        setup.control,
-        &setup.params,
-        observer,
-    )?;
-    let t_iter = t1.elapsed().as_secs_f64();
+    let (solution, info, t_iter) = iterate(setup, &mut backend, l00, observer)?;
     let t2 = Instant::now();
     let (mu, mu_d, stats) = friction_and_stats(setup, &kernel, &solution)?;
     let t_an = t2.elapsed().as_secs_f64();
@@ -282,6 +271,29 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
     })
 }
 
+/// Run the constrained iteration of `setup` on `backend` (`l00` the self
+/// coefficient); returns the solution, its convergence report and the
+/// iteration's wall time [s].
+fn iterate<B: Backend>(
+    setup: &SolveSetup,
+    backend: &mut B,
+    l00: f64,
+    observer: &mut dyn Observer,
+) -> Result<(ContactSolution, SolveInfo, f64)> {
+    let a = setup.surface.cell_size;
+    let t1 = Instant::now();
+    let (solution, info) = solver::solve(
+        backend,
+        &setup.gap_profile(),
+        a * a,
+        l00,
+        setup.control,
+        &setup.params,
+        observer,
+    )?;
+    Ok((solution, info, t1.elapsed().as_secs_f64()))
+}
+
 /// Solve a periodic cell spectrally (paper Appendix, Eq. A1-A2): the same
 /// constrained iteration on the [`SpectralPeriodic`] operator; friction by
 /// the spectral slope stencil and by the Fourier dissipation sum (A3-A4).
@@ -293,18 +305,7 @@ fn solve_cpu_periodic(setup: &SolveSetup, observer: &mut dyn Observer) -> Result
     let l00 = op.self_coefficient();
     let mut backend = CpuBackend::new(op);
     let t_setup = t0.elapsed().as_secs_f64();
-    let g = setup.gap_profile();
-    let t1 = Instant::now();
-    let (solution, info) = solver::solve(
-        &mut backend,
-        &g,
-        a * a,
-        l00,
-        setup.control,
-        &setup.params,
-        observer,
-    )?;
-    let t_iter = t1.elapsed().as_secs_f64();
+    let (solution, info, t_iter) = iterate(setup, &mut backend, l00, observer)?;
     let t2 = Instant::now();
     let stats = analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, a);
     let load = stats.normal_load;
@@ -380,18 +381,7 @@ pub fn solve_gpu(
         .map_err(|e| invalid(e.to_string()))?;
     let name = backend.name();
     let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
-    let g = setup.gap_profile();
-    let t1 = Instant::now();
-    let (solution, info) = solver::solve(
-        &mut backend,
-        &g,
-        a * a,
-        l00,
-        setup.control,
-        &setup.params,
-        observer,
-    )?;
-    let t_iter = t1.elapsed().as_secs_f64();
+    let (solution, info, t_iter) = iterate(setup, &mut backend, l00, observer)?;
     drop(backend);
     let t2 = Instant::now();
     let (mu, mu_d, stats) = friction_and_stats(setup, &kernel, &solution)?;
