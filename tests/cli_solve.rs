@@ -197,3 +197,34 @@ fn periodic_formulation_is_typed_and_recorded() {
     );
     assert!(!ok && stderr.contains("formulation"), "{stderr}");
 }
+
+#[test]
+fn sphere_config_at_rest_is_hertz() {
+    // configs/sphere_sliding.toml at v = 0 on a coarser grid: the contact
+    // radius within two cells (0.1 mm of 1.0 mm) of Hertz with E0.
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/configs/sphere_sliding.toml"
+    ))
+    .unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let (ok, _, stderr) = run(
+        tmp.path(),
+        &text,
+        &["--set", "loading.speed=0.0", "--set", "surface.sphere.n=64"],
+    );
+    assert!(ok, "{stderr}");
+    let s: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(tmp.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let area = s["contact_area"].as_f64().unwrap();
+    let e_star: f64 = 1e7 / 3.0 / 0.75;
+    let a0 = (3.0 * 0.6 * 0.01 / (4.0 * e_star)).cbrt();
+    let radius = (area / std::f64::consts::PI).sqrt();
+    assert!(
+        (radius - a0).abs() < 2.0 * 3.2e-3 / 64.0,
+        "{radius} vs {a0}"
+    );
+    assert!(s["friction_coefficient"].as_f64().unwrap().abs() < 1e-12);
+}

@@ -37,6 +37,47 @@ pub struct SurfaceConfig {
     pub length: Option<f64>,
     /// Generate a self-affine surface instead of reading one.
     pub generate: Option<GenerateConfig>,
+    /// A rigid sphere instead (the Hertz paraboloid), for smooth contacts.
+    pub sphere: Option<SphereConfig>,
+}
+
+/// `[surface.sphere]`: the paraboloid `z = -(x^2 + y^2) / (2 R)` of a sphere
+/// of radius `R` (the Hertz approximation, valid while the contact radius is
+/// much smaller than `R`), centred on an `n x n` map of side `length`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereConfig {
+    /// Cells per side.
+    pub n: usize,
+    /// Side of the map [m].
+    pub length: f64,
+    /// Sphere radius `R` [m].
+    pub radius: f64,
+}
+
+impl SphereConfig {
+    /// The height map of the paraboloid at the cell centres.
+    pub fn height_map(&self) -> Result<HeightMap, SurfaceError> {
+        if self.n < 2
+            || !(self.length.is_finite() && self.length > 0.0)
+            || !(self.radius.is_finite() && self.radius > 0.0)
+        {
+            return Err(SurfaceError::Invalid(format!(
+                "[surface.sphere] needs n >= 2, length > 0 (m) and radius > 0 (m); got n = {}, length = {}, radius = {}",
+                self.n, self.length, self.radius
+            )));
+        }
+        let a = self.length / self.n as f64;
+        let mut heights = vec![0.0; self.n * self.n];
+        for i in 0..self.n {
+            for j in 0..self.n {
+                let x = (i as f64 + 0.5) * a - 0.5 * self.length;
+                let y = (j as f64 + 0.5) * a - 0.5 * self.length;
+                heights[i * self.n + j] = -(x * x + y * y) / (2.0 * self.radius);
+            }
+        }
+        HeightMap::new(self.n, self.n, self.length, heights)
+    }
 }
 
 /// `anisotropy = { ratio, angle_deg }` (see [`Anisotropy`]).
@@ -160,15 +201,19 @@ impl GenerateConfig {
 impl SurfaceConfig {
     /// Check that exactly one source is given.
     fn check_source(&self) -> Result<(), SurfaceError> {
-        match (&self.file, &self.generate) {
-            (Some(_), Some(_)) => Err(SurfaceError::Invalid(
-                "[surface] has both `file` and [surface.generate]; give one".into(),
+        let given = [
+            self.file.is_some(),
+            self.generate.is_some(),
+            self.sphere.is_some(),
+        ];
+        match given.iter().filter(|&&g| g).count() {
+            1 => Ok(()),
+            0 => Err(SurfaceError::Invalid(
+                "[surface] needs one of `file` (with `length`, m), a [surface.generate] table or a [surface.sphere] table".into(),
             )),
-            (None, None) => Err(SurfaceError::Invalid(
-                "[surface] needs either `file` (with `length`, m) or a [surface.generate] table"
-                    .into(),
+            _ => Err(SurfaceError::Invalid(
+                "[surface] give only one of `file`, [surface.generate] and [surface.sphere]".into(),
             )),
-            _ => Ok(()),
         }
     }
 
@@ -181,11 +226,14 @@ impl SurfaceConfig {
             .transpose()
     }
 
-    /// The height map: `file` (relative to `base_dir`, `length` required) or
-    /// generated from `[surface.generate]`.
+    /// The height map: `file` (relative to `base_dir`, `length` required),
+    /// generated from `[surface.generate]`, or the `[surface.sphere]` paraboloid.
     pub fn load(&self, base_dir: &Path) -> Result<HeightMap, SurfaceError> {
         if let Some(params) = self.generate_params()? {
             return super::generate(&params);
+        }
+        if let Some(sphere) = &self.sphere {
+            return sphere.height_map();
         }
         let file = self.file.as_ref().ok_or_else(|| {
             SurfaceError::Invalid("[surface] needs `file` or [surface.generate]".into())
