@@ -194,3 +194,41 @@ fn changed_config_in_an_existing_directory_is_refused() {
     assert!(err.contains("different configuration"), "{err}");
     assert_eq!(point_times(&tmp.path().join("run")).len(), 1);
 }
+
+#[test]
+fn compare_plots_measured_minus_coulomb_against_the_sweep() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), CONFIG);
+    let out = tmp.path().join("run");
+    let o = out.display().to_string();
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o]);
+    assert!(ok, "{err}");
+    let measured = tmp.path().join("measured.csv");
+    std::fs::write(
+        &measured,
+        "# test data\nspeed_m_s,mu,mu_std\n1e-3,0.51,0.01\n1e-2,0.52,0.02\n",
+    )
+    .unwrap();
+    let m = measured.display().to_string();
+    let (ok, err) = viscoslide(&["compare", &o, &m, "--coulomb", "0.5"]);
+    assert!(ok, "{err}");
+    let csv = std::fs::read_to_string(out.join("compare.csv")).unwrap();
+    let second: Vec<f64> = csv
+        .lines()
+        .nth(2)
+        .unwrap()
+        .split(',')
+        .map(|c| c.parse().unwrap())
+        .collect();
+    assert!(
+        (second[1] - 0.02).abs() < 1e-12 && (second[2] - 0.02).abs() < 1e-12,
+        "{csv}"
+    );
+    assert!(out.join("compare.png").is_file());
+    // A measured file without the speed column: one-line error, nothing new written.
+    std::fs::remove_file(out.join("compare.csv")).unwrap();
+    std::fs::write(&measured, "v,mu\n1e-3,0.5\n").unwrap();
+    let (ok, err) = viscoslide(&["compare", &o, &m, "--coulomb", "0.5"]);
+    assert!(!ok && err.contains("speed_m_s"), "{err}");
+    assert!(!out.join("compare.csv").exists());
+}

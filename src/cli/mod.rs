@@ -41,6 +41,8 @@ pub enum Command {
     Sweep(sweep::SweepArgs),
     /// Aggregate a sweep directory into sweep.csv and plots.
     Merge(sweep::MergeArgs),
+    /// Plot measured minus Coulomb friction against a merged sweep (paper Fig. 6).
+    Compare(sweep::CompareArgs),
     /// List the GPU adapters wgpu can use.
     Gpu(gpu::GpuArgs),
     /// Anisotropy (Eq. 11-13), C_chi contours and contact spots of a solve.
@@ -73,6 +75,7 @@ pub fn run() -> Result<()> {
         Command::Solve(a) => solve::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => sweep::merge(a),
+        Command::Compare(a) => sweep::compare(a),
         Command::Gpu(a) => gpu::run(a),
         Command::Analyze(a) => analyze::run(a),
     }

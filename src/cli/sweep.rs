@@ -59,3 +59,25 @@ pub fn merge(args: MergeArgs) -> Result<()> {
     );
     Ok(())
 }
+
+#[derive(Debug, clap::Args)]
+pub struct CompareArgs {
+    /// A merged sweep directory.
+    pub dir: PathBuf,
+    /// Measured friction: CSV with `speed_m_s`, `mu` and optional `mu_std`.
+    pub measured: PathBuf,
+    /// Interfacial (Coulomb) friction measured at vanishing speed, subtracted
+    /// from the measurements.
+    #[arg(long)]
+    pub coulomb: f64,
+}
+
+pub fn compare(args: CompareArgs) -> Result<()> {
+    sweep::compare(&args.dir, &args.measured, args.coulomb)?;
+    println!(
+        "wrote {} and {}",
+        args.dir.join("compare.csv").display(),
+        args.dir.join("compare.png").display()
+    );
+    Ok(())
+}

@@ -4,10 +4,12 @@
 //! runs a deterministic subset; [`merge`] aggregates the points into
 //! `DIR/sweep.csv` (mean and standard deviation over realisations) and plots.
 
+mod compare;
 mod merge;
 mod plan;
 
-pub use merge::{merge, MergedRow};
+pub use compare::{compare, read_measured, Measured};
+pub use merge::{aggregate, merge, MergedRow};
 pub use plan::{Point, Shard, SpeedAxis, SweepConfig, SweepPlan};
 
 use std::path::{Path, PathBuf};
