@@ -201,19 +201,23 @@ impl GenerateConfig {
 impl SurfaceConfig {
     /// Check that exactly one source is given.
     fn check_source(&self) -> Result<(), SurfaceError> {
-        let given = [
-            self.file.is_some(),
-            self.generate.is_some(),
-            self.sphere.is_some(),
-        ];
-        match given.iter().filter(|&&g| g).count() {
+        let given: Vec<&str> = [
+            (self.file.is_some(), "`file`"),
+            (self.generate.is_some(), "[surface.generate]"),
+            (self.sphere.is_some(), "[surface.sphere]"),
+        ]
+        .into_iter()
+        .filter_map(|(g, name)| g.then_some(name))
+        .collect();
+        match given.len() {
             1 => Ok(()),
             0 => Err(SurfaceError::Invalid(
-                "[surface] needs one of `file` (with `length`, m), a [surface.generate] table or a [surface.sphere] table".into(),
+                "[surface] needs either `file` (with `length`, m), a [surface.generate] table or a [surface.sphere] table".into(),
             )),
-            _ => Err(SurfaceError::Invalid(
-                "[surface] give only one of `file`, [surface.generate] and [surface.sphere]".into(),
-            )),
+            _ => Err(SurfaceError::Invalid(format!(
+                "[surface] has both {}; give one",
+                given.join(" and ")
+            ))),
         }
     }
 
