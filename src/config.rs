@@ -101,6 +101,37 @@ pub struct SolverConfig {
     pub restart: Option<usize>,
     /// Discretisation (default `non_periodic`).
     pub formulation: Option<Formulation>,
+    /// Mesh of the non-periodic formulation (default `uniform`).
+    pub mesh: Option<MeshKind>,
+    /// `[solver.adaptive]`: controls of `mesh = "adaptive"`.
+    pub adaptive: Option<AdaptiveConfig>,
+}
+
+/// The mesh the non-periodic problem is solved on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum MeshKind {
+    /// Every cell at the surface's resolution: Toeplitz operator, FFT matvec.
+    #[default]
+    Uniform,
+    /// Quadtree: fine cells where contact is possible or found, coarse
+    /// elsewhere (physics.md section 7; [`crate::mesh`]).
+    Adaptive,
+}
+
+/// `[solver.adaptive]` (defaults in [`crate::mesh::AdaptiveParams`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct AdaptiveConfig {
+    /// Coarsest cells are `2^max_level` fine cells a side (default 5).
+    pub max_level: Option<u8>,
+    /// Area fraction, the highest part of the surface, meshed fine from the
+    /// start (default 0.1).
+    pub initial_fraction: Option<f64>,
+    /// Fine cells added around each refinement (default 1).
+    pub margin: Option<usize>,
+    /// Solve-certify-refine rounds allowed (default 12).
+    pub max_rounds: Option<usize>,
 }
 
 /// A parsed config with the directory its relative paths refer to.

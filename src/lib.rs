@@ -13,6 +13,7 @@ pub mod error;
 pub mod io;
 pub mod kernel;
 pub mod material;
+pub mod mesh;
 pub mod plot;
 pub mod surface;
 

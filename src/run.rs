@@ -11,11 +11,12 @@ use crate::analysis::{self, ContactStatistics};
 use crate::backend::gpu::engine::Engine;
 use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuOptions};
 use crate::backend::{Backend, CpuBackend};
-use crate::config::{Formulation, LoadedConfig};
+use crate::config::{Formulation, LoadedConfig, MeshKind};
 use crate::error::{Error, Result};
 use crate::kernel::{Axis, KernelParams, Layer, SlidingKernel};
 use crate::material::Material;
-use crate::operator::{OffsetTable, SpectralPeriodic, ToeplitzFft};
+use crate::mesh::{AdaptiveParams, MeshReport};
+use crate::operator::{AdaptiveOperator, LevelTables, OffsetTable, SpectralPeriodic, ToeplitzFft};
 use crate::solver::{self, ContactSolution, Control, Observer, SolveInfo, SolverParams};
 use crate::surface::HeightMap;
 
@@ -32,6 +33,10 @@ pub struct SolveSetup {
     pub layer: Option<Layer>,
     pub params: SolverParams,
     pub formulation: Formulation,
+    /// Uniform grid or adaptive quadtree (non-periodic formulation).
+    pub mesh: MeshKind,
+    /// Controls of the adaptive mesh.
+    pub adaptive: AdaptiveParams,
     /// Seed of a generated surface.
     pub seed: Option<u64>,
     /// The merged configuration document.
@@ -52,6 +57,11 @@ pub struct SolveOutcome {
     pub friction_coefficient_dissipation: f64,
     pub backend: String,
     pub timings: Timings,
+    /// Cells solved for: `nx ny` on the uniform grid, the mesh's cells on
+    /// the adaptive one.
+    pub unknowns: usize,
+    /// The adaptive mesh, when one was used.
+    pub mesh: Option<MeshReport>,
 }
 
 /// Wall-clock split of a solve [s].
@@ -160,6 +170,28 @@ impl SolveSetup {
                 "[layer] is not supported with [solver] formulation = \"periodic\" (use \"non_periodic\")",
             ));
         }
+        let mesh = sc.mesh.unwrap_or_default();
+        if mesh == MeshKind::Adaptive && formulation == Formulation::Periodic {
+            return Err(invalid(
+                "[solver] mesh = \"adaptive\" needs formulation = \"non_periodic\" (the periodic formulation is spectral)",
+            ));
+        }
+        let ad = AdaptiveParams::default();
+        let adaptive = match &sc.adaptive {
+            Some(c) => AdaptiveParams {
+                max_level: c.max_level.unwrap_or(ad.max_level),
+                initial_fraction: c.initial_fraction.unwrap_or(ad.initial_fraction),
+                margin: c.margin.unwrap_or(ad.margin),
+                max_rounds: c.max_rounds.unwrap_or(ad.max_rounds),
+            },
+            None => ad,
+        };
+        adaptive.check().map_err(invalid)?;
+        if sc.adaptive.is_some() && mesh != MeshKind::Adaptive {
+            return Err(invalid(
+                "[solver.adaptive] is given but [solver] mesh is not \"adaptive\"",
+            ));
+        }
         let setup = Self {
             material,
             surface,
@@ -169,6 +201,8 @@ impl SolveSetup {
             layer,
             params,
             formulation,
+            mesh,
+            adaptive,
             seed,
             document: cfg.document.clone(),
             analysis: cfg.config.analysis.clone(),
@@ -230,6 +264,9 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
     if setup.formulation == Formulation::Periodic {
         return solve_cpu_periodic(setup, observer);
     }
+    if setup.mesh == MeshKind::Adaptive {
+        return solve_cpu_adaptive(setup, observer);
+    }
     let t0 = Instant::now();
     let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
     let kernel = SlidingKernel::new(
@@ -261,6 +298,8 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
         friction_coefficient: mu,
         friction_coefficient_dissipation: mu_d,
         backend: "cpu".into(),
+        unknowns: nx * ny,
+        mesh: None,
         timings: Timings {
             coefficients_s: t_coeff,
             operator_setup_s: t_setup,
@@ -269,6 +308,82 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
             total_s: t0.elapsed().as_secs_f64(),
         },
     })
+}
+
+/// Solve on the adaptive quadtree mesh ([`crate::mesh`]; physics.md
+/// section 7) with the pairwise CPU operator: level tables once, then
+/// solve-certify-refine rounds. The fields come back on the fine grid, so
+/// friction and statistics are computed exactly as for the uniform grid.
+fn solve_cpu_adaptive(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<SolveOutcome> {
+    let t0 = Instant::now();
+    let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
+    let kernel = SlidingKernel::new(
+        &setup.material,
+        KernelParams {
+            speed: setup.speed,
+            direction_rad: setup.direction_rad,
+            layer: setup.layer,
+        },
+    )?;
+    let max_level = setup.adaptive.max_level.min(max_level_for(nx, ny));
+    let tables = std::sync::Arc::new(LevelTables::new(&kernel, nx, ny, a, max_level)?);
+    let t_coeff = t0.elapsed().as_secs_f64();
+    let l00 = tables.coefficient(0, 0, 0);
+    let mut t_iter = 0.0;
+    let params = AdaptiveParams {
+        max_level,
+        ..setup.adaptive
+    };
+    let result = crate::mesh::solve_adaptive(
+        &setup.gap_profile(),
+        tables.clone(),
+        &params,
+        setup.params.tolerance,
+        |mesh, g_mesh, start| {
+            let t = Instant::now();
+            let mut backend = CpuBackend::new(AdaptiveOperator::new(tables.clone(), mesh));
+            let r = solver::solve_from(
+                &mut backend,
+                g_mesh,
+                a * a,
+                l00,
+                setup.control,
+                &setup.params,
+                start,
+                observer,
+            );
+            t_iter += t.elapsed().as_secs_f64();
+            r
+        },
+    )
+    .map_err(|e| invalid(e.to_string()))?;
+    let t2 = Instant::now();
+    let (mu, mu_d, stats) = friction_and_stats(setup, &kernel, &result.solution)?;
+    let t_an = t2.elapsed().as_secs_f64();
+    let total = t0.elapsed().as_secs_f64();
+    Ok(SolveOutcome {
+        solution: result.solution,
+        info: result.info,
+        stats,
+        friction_coefficient: mu,
+        friction_coefficient_dissipation: mu_d,
+        backend: "cpu (adaptive mesh)".into(),
+        unknowns: result.report.unknowns,
+        mesh: Some(result.report),
+        timings: Timings {
+            coefficients_s: t_coeff,
+            operator_setup_s: total - t_coeff - t_iter - t_an,
+            iteration_s: t_iter,
+            analysis_s: t_an,
+            total_s: total,
+        },
+    })
+}
+
+/// Coarsest useful level: blocks no larger than the grid.
+fn max_level_for(nx: usize, ny: usize) -> u8 {
+    let m = nx.min(ny).max(1);
+    (usize::BITS - 1 - m.leading_zeros()) as u8
 }
 
 /// Run the constrained iteration of `setup` on `backend` (`l00` the self
@@ -320,6 +435,8 @@ fn solve_cpu_periodic(setup: &SolveSetup, observer: &mut dyn Observer) -> Result
         friction_coefficient: -force / load,
         friction_coefficient_dissipation: -force_d / load,
         backend: "cpu".into(),
+        unknowns: nx * ny,
+        mesh: None,
         timings: Timings {
             coefficients_s: 0.0,
             operator_setup_s: t_setup,
@@ -393,6 +510,8 @@ pub fn solve_gpu(
         friction_coefficient: mu,
         friction_coefficient_dissipation: mu_d,
         backend: name,
+        unknowns: nx * ny,
+        mesh: None,
         timings: Timings {
             coefficients_s: t_coeff,
             operator_setup_s: t_setup,

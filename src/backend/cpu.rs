@@ -138,6 +138,16 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
         index.len()
     }
 
+    fn apply_rows(
+        &mut self,
+        x: &Vec<f64>,
+        index: &Vec<usize>,
+        full: &mut Vec<f64>,
+        short: &mut Vec<f64>,
+    ) {
+        self.op.apply_rows(x, index, full, short);
+    }
+
     fn gather(&mut self, index: &Vec<usize>, full: &Vec<f64>, short: &mut Vec<f64>) {
         short
             .par_iter_mut()

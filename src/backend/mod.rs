@@ -38,6 +38,20 @@ pub trait Backend {
     fn copy(&mut self, src: &Self::Vector, dst: &mut Self::Vector);
     /// `y = L x` on grid vectors, the influence operator (paper Eq. 7).
     fn apply(&mut self, x: &Self::Vector, y: &mut Self::Vector);
+    /// `short = (L x)[index]`: the operator's rows on a contact set only.
+    /// The default applies `L` on the whole grid into `full` and gathers;
+    /// executors whose cost scales with the rows evaluated override it
+    /// (`full` is then left unspecified).
+    fn apply_rows(
+        &mut self,
+        x: &Self::Vector,
+        index: &Self::Index,
+        full: &mut Self::Vector,
+        short: &mut Self::Vector,
+    ) {
+        self.apply(x, full);
+        self.gather(index, full, short);
+    }
     /// `a . b`.
     fn dot(&mut self, a: &Self::Vector, b: &Self::Vector) -> f64;
     /// `out[k] = basis[k] . w` for every `k` (one batched reduction).

@@ -27,7 +27,7 @@ pub mod thickness;
 
 use std::sync::Arc;
 
-pub use table::CoefficientTable;
+pub use table::{CoefficientTable, VertexTable};
 pub use thickness::{Layer, LayerBase, LayerConfig, ThetaTable};
 
 use crate::material::Material;
@@ -394,6 +394,20 @@ impl SlidingKernel {
         Self::check_cell(cell, cell)?;
         check_grid(nx, ny)?;
         Ok(table::build(self, nx, ny, cell, Some(axis)))
+    }
+
+    /// [`VertexTable`]: `K` at the corner offsets `((i + 1/2) a, (j + 1/2) a)`
+    /// of an `nx x ny` grid of square cells of side `cell` [m], by the row
+    /// march where [`Self::table`] uses it.
+    pub fn try_vertex_table(
+        &self,
+        nx: usize,
+        ny: usize,
+        cell: f64,
+    ) -> Result<VertexTable, KernelError> {
+        Self::check_cell(cell, cell)?;
+        check_grid(nx, ny)?;
+        Ok(table::build_vertex(self, nx, ny, cell))
     }
 
     /// The reference per-offset table (no fast path), for tests and for

@@ -97,6 +97,107 @@ impl CoefficientTable {
     }
 }
 
+/// `K` at the vertex offsets `((i + 1/2) a, (j + 1/2) a)`, `i in -nx..nx`,
+/// `j in -ny..ny`: the displacement at a cell corner of an `nx x ny` grid
+/// due to unit pressure on a cell, the coefficient from a fine source cell
+/// to the centre of a coarser (`2^l a`, `l >= 1`) cell of an aligned
+/// quadtree ([`crate::mesh`]).
+///
+/// `values[(i + nx) * 2 ny + (j + ny)]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VertexTable {
+    pub nx: usize,
+    pub ny: usize,
+    /// Cell side `a` [m].
+    pub cell_size: f64,
+    pub values: Vec<f64>,
+}
+
+impl VertexTable {
+    /// Flat index of the offset `((i + 1/2) a, (j + 1/2) a)`.
+    #[inline]
+    pub fn index(&self, i: isize, j: isize) -> usize {
+        (i + self.nx as isize) as usize * (2 * self.ny) + (j + self.ny as isize) as usize
+    }
+
+    /// The value at `((i + 1/2) a, (j + 1/2) a)`; panics outside the table.
+    #[inline]
+    pub fn get(&self, i: isize, j: isize) -> f64 {
+        assert!(
+            i >= -(self.nx as isize)
+                && i < self.nx as isize
+                && j >= -(self.ny as isize)
+                && j < self.ny as isize,
+            "vertex offset ({i}, {j}) outside a {} x {} table",
+            self.nx,
+            self.ny
+        );
+        self.values[self.index(i, j)]
+    }
+}
+
+/// [`VertexTable`] by the row march along a grid-axis sliding direction
+/// without a thin layer, per offset otherwise.
+pub(super) fn build_vertex(k: &SlidingKernel, nx: usize, ny: usize, cell: f64) -> VertexTable {
+    let (ex, ey) = k.e;
+    let orient = match (ex, ey) {
+        (x, y) if x == 1.0 && y == 0.0 => Some((Axis::X, 1.0)),
+        (x, y) if x == -1.0 && y == 0.0 => Some((Axis::X, -1.0)),
+        (x, y) if x == 0.0 && y == 1.0 => Some((Axis::Y, 1.0)),
+        (x, y) if x == 0.0 && y == -1.0 => Some((Axis::Y, -1.0)),
+        _ => None,
+    };
+    let thin = k
+        .theta
+        .as_ref()
+        .is_some_and(|t| t.layer.thickness < 4.0 * cell);
+    let mut t = VertexTable {
+        nx,
+        ny,
+        cell_size: cell,
+        values: vec![0.0; 4 * nx * ny],
+    };
+    match orient {
+        Some((slide_axis, sign)) if !thin => {
+            let (na, nt) = match slide_axis {
+                Axis::X => (nx, ny),
+                Axis::Y => (ny, nx),
+            };
+            let canon = canonical(k, na, nt, cell, false, slide_axis, sign, true);
+            let wt = 2 * nt;
+            for i in -(nx as isize)..nx as isize {
+                for j in -(ny as isize)..ny as isize {
+                    let (along, across) = match slide_axis {
+                        Axis::X => (i, j),
+                        Axis::Y => (j, i),
+                    };
+                    // Mirroring the half-integer offset (along + 1/2) gives -along - 1.
+                    let along = if sign > 0.0 { along } else { -along - 1 };
+                    let ia = (along + na as isize) as usize;
+                    let it = (across + nt as isize) as usize;
+                    let idx = t.index(i, j);
+                    t.values[idx] = canon[ia * wt + it];
+                }
+            }
+        }
+        _ => {
+            let rect = LoveRect::new(cell, cell);
+            let w = 2 * ny;
+            t.values
+                .par_chunks_mut(w)
+                .enumerate()
+                .for_each(|(ii, row)| {
+                    let x = (ii as f64 - nx as f64 + 0.5) * cell;
+                    for (jj, v) in row.iter_mut().enumerate() {
+                        let y = (jj as f64 - ny as f64 + 0.5) * cell;
+                        *v = k.coefficient_with(&rect, x, y).total();
+                    }
+                });
+        }
+    }
+    t
+}
+
 /// Per-offset evaluation of every entry (rayon over rows).
 pub(super) fn per_offset(
     k: &SlidingKernel,
@@ -157,7 +258,16 @@ pub(super) fn build(
         Axis::X => (nx, ny),
         Axis::Y => (ny, nx),
     };
-    let canon = canonical(k, na, nt, cell, derivative.is_some(), slide_axis, sign);
+    let canon = canonical(
+        k,
+        na,
+        nt,
+        cell,
+        derivative.is_some(),
+        slide_axis,
+        sign,
+        false,
+    );
     let mut t = CoefficientTable::zeros(nx, ny, cell);
     let wt = 2 * nt - 1;
     for di in -(nx as isize - 1)..=(nx as isize - 1) {
@@ -360,6 +470,11 @@ impl Plan {
 
 /// Canonical table for sliding along `+x`: `(2na-1) x (2nt-1)` values of `K`
 /// (or of `D_x` when `derivative`), row-major in the along index.
+///
+/// With `shift`, the targets are the cell vertices instead: offsets
+/// `((i + 1/2) a, (j + 1/2) a)` for `i in -na..na`, `j in -nt..nt`, a
+/// `2na x 2nt` table (values of `K` only).
+#[allow(clippy::too_many_arguments)]
 fn canonical(
     k: &SlidingKernel,
     na: usize,
@@ -368,17 +483,31 @@ fn canonical(
     derivative: bool,
     slide_axis: Axis,
     sign: f64,
+    shift: bool,
 ) -> Vec<f64> {
+    debug_assert!(!(shift && derivative));
     let rect = LoveRect::new(a, a);
     let extent = (na.max(nt) as f64 + 1.0) * a * std::f64::consts::SQRT_2;
     let plan = Plan::new(k, a, extent);
-    let wt = 2 * nt - 1;
-    let wa = 2 * na - 1;
+    let h = if shift { 0.5 } else { 0.0 };
+    let (wt, wa) = if shift {
+        (2 * nt, 2 * na)
+    } else {
+        (2 * nt - 1, 2 * na - 1)
+    };
+    // Across-row index of the offset `(j + h) a` and of its mirror image.
+    let row_index = |j: usize| -> (usize, usize) {
+        if shift {
+            (nt + j, nt - 1 - j)
+        } else {
+            (nt - 1 + j, nt - 1 - j)
+        }
+    };
     // Rows j >= 0, mirrored afterwards.
     let rows: Vec<Vec<f64>> = (0..nt)
         .into_par_iter()
         .map(|j| {
-            let y = j as f64 * a;
+            let y = (j as f64 + h) * a;
             if derivative {
                 let g = |x: f64| k.transverse_average(&rect, x, y, Axis::X);
                 let x0 = -(na as f64 - 0.5) * a;
@@ -387,27 +516,30 @@ fn canonical(
             } else {
                 let f = k.spatial(&rect);
                 let g = |x: f64| f(x, y);
-                let x0 = -(na as f64 - 1.0) * a;
+                let x0 = -(na as f64 - 1.0 + h) * a;
                 march_row(k, &plan, &g, x0, wa, y, false)
             }
         })
         .collect();
     let mut out = vec![0.0; wa * wt];
     for (j, row) in rows.iter().enumerate() {
+        let (up, down) = row_index(j);
         for (i, v) in row.iter().enumerate() {
-            out[i * wt + (nt - 1 + j)] = *v;
-            out[i * wt + (nt - 1 - j)] = *v;
+            out[i * wt + up] = *v;
+            out[i * wt + down] = *v;
         }
     }
     // Near block: per-offset evaluation.
     let m = 3isize;
-    for di in -m..=m {
+    let lo = if shift { -m - 1 } else { -m };
+    let first = if shift { na as isize } else { na as isize - 1 };
+    for di in lo..=m {
         for dj in 0..=m {
-            if di.unsigned_abs() >= na || dj as usize >= nt {
+            if (di + first) < 0 || (di + first) as usize >= wa || dj as usize >= nt {
                 continue;
             }
             // Physical offset of the canonical (along, across) offset.
-            let (along, across) = (sign * di as f64 * a, dj as f64 * a);
+            let (along, across) = (sign * (di as f64 + h) * a, (dj as f64 + h) * a);
             let (x, y) = match slide_axis {
                 Axis::X => (along, across),
                 Axis::Y => (across, along),
@@ -417,9 +549,10 @@ fn canonical(
             } else {
                 k.coefficient_with(&rect, x, y).total()
             };
-            let i = (di + na as isize - 1) as usize;
-            out[i * wt + (nt - 1 + dj as usize)] = v;
-            out[i * wt + (nt - 1 - dj as usize)] = v;
+            let i = (di + first) as usize;
+            let (up, down) = row_index(dj as usize);
+            out[i * wt + up] = v;
+            out[i * wt + down] = v;
         }
     }
     out

@@ -5,12 +5,15 @@
 //! block-Toeplitz: [`ToeplitzFft`] applies it as an exact linear
 //! (non-periodic) convolution through zero-padded real FFTs; [`DenseOperator`]
 //! stores every entry (faer) and is the naive control; [`SpectralPeriodic`]
-//! is the periodic-cell formulation of the paper's Appendix.
+//! is the periodic-cell formulation of the paper's Appendix;
+//! [`AdaptiveOperator`] applies the pairwise operator of a quadtree mesh.
 
+mod adaptive;
 mod dense;
 mod periodic;
 mod toeplitz;
 
+pub use adaptive::{AdaptiveOperator, LevelTables};
 pub use dense::DenseOperator;
 pub use periodic::{periodic_multiplier, PeriodicResponse, SpectralPeriodic};
 pub use toeplitz::{fast_size, ToeplitzFft};
@@ -21,6 +24,15 @@ pub trait GridOperator: Send + Sync {
     fn shape(&self) -> (usize, usize);
     /// `y = L x`.
     fn apply(&mut self, x: &[f64], y: &mut [f64]);
+    /// `out[k] = (L x)[rows[k]]`. The default applies `L` on the whole grid
+    /// into `scratch` and picks the rows; pairwise operators evaluate only
+    /// the rows asked for.
+    fn apply_rows(&mut self, x: &[f64], rows: &[usize], scratch: &mut [f64], out: &mut [f64]) {
+        self.apply(x, scratch);
+        for (o, &r) in out.iter_mut().zip(rows) {
+            *o = scratch[r];
+        }
+    }
 }
 
 /// Entries of a block-Toeplitz operator: `table(di, dj)` is the response at

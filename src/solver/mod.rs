@@ -139,9 +139,8 @@ struct Bordered<'a, B: Backend> {
 impl<B: Backend> AugOperator<B> for Bordered<'_, B> {
     fn apply(&mut self, backend: &mut B, x_v: &B::Vector, x_s: f64, y: &mut AugVec<B::Vector>) {
         backend.scatter(self.index, x_v, self.full_in);
-        backend.apply(self.full_in, self.full_out);
+        backend.apply_rows(self.full_in, self.index, self.full_out, &mut y.v);
         self.matvecs += 1;
-        backend.gather(self.index, self.full_out, &mut y.v);
         if self.bordered {
             backend.add_scalar(-self.delta_scale * x_s, &mut y.v);
             y.s = self.load_scale * backend.sum(x_v);
@@ -169,6 +168,43 @@ pub fn solve<B: Backend>(
     params: &SolverParams,
     observer: &mut dyn Observer,
 ) -> Result<(ContactSolution, SolveInfo), SolverError> {
+    solve_from(
+        backend,
+        g,
+        cell_area,
+        self_coefficient,
+        control,
+        params,
+        None,
+        observer,
+    )
+}
+
+/// A starting point for [`solve_from`]: a previous solution's contact set,
+/// pressure and approach (e.g. on a refined mesh).
+#[derive(Debug, Clone, PartialEq)]
+pub struct WarmStart {
+    /// 1 in contact, 0 elsewhere, one value per cell.
+    pub contact: Vec<f64>,
+    /// Pressure per cell [Pa].
+    pub pressure: Vec<f64>,
+    /// Rigid approach [m].
+    pub approach: f64,
+}
+
+/// [`solve`] from a warm start (`None`: the bearing-area guess of
+/// [`solve`]). The start only changes the path, not the solution.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_from<B: Backend>(
+    backend: &mut B,
+    g: &[f64],
+    cell_area: f64,
+    self_coefficient: f64,
+    control: Control,
+    params: &SolverParams,
+    start: Option<&WarmStart>,
+    observer: &mut dyn Observer,
+) -> Result<(ContactSolution, SolveInfo), SolverError> {
     let n = backend.grid_len();
     check_problem(g, n, cell_area, self_coefficient, control)?;
     let stiffness = 1.0 / self_coefficient;
@@ -178,13 +214,32 @@ pub fn solve<B: Backend>(
 
     // Initial contact set.
     let mut host_mask = vec![0.0; n];
-    let (delta0, p0) = initial_guess(g, cell_area, self_coefficient, control, &mut host_mask);
+    let (delta0, host) = match start {
+        Some(ws) if ws.contact.len() == n && ws.pressure.len() == n && ws.approach.is_finite() => {
+            host_mask.copy_from_slice(&ws.contact);
+            if host_mask.iter().all(|&m| m <= 0.5) {
+                return Err(SolverError::Invalid(
+                    "the warm start has an empty contact set".into(),
+                ));
+            }
+            (ws.approach, ws.pressure.clone())
+        }
+        Some(_) => {
+            return Err(SolverError::Invalid(format!(
+                "the warm start does not match the {n} cells of the problem"
+            )))
+        }
+        None => {
+            let (delta0, p0) =
+                initial_guess(g, cell_area, self_coefficient, control, &mut host_mask);
+            (delta0, host_mask.iter().map(|m| p0 * m).collect())
+        }
+    };
     let mut mask = backend.zeros(n);
     backend.upload(&host_mask, &mut mask);
     let mut gv = backend.zeros(n);
     backend.upload(g, &mut gv);
     let mut p_full = backend.zeros(n);
-    let host: Vec<f64> = host_mask.iter().map(|m| p0 * m).collect();
     backend.upload(&host, &mut p_full);
 
     let bordered = matches!(control, Control::Load(_));
@@ -210,10 +265,13 @@ pub fn solve<B: Backend>(
     let mut contact_cells = host_mask.iter().filter(|&&m| m > 0.5).count();
     let mut last_changes = usize::MAX;
     let mut residual = f64::INFINITY;
+    let mut stalled = false;
     for iteration in 1..=params.max_iterations {
         // Inexact Newton: while the contact set still moves a lot, a rough
         // solve decides the next set as well as an exact one would.
-        let inner_tol = if last_changes <= (contact_cells / 200).max(1) {
+        // A residual that did not fall means the rough solves no longer
+        // move the pressure (cells entering at p = 0 would leave again).
+        let inner_tol = if stalled || last_changes <= (contact_cells / 200).max(1) {
             tight
         } else if last_changes <= contact_cells / 10 {
             loose
@@ -278,6 +336,8 @@ pub fn solve<B: Backend>(
         } else {
             0.0
         };
+        let previous_residual = history.last().copied().unwrap_or(f64::INFINITY);
+        stalled = residual >= previous_residual;
         let (changes, size) = backend.update_active_set(&p_full, &gap, &mut mask);
         history.push(residual);
         contact_history.push(size);

@@ -1,0 +1,15 @@
+//! Adaptive non-uniform mesh for surfaces with many scales (physics.md
+//! section 7; Putignano, Afferrante, Carbone & Demelio, J. Mech. Phys.
+//! Solids 60, 973, 2012): fine cells where contact is possible or found,
+//! coarse cells elsewhere, refined as the contact set moves.
+//!
+//! - [`quadtree`]: the mesh, its geometry and the height rule.
+//! - [`refine`]: the solve-certify-refine loop around [`crate::solver`].
+//!
+//! The pairwise operator lives in [`crate::operator::AdaptiveOperator`].
+
+pub mod quadtree;
+pub mod refine;
+
+pub use quadtree::{dilate, Cell, MeshError, QuadMesh};
+pub use refine::{solve_adaptive, AdaptiveParams, AdaptiveSolution, MeshReport};
