@@ -59,6 +59,8 @@ pub enum Kernel {
     SpectralProductF16,
     FftExtract,
     Coefficients,
+    AdaptiveCoefficients,
+    AdaptiveMatvec,
 }
 
 impl Kernel {
@@ -85,6 +87,8 @@ impl Kernel {
             Kernel::SpectralProductF16 => "spectral_product_f16.wgsl",
             Kernel::FftExtract => "fft_extract.wgsl",
             Kernel::Coefficients => "coefficients.wgsl",
+            Kernel::AdaptiveCoefficients => "adaptive_coefficients.wgsl",
+            Kernel::AdaptiveMatvec => "adaptive_matvec.wgsl",
         }
     }
 
@@ -110,6 +114,8 @@ impl Kernel {
             Kernel::SpectralProduct | Kernel::SpectralProductF16 => &[W, R],
             Kernel::FftExtract => &[R, W],
             Kernel::Coefficients => &[R, W],
+            Kernel::AdaptiveCoefficients => &[R, R, W],
+            Kernel::AdaptiveMatvec => &[R, R, R, W],
         }
     }
 }

@@ -27,7 +27,7 @@ pub const SHARED: &[(&str, &str)] = &[
 
 /// The steady-sliding Green's function of a square source cell (paper Eq. 4
 /// and Eq. 6), with the creep-term binding 1; included by the coefficient
-/// kernel only.
+/// kernels only.
 pub const GREEN: (&str, &str) = (
     "shared/green.wgsl",
     include_str!("../../../shaders/shared/green.wgsl"),
@@ -36,7 +36,9 @@ pub const GREEN: (&str, &str) = (
 /// Helpers included by kernel `name` after [`SHARED`], in order.
 pub fn includes(name: &str) -> &'static [(&'static str, &'static str)] {
     match name {
-        "coefficients.wgsl" => std::slice::from_ref(&GREEN),
+        "coefficients.wgsl" | "adaptive_coefficients.wgsl" | "adaptive_matvec.wgsl" => {
+            std::slice::from_ref(&GREEN)
+        }
         _ => &[],
     }
 }
@@ -71,6 +73,8 @@ kernels!(
     "spectral_product_f16.wgsl",
     "fft_extract.wgsl",
     "coefficients.wgsl",
+    "adaptive_coefficients.wgsl",
+    "adaptive_matvec.wgsl",
 );
 
 /// The source of kernel file `name` (e.g. `axpy.wgsl`) with the shared
