@@ -114,28 +114,28 @@ fn love_gl4(x: f32, y: f32) -> f32 {
 fn love(x: f32, y: f32) -> f32 {
     let q = max(abs(vec2<f32>(x, y)) - vec2<f32>(0.5, 0.5), vec2<f32>(0.0, 0.0));
     let dist = length(q);
+    var v = 0.0;
     if (dist < 1.0) {
-        return love_near(x, y);
-    }
-    if (dist < 2.5) {
-        return love_gl8(x, y);
-    }
-    if (dist < 8.0) {
-        return love_gl6(x, y);
-    }
-    if (dist < 40.0) {
-        return love_gl4(x, y);
-    }
-    let dx = 0.2886751345948129;
-    var s = 0.0;
-    for (var i = 0u; i < 2u; i = i + 1u) {
-        for (var j = 0u; j < 2u; j = j + 1u) {
-            let px = x - select(-dx, dx, i == 1u);
-            let py = y - select(-dx, dx, j == 1u);
-            s = s + inverseSqrt(px * px + py * py);
+        v = love_near(x, y);
+    } else if (dist < 2.5) {
+        v = love_gl8(x, y);
+    } else if (dist < 8.0) {
+        v = love_gl6(x, y);
+    } else if (dist < 40.0) {
+        v = love_gl4(x, y);
+    } else {
+        let dx = 0.2886751345948129;
+        var s = 0.0;
+        for (var i = 0u; i < 2u; i = i + 1u) {
+            for (var j = 0u; j < 2u; j = j + 1u) {
+                let px = x - select(-dx, dx, i == 1u);
+                let py = y - select(-dx, dx, j == 1u);
+                s = s + inverseSqrt(px * px + py * py);
+            }
         }
+        v = 0.25 * s;
     }
-    return 0.25 * s;
+    return v;
 }
 
 // Inverse memory length (in source cells) of term k for a source `size`

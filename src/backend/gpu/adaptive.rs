@@ -20,12 +20,13 @@
 
 use super::coefficients::RELAXED_CELLS;
 use super::context::GpuError;
-use super::engine::{Buf, Engine, Kernel, Params};
+use super::engine::{groups_for, Buf, Engine, Kernel, Params, WORKGROUP};
 use crate::kernel::KernelParams;
 use crate::material::Material;
 
 /// Invocations per workgroup of the pair kernel (`PWG`).
 const PAIR_WORKGROUP: u64 = 64;
+
 /// Workgroups of one dispatch along x (the WebGPU minimum limit).
 const MAX_GROUPS_X: u64 = 65_535;
 
@@ -221,12 +222,16 @@ pub fn pair_coefficients(
 
 /// The matrix-free operator `y_T = sum_S K(x_T - x_S; s_S) x_S (a / s_S)^2`
 /// of a mesh of square cells (paper Eq. 7), every coefficient evaluated on
-/// the fly in f32 (one workgroup per target cell; sources with `x_S = 0` are
-/// skipped, so a matvec costs about targets x nonzero sources coefficients).
+/// the fly in f32: one workgroup per (target cell, chunk of [`WORKGROUP`]
+/// source cells), one coefficient per invocation, partial sums reduced in a
+/// second pass. Sources with `x_S = 0` are skipped, so a matvec costs about
+/// targets x nonzero sources coefficients.
 pub struct AdaptiveMatvec {
     terms: Buf,
     cells: Buf,
+    partials: Buf,
     n: usize,
+    chunks: usize,
     params: Params,
 }
 
@@ -242,6 +247,17 @@ impl AdaptiveMatvec {
         let n = cells.len();
         engine.check_binding("the mesh cells", 16 * n as u64)?;
         engine.check_binding(&format!("a vector of {n} cells"), 4 * n as u64)?;
+        let chunks = n.div_ceil(WORKGROUP as usize);
+        let partial_bytes = 4 * (n as u64) * (chunks as u64);
+        engine.check_binding(
+            &format!("the partial sums of {n} cells ({chunks} source chunks)"),
+            partial_bytes,
+        )?;
+        if (n as u64) * (chunks as u64) > (MAX_GROUPS_X * MAX_GROUPS_X) {
+            return Err(GpuError::Invalid(format!(
+                "{n} cells need more workgroups than one dispatch allows"
+            )));
+        }
         let a = cells.fine_side();
         let plan = plan(material, params, a)?;
         // Centres in fine sides from the lower-left centre: on a quadtree
@@ -261,12 +277,19 @@ impl AdaptiveMatvec {
         let terms =
             engine.storage_with("viscoslide creep terms", bytemuck::cast_slice(&plan.terms));
         let cells_buf = engine.storage_with("viscoslide mesh cells", bytemuck::cast_slice(&data));
+        let partials = engine.create_buffer(
+            "viscoslide adaptive partial sums",
+            partial_bytes,
+            wgpu::BufferUsages::STORAGE,
+        );
         Ok(Self {
             terms,
             cells: cells_buf,
+            partials,
             n,
+            chunks,
             params: Params {
-                i: [n as u32, plan.count, 0, 0],
+                i: [n as u32, plan.count, chunks as u32, 0],
                 j: [0; 4],
                 f: [plan.e[0], plan.e[1], plan.instantaneous, plan.scale as f32],
             },
@@ -286,9 +309,19 @@ impl AdaptiveMatvec {
     pub fn record_apply(&mut self, engine: &mut Engine, x: &Buf, y: &Buf) {
         engine.dispatch(
             Kernel::AdaptiveMatvec,
-            &[&self.terms, &self.cells, x, y],
+            &[&self.terms, &self.cells, x, &self.partials],
             self.params,
-            grid(self.n as u64),
+            grid(self.n as u64 * self.chunks as u64),
+        );
+        engine.dispatch(
+            Kernel::AdaptiveSum,
+            &[&self.partials, y],
+            Params {
+                i: [self.n as u32, self.chunks as u32, 0, 0],
+                j: [0; 4],
+                f: [0.0, 0.0, 0.0, self.params.f[3]],
+            },
+            groups_for(self.n as u64),
         );
     }
 }

@@ -61,6 +61,7 @@ pub enum Kernel {
     Coefficients,
     AdaptiveCoefficients,
     AdaptiveMatvec,
+    AdaptiveSum,
 }
 
 impl Kernel {
@@ -89,6 +90,7 @@ impl Kernel {
             Kernel::Coefficients => "coefficients.wgsl",
             Kernel::AdaptiveCoefficients => "adaptive_coefficients.wgsl",
             Kernel::AdaptiveMatvec => "adaptive_matvec.wgsl",
+            Kernel::AdaptiveSum => "adaptive_sum.wgsl",
         }
     }
 
@@ -116,6 +118,7 @@ impl Kernel {
             Kernel::Coefficients => &[R, W],
             Kernel::AdaptiveCoefficients => &[R, R, W],
             Kernel::AdaptiveMatvec => &[R, R, R, W],
+            Kernel::AdaptiveSum => &[R, W],
         }
     }
 }

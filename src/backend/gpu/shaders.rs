@@ -75,6 +75,7 @@ kernels!(
     "coefficients.wgsl",
     "adaptive_coefficients.wgsl",
     "adaptive_matvec.wgsl",
+    "adaptive_sum.wgsl",
 );
 
 /// The source of kernel file `name` (e.g. `axpy.wgsl`) with the shared
