@@ -8,8 +8,8 @@
 // K(d; s) = a c0 s T_s(d / s), T_s the unit-cell coefficient
 // (shared/green.wgsl) and x_S = p_S s_S^2 / a^2 (force in units of a fine
 // cell's area), sides in units of the fine side a. Sources with x_S = 0 (off
-// the contact set) are skipped. One coefficient per invocation keeps every
-// invocation's loop trip counts small (llvmpipe caps them).
+// the contact set) are skipped. One coefficient per invocation: on lavapipe,
+// invocations that loop over many sources stopped accumulating early.
 // adaptive_sum.wgsl adds the partials of each target and scales by c0.
 // cells[i] = (x_i / a, y_i / a, s_i / a, 0); P.i: (cells, terms, chunks, 0);
 // P.f: (e_x, e_y, g, 0) with g the glassy-plus-relaxed compliance fraction
