@@ -443,3 +443,73 @@ fn adaptive_solve_matches_dense_cpu() {
     }
     assert!(failures.is_empty(), "{failures:?}");
 }
+
+/// Finite layers, negative speeds, ragged or degenerate meshes and
+/// mismatched pair lists are refused with `GpuError::Invalid`.
+#[test]
+fn adaptive_refuses_invalid_input() {
+    use viscoslide::backend::gpu::{AdaptiveMatvec, GpuError};
+    use viscoslide::kernel::{Layer, LayerBase};
+    let Some(ctx) = gpu::context_for_tests() else {
+        return;
+    };
+    let mut engine = Engine::new(ctx);
+    let m = common::paper_material();
+    let cells = ring_mesh(2, 2);
+    let layer = KernelParams {
+        layer: Some(Layer {
+            thickness: 1e-3,
+            base: LayerBase::Bonded,
+        }),
+        ..params(0.1, 0.0)
+    };
+    let invalid = |r: Result<AdaptiveMatvec, GpuError>| matches!(r, Err(GpuError::Invalid(_)));
+    assert!(invalid(AdaptiveMatvec::new(
+        &mut engine,
+        &m,
+        &layer,
+        &cells
+    )));
+    assert!(invalid(AdaptiveMatvec::new(
+        &mut engine,
+        &m,
+        &params(-1.0, 0.0),
+        &cells
+    )));
+    let mut ragged = cells.clone();
+    ragged.y.pop();
+    assert!(invalid(AdaptiveMatvec::new(
+        &mut engine,
+        &m,
+        &params(0.1, 0.0),
+        &ragged
+    )));
+    let mut flat = cells.clone();
+    flat.side[3] = 0.0;
+    assert!(invalid(AdaptiveMatvec::new(
+        &mut engine,
+        &m,
+        &params(0.1, 0.0),
+        &flat
+    )));
+    assert!(invalid(AdaptiveMatvec::new(
+        &mut engine,
+        &m,
+        &params(0.1, 0.0),
+        &MeshCells::default()
+    )));
+    let p = params(0.1, 0.0);
+    assert!(matches!(
+        pair_coefficients(&mut engine, &m, &p, &[(0.0, 0.0)], &[]),
+        Err(GpuError::Invalid(_))
+    ));
+    assert!(matches!(
+        pair_coefficients(&mut engine, &m, &layer, &[(0.0, 0.0)], &[(0.0, 0.0, A)]),
+        Err(GpuError::Invalid(_))
+    ));
+    assert_eq!(
+        pair_coefficients(&mut engine, &m, &p, &[], &[]).unwrap(),
+        Vec::<f64>::new()
+    );
+    assert!(cells.fine_side() == A && MeshCells::default().fine_side().is_nan());
+}

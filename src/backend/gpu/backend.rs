@@ -5,6 +5,10 @@
 //! contact set is compacted on the device (`compact_*.wgsl`: block counts,
 //! a one-workgroup scan, an ordered write).
 //!
+//! The operator is the padded FFT convolution of a uniform grid
+//! ([`GpuBackend::new`]) or the matrix-free operator of a non-uniform mesh
+//! ([`GpuBackend::with_adaptive`]).
+//!
 //! Precision: vectors and the matvec are f32 (relative matvec error about
 //! 1e-6); [`Backend::epsilon`] reports `f32::EPSILON`, and the solver clamps
 //! its tolerances to it.
@@ -107,7 +111,8 @@ impl GpuBackend {
 
     /// The executor of a non-uniform mesh of square cells (`grid_len` = the
     /// number of cells, vectors in cell order) whose operator is
-    /// [`AdaptiveMatvec`]: unknowns are `x_S = p_S s_S^2 / a^2` (`a` the
+    /// [`AdaptiveMatvec`] (paper Eq. 7, coefficients of Eq. 4 and Eq. 6
+    /// evaluated on the device for every matvec): unknowns are `x_S = p_S s_S^2 / a^2` (`a` the
     /// finest side), so the solver's `cell_area` is `a^2` and its
     /// `self_coefficient` that of a fine cell. Half-spaces only.
     pub fn with_adaptive(
