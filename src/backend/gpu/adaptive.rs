@@ -222,13 +222,18 @@ pub fn pair_coefficients(
 
 /// The matrix-free operator `y_T = sum_S K(x_T - x_S; s_S) x_S (a / s_S)^2`
 /// of a mesh of square cells (paper Eq. 7), every coefficient evaluated on
-/// the fly in f32: one workgroup per (target cell, chunk of [`WORKGROUP`]
-/// source cells), one coefficient per invocation, partial sums reduced in a
-/// second pass. Sources with `x_S = 0` are skipped, so a matvec costs about
-/// targets x nonzero sources coefficients.
+/// the fly in f32: the sources with `x_S != 0` are compacted into a list
+/// (off the contact set `x_S = 0`), then one workgroup per (target cell,
+/// chunk of [`WORKGROUP`] listed sources) evaluates one coefficient per
+/// invocation and a second pass adds the chunk partials, so a matvec costs
+/// about targets x nonzero sources coefficients.
 pub struct AdaptiveMatvec {
     terms: Buf,
     cells: Buf,
+    /// Positions of the nonzero sources (u32), compacted per matvec.
+    index: Buf,
+    /// Block offsets of the compaction; `offsets[chunks]` is the count.
+    offsets: Buf,
     partials: Buf,
     n: usize,
     chunks: usize,
@@ -282,9 +287,21 @@ impl AdaptiveMatvec {
             partial_bytes,
             wgpu::BufferUsages::STORAGE,
         );
+        let index = engine.create_buffer(
+            "viscoslide adaptive source index",
+            4 * n as u64,
+            wgpu::BufferUsages::STORAGE,
+        );
+        let offsets = engine.create_buffer(
+            "viscoslide adaptive source offsets",
+            4 * (chunks as u64 + 1),
+            wgpu::BufferUsages::STORAGE,
+        );
         Ok(Self {
             terms,
             cells: cells_buf,
+            index,
+            offsets,
             partials,
             n,
             chunks,
@@ -307,15 +324,50 @@ impl AdaptiveMatvec {
 
     /// Record `y = L x` (f32 vectors of at least [`Self::len`] entries).
     pub fn record_apply(&mut self, engine: &mut Engine, x: &Buf, y: &Buf) {
+        // The nonzero sources, in order (compact_*.wgsl, nonzero mode).
+        let (n, blocks) = (self.n as u32, self.chunks as u32);
+        let select_nonzero = Params {
+            i: [n, blocks, 1, 0],
+            ..Default::default()
+        };
+        let block_groups = groups_for(self.chunks as u64 * WORKGROUP as u64);
+        engine.dispatch(
+            Kernel::CompactCount,
+            &[x, &self.offsets],
+            select_nonzero,
+            block_groups,
+        );
+        engine.dispatch(
+            Kernel::CompactScan,
+            &[&self.offsets],
+            Params {
+                i: [blocks, 0, 0, 0],
+                ..Default::default()
+            },
+            (1, 1),
+        );
+        engine.dispatch(
+            Kernel::CompactWrite,
+            &[x, &self.offsets, &self.index],
+            select_nonzero,
+            block_groups,
+        );
         engine.dispatch(
             Kernel::AdaptiveMatvec,
-            &[&self.terms, &self.cells, x, &self.partials],
+            &[
+                &self.terms,
+                &self.cells,
+                x,
+                &self.index,
+                &self.offsets,
+                &self.partials,
+            ],
             self.params,
             grid(self.n as u64 * self.chunks as u64),
         );
         engine.dispatch(
             Kernel::AdaptiveSum,
-            &[&self.partials, y],
+            &[&self.partials, &self.offsets, y],
             Params {
                 i: [self.n as u32, self.chunks as u32, 0, 0],
                 j: [0; 4],

@@ -117,8 +117,8 @@ impl Kernel {
             Kernel::FftExtract => &[R, W],
             Kernel::Coefficients => &[R, W],
             Kernel::AdaptiveCoefficients => &[R, R, W],
-            Kernel::AdaptiveMatvec => &[R, R, R, W],
-            Kernel::AdaptiveSum => &[R, W],
+            Kernel::AdaptiveMatvec => &[R, R, R, R, R, W],
+            Kernel::AdaptiveSum => &[R, R, W],
         }
     }
 }
