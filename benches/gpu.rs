@@ -3,6 +3,7 @@
 //! Eq. 7) and full contact solves at the friction peak (xi = 1.17e-2, paper
 //! material, 3 kPa on L = 0.01 m, rms slope 0.02). Timings include the
 //! device work (each measured call ends with a readback or a wait).
+//! The adaptive-mesh matvec (`adaptive_matvec`) runs on a 1024-cell mesh.
 //! With `CI` set the grids shrink to 64 x 64 so the bench only proves it
 //! runs; `VISCOSLIDE_GPU_BENCH_LARGE=1` adds the 512 x 512 full solve and
 //! the 1024 x 1024 matvec (minutes on a CPU-emulated adapter).
@@ -147,5 +148,76 @@ fn bench_solve(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_coefficients, bench_matvec, bench_solve);
+/// A quadtree-like mesh: a `2f x 2f` patch of fine cells (side `a`) centred
+/// at the origin, surrounded by `levels - 1` rings of 2a, 4a, ... cells, each
+/// ring doubling the half-width.
+fn ring_mesh(f: usize, levels: u32, a: f64) -> viscoslide::backend::gpu::MeshCells {
+    let mut cells = viscoslide::backend::gpu::MeshCells::default();
+    let (mut inner, mut outer) = (0i64, f as i64);
+    for level in 0..levels {
+        let side = 1i64 << level;
+        for i in (-outer..outer).step_by(side as usize) {
+            for j in (-outer..outer).step_by(side as usize) {
+                if !(i >= -inner && i < inner && j >= -inner && j < inner) {
+                    cells.x.push((i as f64 + 0.5 * side as f64) * a);
+                    cells.y.push((j as f64 + 0.5 * side as f64) * a);
+                    cells.side.push(side as f64 * a);
+                }
+            }
+        }
+        inner = outer;
+        outer *= 2;
+    }
+    cells
+}
+
+/// One matrix-free matvec of the adaptive-mesh operator (coefficients of
+/// paper Eq. 4/6 evaluated on the fly, paper Eq. 7) at the friction peak:
+/// 1024 cells (a 16 x 16 fine patch and rings of 2a ... 16a), the first 300
+/// of them (the fine patch and part of the 2a ring) carrying pressure.
+/// Under `CI`: 208 cells, 64 nonzero.
+fn bench_adaptive_matvec(c: &mut Criterion) {
+    let (f, levels, nonzero) = if ci() { (4, 4, 64) } else { (8, 5, 300) };
+    let mut group = c.benchmark_group("adaptive_matvec");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(10));
+    let Some(ctx) = open() else { return };
+    let a = 1e-4;
+    let cells = ring_mesh(f, levels, a);
+    let n = cells.len();
+    let params = KernelParams {
+        speed: 1.17e-2,
+        ..Default::default()
+    };
+    let engine = viscoslide::backend::gpu::engine::Engine::new(ctx);
+    let mut be = GpuBackend::with_adaptive(engine, &material(), &params, &cells).unwrap();
+    let host: Vec<f64> = (0..n)
+        .map(|i| {
+            if i < nonzero {
+                1e5 + (i % 7) as f64
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let mut x = be.zeros(n);
+    be.upload(&host, &mut x);
+    let mut y = be.zeros(n);
+    group.bench_function(format!("{n}_cells_{nonzero}_nonzero"), |b| {
+        b.iter(|| {
+            be.apply(black_box(&x), &mut y);
+            be.synchronize();
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    bench_coefficients,
+    bench_matvec,
+    bench_solve,
+    bench_adaptive_matvec
+);
 criterion_main!(benches);

@@ -1,6 +1,7 @@
 // Stream compaction, pass 3 of 3: each block writes the positions of its
 // cells with mask > 0.5, in increasing order, from its block offset on.
-// P.i.x: grid length; P.i.y: blocks.
+// P.i.x: grid length; P.i.y: blocks; P.i.z = 1: select the nonzero entries
+// instead (the sources of adaptive_matvec.wgsl).
 
 @group(0) @binding(1) var<storage, read> mask: array<f32>;
 @group(0) @binding(2) var<storage, read> offsets: array<u32>;
@@ -11,7 +12,7 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     let b = linear_group(wid, nwg);
     let i = b * WG + lid;
     var f = 0u;
-    if (i < P.i.x && mask[i] > 0.5) {
+    if (i < P.i.x && select(mask[i] > 0.5, mask[i] != 0.0, P.i.z == 1u)) {
         f = 1u;
     }
     let pos = workgroup_inclusive_scan(lid, f);

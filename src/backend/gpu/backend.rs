@@ -5,16 +5,23 @@
 //! contact set is compacted on the device (`compact_*.wgsl`: block counts,
 //! a one-workgroup scan, an ordered write).
 //!
+//! The operator is the padded FFT convolution of a uniform grid
+//! ([`GpuBackend::new`]) or the matrix-free operator of a non-uniform mesh
+//! ([`GpuBackend::with_adaptive`]).
+//!
 //! Precision: vectors and the matvec are f32 (relative matvec error about
 //! 1e-6); [`Backend::epsilon`] reports `f32::EPSILON`, and the solver clamps
 //! its tolerances to it.
 
+use super::adaptive::{AdaptiveMatvec, MeshCells};
 use super::context::{GpuContext, GpuError};
 use super::engine::{groups_for, Buf, Engine, Kernel, Params, WORKGROUP};
 use super::fft::FftMatvec;
 pub use super::fft::SpectrumPrecision;
 use super::pool::{Pool, Slot};
 use crate::backend::Backend;
+use crate::kernel::KernelParams;
+use crate::material::Material;
 
 /// Workgroups of a grid-stride reduction at most (partials per slot).
 const REDUCE_GROUPS: usize = 256;
@@ -54,11 +61,19 @@ pub struct GpuIndex {
     len: usize,
 }
 
+/// The influence operator of a [`GpuBackend`].
+enum Operator {
+    /// Uniform grid: the padded FFT convolution of an offset table.
+    Fft(FftMatvec),
+    /// Non-uniform mesh: coefficients evaluated on the fly.
+    Adaptive(AdaptiveMatvec),
+}
+
 /// The GPU executor of one grid and one influence operator.
 pub struct GpuBackend {
     engine: Engine,
     pool: Pool,
-    matvec: FftMatvec,
+    matvec: Operator,
     n: usize,
     partials: Buf,
     offsets: Buf,
@@ -91,6 +106,27 @@ impl GpuBackend {
         let n = nx * ny;
         engine.check_binding(&format!("a {nx} x {ny} grid vector"), 4 * n as u64)?;
         let matvec = FftMatvec::new(&mut engine, nx, ny, table, options.spectrum)?;
+        Ok(Self::assemble(engine, n, Operator::Fft(matvec)))
+    }
+
+    /// The executor of a non-uniform mesh of square cells (`grid_len` = the
+    /// number of cells, vectors in cell order) whose operator is
+    /// [`AdaptiveMatvec`] (paper Eq. 7, coefficients of Eq. 4 and Eq. 6
+    /// evaluated on the device for every matvec): unknowns are `x_S = p_S s_S^2 / a^2` (`a` the
+    /// finest side), so the solver's `cell_area` is `a^2` and its
+    /// `self_coefficient` that of a fine cell. Half-spaces only.
+    pub fn with_adaptive(
+        mut engine: Engine,
+        material: &Material,
+        params: &KernelParams,
+        cells: &MeshCells,
+    ) -> Result<Self, GpuError> {
+        let matvec = AdaptiveMatvec::new(&mut engine, material, params, cells)?;
+        let n = matvec.len();
+        Ok(Self::assemble(engine, n, Operator::Adaptive(matvec)))
+    }
+
+    fn assemble(mut engine: Engine, n: usize, matvec: Operator) -> Self {
         let usage = wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_SRC
             | wgpu::BufferUsages::COPY_DST;
@@ -105,7 +141,7 @@ impl GpuBackend {
             4 * (blocks as u64 + 1),
             usage,
         );
-        Ok(Self {
+        Self {
             engine,
             pool: Pool::new(4 * n as u64),
             matvec,
@@ -113,7 +149,7 @@ impl GpuBackend {
             partials,
             offsets,
             blocks,
-        })
+        }
     }
 
     /// Whether an `nx x ny` grid fits the device's storage-binding limit
@@ -138,9 +174,12 @@ impl GpuBackend {
         &self.engine.ctx.adapter
     }
 
-    /// Padded FFT shape `(mx, my)`.
+    /// Padded FFT shape `(mx, my)`; `(0, 0)` for the adaptive operator.
     pub fn padded_shape(&self) -> (usize, usize) {
-        (self.matvec.mx, self.matvec.my)
+        match &self.matvec {
+            Operator::Fft(m) => (m.mx, m.my),
+            Operator::Adaptive(_) => (0, 0),
+        }
     }
 
     /// Wait until the device has finished all submitted work.
@@ -241,7 +280,10 @@ impl Backend for GpuBackend {
     fn apply(&mut self, x: &GpuVector, y: &mut GpuVector) {
         assert_eq!(x.len, self.n);
         assert_eq!(y.len, self.n);
-        self.matvec.record_apply(&mut self.engine, x.buf(), y.buf());
+        match &mut self.matvec {
+            Operator::Fft(m) => m.record_apply(&mut self.engine, x.buf(), y.buf()),
+            Operator::Adaptive(m) => m.record_apply(&mut self.engine, x.buf(), y.buf()),
+        }
     }
 
     fn dot(&mut self, a: &GpuVector, b: &GpuVector) -> f64 {

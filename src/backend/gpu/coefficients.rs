@@ -13,7 +13,7 @@ use crate::material::Material;
 
 /// Memory lengths below this many cells act as relaxed compliance (the
 /// neglected part is about `l |grad L| / L`, below 1e-7).
-const RELAXED_CELLS: f64 = 1e-7;
+pub(super) const RELAXED_CELLS: f64 = 1e-7;
 /// Invocations per workgroup of the coefficient kernel (`CWG`).
 const COEFF_WORKGROUP: u64 = 64;
 

@@ -59,6 +59,9 @@ pub enum Kernel {
     SpectralProductF16,
     FftExtract,
     Coefficients,
+    AdaptiveCoefficients,
+    AdaptiveMatvec,
+    AdaptiveSum,
 }
 
 impl Kernel {
@@ -85,6 +88,9 @@ impl Kernel {
             Kernel::SpectralProductF16 => "spectral_product_f16.wgsl",
             Kernel::FftExtract => "fft_extract.wgsl",
             Kernel::Coefficients => "coefficients.wgsl",
+            Kernel::AdaptiveCoefficients => "adaptive_coefficients.wgsl",
+            Kernel::AdaptiveMatvec => "adaptive_matvec.wgsl",
+            Kernel::AdaptiveSum => "adaptive_sum.wgsl",
         }
     }
 
@@ -110,6 +116,9 @@ impl Kernel {
             Kernel::SpectralProduct | Kernel::SpectralProductF16 => &[W, R],
             Kernel::FftExtract => &[R, W],
             Kernel::Coefficients => &[R, W],
+            Kernel::AdaptiveCoefficients => &[R, R, W],
+            Kernel::AdaptiveMatvec => &[R, R, R, R, R, W],
+            Kernel::AdaptiveSum => &[R, R, W],
         }
     }
 }

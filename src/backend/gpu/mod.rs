@@ -9,8 +9,11 @@
 //! - [`pool`]: grid-sized storage buffers, recycled.
 //! - [`fft`]: the padded Stockham FFT and the Toeplitz matvec (paper Eq. 7).
 //! - [`coefficients`]: the influence-coefficient table computed on the device.
+//! - [`adaptive`]: coefficients between cells of different sizes and the
+//!   matrix-free operator of a non-uniform mesh.
 //! - [`backend`]: [`GpuBackend`], the [`crate::backend::Backend`] implementation.
 
+pub mod adaptive;
 pub mod backend;
 pub mod coefficients;
 pub mod context;
@@ -19,5 +22,6 @@ pub mod fft;
 pub mod pool;
 pub mod shaders;
 
+pub use adaptive::{AdaptiveMatvec, MeshCells};
 pub use backend::{GpuBackend, GpuIndex, GpuOptions, GpuVector, SpectrumPrecision};
 pub use context::{context_for_tests, list_adapters, AdapterSummary, GpuContext, GpuError};

@@ -1,6 +1,8 @@
 //! The WGSL sources of `shaders/`, embedded at compile time. WGSL has no
 //! include directive: every kernel is compiled with the shared helpers of
-//! `shaders/shared/` prepended. [`validate`] runs naga's front end and
+//! [`SHARED`] prepended, then the kernel's own [`includes`] (helpers only
+//! some kernels need, e.g. the Green's function of `shared/green.wgsl`), then
+//! the kernel. [`validate`] runs naga's front end and
 //! validator on a source, so a broken shader fails a test instead of a solve.
 
 /// Shared helpers, in the order they are prepended.
@@ -22,6 +24,24 @@ pub const SHARED: &[(&str, &str)] = &[
         include_str!("../../../shaders/shared/scan.wgsl"),
     ),
 ];
+
+/// The steady-sliding Green's function of a square source cell (paper Eq. 4
+/// and Eq. 6), with the creep-term binding 1; included by the coefficient
+/// kernels only.
+pub const GREEN: (&str, &str) = (
+    "shared/green.wgsl",
+    include_str!("../../../shaders/shared/green.wgsl"),
+);
+
+/// Helpers included by kernel `name` after [`SHARED`], in order.
+pub fn includes(name: &str) -> &'static [(&'static str, &'static str)] {
+    match name {
+        "coefficients.wgsl" | "adaptive_coefficients.wgsl" | "adaptive_matvec.wgsl" => {
+            std::slice::from_ref(&GREEN)
+        }
+        _ => &[],
+    }
+}
 
 macro_rules! kernels {
     ($($name:literal),* $(,)?) => {
@@ -53,14 +73,17 @@ kernels!(
     "spectral_product_f16.wgsl",
     "fft_extract.wgsl",
     "coefficients.wgsl",
+    "adaptive_coefficients.wgsl",
+    "adaptive_matvec.wgsl",
+    "adaptive_sum.wgsl",
 );
 
 /// The source of kernel file `name` (e.g. `axpy.wgsl`) with the shared
-/// prelude.
+/// prelude and its own includes.
 pub fn compose(name: &str) -> Option<String> {
     let body = KERNELS.iter().find(|(n, _)| *n == name)?.1;
     let mut s = String::new();
-    for (file, src) in SHARED {
+    for (file, src) in SHARED.iter().chain(includes(name)) {
         s.push_str("// ---- ");
         s.push_str(file);
         s.push('\n');

@@ -1,0 +1,379 @@
+//! Influence coefficients between square cells of different sizes, evaluated
+//! on the device in f32 (`shaders/adaptive_coefficients.wgsl`,
+//! `shaders/adaptive_matvec.wgsl`; paper Eq. 4 and Eq. 6, physics.md
+//! section 3), and the matrix-free operator of a non-uniform mesh (paper
+//! Eq. 7 with the coefficients computed on the fly).
+//!
+//! A source of side `s` under unit pressure displaces the point at offset `d`
+//! from its centre by `K(d; s) = s T_s(d / s)` times
+//! `(1 - nu^2)/pi * (total compliance)`, where `T_s` is the dimensionless
+//! unit-cell coefficient with memory lengths `l_k / s` (CPU twin:
+//! [`crate::kernel::SlidingKernel::coefficient`]). The creep terms are
+//! classified as in [`super::coefficients::coefficient_table`], per source
+//! size: memory lengths below `1e-7` source sides act as relaxed compliance,
+//! infinite ones (`v = inf`) as glassy. Half-spaces only.
+//!
+//! The unknown of cell `S` is `x_S = p_S s_S^2 / a^2` (its force in units of
+//! a fine cell's area, `a` the finest side), so the operator is
+//! `y_T = sum_S K(x_T - x_S; s_S) x_S (a / s_S)^2`, collocated at cell
+//! centres.
+
+use super::coefficients::RELAXED_CELLS;
+use super::context::GpuError;
+use super::engine::{groups_for, Buf, Engine, Kernel, Params, WORKGROUP};
+use crate::kernel::KernelParams;
+use crate::material::Material;
+
+/// Invocations per workgroup of the pair kernel (`PWG`).
+const PAIR_WORKGROUP: u64 = 64;
+
+/// Workgroups of one dispatch along x (the WebGPU minimum limit).
+const MAX_GROUPS_X: u64 = 65_535;
+
+/// Square cells of a non-uniform mesh: centres `(x, y)` and sides [m].
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MeshCells {
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+    pub side: Vec<f64>,
+}
+
+impl MeshCells {
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.side.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.side.is_empty()
+    }
+
+    /// The finest side `a` [m] (the smallest; NaN for an empty mesh).
+    pub fn fine_side(&self) -> f64 {
+        if self.side.is_empty() {
+            return f64::NAN;
+        }
+        self.side.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+
+    fn check(&self) -> Result<(), GpuError> {
+        let n = self.side.len();
+        if n == 0 || self.x.len() != n || self.y.len() != n {
+            return Err(GpuError::Invalid(format!(
+                "mesh with {} x, {} y and {} sides (need the same positive count)",
+                self.x.len(),
+                self.y.len(),
+                n
+            )));
+        }
+        if n > u32::MAX as usize {
+            return Err(GpuError::Invalid(format!("{n} cells exceed u32 indices")));
+        }
+        for k in 0..n {
+            let s = self.side[k];
+            if !(s.is_finite() && s > 0.0 && self.x[k].is_finite() && self.y[k].is_finite()) {
+                return Err(GpuError::Invalid(format!(
+                    "cell {k}: centre ({}, {}) m, side {s} m",
+                    self.x[k], self.y[k]
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The creep terms and scales of one (material, speed, direction) at the
+/// length unit `unit` [m].
+struct Plan {
+    /// `(w_k, 1 / l_k)` of the active terms, `l_k` in units of `unit`.
+    terms: Vec<f32>,
+    count: u32,
+    /// Glassy-plus-relaxed compliance fraction at `unit`.
+    instantaneous: f32,
+    /// `(1 - nu^2)/pi * unit * (total compliance)` [m/Pa].
+    scale: f64,
+    e: [f32; 2],
+}
+
+fn plan(material: &Material, params: &KernelParams, unit: f64) -> Result<Plan, GpuError> {
+    if params.layer.is_some() {
+        return Err(GpuError::Invalid(
+            "the GPU coefficient kernels cover half-spaces only; finite-thickness coefficients are computed on the host".into(),
+        ));
+    }
+    if params.speed.is_nan() || params.speed < 0.0 || !params.direction_rad.is_finite() {
+        return Err(GpuError::Invalid(format!(
+            "speed {} m/s and direction {} rad",
+            params.speed, params.direction_rad
+        )));
+    }
+    let spectrum = &material.spectrum;
+    let total =
+        spectrum.glassy_compliance() + spectrum.terms.iter().map(|t| t.compliance).sum::<f64>();
+    let mut instantaneous = spectrum.glassy_compliance();
+    let mut terms: Vec<f32> = Vec::new();
+    for t in &spectrum.terms {
+        // Relaxed at the unit (the finest side) means relaxed at every
+        // larger source; the kernel classifies the rest per source size.
+        let l = params.speed * t.time / unit;
+        if l.is_nan() || l < RELAXED_CELLS {
+            instantaneous += t.compliance;
+        } else if l.is_finite() {
+            terms.extend([(t.compliance / total) as f32, (1.0 / l) as f32]);
+        }
+    }
+    let count = (terms.len() / 2) as u32;
+    if terms.is_empty() {
+        terms = vec![0.0, 1.0];
+    }
+    let (s, c) = params.direction_rad.sin_cos();
+    let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
+    Ok(Plan {
+        terms,
+        count,
+        instantaneous: (instantaneous / total) as f32,
+        scale: material.composite_factor() / std::f64::consts::PI * unit * total,
+        e: [snap(c) as f32, snap(s) as f32],
+    })
+}
+
+/// Workgroup grid `(x, y)` of `groups` workgroups.
+fn grid(groups: u64) -> (u32, u32) {
+    let groups = groups.max(1);
+    let gx = groups.min(MAX_GROUPS_X);
+    (gx as u32, groups.div_ceil(gx) as u32)
+}
+
+/// `K(t_i - (x_i, y_i); s_i)` [m/Pa] for each pair of a target point
+/// `targets[i]` [m] and a source cell `sources[i] = (x, y, side)` [m] under
+/// unit pressure (paper Eq. 4 and Eq. 6), computed on the device in f32.
+/// CPU twin: `SlidingKernel::coefficient(dx, dy, side, side).total()`.
+pub fn pair_coefficients(
+    engine: &mut Engine,
+    material: &Material,
+    params: &KernelParams,
+    targets: &[(f64, f64)],
+    sources: &[(f64, f64, f64)],
+) -> Result<Vec<f64>, GpuError> {
+    if targets.len() != sources.len() {
+        return Err(GpuError::Invalid(format!(
+            "{} targets and {} sources (one source per target)",
+            targets.len(),
+            sources.len()
+        )));
+    }
+    if sources.is_empty() {
+        return Ok(Vec::new());
+    }
+    let cells = MeshCells {
+        x: sources.iter().map(|s| s.0).collect(),
+        y: sources.iter().map(|s| s.1).collect(),
+        side: sources.iter().map(|s| s.2).collect(),
+    };
+    cells.check()?;
+    if let Some(k) = targets
+        .iter()
+        .position(|t| !(t.0.is_finite() && t.1.is_finite()))
+    {
+        return Err(GpuError::Invalid(format!(
+            "target {k}: ({}, {}) m",
+            targets[k].0, targets[k].1
+        )));
+    }
+    let unit = cells.fine_side();
+    let plan = plan(material, params, unit)?;
+    let count = sources.len();
+    engine.check_binding("the source-target pairs", 16 * count as u64)?;
+    let pairs: Vec<f32> = targets
+        .iter()
+        .zip(sources)
+        .flat_map(|(t, s)| {
+            [
+                ((t.0 - s.0) / s.2) as f32,
+                ((t.1 - s.1) / s.2) as f32,
+                (s.2 / unit) as f32,
+                0.0,
+            ]
+        })
+        .collect();
+    let terms = engine.storage_with("viscoslide creep terms", bytemuck::cast_slice(&plan.terms));
+    let pairs = engine.storage_with("viscoslide coefficient pairs", bytemuck::cast_slice(&pairs));
+    let out = engine.create_buffer(
+        "viscoslide pair coefficients",
+        4 * count as u64,
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+    );
+    engine.dispatch(
+        Kernel::AdaptiveCoefficients,
+        &[&terms, &pairs, &out],
+        Params {
+            i: [count as u32, plan.count, 0, 0],
+            j: [0; 4],
+            f: [plan.e[0], plan.e[1], plan.instantaneous, 0.0],
+        },
+        grid((count as u64).div_ceil(PAIR_WORKGROUP)),
+    );
+    let dimensionless = engine.read_f32(&out, 0, count);
+    Ok(dimensionless
+        .iter()
+        .map(|&v| plan.scale * v as f64)
+        .collect())
+}
+
+/// The matrix-free operator `y_T = sum_S K(x_T - x_S; s_S) x_S (a / s_S)^2`
+/// of a mesh of square cells (paper Eq. 7), every coefficient evaluated on
+/// the fly in f32: the sources with `x_S != 0` are compacted into a list
+/// (off the contact set `x_S = 0`), then one workgroup per (target cell,
+/// chunk of [`WORKGROUP`] listed sources) evaluates one coefficient per
+/// invocation and a second pass adds the chunk partials, so a matvec costs
+/// about targets x nonzero sources coefficients.
+pub struct AdaptiveMatvec {
+    terms: Buf,
+    cells: Buf,
+    /// Positions of the nonzero sources (u32), compacted per matvec.
+    index: Buf,
+    /// Block offsets of the compaction; `offsets[chunks]` is the count.
+    offsets: Buf,
+    partials: Buf,
+    n: usize,
+    chunks: usize,
+    params: Params,
+}
+
+impl AdaptiveMatvec {
+    /// Plan the operator of `cells` for one material and sliding state.
+    pub fn new(
+        engine: &mut Engine,
+        material: &Material,
+        params: &KernelParams,
+        cells: &MeshCells,
+    ) -> Result<Self, GpuError> {
+        cells.check()?;
+        let n = cells.len();
+        engine.check_binding("the mesh cells", 16 * n as u64)?;
+        engine.check_binding(&format!("a vector of {n} cells"), 4 * n as u64)?;
+        let chunks = n.div_ceil(WORKGROUP as usize);
+        let partial_bytes = 4 * (n as u64) * (chunks as u64);
+        engine.check_binding(
+            &format!("the partial sums of {n} cells ({chunks} source chunks)"),
+            partial_bytes,
+        )?;
+        if (n as u64) * (chunks as u64) > (MAX_GROUPS_X * MAX_GROUPS_X) {
+            return Err(GpuError::Invalid(format!(
+                "{n} cells need more workgroups than one dispatch allows"
+            )));
+        }
+        let a = cells.fine_side();
+        let plan = plan(material, params, a)?;
+        // Centres in fine sides from the lower-left centre: on a quadtree
+        // they are multiples of a / 2, exact in f32.
+        let x0 = cells.x.iter().copied().fold(f64::INFINITY, f64::min);
+        let y0 = cells.y.iter().copied().fold(f64::INFINITY, f64::min);
+        let data: Vec<f32> = (0..n)
+            .flat_map(|k| {
+                [
+                    ((cells.x[k] - x0) / a) as f32,
+                    ((cells.y[k] - y0) / a) as f32,
+                    (cells.side[k] / a) as f32,
+                    0.0,
+                ]
+            })
+            .collect();
+        let terms =
+            engine.storage_with("viscoslide creep terms", bytemuck::cast_slice(&plan.terms));
+        let cells_buf = engine.storage_with("viscoslide mesh cells", bytemuck::cast_slice(&data));
+        let partials = engine.create_buffer(
+            "viscoslide adaptive partial sums",
+            partial_bytes,
+            wgpu::BufferUsages::STORAGE,
+        );
+        let index = engine.create_buffer(
+            "viscoslide adaptive source index",
+            4 * n as u64,
+            wgpu::BufferUsages::STORAGE,
+        );
+        let offsets = engine.create_buffer(
+            "viscoslide adaptive source offsets",
+            4 * (chunks as u64 + 1),
+            wgpu::BufferUsages::STORAGE,
+        );
+        Ok(Self {
+            terms,
+            cells: cells_buf,
+            index,
+            offsets,
+            partials,
+            n,
+            chunks,
+            params: Params {
+                i: [n as u32, plan.count, chunks as u32, 0],
+                j: [0; 4],
+                f: [plan.e[0], plan.e[1], plan.instantaneous, plan.scale as f32],
+            },
+        })
+    }
+
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.n
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// Record `y = L x` (f32 vectors of at least [`Self::len`] entries).
+    pub fn record_apply(&mut self, engine: &mut Engine, x: &Buf, y: &Buf) {
+        // The nonzero sources, in order (compact_*.wgsl, nonzero mode).
+        let (n, blocks) = (self.n as u32, self.chunks as u32);
+        let select_nonzero = Params {
+            i: [n, blocks, 1, 0],
+            ..Default::default()
+        };
+        let block_groups = groups_for(self.chunks as u64 * WORKGROUP as u64);
+        engine.dispatch(
+            Kernel::CompactCount,
+            &[x, &self.offsets],
+            select_nonzero,
+            block_groups,
+        );
+        engine.dispatch(
+            Kernel::CompactScan,
+            &[&self.offsets],
+            Params {
+                i: [blocks, 0, 0, 0],
+                ..Default::default()
+            },
+            (1, 1),
+        );
+        engine.dispatch(
+            Kernel::CompactWrite,
+            &[x, &self.offsets, &self.index],
+            select_nonzero,
+            block_groups,
+        );
+        engine.dispatch(
+            Kernel::AdaptiveMatvec,
+            &[
+                &self.terms,
+                &self.cells,
+                x,
+                &self.index,
+                &self.offsets,
+                &self.partials,
+            ],
+            self.params,
+            grid(self.n as u64 * self.chunks as u64),
+        );
+        engine.dispatch(
+            Kernel::AdaptiveSum,
+            &[&self.partials, &self.offsets, y],
+            Params {
+                i: [self.n as u32, self.chunks as u32, 0, 0],
+                j: [0; 4],
+                f: [0.0, 0.0, 0.0, self.params.f[3]],
+            },
+            groups_for(self.n as u64),
+        );
+    }
+}
