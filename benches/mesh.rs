@@ -44,19 +44,25 @@ fn kernel() -> SlidingKernel {
 fn adaptive_solve(tables: &Arc<LevelTables>, g: &[f64]) -> mesh::AdaptiveSolution {
     let a = tables.cell_size();
     let l00 = tables.coefficient(0, 0, 0);
-    mesh::solve_adaptive(g, tables.clone(), &AdaptiveParams::default(), 1e-8, |m, gm, start| {
-        let mut be = CpuBackend::new(AdaptiveOperator::new(tables.clone(), m));
-        solver::solve_from(
-            &mut be,
-            gm,
-            a * a,
-            l00,
-            Control::Load(LOAD),
-            &SolverParams::default(),
-            start,
-            &mut solver::Silent,
-        )
-    })
+    mesh::solve_adaptive(
+        g,
+        tables.clone(),
+        &AdaptiveParams::default(),
+        1e-8,
+        |m, gm, start| {
+            let mut be = CpuBackend::new(AdaptiveOperator::new(tables.clone(), m));
+            solver::solve_from(
+                &mut be,
+                gm,
+                a * a,
+                l00,
+                Control::Load(LOAD),
+                &SolverParams::default(),
+                start,
+                &mut solver::Silent,
+            )
+        },
+    )
     .unwrap()
 }
 
@@ -108,9 +114,10 @@ fn bench_solves(c: &mut Criterion) {
         }
         let mut scratch = vec![0.0; m.len()];
         let mut out = vec![0.0; rows.len()];
-        group.bench_function(format!("{n}x{n}_rows_product_{}_contact_cells", rows.len()), |b| {
-            b.iter(|| op.apply_rows(black_box(&x), &rows, &mut scratch, &mut out))
-        });
+        group.bench_function(
+            format!("{n}x{n}_rows_product_{}_contact_cells", rows.len()),
+            |b| b.iter(|| op.apply_rows(black_box(&x), &rows, &mut scratch, &mut out)),
+        );
         group.bench_function(format!("{n}x{n}_adaptive"), |b| {
             b.iter(|| black_box(adaptive_solve(&tables, &g)))
         });

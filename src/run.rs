@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use crate::analysis::{self, ContactStatistics};
 use crate::backend::gpu::engine::Engine;
-use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuOptions};
+use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuOptions, MeshCells};
 use crate::backend::{Backend, CpuBackend};
 use crate::config::{Formulation, LoadedConfig, MeshKind};
 use crate::error::{Error, Result};
@@ -464,6 +464,9 @@ pub fn solve_gpu(
             "the GPU path solves the non-periodic formulation; use --backend cpu for formulation = \"periodic\"",
         ));
     }
+    if setup.mesh == MeshKind::Adaptive {
+        return solve_gpu_adaptive(setup, ctx, observer);
+    }
     let t0 = Instant::now();
     let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
     let kernel = SlidingKernel::new(
@@ -518,6 +521,104 @@ pub fn solve_gpu(
             iteration_s: t_iter,
             analysis_s: t_an,
             total_s: t0.elapsed().as_secs_f64(),
+        },
+    })
+}
+
+/// The adaptive mesh on the GPU: each round's contact iteration runs on the
+/// device with the on-the-fly pairwise operator
+/// (`shaders/adaptive_matvec.wgsl`, f32); the certificate of each round and
+/// the friction analysis use the host's f64 level tables, as in
+/// [`solve_cpu`]. Half-spaces only.
+fn solve_gpu_adaptive(
+    setup: &SolveSetup,
+    ctx: GpuContext,
+    observer: &mut dyn Observer,
+) -> Result<SolveOutcome> {
+    if setup.layer.is_some() {
+        return Err(invalid(
+            "the GPU adaptive operator covers half-spaces only; use --backend cpu with [layer]",
+        ));
+    }
+    let t0 = Instant::now();
+    let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
+    let kernel = SlidingKernel::new(
+        &setup.material,
+        KernelParams {
+            speed: setup.speed,
+            direction_rad: setup.direction_rad,
+            layer: None,
+        },
+    )?;
+    let max_level = setup.adaptive.max_level.min(max_level_for(nx, ny));
+    let tables = std::sync::Arc::new(LevelTables::new(&kernel, nx, ny, a, max_level)?);
+    let t_coeff = t0.elapsed().as_secs_f64();
+    let l00 = tables.coefficient(0, 0, 0);
+    let params = AdaptiveParams {
+        max_level,
+        ..setup.adaptive
+    };
+    let mut engine = Some(Engine::new(ctx));
+    let mut name = String::new();
+    let mut t_iter = 0.0;
+    let mut gpu_error: Option<String> = None;
+    let result = crate::mesh::solve_adaptive(
+        &setup.gap_profile(),
+        tables.clone(),
+        &params,
+        setup.params.tolerance,
+        |mesh, g_mesh, start| {
+            let t = Instant::now();
+            let cells = MeshCells {
+                x: (0..mesh.len()).map(|k| mesh.centre(k).0).collect(),
+                y: (0..mesh.len()).map(|k| mesh.centre(k).1).collect(),
+                side: (0..mesh.len()).map(|k| mesh.side(k)).collect(),
+            };
+            let eng = engine.take().expect("engine returned after each round");
+            let mut backend =
+                match GpuBackend::with_adaptive(eng, &setup.material, kernel.params(), &cells) {
+                    Ok(b) => b,
+                    Err(e) => {
+                        gpu_error = Some(e.to_string());
+                        return Err(solver::SolverError::Invalid(e.to_string()));
+                    }
+                };
+            name = backend.name();
+            let r = solver::solve_from(
+                &mut backend,
+                g_mesh,
+                a * a,
+                l00,
+                setup.control,
+                &setup.params,
+                start,
+                observer,
+            );
+            engine = Some(backend.into_engine());
+            t_iter += t.elapsed().as_secs_f64();
+            r
+        },
+    )
+    .map_err(|e| invalid(gpu_error.clone().unwrap_or_else(|| e.to_string())))?;
+    let t2 = Instant::now();
+    let (mu, mu_d, stats) = friction_and_stats(setup, &kernel, &result.solution)?;
+    let t_an = t2.elapsed().as_secs_f64();
+    let total = t0.elapsed().as_secs_f64();
+    Ok(SolveOutcome {
+        solution: result.solution,
+        info: result.info,
+        stats,
+        friction_coefficient: mu,
+        friction_coefficient_dissipation: mu_d,
+        backend: format!("{name} (adaptive mesh)"),
+        unknowns: result.report.unknowns,
+        mesh: Some(result.report),
+        timings: Timings {
+            coefficients_s: t_coeff,
+            operator_setup_s: total - t_coeff - t_iter - t_an,
+            iteration_s: t_iter,
+            analysis_s: t_an,
+            total_s: total,
         },
     })
 }

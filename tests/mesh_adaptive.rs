@@ -74,7 +74,11 @@ fn unequal_cell_coefficients_match_the_direct_rectangle_integral() {
                 (33, 27),
             ] {
                 // Offsets in half-cell units must share parity.
-                let (dx, dy) = if (dx - dy) % 2 != 0 { (dx + 1, dy) } else { (dx, dy) };
+                let (dx, dy) = if (dx - dy) % 2 != 0 {
+                    (dx + 1, dy)
+                } else {
+                    (dx, dy)
+                };
                 let got = tables.coefficient(level, dx, dy);
                 let want = k
                     .coefficient(0.5 * dx as f64 * a, 0.5 * dy as f64 * a, side, side)
@@ -132,7 +136,13 @@ fn all_fine_mesh_equals_the_uniform_operator() {
     });
     // Mesh cells are in raster order (ix, iy): the grid's C order.
     let x: Vec<f64> = (0..nx * ny)
-        .map(|i| if i % 3 == 0 { 0.0 } else { ((i * 37) % 101) as f64 })
+        .map(|i| {
+            if i % 3 == 0 {
+                0.0
+            } else {
+                ((i * 37) % 101) as f64
+            }
+        })
         .collect();
     let (mut y1, mut y2) = (vec![0.0; nx * ny], vec![0.0; nx * ny]);
     op.apply(&x, &mut y1);
@@ -212,7 +222,11 @@ fn adaptive_solve_reproduces_the_uniform_grid() {
         .sum();
     let den: f64 = uniform.solution.pressure.iter().map(|p| p * p).sum();
     // Both solves stop at a complementarity residual of 1e-8.
-    assert!((num / den).sqrt() < 1e-6, "pressure {:.2e}", (num / den).sqrt());
+    assert!(
+        (num / den).sqrt() < 1e-6,
+        "pressure {:.2e}",
+        (num / den).sqrt()
+    );
     assert!(rel(adaptive.friction_coefficient, uniform.friction_coefficient) < 1e-6);
     // The full-resolution gap is open wherever there is no contact.
     for (g, c) in adaptive.solution.gap.iter().zip(&adaptive.solution.contact) {
@@ -238,19 +252,25 @@ fn an_unsettled_mesh_is_refused() {
         margin: 0,
         max_rounds: 1,
     };
-    let err = mesh::solve_adaptive(&s.gap_profile(), tables.clone(), &params, 1e-8, |m, g, start| {
-        let mut be = CpuBackend::new(AdaptiveOperator::new(tables.clone(), m));
-        solver::solve_from(
-            &mut be,
-            g,
-            a * a,
-            l00,
-            Control::Load(0.30),
-            &SolverParams::default(),
-            start,
-            &mut solver::Silent,
-        )
-    })
+    let err = mesh::solve_adaptive(
+        &s.gap_profile(),
+        tables.clone(),
+        &params,
+        1e-8,
+        |m, g, start| {
+            let mut be = CpuBackend::new(AdaptiveOperator::new(tables.clone(), m));
+            solver::solve_from(
+                &mut be,
+                g,
+                a * a,
+                l00,
+                Control::Load(0.30),
+                &SolverParams::default(),
+                start,
+                &mut solver::Silent,
+            )
+        },
+    )
     .unwrap_err();
     assert!(err.to_string().contains("did not settle"), "{err}");
 }
@@ -262,15 +282,24 @@ fn config_errors_name_the_problem() {
     std::fs::write(&path, ROUGH).unwrap();
     let cases: [(&[&str], &str); 4] = [
         (
-            &["solver.mesh=\"adaptive\"", "solver.formulation=\"periodic\""],
+            &[
+                "solver.mesh=\"adaptive\"",
+                "solver.formulation=\"periodic\"",
+            ],
             "needs formulation",
         ),
         (&["solver.adaptive.margin=1"], "is not \"adaptive\""),
         (
-            &["solver.mesh=\"adaptive\"", "solver.adaptive.initial_fraction=0.0"],
+            &[
+                "solver.mesh=\"adaptive\"",
+                "solver.adaptive.initial_fraction=0.0",
+            ],
             "initial_fraction",
         ),
-        (&["solver.mesh=\"adaptive\"", "solver.adaptive.coarsest=3"], "coarsest"),
+        (
+            &["solver.mesh=\"adaptive\"", "solver.adaptive.coarsest=3"],
+            "coarsest",
+        ),
     ];
     for (over, want) in cases {
         let overrides: Vec<String> = over.iter().map(|s| s.to_string()).collect();
@@ -280,4 +309,45 @@ fn config_errors_name_the_problem() {
         };
         assert!(msg.contains(want), "{over:?}: {msg}");
     }
+}
+
+/// The adaptive mesh on the GPU backend (on-the-fly f32 coefficients in
+/// `shaders/adaptive_matvec.wgsl`) gives the CPU's answer: the same contact
+/// cells and mesh, friction within 1e-4 relative (f32 coefficients carry
+/// ~4e-7, the f32 solve stops at a residual near 1e-5). Small grid: every
+/// coefficient is a full line integral, slow on a CPU-emulated adapter.
+#[test]
+fn adaptive_mesh_on_the_gpu_matches_the_cpu() {
+    let Some(ctx) = viscoslide::backend::gpu::context_for_tests() else {
+        return;
+    };
+    let tiny = ROUGH
+        .replace("n = 96", "n = 24")
+        .replace("scales = 12", "scales = 3")
+        .replace("rolloff_q0 = 2513.2741228718346\n", "")
+        .replace("normal_load = 0.30", "normal_load = 0.05");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("tiny.toml");
+    std::fs::write(&path, tiny).unwrap();
+    let cfg = config::load(
+        &path,
+        &[
+            "solver.mesh=\"adaptive\"".to_string(),
+            "solver.tolerance=1e-5".to_string(),
+        ],
+    )
+    .unwrap();
+    let s = SolveSetup::from_config(&cfg).unwrap();
+    let cpu = run::solve_cpu(&s, &mut solver::Silent).unwrap();
+    let gpu = run::solve_gpu(&s, ctx, &mut solver::Silent).unwrap();
+    assert!(gpu.backend.contains("adaptive mesh"), "{}", gpu.backend);
+    assert_eq!(cpu.unknowns, gpu.unknowns);
+    assert!(cpu.unknowns < 24 * 24);
+    assert_eq!(cpu.solution.contact, gpu.solution.contact);
+    let e = rel(gpu.friction_coefficient, cpu.friction_coefficient);
+    println!(
+        "adaptive {} unknowns: mu cpu {:.7e} gpu {:.7e} ({e:.1e})",
+        cpu.unknowns, cpu.friction_coefficient, gpu.friction_coefficient
+    );
+    assert!(e < 1e-4, "{e:.2e}");
 }

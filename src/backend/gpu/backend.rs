@@ -109,6 +109,12 @@ impl GpuBackend {
         Ok(Self::assemble(engine, n, Operator::Fft(matvec)))
     }
 
+    /// The engine back (its pipelines and device stay usable), e.g. to build
+    /// the operator of a refined mesh.
+    pub fn into_engine(self) -> Engine {
+        self.engine
+    }
+
     /// The executor of a non-uniform mesh of square cells (`grid_len` = the
     /// number of cells, vectors in cell order) whose operator is
     /// [`AdaptiveMatvec`] (paper Eq. 7, coefficients of Eq. 4 and Eq. 6
