@@ -49,7 +49,7 @@ fn adaptive_solve(tables: &Arc<LevelTables>, g: &[f64]) -> mesh::AdaptiveSolutio
         tables.clone(),
         &AdaptiveParams::default(),
         1e-8,
-        |m, gm, start| {
+        |m, gm, start, tol| {
             let mut be = CpuBackend::new(AdaptiveOperator::new(tables.clone(), m));
             solver::solve_from(
                 &mut be,
@@ -57,7 +57,10 @@ fn adaptive_solve(tables: &Arc<LevelTables>, g: &[f64]) -> mesh::AdaptiveSolutio
                 a * a,
                 l00,
                 Control::Load(LOAD),
-                &SolverParams::default(),
+                &SolverParams {
+                    tolerance: tol,
+                    ..Default::default()
+                },
                 start,
                 &mut solver::Silent,
             )

@@ -339,7 +339,7 @@ fn solve_cpu_adaptive(setup: &SolveSetup, observer: &mut dyn Observer) -> Result
         tables.clone(),
         &params,
         setup.params.tolerance,
-        |mesh, g_mesh, start| {
+        |mesh, g_mesh, start, tol| {
             let t = Instant::now();
             let mut backend = CpuBackend::new(AdaptiveOperator::new(tables.clone(), mesh));
             let r = solver::solve_from(
@@ -348,7 +348,10 @@ fn solve_cpu_adaptive(setup: &SolveSetup, observer: &mut dyn Observer) -> Result
                 a * a,
                 l00,
                 setup.control,
-                &setup.params,
+                &SolverParams {
+                    tolerance: tol,
+                    ..setup.params.clone()
+                },
                 start,
                 observer,
             );
@@ -567,7 +570,7 @@ fn solve_gpu_adaptive(
         tables.clone(),
         &params,
         setup.params.tolerance,
-        |mesh, g_mesh, start| {
+        |mesh, g_mesh, start, tol| {
             let t = Instant::now();
             let cells = MeshCells {
                 x: (0..mesh.len()).map(|k| mesh.centre(k).0).collect(),
@@ -590,7 +593,10 @@ fn solve_gpu_adaptive(
                 a * a,
                 l00,
                 setup.control,
-                &setup.params,
+                &SolverParams {
+                    tolerance: tol,
+                    ..setup.params.clone()
+                },
                 start,
                 observer,
             );

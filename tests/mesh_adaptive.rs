@@ -257,7 +257,7 @@ fn an_unsettled_mesh_is_refused() {
         tables.clone(),
         &params,
         1e-8,
-        |m, g, start| {
+        |m, g, start, tol| {
             let mut be = CpuBackend::new(AdaptiveOperator::new(tables.clone(), m));
             solver::solve_from(
                 &mut be,
@@ -265,7 +265,10 @@ fn an_unsettled_mesh_is_refused() {
                 a * a,
                 l00,
                 Control::Load(0.30),
-                &SolverParams::default(),
+                &SolverParams {
+                    tolerance: tol,
+                    ..Default::default()
+                },
                 start,
                 &mut solver::Silent,
             )

@@ -172,6 +172,21 @@ impl LevelTables {
         self.tables[level as usize][p as usize].get(dx.div_euclid(2), dy.div_euclid(2))
     }
 
+    /// The level-0 table over the `(2nx-1) x (2ny-1)` integer offsets of the
+    /// fine grid, in the layout of [`super::OffsetTable`]: the uniform
+    /// grid's Toeplitz operator.
+    pub fn uniform_table(&self) -> Vec<f64> {
+        let (nx, ny) = (self.nx as i64, self.ny as i64);
+        let t = &self.tables[0][0];
+        let mut out = Vec::with_capacity(((2 * nx - 1) * (2 * ny - 1)) as usize);
+        for di in 1 - nx..nx {
+            for dj in 1 - ny..ny {
+                out.push(t.get(di, dj));
+            }
+        }
+        out
+    }
+
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         self.tables
@@ -297,7 +312,12 @@ impl AdaptiveOperator {
             let vals = &tab.values;
             let mut acc = 0.0;
             for (f, w) in g.flat[q].iter().zip(&g.weight) {
-                acc += vals[(base - f) as usize] * w;
+                let i = (base - f) as usize;
+                debug_assert!(i < vals.len());
+                // SAFETY: every centre-to-centre offset of the grid lies in
+                // the table's range (checked in `LevelTables::new`), so the
+                // flat index is in bounds.
+                acc += unsafe { *vals.get_unchecked(i) } * w;
             }
             sum += acc;
         }
