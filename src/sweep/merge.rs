@@ -205,19 +205,28 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
     let mut loads: Vec<String> = rows.iter().map(label).collect();
     loads.dedup();
     type Pick = fn(&MergedRow) -> Option<(f64, f64)>;
+    // Paper Fig. 1 and 7 are against xi; Fig. 6 is against the speed.
+    let (friction_title, area_title) = if use_xi {
+        (
+            "Viscoelastic friction (paper Fig. 1)",
+            "Contact area A / A(xi = 0) (paper Fig. 7)",
+        )
+    } else {
+        (
+            "Viscoelastic friction against sliding speed (paper Fig. 6)",
+            "Contact area A / A(v = 0)",
+        )
+    };
     let charts: [(&str, &str, &str, Pick); 4] = [
         (
             "friction_vs_xi.png",
-            "Viscoelastic friction (paper Fig. 1)",
+            friction_title,
             "friction coefficient",
             |r| Some(r.friction),
         ),
-        (
-            "area_ratio_vs_xi.png",
-            "Contact area A / A(xi = 0) (paper Fig. 7)",
-            "A / A(0)",
-            |r| r.area_ratio,
-        ),
+        ("area_ratio_vs_xi.png", area_title, "A / A(0)", |r| {
+            r.area_ratio
+        }),
         (
             "gamma_vs_xi.png",
             "Degree of isotropy of the deformed surface",
