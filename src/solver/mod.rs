@@ -266,13 +266,18 @@ pub fn solve_from<B: Backend>(
     let mut last_changes = usize::MAX;
     let mut residual = f64::INFINITY;
     let mut stalled = false;
+    // The inner tolerance is relative to |g_I|; where the complementarity
+    // residual (relative to |p|) stalls above the target on an unchanged
+    // set, the inner solves are sharpened towards the arithmetic's floor.
+    let floor_inner = INNER_FLOOR * backend.epsilon();
+    let mut sharp = tight;
     for iteration in 1..=params.max_iterations {
         // Inexact Newton: while the contact set still moves a lot, a rough
         // solve decides the next set as well as an exact one would.
         // A residual that did not fall means the rough solves no longer
         // move the pressure (cells entering at p = 0 would leave again).
         let inner_tol = if stalled || last_changes <= (contact_cells / 200).max(1) {
-            tight
+            sharp
         } else if last_changes <= contact_cells / 10 {
             loose
         } else {
@@ -338,12 +343,15 @@ pub fn solve_from<B: Backend>(
         };
         let previous_residual = history.last().copied().unwrap_or(f64::INFINITY);
         stalled = residual >= previous_residual;
+        if stalled && inner_tol == sharp && sharp > floor_inner {
+            sharp = (0.01 * sharp).max(floor_inner);
+        }
         let (changes, size) = backend.update_active_set(&p_full, &gap, &mut mask);
         history.push(residual);
         contact_history.push(size);
         observer.iteration(iteration, matvecs, residual, size);
         if changes == 0
-            && inner_tol == tight
+            && inner_tol == sharp
             && outcome.converged
             && residual <= tolerance.max(floor)
         {

@@ -1,0 +1,99 @@
+//! The GPU path at 2048 x 2048, the largest grid a 128 MiB storage binding
+//! holds (the padded complex FFT buffer is 4096 x 4096 x 8 B = 128 MiB): the
+//! device coefficient table against the host's and one matvec against the
+//! CPU Toeplitz FFT. Minutes on a CPU-emulated adapter, so it runs only with
+//! `VISCOSLIDE_GPU_LARGE=1` (the regular conformance suite covers the same
+//! kernels on small grids); it then prints its timings.
+
+mod common;
+
+use std::time::Instant;
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use viscoslide::backend::gpu::engine::Engine;
+use viscoslide::backend::gpu::{self, coefficients, GpuBackend, GpuOptions};
+use viscoslide::backend::Backend;
+use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
+
+fn rel_l2(a: &[f64], b: &[f64]) -> f64 {
+    let num: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
+    let den: f64 = b.iter().map(|y| y * y).sum();
+    (num / den).sqrt()
+}
+
+#[test]
+fn grid_2048_runs_within_the_binding_limit() {
+    if std::env::var("VISCOSLIDE_GPU_LARGE").map_or(true, |v| v != "1") {
+        eprintln!("skipping the 2048^2 GPU run: set VISCOSLIDE_GPU_LARGE=1 (minutes on lavapipe)");
+        return;
+    }
+    let Some(ctx) = gpu::context_for_tests() else {
+        return;
+    };
+    let n = 2048;
+    let a = 0.01 / n as f64;
+    let material = common::paper_material();
+    let params = KernelParams {
+        speed: 1.17e-2,
+        ..Default::default()
+    };
+    let kernel = SlidingKernel::new(&material, params).unwrap();
+    let t = Instant::now();
+    let host = kernel.table(n, n, a).values;
+    let t_host = t.elapsed().as_secs_f64();
+    let mut engine = Engine::new(ctx);
+    let t = Instant::now();
+    let device = coefficients::coefficient_table(&mut engine, &material, &params, n, n, a).unwrap();
+    let t_table = t.elapsed().as_secs_f64();
+    // Coefficient bound of the conformance suite: 1e-5 relative wherever
+    // the value exceeds 1e-6 of the table's maximum.
+    let max = host.iter().cloned().fold(0.0f64, f64::max);
+    let worst = host
+        .iter()
+        .zip(&device)
+        .filter(|(h, _)| **h > 1e-6 * max)
+        .map(|(h, d)| (h - d).abs() / h)
+        .fold(0.0f64, f64::max);
+    assert!(worst < 1e-5, "coefficient error {worst:.2e}");
+
+    let t = Instant::now();
+    let mut g = GpuBackend::with_engine(engine, n, n, &host, GpuOptions::default()).unwrap();
+    let t_setup = t.elapsed().as_secs_f64();
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    // A contact-like input: 5 % of the cells loaded.
+    let x: Vec<f64> = (0..n * n)
+        .map(|_| {
+            if rng.random_range(0.0..1.0) < 0.05 {
+                rng.random_range(0.0..1e4)
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let mut xv = g.zeros(n * n);
+    g.upload(&x, &mut xv);
+    let mut yv = g.zeros(n * n);
+    let t = Instant::now();
+    g.apply(&xv, &mut yv);
+    let mut y = vec![0.0; n * n];
+    g.download(&yv, &mut y);
+    let t_matvec = t.elapsed().as_secs_f64();
+    let mut cpu = ToeplitzFft::new(OffsetTable {
+        nx: n,
+        ny: n,
+        values: &host,
+    });
+    let mut want = vec![0.0; n * n];
+    let t = Instant::now();
+    cpu.apply(&x, &mut want);
+    let t_cpu = t.elapsed().as_secs_f64();
+    let e = rel_l2(&y, &want);
+    println!(
+        "2048^2 on {}: table {t_table:.1} s (host {t_host:.1} s), coefficient error {worst:.1e}; \
+         backend setup {t_setup:.1} s; matvec {t_matvec:.2} s incl. readback (CPU FFT {t_cpu:.2} s), error {e:.1e}",
+        g.name()
+    );
+    assert!(e < 1e-5, "matvec error {e:.2e}");
+}
