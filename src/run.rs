@@ -316,37 +316,23 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
 /// friction and statistics are computed exactly as for the uniform grid.
 fn solve_cpu_adaptive(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<SolveOutcome> {
     let t0 = Instant::now();
-    let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
-    let kernel = SlidingKernel::new(
-        &setup.material,
-        KernelParams {
-            speed: setup.speed,
-            direction_rad: setup.direction_rad,
-            layer: setup.layer,
-        },
-    )?;
-    let max_level = setup.adaptive.max_level.min(max_level_for(nx, ny));
-    let tables = std::sync::Arc::new(LevelTables::new(&kernel, nx, ny, a, max_level)?);
+    let plan = AdaptivePlan::new(setup, setup.layer)?;
     let t_coeff = t0.elapsed().as_secs_f64();
-    let l00 = tables.coefficient(0, 0, 0);
+    let a = setup.surface.cell_size;
     let mut t_iter = 0.0;
-    let params = AdaptiveParams {
-        max_level,
-        ..setup.adaptive
-    };
     let result = crate::mesh::solve_adaptive(
         &setup.gap_profile(),
-        tables.clone(),
-        &params,
+        plan.tables.clone(),
+        &plan.params,
         setup.params.tolerance,
         |mesh, g_mesh, start, tol| {
             let t = Instant::now();
-            let mut backend = CpuBackend::new(AdaptiveOperator::new(tables.clone(), mesh));
+            let mut backend = CpuBackend::new(AdaptiveOperator::new(plan.tables.clone(), mesh));
             let r = solver::solve_from(
                 &mut backend,
                 g_mesh,
                 a * a,
-                l00,
+                plan.l00,
                 setup.control,
                 &SolverParams {
                     tolerance: tol,
@@ -360,27 +346,84 @@ fn solve_cpu_adaptive(setup: &SolveSetup, observer: &mut dyn Observer) -> Result
         },
     )
     .map_err(|e| invalid(e.to_string()))?;
-    let t2 = Instant::now();
-    let (mu, mu_d, stats) = friction_and_stats(setup, &kernel, &result.solution)?;
-    let t_an = t2.elapsed().as_secs_f64();
-    let total = t0.elapsed().as_secs_f64();
-    Ok(SolveOutcome {
-        solution: result.solution,
-        info: result.info,
-        stats,
-        friction_coefficient: mu,
-        friction_coefficient_dissipation: mu_d,
-        backend: "cpu (adaptive mesh)".into(),
-        unknowns: result.report.unknowns,
-        mesh: Some(result.report),
-        timings: Timings {
-            coefficients_s: t_coeff,
-            operator_setup_s: total - t_coeff - t_iter - t_an,
-            iteration_s: t_iter,
-            analysis_s: t_an,
-            total_s: total,
-        },
-    })
+    plan.outcome(
+        setup,
+        result,
+        "cpu (adaptive mesh)".into(),
+        t0,
+        t_coeff,
+        t_iter,
+    )
+}
+
+/// What both adaptive executors share: the kernel, the level tables of the
+/// fine grid (also the certificate's), the self coefficient and the mesh
+/// controls clamped to the grid.
+struct AdaptivePlan {
+    kernel: SlidingKernel,
+    tables: std::sync::Arc<LevelTables>,
+    l00: f64,
+    params: AdaptiveParams,
+}
+
+impl AdaptivePlan {
+    fn new(setup: &SolveSetup, layer: Option<Layer>) -> Result<Self> {
+        let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
+        let kernel = SlidingKernel::new(
+            &setup.material,
+            KernelParams {
+                speed: setup.speed,
+                direction_rad: setup.direction_rad,
+                layer,
+            },
+        )?;
+        let max_level = setup.adaptive.max_level.min(max_level_for(nx, ny));
+        let tables = std::sync::Arc::new(LevelTables::new(&kernel, nx, ny, a, max_level)?);
+        let l00 = tables.coefficient(0, 0, 0);
+        let params = AdaptiveParams {
+            max_level,
+            ..setup.adaptive
+        };
+        Ok(Self {
+            kernel,
+            tables,
+            l00,
+            params,
+        })
+    }
+
+    /// Friction, statistics and timings of a finished adaptive solve.
+    fn outcome(
+        &self,
+        setup: &SolveSetup,
+        result: crate::mesh::AdaptiveSolution,
+        backend: String,
+        t0: Instant,
+        t_coeff: f64,
+        t_iter: f64,
+    ) -> Result<SolveOutcome> {
+        let t2 = Instant::now();
+        let (mu, mu_d, stats) = friction_and_stats(setup, &self.kernel, &result.solution)?;
+        let t_an = t2.elapsed().as_secs_f64();
+        let total = t0.elapsed().as_secs_f64();
+        Ok(SolveOutcome {
+            solution: result.solution,
+            info: result.info,
+            stats,
+            friction_coefficient: mu,
+            friction_coefficient_dissipation: mu_d,
+            backend,
+            unknowns: result.report.unknowns,
+            mesh: Some(result.report),
+            timings: Timings {
+                coefficients_s: t_coeff,
+                operator_setup_s: total - t_coeff - t_iter - t_an,
+                iteration_s: t_iter,
+                analysis_s: t_an,
+                total_s: total,
+            },
+        })
+    }
 }
 
 /// Coarsest useful level: blocks no larger than the grid.
@@ -544,31 +587,17 @@ fn solve_gpu_adaptive(
         ));
     }
     let t0 = Instant::now();
-    let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
-    let kernel = SlidingKernel::new(
-        &setup.material,
-        KernelParams {
-            speed: setup.speed,
-            direction_rad: setup.direction_rad,
-            layer: None,
-        },
-    )?;
-    let max_level = setup.adaptive.max_level.min(max_level_for(nx, ny));
-    let tables = std::sync::Arc::new(LevelTables::new(&kernel, nx, ny, a, max_level)?);
+    let plan = AdaptivePlan::new(setup, None)?;
     let t_coeff = t0.elapsed().as_secs_f64();
-    let l00 = tables.coefficient(0, 0, 0);
-    let params = AdaptiveParams {
-        max_level,
-        ..setup.adaptive
-    };
+    let a = setup.surface.cell_size;
     let mut engine = Some(Engine::new(ctx));
     let mut name = String::new();
     let mut t_iter = 0.0;
     let mut gpu_error: Option<String> = None;
     let result = crate::mesh::solve_adaptive(
         &setup.gap_profile(),
-        tables.clone(),
-        &params,
+        plan.tables.clone(),
+        &plan.params,
         setup.params.tolerance,
         |mesh, g_mesh, start, tol| {
             let t = Instant::now();
@@ -579,7 +608,8 @@ fn solve_gpu_adaptive(
             };
             let eng = engine.take().expect("engine returned after each round");
             let mut backend =
-                match GpuBackend::with_adaptive(eng, &setup.material, kernel.params(), &cells) {
+                match GpuBackend::with_adaptive(eng, &setup.material, plan.kernel.params(), &cells)
+                {
                     Ok(b) => b,
                     Err(e) => {
                         gpu_error = Some(e.to_string());
@@ -591,7 +621,7 @@ fn solve_gpu_adaptive(
                 &mut backend,
                 g_mesh,
                 a * a,
-                l00,
+                plan.l00,
                 setup.control,
                 &SolverParams {
                     tolerance: tol,
@@ -606,27 +636,14 @@ fn solve_gpu_adaptive(
         },
     )
     .map_err(|e| invalid(gpu_error.clone().unwrap_or_else(|| e.to_string())))?;
-    let t2 = Instant::now();
-    let (mu, mu_d, stats) = friction_and_stats(setup, &kernel, &result.solution)?;
-    let t_an = t2.elapsed().as_secs_f64();
-    let total = t0.elapsed().as_secs_f64();
-    Ok(SolveOutcome {
-        solution: result.solution,
-        info: result.info,
-        stats,
-        friction_coefficient: mu,
-        friction_coefficient_dissipation: mu_d,
-        backend: format!("{name} (adaptive mesh)"),
-        unknowns: result.report.unknowns,
-        mesh: Some(result.report),
-        timings: Timings {
-            coefficients_s: t_coeff,
-            operator_setup_s: total - t_coeff - t_iter - t_an,
-            iteration_s: t_iter,
-            analysis_s: t_an,
-            total_s: total,
-        },
-    })
+    plan.outcome(
+        setup,
+        result,
+        format!("{name} (adaptive mesh)"),
+        t0,
+        t_coeff,
+        t_iter,
+    )
 }
 
 /// Friction by both routes and the contact statistics.

@@ -136,9 +136,10 @@ impl VertexTable {
     }
 }
 
-/// [`VertexTable`] by the row march along a grid-axis sliding direction
-/// without a thin layer, per offset otherwise.
-pub(super) fn build_vertex(k: &SlidingKernel, nx: usize, ny: usize, cell: f64) -> VertexTable {
+/// Whether the row march applies: the orientation of `e_v` (along x or y,
+/// sign +1/-1; `None` for other directions) and whether a layer is thinner
+/// than four cells (then the march's fixed rules would not converge).
+fn march_plan(k: &SlidingKernel, cell: f64) -> (Option<(Axis, f64)>, bool) {
     let (ex, ey) = k.e;
     let orient = match (ex, ey) {
         (x, y) if x == 1.0 && y == 0.0 => Some((Axis::X, 1.0)),
@@ -151,6 +152,13 @@ pub(super) fn build_vertex(k: &SlidingKernel, nx: usize, ny: usize, cell: f64) -
         .theta
         .as_ref()
         .is_some_and(|t| t.layer.thickness < 4.0 * cell);
+    (orient, thin)
+}
+
+/// [`VertexTable`] by the row march along a grid-axis sliding direction
+/// without a thin layer, per offset otherwise.
+pub(super) fn build_vertex(k: &SlidingKernel, nx: usize, ny: usize, cell: f64) -> VertexTable {
+    let (orient, thin) = march_plan(k, cell);
     let mut t = VertexTable {
         nx,
         ny,
@@ -234,19 +242,7 @@ pub(super) fn build(
     cell: f64,
     derivative: Option<Axis>,
 ) -> CoefficientTable {
-    let (ex, ey) = k.e;
-    // Orientation of e_v: along x (+1/-1) or along y (+1/-1).
-    let orient = match (ex, ey) {
-        (x, y) if x == 1.0 && y == 0.0 => Some((Axis::X, 1.0)),
-        (x, y) if x == -1.0 && y == 0.0 => Some((Axis::X, -1.0)),
-        (x, y) if x == 0.0 && y == 1.0 => Some((Axis::Y, 1.0)),
-        (x, y) if x == 0.0 && y == -1.0 => Some((Axis::Y, -1.0)),
-        _ => None,
-    };
-    let thin = k
-        .theta
-        .as_ref()
-        .is_some_and(|t| t.layer.thickness < 4.0 * cell);
+    let (orient, thin) = march_plan(k, cell);
     let Some((slide_axis, sign)) = orient else {
         return per_offset(k, nx, ny, cell, derivative);
     };
