@@ -324,6 +324,28 @@ impl AdaptiveOperator {
         sum
     }
 
+    /// The whole matrix (faer), column `S` scaled by `(a / s_S)^2` as in
+    /// [`GridOperator::apply`]: for moderate meshes, e.g. the dense direct
+    /// reference solve ([`crate::solver::reference::solve_dense`]).
+    pub fn assemble(&self) -> faer::Mat<f64> {
+        let n = self.len();
+        let mut m = faer::Mat::<f64>::zeros(n, n);
+        let mut e = vec![0.0; n];
+        let mut col = vec![0.0; n];
+        for s in 0..n {
+            e[s] = 1.0;
+            let groups = self.groups(&e);
+            col.par_iter_mut()
+                .zip(self.targets.par_iter())
+                .for_each(|(c, &t)| *c = self.eval(&groups, t));
+            for (r, v) in col.iter().enumerate() {
+                m[(r, s)] = *v;
+            }
+            e[s] = 0.0;
+        }
+        m
+    }
+
     /// `u` at the centres of the fine cells `fine` (`ix * ny + iy`) due to
     /// the mesh unknowns `x`: the displacement field at full resolution.
     pub fn displacement_at_fine(&self, x: &[f64], fine: &[usize]) -> Vec<f64> {
