@@ -318,7 +318,6 @@ fn solve_cpu_adaptive(setup: &SolveSetup, observer: &mut dyn Observer) -> Result
     let t0 = Instant::now();
     let plan = AdaptivePlan::new(setup, setup.layer)?;
     let t_coeff = t0.elapsed().as_secs_f64();
-    let a = setup.surface.cell_size;
     let mut t_iter = 0.0;
     let result = crate::mesh::solve_adaptive(
         &setup.gap_profile(),
@@ -328,19 +327,7 @@ fn solve_cpu_adaptive(setup: &SolveSetup, observer: &mut dyn Observer) -> Result
         |mesh, g_mesh, start, tol| {
             let t = Instant::now();
             let mut backend = CpuBackend::new(AdaptiveOperator::new(plan.tables.clone(), mesh));
-            let r = solver::solve_from(
-                &mut backend,
-                g_mesh,
-                a * a,
-                plan.l00,
-                setup.control,
-                &SolverParams {
-                    tolerance: tol,
-                    ..setup.params.clone()
-                },
-                start,
-                observer,
-            );
+            let r = plan.solve_round(&mut backend, setup, g_mesh, start, tol, observer);
             t_iter += t.elapsed().as_secs_f64();
             r
         },
@@ -390,6 +377,33 @@ impl AdaptivePlan {
             l00,
             params,
         })
+    }
+
+    /// One round's constrained iteration on `backend` (the mesh's operator)
+    /// at the round's tolerance `tol`.
+    fn solve_round<B: Backend>(
+        &self,
+        backend: &mut B,
+        setup: &SolveSetup,
+        g_mesh: &[f64],
+        start: Option<&solver::WarmStart>,
+        tol: f64,
+        observer: &mut dyn Observer,
+    ) -> std::result::Result<(ContactSolution, SolveInfo), solver::SolverError> {
+        let a = setup.surface.cell_size;
+        solver::solve_from(
+            backend,
+            g_mesh,
+            a * a,
+            self.l00,
+            setup.control,
+            &SolverParams {
+                tolerance: tol,
+                ..setup.params.clone()
+            },
+            start,
+            observer,
+        )
     }
 
     /// Friction, statistics and timings of a finished adaptive solve.
@@ -589,7 +603,6 @@ fn solve_gpu_adaptive(
     let t0 = Instant::now();
     let plan = AdaptivePlan::new(setup, None)?;
     let t_coeff = t0.elapsed().as_secs_f64();
-    let a = setup.surface.cell_size;
     let mut engine = Some(Engine::new(ctx));
     let mut name = String::new();
     let mut t_iter = 0.0;
@@ -617,19 +630,7 @@ fn solve_gpu_adaptive(
                     }
                 };
             name = backend.name();
-            let r = solver::solve_from(
-                &mut backend,
-                g_mesh,
-                a * a,
-                plan.l00,
-                setup.control,
-                &SolverParams {
-                    tolerance: tol,
-                    ..setup.params.clone()
-                },
-                start,
-                observer,
-            );
+            let r = plan.solve_round(&mut backend, setup, g_mesh, start, tol, observer);
             engine = Some(backend.into_engine());
             t_iter += t.elapsed().as_secs_f64();
             r
