@@ -288,26 +288,17 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
     let mut backend = CpuBackend::new(ToeplitzFft::new(tab));
     let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
     let (solution, info, t_iter) = iterate(setup, &mut backend, l00, observer)?;
-    let t2 = Instant::now();
-    let (mu, mu_d, stats) = friction_and_stats(setup, &kernel, &solution)?;
-    let t_an = t2.elapsed().as_secs_f64();
-    Ok(SolveOutcome {
+    let split = (t_coeff, Some(t_setup), t_iter);
+    finish(
+        setup,
+        &kernel,
         solution,
         info,
-        stats,
-        friction_coefficient: mu,
-        friction_coefficient_dissipation: mu_d,
-        backend: "cpu".into(),
-        unknowns: nx * ny,
-        mesh: None,
-        timings: Timings {
-            coefficients_s: t_coeff,
-            operator_setup_s: t_setup,
-            iteration_s: t_iter,
-            analysis_s: t_an,
-            total_s: t0.elapsed().as_secs_f64(),
-        },
-    })
+        "cpu".into(),
+        None,
+        t0,
+        split,
+    )
 }
 
 /// Solve on the adaptive quadtree mesh ([`crate::mesh`]; physics.md
@@ -416,27 +407,18 @@ impl AdaptivePlan {
         t_coeff: f64,
         t_iter: f64,
     ) -> Result<SolveOutcome> {
-        let t2 = Instant::now();
-        let (mu, mu_d, stats) = friction_and_stats(setup, &self.kernel, &result.solution)?;
-        let t_an = t2.elapsed().as_secs_f64();
-        let total = t0.elapsed().as_secs_f64();
-        Ok(SolveOutcome {
-            solution: result.solution,
-            info: result.info,
-            stats,
-            friction_coefficient: mu,
-            friction_coefficient_dissipation: mu_d,
+        let (solution, info) = (result.solution, result.info);
+        let split = (t_coeff, None, t_iter);
+        finish(
+            setup,
+            &self.kernel,
+            solution,
+            info,
             backend,
-            unknowns: result.report.unknowns,
-            mesh: Some(result.report),
-            timings: Timings {
-                coefficients_s: t_coeff,
-                operator_setup_s: total - t_coeff - t_iter - t_an,
-                iteration_s: t_iter,
-                analysis_s: t_an,
-                total_s: total,
-            },
-        })
+            Some(result.report),
+            t0,
+            split,
+        )
     }
 }
 
@@ -563,26 +545,8 @@ pub fn solve_gpu(
     let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
     let (solution, info, t_iter) = iterate(setup, &mut backend, l00, observer)?;
     drop(backend);
-    let t2 = Instant::now();
-    let (mu, mu_d, stats) = friction_and_stats(setup, &kernel, &solution)?;
-    let t_an = t2.elapsed().as_secs_f64();
-    Ok(SolveOutcome {
-        solution,
-        info,
-        stats,
-        friction_coefficient: mu,
-        friction_coefficient_dissipation: mu_d,
-        backend: name,
-        unknowns: nx * ny,
-        mesh: None,
-        timings: Timings {
-            coefficients_s: t_coeff,
-            operator_setup_s: t_setup,
-            iteration_s: t_iter,
-            analysis_s: t_an,
-            total_s: t0.elapsed().as_secs_f64(),
-        },
-    })
+    let split = (t_coeff, Some(t_setup), t_iter);
+    finish(setup, &kernel, solution, info, name, None, t0, split)
 }
 
 /// The adaptive mesh on the GPU: each round's contact iteration runs on the
@@ -645,6 +609,47 @@ fn solve_gpu_adaptive(
         t_coeff,
         t_iter,
     )
+}
+
+/// The outcome of a non-periodic solve: friction by both routes on the
+/// fine-grid fields, and the wall-clock split `(coefficients, operator
+/// setup, iteration)` [s] since `t0`; an operator setup of `None` is the
+/// time not accounted for otherwise (the adaptive mesh's rounds).
+#[allow(clippy::too_many_arguments)]
+fn finish(
+    setup: &SolveSetup,
+    kernel: &SlidingKernel,
+    solution: ContactSolution,
+    info: SolveInfo,
+    backend: String,
+    mesh: Option<MeshReport>,
+    t0: Instant,
+    (t_coeff, t_setup, t_iter): (f64, Option<f64>, f64),
+) -> Result<SolveOutcome> {
+    let t2 = Instant::now();
+    let (mu, mu_d, stats) = friction_and_stats(setup, kernel, &solution)?;
+    let t_an = t2.elapsed().as_secs_f64();
+    let total = t0.elapsed().as_secs_f64();
+    let unknowns = mesh
+        .as_ref()
+        .map_or(setup.surface.nx * setup.surface.ny, |m| m.unknowns);
+    Ok(SolveOutcome {
+        solution,
+        info,
+        stats,
+        friction_coefficient: mu,
+        friction_coefficient_dissipation: mu_d,
+        backend,
+        unknowns,
+        mesh,
+        timings: Timings {
+            coefficients_s: t_coeff,
+            operator_setup_s: t_setup.unwrap_or(total - t_coeff - t_iter - t_an),
+            iteration_s: t_iter,
+            analysis_s: t_an,
+            total_s: total,
+        },
+    })
 }
 
 /// Friction by both routes and the contact statistics.
