@@ -44,11 +44,11 @@ pub struct Config {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub struct LoadingConfig {
-    /// Normal load `F_N` [N].
+    /// Normal load `F_N` \[N\].
     pub normal_load: Option<f64>,
-    /// Nominal mean pressure `p0 = F_N / A0` [Pa] (`A0` the map's area).
+    /// Nominal mean pressure `p0 = F_N / A0` \[Pa\] (`A0` the map's area).
     pub mean_pressure: Option<f64>,
-    /// Rigid approach `delta` [m] (displacement control instead of load).
+    /// Rigid approach `delta` \[m\] (displacement control instead of load).
     pub approach: Option<f64>,
     /// Sliding speed `v` [m/s].
     pub speed: Option<f64>,

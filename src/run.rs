@@ -28,7 +28,7 @@ pub struct SolveSetup {
     pub control: Control,
     /// Sliding speed [m/s].
     pub speed: f64,
-    /// Sliding direction [rad] from +x.
+    /// Sliding direction \[rad\] from +x.
     pub direction_rad: f64,
     pub layer: Option<Layer>,
     pub params: SolverParams,
@@ -64,7 +64,7 @@ pub struct SolveOutcome {
     pub mesh: Option<MeshReport>,
 }
 
-/// Wall-clock split of a solve [s].
+/// Wall-clock split of a solve \[s\].
 #[derive(Debug, Clone, Copy, Serialize, Default)]
 pub struct Timings {
     pub coefficients_s: f64,
@@ -430,7 +430,7 @@ fn max_level_for(nx: usize, ny: usize) -> u8 {
 
 /// Run the constrained iteration of `setup` on `backend` (`l00` the self
 /// coefficient); returns the solution, its convergence report and the
-/// iteration's wall time [s].
+/// iteration's wall time \[s\].
 fn iterate<B: Backend>(
     setup: &SolveSetup,
     backend: &mut B,
@@ -613,7 +613,7 @@ fn solve_gpu_adaptive(
 
 /// The outcome of a non-periodic solve: friction by both routes on the
 /// fine-grid fields, and the wall-clock split `(coefficients, operator
-/// setup, iteration)` [s] since `t0`; an operator setup of `None` is the
+/// setup, iteration)` \[s\] since `t0`; an operator setup of `None` is the
 /// time not accounted for otherwise (the adaptive mesh's rounds).
 #[allow(clippy::too_many_arguments)]
 fn finish(

@@ -95,7 +95,7 @@ pub struct AnalysisParams {
     /// the `q_x` and `q_y` axes and bias `M` towards the axes, so the default
     /// is [`Window::Hann`]. Use [`Window::None`] for periodic fields.
     pub window: Window,
-    /// Window radius `r_c` of the `C_chi` estimator [cells]; `None`: from
+    /// Window radius `r_c` of the `C_chi` estimator \[cells\]; `None`: from
     /// the spot sizes (see [`super::chi`]).
     pub chi_window_cells: Option<f64>,
     /// Rays over a half turn along which contours are sampled.
@@ -121,13 +121,13 @@ impl Default for AnalysisParams {
 pub struct AnalysisInputs<'a> {
     pub nx: usize,
     pub ny: usize,
-    /// Side of a square cell [m].
+    /// Side of a square cell \[m\].
     pub cell_size: f64,
-    /// Surface displacement `u` of the solid [m].
+    /// Surface displacement `u` of the solid \[m\].
     pub displacement: &'a [f64],
     /// 1 in contact, 0 elsewhere.
     pub contact: &'a [f64],
-    /// Contact pressure [Pa].
+    /// Contact pressure \[Pa\].
     pub pressure: &'a [f64],
     /// Number of scales `N = q1 / q0` of the rough surface, when known.
     pub scales: Option<f64>,
@@ -138,11 +138,11 @@ pub struct AnalysisInputs<'a> {
 /// Contact-area anisotropy from `C_chi` (Fig. 10).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ChiReport {
-    /// Window radius `r_c` of the estimator [cells].
+    /// Window radius `r_c` of the estimator \[cells\].
     pub window_radius_cells: f64,
-    /// Flat part of the window [cells].
+    /// Flat part of the window \[cells\].
     pub flat_radius_cells: f64,
-    /// Background subtracted from the autocorrelation [cells].
+    /// Background subtracted from the autocorrelation \[cells\].
     pub background_cells: f64,
     /// `C_chi(0)` [m^4].
     pub c0: f64,

@@ -169,7 +169,7 @@ pub fn deformed_anisotropy(psd: &Psd2d, zeta1: f64, zeta2: f64) -> DeformedAniso
 }
 
 /// `m2(theta)` sampled at `n` angles over `[0, 2 pi)` for a polar diagram
-/// (paper Fig. 9): `(theta [rad], m2)`.
+/// (paper Fig. 9): `(theta \[rad\], m2)`.
 pub fn polar_samples(t: &AnisotropyTensor, n: usize) -> Vec<(f64, f64)> {
     (0..=n)
         .map(|k| {

@@ -74,11 +74,11 @@ pub struct ChiSpectrum {
     pub values: Vec<f64>,
     /// `C_chi(0)` [m^4].
     pub c0: f64,
-    /// Window radius `r_c` [cells].
+    /// Window radius `r_c` \[cells\].
     pub window_radius_cells: f64,
-    /// Flat part of the window `r_flat` [cells].
+    /// Flat part of the window `r_flat` \[cells\].
     pub flat_radius_cells: f64,
-    /// Background `R_b` subtracted from `R` [cells] (see the module doc).
+    /// Background `R_b` subtracted from `R` \[cells\] (see the module doc).
     pub background_cells: f64,
     /// Terms `(rx, ry, w R a^4 / ((2 pi)^2 Lx Ly))` of the cosine sum, `r` in m.
     terms: Vec<(f64, f64, f64)>,
@@ -144,7 +144,7 @@ fn window(r: f64, flat: f64, radius: f64) -> f64 {
     }
 }
 
-/// Largest usable window radius [cells] on an `nx x ny` map: the windowed
+/// Largest usable window radius \[cells\] on an `nx x ny` map: the windowed
 /// autocorrelation must fit on the FFT grid without aliasing.
 pub fn max_window_radius(nx: usize, ny: usize) -> f64 {
     (nx.min(ny) / 2) as f64 - 1.0

@@ -11,13 +11,13 @@ pub struct ContactStatistics {
     pub contact_area: f64,
     /// `A / A0` with `A0` the area of the map.
     pub contact_area_fraction: f64,
-    /// Largest pressure [Pa].
+    /// Largest pressure \[Pa\].
     pub max_pressure: f64,
-    /// Normal load `a^2 sum p` [N].
+    /// Normal load `a^2 sum p` \[N\].
     pub normal_load: f64,
-    /// Nominal mean pressure `F_N / A0` [Pa].
+    /// Nominal mean pressure `F_N / A0` \[Pa\].
     pub mean_pressure: f64,
-    /// Pressure centroid `(x, y)` [m] relative to the centre of the map.
+    /// Pressure centroid `(x, y)` \[m\] relative to the centre of the map.
     pub pressure_centroid: [f64; 2],
 }
 

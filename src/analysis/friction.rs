@@ -27,7 +27,7 @@ use crate::kernel::Layer;
 use crate::material::CreepSpectrum;
 use crate::operator::GridOperator;
 
-/// `F_T = a^2 p . (D p)` [N] with `D` the cell-averaged derivative operator
+/// `F_T = a^2 p . (D p)` \[N\] with `D` the cell-averaged derivative operator
 /// along the sliding direction.
 pub fn friction_force_stencil(derivative: &mut dyn GridOperator, pressure: &[f64], a: f64) -> f64 {
     let mut dp = vec![0.0; pressure.len()];
@@ -43,7 +43,7 @@ const NA: usize = 2 * ALIASES as usize + 1;
 /// Zero-padding factor of the Fourier quadrature.
 const PAD: usize = 4;
 
-/// `F_T` [N] from the dissipated power in Fourier space (Appendix A3-A4),
+/// `F_T` \[N\] from the dissipated power in Fourier space (Appendix A3-A4),
 /// for a half-space.
 #[allow(clippy::too_many_arguments)]
 pub fn friction_force_dissipation(

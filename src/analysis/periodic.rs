@@ -24,7 +24,7 @@ use rustfft::FftPlanner;
 use crate::material::Material;
 use crate::operator::{periodic_multiplier, PeriodicResponse};
 
-/// `F_T` [N] of a periodic pressure field (C order, axis 0 = x) from the
+/// `F_T` \[N\] of a periodic pressure field (C order, axis 0 = x) from the
 /// Fourier dissipation sum (Appendix Eq. A3-A4).
 pub fn friction_force_periodic(
     pressure: &[f64],
@@ -92,7 +92,7 @@ pub fn friction_force_periodic(
     total * a * a / (nx * ny) as f64
 }
 
-/// Friction force per unit area [Pa] of a periodic surface held in full
+/// Friction force per unit area \[Pa\] of a periodic surface held in full
 /// contact, as the exact linear response summed mode by mode: each height
 /// mode `h cos(k.x + phi)` contributes
 /// `-|k| (k.e_v) h^2 E2(k.v) / (4 (1 - nu^2))` (physics.md section 9, check

@@ -128,11 +128,11 @@ pub struct SpotStatistics {
     pub count_8_connected: usize,
     /// Spots with a cell on the boundary of the map (their area is cut).
     pub touching_edge: usize,
-    /// Mean spot area [cells].
+    /// Mean spot area \[cells\].
     pub mean_area_cells: f64,
-    /// Median spot area [cells] (mean of the two middle ones for an even count).
+    /// Median spot area \[cells\] (mean of the two middle ones for an even count).
     pub median_area_cells: f64,
-    /// Largest spot area [cells].
+    /// Largest spot area \[cells\].
     pub max_area_cells: usize,
     /// Mean spot area [m^2].
     pub mean_area: f64,
@@ -142,7 +142,7 @@ pub struct SpotStatistics {
     pub histogram: Vec<AreaBin>,
 }
 
-/// Spot statistics of `contact` with cells of side `cell_size` [m].
+/// Spot statistics of `contact` with cells of side `cell_size` \[m\].
 pub fn spot_statistics(contact: &[f64], nx: usize, ny: usize, cell_size: f64) -> SpotStatistics {
     let spots = find_spots(contact, nx, ny, Connectivity::Four);
     let count_8 = find_spots(contact, nx, ny, Connectivity::Eight).len();

@@ -13,7 +13,7 @@ pub struct KernelArgs {
     /// Override any key, e.g. `--set layer.thickness=0.0075` (repeatable).
     #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
     pub set: Vec<String>,
-    /// Side of the square cell [m].
+    /// Side of the square cell \[m\].
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub cell_size: f64,
     /// Sliding speed [m/s] (0: relaxed; `inf`: glassy).

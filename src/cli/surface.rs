@@ -36,7 +36,7 @@ pub struct GenerateArgs {
     /// Cells along y.
     #[arg(long)]
     pub ny: Option<usize>,
-    /// Side along x [m].
+    /// Side along x \[m\].
     #[arg(long)]
     pub length: Option<f64>,
     /// Hurst exponent H (0 < H <= 1).
@@ -54,7 +54,7 @@ pub struct GenerateArgs {
     /// Roll-off wavenumber q0 [1/m] (default q_L: no roll-off).
     #[arg(long)]
     pub rolloff_q0: Option<f64>,
-    /// rms height [m].
+    /// rms height \[m\].
     #[arg(long, conflicts_with = "rms_slope")]
     pub rms_height: Option<f64>,
     /// rms slope.
@@ -75,7 +75,7 @@ pub struct GenerateArgs {
 pub struct StatsArgs {
     /// Height map: .npy (float64/float32) or text matrix (rows = x).
     pub file: PathBuf,
-    /// Side along x [m].
+    /// Side along x \[m\].
     #[arg(long, allow_negative_numbers = true)]
     pub length: f64,
     /// Print JSON instead of a table.

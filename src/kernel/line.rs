@@ -38,13 +38,13 @@ pub enum KinkLine {
 
 /// Geometry of one line integral.
 pub struct LineProblem<'a> {
-    /// Start point `d` [m].
+    /// Start point `d` \[m\].
     pub d: (f64, f64),
     /// Unit sliding direction `e_v`.
     pub e: (f64, f64),
-    /// Creep terms `(C_k [1/Pa], l_k = v tau_k [m])`.
+    /// Creep terms `(C_k [1/Pa], l_k = v tau_k \[m\])`.
     pub terms: &'a [(f64, f64)],
-    /// Smallest and largest side of the source cell [m].
+    /// Smallest and largest side of the source cell \[m\].
     pub a_min: f64,
     pub a_max: f64,
     pub kinks: &'a [KinkLine],

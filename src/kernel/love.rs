@@ -110,7 +110,7 @@ impl LoveRect {
         self.switch_r2
     }
 
-    /// `L(x, y)` [m]: closed form near, multipole far.
+    /// `L(x, y)` \[m\]: closed form near, multipole far.
     #[inline]
     pub fn eval(&self, x: f64, y: f64) -> f64 {
         let r2 = x * x + y * y;

@@ -7,7 +7,7 @@
 //! `K(d) = (1-nu^2)/pi [ (1/E_inf) Theta(|d|/h) L(d) + int_0^inf ds phi(s) Theta(|d + s e_v|/h) L(d + s e_v) ]`
 //!
 //! with `L` Love's integral of `1/r` over the rectangle ([`love`]),
-//! `phi(s) = sum_k (C_k / (v tau_k)) exp(-s / (v tau_k))` ([`line`]) and
+//! `phi(s) = sum_k (C_k / (v tau_k)) exp(-s / (v tau_k))` ([`mod@line`]) and
 //! `Theta` the thickness correction of Eq. 5 ([`thickness`]; `Theta = 1` for
 //! a half-space), evaluated at the centre-to-point distance as in Eq. 6.
 //! The material remembers the pressure it met ahead (`+v`): at `v > 0` the
@@ -47,7 +47,7 @@ pub struct KernelParams {
     /// Sliding speed `v` [m/s], `>= 0`; `0` is fully relaxed, `f64::INFINITY`
     /// fully glassy.
     pub speed: f64,
-    /// In-plane angle of `e_v` from `+x` [rad].
+    /// In-plane angle of `e_v` from `+x` \[rad\].
     pub direction_rad: f64,
     /// Finite thickness (Eq. 5); `None` for a half-space.
     pub layer: Option<Layer>,
@@ -181,8 +181,8 @@ impl SlidingKernel {
         }
     }
 
-    /// `K(d)` at point offset `(dx, dy)` [m] from the centre of a source
-    /// rectangle `ax x ay` [m] carrying unit pressure (Eq. 4/6) [m/Pa].
+    /// `K(d)` at point offset `(dx, dy)` \[m\] from the centre of a source
+    /// rectangle `ax x ay` \[m\] carrying unit pressure (Eq. 4/6) [m/Pa].
     /// Invalid cell sizes give NaN; see [`Self::try_coefficient`].
     pub fn coefficient(&self, dx: f64, dy: f64, ax: f64, ay: f64) -> Coefficient {
         self.try_coefficient(dx, dy, ax, ay).unwrap_or(Coefficient {
@@ -349,7 +349,7 @@ impl SlidingKernel {
     }
 
     /// Table of `K` over all `(2nx-1) x (2ny-1)` offsets of an `nx x ny` grid
-    /// of square cells of side `cell` [m] (rayon). Uses the row march when
+    /// of square cells of side `cell` \[m\] (rayon). Uses the row march when
     /// `e_v` is along a grid axis (see the `table` module docs), per-offset
     /// evaluation otherwise. Panics on an invalid cell size; see
     /// [`Self::try_table`].
@@ -397,7 +397,7 @@ impl SlidingKernel {
     }
 
     /// [`VertexTable`]: `K` at the corner offsets `((i + 1/2) a, (j + 1/2) a)`
-    /// of an `nx x ny` grid of square cells of side `cell` [m], by the row
+    /// of an `nx x ny` grid of square cells of side `cell` \[m\], by the row
     /// march where [`Self::table`] uses it.
     pub fn try_vertex_table(
         &self,

@@ -61,7 +61,7 @@ use super::{Axis, SlidingKernel};
 pub struct CoefficientTable {
     pub nx: usize,
     pub ny: usize,
-    /// Cell side `a` [m].
+    /// Cell side `a` \[m\].
     pub cell_size: f64,
     pub values: Vec<f64>,
 }
@@ -108,7 +108,7 @@ impl CoefficientTable {
 pub struct VertexTable {
     pub nx: usize,
     pub ny: usize,
-    /// Cell side `a` [m].
+    /// Cell side `a` \[m\].
     pub cell_size: f64,
     pub values: Vec<f64>,
 }
@@ -314,7 +314,7 @@ struct Plan {
     /// for the peaked group.
     far_rule: Vec<(Vec<f64>, Vec<f64>)>,
     peaked_far: Option<(Vec<f64>, Vec<f64>)>,
-    /// Tail rule: offsets `s` [m] and per-marched-term weights.
+    /// Tail rule: offsets `s` \[m\] and per-marched-term weights.
     tail_s: Vec<f64>,
     tail_w: Vec<Vec<f64>>,
 }

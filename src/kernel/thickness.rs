@@ -52,7 +52,7 @@ pub enum LayerBase {
 /// A viscoelastic layer of finite thickness on a rigid base (Eq. 5).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Layer {
-    /// Thickness `h` [m].
+    /// Thickness `h` \[m\].
     pub thickness: f64,
     pub base: LayerBase,
 }
@@ -61,7 +61,7 @@ pub struct Layer {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LayerConfig {
-    /// Thickness `h` [m].
+    /// Thickness `h` \[m\].
     pub thickness: f64,
     /// `"bonded"` or `"frictionless"`.
     pub base: LayerBase,
@@ -332,7 +332,7 @@ impl ThetaTable {
         })
     }
 
-    /// `Theta(r / h)` at distance `r` [m].
+    /// `Theta(r / h)` at distance `r` \[m\].
     #[inline]
     pub fn at_distance(&self, r: f64) -> f64 {
         self.curve.eval(r / self.layer.thickness)

@@ -27,13 +27,13 @@ pub enum MaterialModel {
 #[serde(deny_unknown_fields)]
 pub struct MaterialConfig {
     pub model: MaterialModel,
-    /// `E0` [Pa].
+    /// `E0` \[Pa\].
     pub relaxed_modulus: Option<f64>,
-    /// `E_inf` [Pa].
+    /// `E_inf` \[Pa\].
     pub glassy_modulus: Option<f64>,
-    /// Creep (retardation) time of the SLS [s].
+    /// Creep (retardation) time of the SLS \[s\].
     pub creep_time: Option<f64>,
-    /// Stress-relaxation time of the SLS [s] (`creep_time * E0 / E_inf`).
+    /// Stress-relaxation time of the SLS \[s\] (`creep_time * E0 / E_inf`).
     pub relaxation_time: Option<f64>,
     /// `[[C_k (1/Pa), tau_k (s)], ...]`.
     pub creep_spectrum: Option<Vec<[f64; 2]>>,

@@ -30,9 +30,9 @@ use super::{CreepSpectrum, MaterialError, PronySeries, PronyTerm};
 pub struct Wlf {
     /// `C1` (dimensionless).
     pub c1: f64,
-    /// `C2` [K].
+    /// `C2` \[K\].
     pub c2: f64,
-    /// Reference temperature `T_ref` [C].
+    /// Reference temperature `T_ref` \[C\].
     pub reference_temperature: f64,
 }
 
@@ -51,7 +51,7 @@ impl Wlf {
         })
     }
 
-    /// `log10 a_T` at temperature `t` [C]; an error where `C2 + T - T_ref <= 0`
+    /// `log10 a_T` at temperature `t` \[C\]; an error where `C2 + T - T_ref <= 0`
     /// (the WLF form has its pole there and is meaningless below it).
     pub fn log10_shift(&self, t: f64) -> Result<f64, MaterialError> {
         let dt = t - self.reference_temperature;
@@ -65,7 +65,7 @@ impl Wlf {
         Ok(-self.c1 * dt / den)
     }
 
-    /// Shift factor `a_T` at temperature `t` [C].
+    /// Shift factor `a_T` at temperature `t` \[C\].
     pub fn shift_factor(&self, t: f64) -> Result<f64, MaterialError> {
         Ok(10f64.powf(self.log10_shift(t)?))
     }
@@ -82,11 +82,11 @@ impl Wlf {
 pub struct DmaPoint {
     /// Angular frequency `w` [rad/s].
     pub omega: f64,
-    /// Storage modulus `E1` [Pa].
+    /// Storage modulus `E1` \[Pa\].
     pub storage: f64,
-    /// Loss modulus `E2` [Pa].
+    /// Loss modulus `E2` \[Pa\].
     pub loss: f64,
-    /// Test temperature [C], when the file has a `temperature_c` column.
+    /// Test temperature \[C\], when the file has a `temperature_c` column.
     pub temperature: Option<f64>,
 }
 
@@ -117,8 +117,8 @@ impl DmaData {
 
     /// Parse CSV text. Lines starting with `#` and blank lines are skipped; the
     /// first other line is the header. Columns (case-insensitive): frequency as
-    /// `frequency_hz` [Hz] or `omega_rad_s` [rad/s] (exactly one), `e1_pa` and
-    /// `e2_pa` [Pa], optional `temperature_c` [C]; other columns are ignored.
+    /// `frequency_hz` \[Hz\] or `omega_rad_s` [rad/s] (exactly one), `e1_pa` and
+    /// `e2_pa` \[Pa\], optional `temperature_c` \[C\]; other columns are ignored.
     /// Every frequency, `E1` and `E2` must be positive and finite.
     pub fn parse(text: &str, source: &str) -> Result<Self, MaterialError> {
         let err = |line: usize, message: String| MaterialError::Data {
@@ -248,7 +248,7 @@ impl DmaData {
         t
     }
 
-    /// The data as a master curve at temperature `target` [C]:
+    /// The data as a master curve at temperature `target` \[C\]:
     /// each frequency is shifted by `a_T(T) / a_T(target)` (WLF). Without WLF
     /// constants the data must be at one temperature, which must equal
     /// `target` if one is given. Returns the points and the temperature they
@@ -317,7 +317,7 @@ pub struct FitParams {
     pub terms: usize,
     /// Ratio of consecutive times (the paper: e).
     pub ratio: f64,
-    /// Shortest relaxation time [s]; `None` centres the geometric grid
+    /// Shortest relaxation time \[s\]; `None` centres the geometric grid
     /// (in log scale) on the data's frequency range, so that the margin beyond
     /// the data is the same at both ends.
     pub shortest_time: Option<f64>,
@@ -346,7 +346,7 @@ pub struct FitInfo {
     pub max_relative_storage: f64,
     /// Largest `|E2_fit - E2| / E2`.
     pub max_relative_loss: f64,
-    /// Shortest and longest relaxation time of the grid [s].
+    /// Shortest and longest relaxation time of the grid \[s\].
     pub shortest_time: f64,
     pub longest_time: f64,
     /// Decades of margin of the time grid beyond the data, at the high- and

@@ -60,9 +60,9 @@ pub fn compliance_at<M: ComplexModulus + ?Sized>(m: &M, omegas: &[f64]) -> Vec<C
 pub struct DynamicModuli {
     /// Angular frequency `w` [rad/s].
     pub omega: Vec<f64>,
-    /// Storage modulus `E1 = Re E(w)` [Pa].
+    /// Storage modulus `E1 = Re E(w)` \[Pa\].
     pub storage: Vec<f64>,
-    /// Loss modulus `E2 = Im E(w)` [Pa].
+    /// Loss modulus `E2 = Im E(w)` \[Pa\].
     pub loss: Vec<f64>,
     /// Loss tangent `tan delta = E2 / E1`.
     pub tan_delta: Vec<f64>,

@@ -20,7 +20,7 @@ pub struct FitRecord {
     /// Number and ratio of the relaxation-time grid.
     pub terms: usize,
     pub ratio: f64,
-    /// Shortest and longest relaxation time of the grid [s].
+    /// Shortest and longest relaxation time of the grid \[s\].
     pub shortest_time: f64,
     pub longest_time: f64,
     /// Terms of the fitted relaxation spectrum with positive weight.
@@ -29,7 +29,7 @@ pub struct FitRecord {
     pub wlf_c1: Option<f64>,
     pub wlf_c2: Option<f64>,
     pub wlf_reference_temperature: Option<f64>,
-    /// Temperature the material describes [C], if known.
+    /// Temperature the material describes \[C\], if known.
     pub temperature: Option<f64>,
     /// How residuals were weighted.
     pub weighting: String,
@@ -38,7 +38,7 @@ pub struct FitRecord {
     pub rms_relative_error_e2: f64,
     pub max_relative_error_e1: f64,
     pub max_relative_error_e2: f64,
-    /// `E0` [Pa] of the fit (also implied by the spectrum).
+    /// `E0` \[Pa\] of the fit (also implied by the spectrum).
     pub relaxed_modulus: f64,
     /// viscoslide version that wrote the file.
     pub version: String,

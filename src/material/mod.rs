@@ -13,7 +13,7 @@
 //! * [`eval`]: `E(w)`, `J*(w)`, `E1`, `E2`, `tan delta` over frequency arrays;
 //! * [`dma`]: DMA data from CSV, WLF shift ([`Wlf`]), NNLS spectrum fit
 //!   ([`fit_spectrum`], solver in [`nnls`]);
-//! * [`file`]: the `material.toml` written by `viscoslide material fit`;
+//! * [`mod@file`]: the `material.toml` written by `viscoslide material fit`;
 //! * [`MaterialConfig`]: the `[material]` section of a run config.
 
 mod config;

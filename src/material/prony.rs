@@ -25,9 +25,9 @@ use super::{CreepSpectrum, CreepTerm, MaterialError};
 /// One Maxwell arm `E_j` with relaxation time `theta_j`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PronyTerm {
-    /// Arm modulus `E_j` [Pa], non-negative.
+    /// Arm modulus `E_j` \[Pa\], non-negative.
     pub modulus: f64,
-    /// Relaxation time `theta_j` [s], positive.
+    /// Relaxation time `theta_j` \[s\], positive.
     pub time: f64,
 }
 
@@ -35,7 +35,7 @@ pub struct PronyTerm {
 /// `E(w) = E0 + sum_j E_j i w theta_j / (1 + i w theta_j)` (physics.md section 2).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PronySeries {
-    /// Relaxed (zero-frequency) modulus `E0` [Pa].
+    /// Relaxed (zero-frequency) modulus `E0` \[Pa\].
     pub relaxed_modulus: f64,
     pub terms: Vec<PronyTerm>,
 }
@@ -74,7 +74,7 @@ impl PronySeries {
         })
     }
 
-    /// Glassy modulus `E_inf = E0 + sum_j E_j` [Pa].
+    /// Glassy modulus `E_inf = E0 + sum_j E_j` \[Pa\].
     pub fn glassy_modulus(&self) -> f64 {
         self.relaxed_modulus + self.terms.iter().map(|t| t.modulus).sum::<f64>()
     }

@@ -9,14 +9,14 @@ use super::MaterialError;
 pub struct CreepTerm {
     /// Creep compliance `C_k` [1/Pa], positive.
     pub compliance: f64,
-    /// Creep (retardation) time `tau_k` [s], positive.
+    /// Creep (retardation) time `tau_k` \[s\], positive.
     pub time: f64,
 }
 
 /// `J(t) = 1/E0 - sum_k C_k exp(-t/tau_k)`, `J(0+) = 1/E_inf` (Eq. 2).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CreepSpectrum {
-    /// Glassy (instantaneous, high-frequency) modulus `E_inf` [Pa].
+    /// Glassy (instantaneous, high-frequency) modulus `E_inf` \[Pa\].
     pub glassy_modulus: f64,
     pub terms: Vec<CreepTerm>,
 }
@@ -85,7 +85,7 @@ impl CreepSpectrum {
         self.glassy_compliance() + self.terms.iter().map(|t| t.compliance).sum::<f64>()
     }
 
-    /// Relaxed (zero-frequency) modulus `E0` [Pa].
+    /// Relaxed (zero-frequency) modulus `E0` \[Pa\].
     pub fn relaxed_modulus(&self) -> f64 {
         1.0 / self.relaxed_compliance()
     }

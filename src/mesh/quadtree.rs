@@ -56,7 +56,7 @@ pub enum MeshError {
 pub struct QuadMesh {
     pub nx: usize,
     pub ny: usize,
-    /// Fine cell side `a` [m].
+    /// Fine cell side `a` \[m\].
     pub cell_size: f64,
     /// Coarsest level allowed.
     pub max_level: u8,
@@ -220,12 +220,12 @@ impl QuadMesh {
         self.owner[ix * self.ny + iy] as usize
     }
 
-    /// Side of cell `k` [m].
+    /// Side of cell `k` \[m\].
     pub fn side(&self, k: usize) -> f64 {
         self.cell_size * self.cells[k].span() as f64
     }
 
-    /// Centre of cell `k` [m], the origin at the grid's lower-left corner.
+    /// Centre of cell `k` \[m\], the origin at the grid's lower-left corner.
     pub fn centre(&self, k: usize) -> (f64, f64) {
         let (hx, hy) = self.cells[k].centre_half();
         (

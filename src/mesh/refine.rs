@@ -90,7 +90,7 @@ pub struct MeshReport {
     pub rounds: usize,
     /// Unknowns of each round's mesh.
     pub unknowns_history: Vec<usize>,
-    /// Memory of the coefficient tables [bytes].
+    /// Memory of the coefficient tables \[bytes\].
     pub table_bytes: usize,
 }
 

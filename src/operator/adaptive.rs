@@ -92,7 +92,7 @@ pub struct LevelTables {
 }
 
 impl LevelTables {
-    /// Tables for an `nx x ny` fine grid of side `cell` [m] and levels
+    /// Tables for an `nx x ny` fine grid of side `cell` \[m\] and levels
     /// `0..=max_level`.
     pub fn new(
         kernel: &SlidingKernel,
@@ -158,7 +158,7 @@ impl LevelTables {
         (self.nx, self.ny)
     }
 
-    /// Fine cell side [m].
+    /// Fine cell side \[m\].
     pub fn cell_size(&self) -> f64 {
         self.cell_size
     }

@@ -26,9 +26,9 @@ use gmres::{gmres, AugOperator, AugVec, GmresWork};
 /// What is prescribed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Control {
-    /// Normal load `F_N` [N].
+    /// Normal load `F_N` \[N\].
     Load(f64),
-    /// Rigid approach `delta` [m].
+    /// Rigid approach `delta` \[m\].
     Approach(f64),
 }
 
@@ -94,15 +94,15 @@ pub enum SolverError {
 /// The solution fields, on the host.
 #[derive(Debug, Clone)]
 pub struct ContactSolution {
-    /// Pressure [Pa] per cell.
+    /// Pressure \[Pa\] per cell.
     pub pressure: Vec<f64>,
-    /// Surface displacement `u = L p` [m].
+    /// Surface displacement `u = L p` \[m\].
     pub displacement: Vec<f64>,
-    /// `g - delta + u` [m].
+    /// `g - delta + u` \[m\].
     pub gap: Vec<f64>,
     /// 1 in contact, 0 elsewhere.
     pub contact: Vec<f64>,
-    /// Rigid approach `delta` [m].
+    /// Rigid approach `delta` \[m\].
     pub approach: f64,
 }
 
@@ -186,9 +186,9 @@ pub fn solve<B: Backend>(
 pub struct WarmStart {
     /// 1 in contact, 0 elsewhere, one value per cell.
     pub contact: Vec<f64>,
-    /// Pressure per cell [Pa].
+    /// Pressure per cell \[Pa\].
     pub pressure: Vec<f64>,
-    /// Rigid approach [m].
+    /// Rigid approach \[m\].
     pub approach: f64,
 }
 

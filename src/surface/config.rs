@@ -33,7 +33,7 @@ pub struct SurfaceConfig {
     /// `.npy` (or plain-text) height map, heights in m at cell centres;
     /// relative to the config file's directory.
     pub file: Option<PathBuf>,
-    /// Side of the map along x [m]; cells are square.
+    /// Side of the map along x \[m\]; cells are square.
     pub length: Option<f64>,
     /// Generate a self-affine surface instead of reading one.
     pub generate: Option<GenerateConfig>,
@@ -49,9 +49,9 @@ pub struct SurfaceConfig {
 pub struct SphereConfig {
     /// Cells per side.
     pub n: usize,
-    /// Side of the map [m].
+    /// Side of the map \[m\].
     pub length: f64,
-    /// Sphere radius `R` [m].
+    /// Sphere radius `R` \[m\].
     pub radius: f64,
 }
 
@@ -86,7 +86,7 @@ impl SphereConfig {
 pub struct AnisotropyConfig {
     /// Stretch factor `s > 0` along `e(theta)`.
     pub ratio: f64,
-    /// `theta` [degrees] from +x.
+    /// `theta` \[degrees\] from +x.
     pub angle_deg: f64,
 }
 
@@ -100,7 +100,7 @@ pub struct GenerateConfig {
     pub n: Option<usize>,
     /// Cells along y.
     pub ny: Option<usize>,
-    /// Side along x [m].
+    /// Side along x \[m\].
     pub length: Option<f64>,
     /// Hurst exponent.
     pub hurst: Option<f64>,
@@ -112,7 +112,7 @@ pub struct GenerateConfig {
     pub ql: Option<f64>,
     /// Roll-off wavenumber `q0` [1/m]; default `q_L` (no roll-off).
     pub rolloff_q0: Option<f64>,
-    /// rms height [m]; exclusive with `rms_slope`.
+    /// rms height \[m\]; exclusive with `rms_slope`.
     pub rms_height: Option<f64>,
     /// rms slope; exclusive with `rms_height`.
     pub rms_slope: Option<f64>,

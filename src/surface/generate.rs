@@ -16,7 +16,7 @@ use super::{fft2, HeightMap, SurfaceError};
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Normalisation {
-    /// `sqrt(<h^2>)` [m] (heights have zero mean).
+    /// `sqrt(<h^2>)` \[m\] (heights have zero mean).
     RmsHeight(f64),
     /// `sqrt(<|grad h|^2>)`, dimensionless (the rms slope of physics.md
     /// section 5, Eq. 10), computed spectrally: `sqrt(sum q^2 C(q) dq^2)`.
@@ -48,7 +48,7 @@ pub enum UpperCutoff {
 pub struct Anisotropy {
     /// Stretch factor `s > 0` along `e(theta)`.
     pub ratio: f64,
-    /// `theta` [degrees] from +x.
+    /// `theta` \[degrees\] from +x.
     pub angle_deg: f64,
 }
 
@@ -60,7 +60,7 @@ pub struct GenerateParams {
     pub nx: usize,
     /// Cells along y, `>= 8`.
     pub ny: usize,
-    /// Side `L` of the map along x [m]; cells are square, `a = L / nx`.
+    /// Side `L` of the map along x \[m\]; cells are square, `a = L / nx`.
     pub length: f64,
     /// Hurst exponent `H` (`0 < H <= 1`), `H = 3 - D_f`.
     pub hurst: f64,

@@ -62,7 +62,7 @@ fn build(
     })
 }
 
-/// Read a `.npy` height map (2-D float64/float32) of side `length` [m] along x.
+/// Read a `.npy` height map (2-D float64/float32) of side `length` \[m\] along x.
 pub fn load_npy(path: &Path, length: f64) -> Result<HeightMap, SurfaceError> {
     let a = npy::read(path)?;
     build(&path.display().to_string(), a.shape, a.data, length)

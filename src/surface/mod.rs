@@ -97,9 +97,9 @@ pub struct HeightMap {
     pub nx: usize,
     /// Cells along y (axis 1).
     pub ny: usize,
-    /// Side of one square cell [m].
+    /// Side of one square cell \[m\].
     pub cell_size: f64,
-    /// Heights [m], `heights[i * ny + j]`.
+    /// Heights \[m\], `heights[i * ny + j]`.
     pub heights: Vec<f64>,
 }
 
@@ -134,15 +134,15 @@ impl HeightMap {
         })
     }
 
-    /// Side of the map along x [m].
+    /// Side of the map along x \[m\].
     pub fn length_x(&self) -> f64 {
         self.nx as f64 * self.cell_size
     }
-    /// Side of the map along y [m].
+    /// Side of the map along y \[m\].
     pub fn length_y(&self) -> f64 {
         self.ny as f64 * self.cell_size
     }
-    /// Height of cell `(i, j)` [m].
+    /// Height of cell `(i, j)` \[m\].
     pub fn at(&self, i: usize, j: usize) -> f64 {
         self.heights[i * self.ny + j]
     }

@@ -282,16 +282,16 @@ pub fn fit_hurst(radial: &RadialPsd, q_min: f64, q_max: f64) -> Result<HurstFit,
 pub struct SurfaceStats {
     pub nx: usize,
     pub ny: usize,
-    /// Cell side `a` [m].
+    /// Cell side `a` \[m\].
     pub cell_size: f64,
-    /// Sides [m].
+    /// Sides \[m\].
     pub length_x: f64,
     pub length_y: f64,
-    /// Mean, minimum and maximum height [m].
+    /// Mean, minimum and maximum height \[m\].
     pub mean: f64,
     pub min: f64,
     pub max: f64,
-    /// `sqrt(<(h - mean)^2>)` from the heights [m].
+    /// `sqrt(<(h - mean)^2>)` from the heights \[m\].
     pub rms_height: f64,
     /// Spectral rms slope `sqrt(sum |q|^2 C dq^2) = sqrt(<|grad h|^2>)`.
     pub rms_slope: f64,

@@ -21,7 +21,7 @@ pub struct SweepConfig {
     /// Add the static point (`v = 0`, fully relaxed), the reference of
     /// `A / A(xi = 0)` (default true).
     pub include_static: Option<bool>,
-    /// Normal loads [N] (default: the `[loading]` one).
+    /// Normal loads \[N\] (default: the `[loading]` one).
     pub normal_load: Option<Vec<f64>>,
     /// Surface realisations: seeds of `[surface.generate]` (default: its own).
     pub seeds: Option<Vec<u64>>,

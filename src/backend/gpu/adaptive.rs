@@ -30,7 +30,7 @@ const PAIR_WORKGROUP: u64 = 64;
 /// Workgroups of one dispatch along x (the WebGPU minimum limit).
 const MAX_GROUPS_X: u64 = 65_535;
 
-/// Square cells of a non-uniform mesh: centres `(x, y)` and sides [m].
+/// Square cells of a non-uniform mesh: centres `(x, y)` and sides \[m\].
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct MeshCells {
     pub x: Vec<f64>,
@@ -48,7 +48,7 @@ impl MeshCells {
         self.side.is_empty()
     }
 
-    /// The finest side `a` [m] (the smallest; NaN for an empty mesh).
+    /// The finest side `a` \[m\] (the smallest; NaN for an empty mesh).
     pub fn fine_side(&self) -> f64 {
         if self.side.is_empty() {
             return f64::NAN;
@@ -83,7 +83,7 @@ impl MeshCells {
 }
 
 /// The creep terms and scales of one (material, speed, direction) at the
-/// length unit `unit` [m].
+/// length unit `unit` \[m\].
 struct Plan {
     /// `(w_k, 1 / l_k)` of the active terms, `l_k` in units of `unit`.
     terms: Vec<f32>,
@@ -145,7 +145,7 @@ fn grid(groups: u64) -> (u32, u32) {
 }
 
 /// `K(t_i - (x_i, y_i); s_i)` [m/Pa] for each pair of a target point
-/// `targets[i]` [m] and a source cell `sources[i] = (x, y, side)` [m] under
+/// `targets[i]` \[m\] and a source cell `sources[i] = (x, y, side)` \[m\] under
 /// unit pressure (paper Eq. 4 and Eq. 6), computed on the device in f32.
 /// CPU twin: `SlidingKernel::coefficient(dx, dy, side, side).total()`.
 pub fn pair_coefficients(

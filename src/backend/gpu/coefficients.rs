@@ -18,7 +18,7 @@ pub(super) const RELAXED_CELLS: f64 = 1e-7;
 const COEFF_WORKGROUP: u64 = 64;
 
 /// The `(2nx-1) x (2ny-1)` offset table [m/Pa] of a square-cell grid (cell
-/// side `cell` [m]) in the layout of [`crate::kernel::CoefficientTable`].
+/// side `cell` \[m\]) in the layout of [`crate::kernel::CoefficientTable`].
 pub fn coefficient_table(
     engine: &mut Engine,
     material: &Material,

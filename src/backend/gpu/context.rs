@@ -11,9 +11,9 @@ pub struct AdapterSummary {
     pub backend: String,
     pub device_type: String,
     pub driver: String,
-    /// Largest storage binding [bytes] (lavapipe: 128 MiB).
+    /// Largest storage binding \[bytes\] (lavapipe: 128 MiB).
     pub max_storage_binding: u64,
-    /// Largest buffer [bytes].
+    /// Largest buffer \[bytes\].
     pub max_buffer: u64,
 }
 

@@ -196,7 +196,7 @@ impl Engine {
         }
     }
 
-    /// Largest storage binding of the device [bytes].
+    /// Largest storage binding of the device \[bytes\].
     pub fn max_binding(&self) -> u64 {
         let l = self.ctx.device.limits();
         l.max_storage_buffer_binding_size.min(l.max_buffer_size)

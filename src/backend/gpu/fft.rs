@@ -187,7 +187,7 @@ impl FftMatvec {
         })
     }
 
-    /// Device memory of the plan [bytes].
+    /// Device memory of the plan \[bytes\].
     pub fn device_bytes(&self) -> u64 {
         self.a.buffer.size() + self.b.buffer.size() + self.kernel.buffer.size()
     }
