@@ -10,6 +10,7 @@
 
 mod adaptive;
 mod dense;
+mod fft2;
 mod periodic;
 mod toeplitz;
 

@@ -28,16 +28,14 @@
 //!   the Nyquist mode itself vanishes (as a spectral derivative must) and
 //!   only its dissipative, out-of-phase response is kept.
 //!
-//! Plans, the multiplier and all work buffers are built once; `apply`
-//! allocates nothing and runs its row and column transforms with rayon.
-
-use std::sync::Arc;
+//! The transforms are [`SpectralEngine`]'s at the grid's own size: plans,
+//! the multiplier and all work buffers are built once; `apply` allocates
+//! nothing.
 
 use num_complex::Complex64;
 use rayon::prelude::*;
-use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
-use rustfft::{Fft, FftPlanner};
 
+use super::fft2::SpectralEngine;
 use super::GridOperator;
 use crate::material::Material;
 
@@ -54,22 +52,9 @@ pub enum PeriodicResponse {
 
 /// Periodic viscoelastic half-space operator applied by real FFTs.
 pub struct SpectralPeriodic {
-    nx: usize,
-    ny: usize,
-    /// `ny / 2 + 1` complex entries per row after the real transform.
-    nyh: usize,
-    r2c: Arc<dyn RealToComplex<f64>>,
-    c2r: Arc<dyn ComplexToReal<f64>>,
-    fwd: Arc<dyn Fft<f64>>,
-    inv: Arc<dyn Fft<f64>>,
-    /// Multiplier, column-major (`nyh` columns of length `nx`), scaled by `1/(nx ny)`.
-    multiplier_t: Vec<Complex64>,
-    /// Diagonal entry of the operator (unscaled).
+    engine: SpectralEngine,
+    /// Diagonal entry of the operator.
     diagonal: f64,
-    rows: Vec<f64>,
-    spec: Vec<Complex64>,
-    spec_t: Vec<Complex64>,
-    pool: Vec<Vec<Complex64>>,
 }
 
 /// Signed FFT index of bin `i` of an `n`-point transform, and whether it is
@@ -142,7 +127,7 @@ pub fn periodic_multiplier(
 
 impl SpectralPeriodic {
     /// Displacement operator `u = L p` of a periodic cell of `nx x ny`
-    /// square cells of side `a` [m], sliding at `speed` [m/s] along
+    /// square cells of side `a` \[m\], sliding at `speed` [m/s] along
     /// `direction_rad` from +x (paper Eq. A2, physics.md section 6).
     pub fn new(
         nx: usize,
@@ -197,20 +182,8 @@ impl SpectralPeriodic {
     ) -> Self {
         assert!(nx > 0 && ny > 0, "grid must be non-empty");
         assert!(a > 0.0 && a.is_finite(), "cell side must be positive");
-        let nyh = ny / 2 + 1;
-        let mut rp = RealFftPlanner::<f64>::new();
-        let r2c = rp.plan_fft_forward(ny);
-        let c2r = rp.plan_fft_inverse(ny);
-        let mut cp = FftPlanner::<f64>::new();
-        let fwd = cp.plan_fft_forward(nx);
-        let inv = cp.plan_fft_inverse(nx);
-        let groups = 4 * rayon::current_num_threads().max(1);
-        let scratch_len = r2c
-            .get_scratch_len()
-            .max(c2r.get_scratch_len())
-            .max(fwd.get_inplace_scratch_len())
-            .max(inv.get_inplace_scratch_len())
-            .max(1);
+        let mut engine = SpectralEngine::new(nx, ny, nx, ny);
+        let nyh = engine.half_width();
         let scale = 1.0 / (nx * ny) as f64;
         let mut multiplier_t = vec![Complex64::default(); nyh * nx];
         multiplier_t
@@ -242,25 +215,10 @@ impl SpectralPeriodic {
             };
             diag += w * col.iter().map(|m| m.re).sum::<f64>();
         }
-        for m in multiplier_t.iter_mut() {
-            *m *= scale;
-        }
+        engine.set_multiplier(multiplier_t);
         Self {
-            nx,
-            ny,
-            nyh,
-            r2c,
-            c2r,
-            fwd,
-            inv,
-            multiplier_t,
+            engine,
             diagonal: diag * scale,
-            rows: vec![0.0; nx * ny],
-            spec: vec![Complex64::default(); nx * nyh],
-            spec_t: vec![Complex64::default(); nyh * nx],
-            pool: (0..groups)
-                .map(|_| vec![Complex64::default(); scratch_len])
-                .collect(),
         }
     }
 
@@ -274,82 +232,11 @@ impl SpectralPeriodic {
 
 impl GridOperator for SpectralPeriodic {
     fn shape(&self) -> (usize, usize) {
-        (self.nx, self.ny)
+        self.engine.shape()
     }
 
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
-        let (nx, ny, nyh) = (self.nx, self.ny, self.nyh);
-        assert_eq!(x.len(), nx * ny);
-        assert_eq!(y.len(), nx * ny);
-        let groups = self.pool.len();
-        // Row r2c transforms.
-        let r2c = &self.r2c;
-        let rows_per = nx.div_ceil(groups).max(1);
-        self.rows.copy_from_slice(x);
-        self.rows
-            .par_chunks_mut(rows_per * ny)
-            .zip(self.spec.par_chunks_mut(rows_per * nyh))
-            .zip(self.pool.par_iter_mut())
-            .for_each(|((rin, sout), scratch)| {
-                for (r, s) in rin.chunks_exact_mut(ny).zip(sout.chunks_exact_mut(nyh)) {
-                    r2c.process_with_scratch(r, s, scratch)
-                        .expect("buffer sizes match the plan");
-                }
-            });
-        // Column FFTs, multiplier, inverse column FFTs.
-        let spec = &self.spec;
-        let (fwd, inv) = (&self.fwd, &self.inv);
-        let cols_per = nyh.div_ceil(groups).max(1);
-        self.spec_t
-            .par_chunks_mut(cols_per * nx)
-            .zip(self.multiplier_t.par_chunks(cols_per * nx))
-            .enumerate()
-            .zip(self.pool.par_iter_mut())
-            .for_each(|((g, (cols, ms)), scratch)| {
-                for (k, (col, m)) in cols
-                    .chunks_exact_mut(nx)
-                    .zip(ms.chunks_exact(nx))
-                    .enumerate()
-                {
-                    let c = g * cols_per + k;
-                    for (r, v) in col.iter_mut().enumerate() {
-                        *v = spec[r * nyh + c];
-                    }
-                    fwd.process_with_scratch(col, scratch);
-                    for (v, mv) in col.iter_mut().zip(m) {
-                        *v *= mv;
-                    }
-                    inv.process_with_scratch(col, scratch);
-                }
-            });
-        // Back to rows, c2r.
-        let spec_t = &self.spec_t;
-        let c2r = &self.c2r;
-        self.spec
-            .par_chunks_mut(rows_per * nyh)
-            .enumerate()
-            .zip(self.pool.par_iter_mut())
-            .zip(y.par_chunks_mut(rows_per * ny))
-            .for_each(|(((g, srows), scratch), yrows)| {
-                for (k, (s, yr)) in srows
-                    .chunks_exact_mut(nyh)
-                    .zip(yrows.chunks_exact_mut(ny))
-                    .enumerate()
-                {
-                    let row = g * rows_per + k;
-                    for (c, v) in s.iter_mut().enumerate() {
-                        *v = spec_t[c * nx + row];
-                    }
-                    // DC and Nyquist bins of a real signal are real; their
-                    // imaginary parts are round-off here.
-                    s[0].im = 0.0;
-                    if ny % 2 == 0 {
-                        s[nyh - 1].im = 0.0;
-                    }
-                    c2r.process_with_scratch(s, yr, scratch)
-                        .expect("buffer sizes match the plan");
-                }
-            });
+        self.engine.apply(x, y);
     }
 }
 
