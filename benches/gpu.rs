@@ -3,7 +3,9 @@
 //! Eq. 7) and full contact solves at the friction peak (xi = 1.17e-2, paper
 //! material, 3 kPa on L = 0.01 m, rms slope 0.02). Timings include the
 //! device work (each measured call ends with a readback or a wait).
-//! The adaptive-mesh matvec (`adaptive_matvec`) runs on a 1024-cell mesh.
+//! The adaptive-mesh matvec runs on the fly on a 1024-cell mesh
+//! (`adaptive_matvec`) and from level tables on a 256 x 256 quadtree
+//! (`level_matvec`).
 //! With `CI` set the grids shrink to 64 x 64 so the bench only proves it
 //! runs; `VISCOSLIDE_GPU_BENCH_LARGE=1` adds the 512 x 512 full solve and
 //! the 1024 x 1024 matvec (minutes on a CPU-emulated adapter).
@@ -213,11 +215,64 @@ fn bench_adaptive_matvec(c: &mut Criterion) {
     group.finish();
 }
 
+/// The quadtree operator from device-computed level tables
+/// (`level_table.wgsl`, `level_box_sum.wgsl`, `level_matvec.wgsl`): building
+/// the tables of levels 0-5 for a 256 x 256 fine grid, and one matvec on the
+/// quadtree that keeps fine the lowest 5 % of the surface's gap (the
+/// bench surface at the friction peak), every fine cell carrying pressure.
+/// Under `CI`: a 64 x 64 grid.
+fn bench_level_matvec(c: &mut Criterion) {
+    use viscoslide::backend::gpu::{engine::Engine, GpuLevelTables};
+    use viscoslide::mesh::QuadMesh;
+    let n = if ci() { 64 } else { 256 };
+    let mut group = c.benchmark_group("level_matvec");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(10));
+    let Some(ctx) = open() else { return };
+    let a = 0.01 / n as f64;
+    let params = KernelParams {
+        speed: 1.17e-2,
+        ..Default::default()
+    };
+    let m = material();
+    let mut engine = Engine::new(ctx);
+    group.bench_function(format!("tables_{n}x{n}_levels0-5"), |b| {
+        b.iter(|| GpuLevelTables::new(&mut engine, &m, &params, n, n, a, 5).unwrap())
+    });
+    let tables = GpuLevelTables::new(&mut engine, &m, &params, n, n, a, 5).unwrap();
+    let g = surface_gap(n);
+    let mut sorted = g.clone();
+    sorted.sort_by(f64::total_cmp);
+    let cut = sorted[g.len() / 20];
+    let fine: Vec<bool> = g.iter().map(|&v| v <= cut).collect();
+    let mesh = QuadMesh::from_mask(n, n, a, 5, &fine).unwrap();
+    let cells = mesh.len();
+    let host: Vec<f64> = mesh
+        .cells
+        .iter()
+        .map(|c| if c.level == 0 { 1e5 } else { 0.0 })
+        .collect();
+    let nonzero = host.iter().filter(|&&v| v != 0.0).count();
+    let mut be = GpuBackend::with_level_tables(engine, &tables, &mesh).unwrap();
+    let mut x = be.zeros(cells);
+    be.upload(&host, &mut x);
+    let mut y = be.zeros(cells);
+    group.bench_function(format!("{cells}_cells_{nonzero}_nonzero"), |b| {
+        b.iter(|| {
+            be.apply(black_box(&x), &mut y);
+            be.synchronize();
+        })
+    });
+    group.finish();
+}
+
 criterion_group!(
     benches,
     bench_coefficients,
     bench_matvec,
     bench_solve,
-    bench_adaptive_matvec
+    bench_adaptive_matvec,
+    bench_level_matvec
 );
 criterion_main!(benches);

@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use crate::analysis::{self, ContactStatistics};
 use crate::backend::gpu::engine::Engine;
-use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuOptions, MeshCells};
+use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuLevelTables, GpuOptions};
 use crate::backend::{Backend, CpuBackend};
 use crate::config::{Formulation, LoadedConfig, MeshKind};
 use crate::error::{Error, Result};
@@ -549,11 +549,12 @@ pub fn solve_gpu(
     finish(setup, &kernel, solution, info, name, None, t0, split)
 }
 
-/// The adaptive mesh on the GPU: each round's contact iteration runs on the
-/// device with the on-the-fly pairwise operator
-/// (`shaders/adaptive_matvec.wgsl`, f32); the certificate of each round and
-/// the friction analysis use the host's f64 level tables, as in
-/// [`solve_cpu`]. Half-spaces only.
+/// The adaptive mesh on the GPU: the level tables are computed on the
+/// device once (`shaders/level_table.wgsl`, `shaders/level_box_sum.wgsl`,
+/// f32) and each round's contact iteration runs there with the pairwise
+/// operator that reads them (`shaders/level_matvec.wgsl`); the certificate
+/// of each round and the friction analysis use the host's f64 level tables,
+/// as in [`solve_cpu`]. Half-spaces only.
 fn solve_gpu_adaptive(
     setup: &SolveSetup,
     ctx: GpuContext,
@@ -566,8 +567,20 @@ fn solve_gpu_adaptive(
     }
     let t0 = Instant::now();
     let plan = AdaptivePlan::new(setup, None)?;
+    let mut eng = Engine::new(ctx);
+    let (nx, ny) = plan.tables.shape();
+    let tables = GpuLevelTables::new(
+        &mut eng,
+        &setup.material,
+        plan.kernel.params(),
+        nx,
+        ny,
+        plan.tables.cell_size(),
+        plan.tables.max_level(),
+    )
+    .map_err(|e| invalid(e.to_string()))?;
     let t_coeff = t0.elapsed().as_secs_f64();
-    let mut engine = Some(Engine::new(ctx));
+    let mut engine = Some(eng);
     let mut name = String::new();
     let mut t_iter = 0.0;
     let mut gpu_error: Option<String> = None;
@@ -578,21 +591,14 @@ fn solve_gpu_adaptive(
         setup.params.tolerance,
         |mesh, g_mesh, start, tol| {
             let t = Instant::now();
-            let cells = MeshCells {
-                x: (0..mesh.len()).map(|k| mesh.centre(k).0).collect(),
-                y: (0..mesh.len()).map(|k| mesh.centre(k).1).collect(),
-                side: (0..mesh.len()).map(|k| mesh.side(k)).collect(),
-            };
             let eng = engine.take().expect("engine returned after each round");
-            let mut backend =
-                match GpuBackend::with_adaptive(eng, &setup.material, plan.kernel.params(), &cells)
-                {
-                    Ok(b) => b,
-                    Err(e) => {
-                        gpu_error = Some(e.to_string());
-                        return Err(solver::SolverError::Invalid(e.to_string()));
-                    }
-                };
+            let mut backend = match GpuBackend::with_level_tables(eng, &tables, mesh) {
+                Ok(b) => b,
+                Err(e) => {
+                    gpu_error = Some(e.to_string());
+                    return Err(solver::SolverError::Invalid(e.to_string()));
+                }
+            };
             name = backend.name();
             let r = plan.solve_round(&mut backend, setup, g_mesh, start, tol, observer);
             engine = Some(backend.into_engine());

@@ -516,3 +516,124 @@ fn adaptive_refuses_invalid_input() {
     );
     assert!(cells.fine_side() == A && MeshCells::default().fine_side().is_nan());
 }
+
+/// The level tables computed on the device (level 0 by `level_table.wgsl`,
+/// coarser levels by `level_box_sum.wgsl`) against the host's f64
+/// `LevelTables`, entry by entry on both lattices of levels 0-3: the paper
+/// material at three speeds (v tau / a = 0, 3, 300) sliding along x and
+/// obliquely, and the 34-term spectrum. Bound: relative error <= 1e-5
+/// wherever the entry exceeds 1e-6 of the lattice's maximum (the conformance
+/// bound of the uniform table; level-0 f32 coefficients are good to about
+/// 5e-7, and each level adds four positive terms).
+#[test]
+fn gpu_level_tables_match_the_host() {
+    use viscoslide::backend::gpu::GpuLevelTables;
+    use viscoslide::operator::LevelTables;
+    if gpu::context_for_tests().is_none() {
+        return;
+    }
+    let (nx, ny, levels) = (20usize, 14usize, 3u8);
+    let paper = common::paper_material();
+    let dense34 = dense_34_material();
+    let cases: Vec<(&str, &Material, KernelParams)> = vec![
+        ("paper v=0", &paper, params(0.0, 0.0)),
+        ("paper vtau/a=3 +x", &paper, params(3.0 * A / TAU, 0.0)),
+        (
+            "paper vtau/a=300 oblique",
+            &paper,
+            params(300.0 * A / TAU, 0.7),
+        ),
+        ("34 terms", &dense34, params(1e-3, 0.3)),
+    ];
+    let mut engine = Engine::new(gpu::context_for_tests().unwrap());
+    let mut worst: f64 = 0.0;
+    for (name, m, p) in cases {
+        let kernel = SlidingKernel::new(m, p).unwrap();
+        let host = LevelTables::new(&kernel, nx, ny, A, levels).unwrap();
+        let dev = GpuLevelTables::new(&mut engine, m, &p, nx, ny, A, levels).unwrap();
+        assert_eq!(dev.max_level(), levels);
+        for level in 0..=levels {
+            for parity in 0..2usize {
+                let (kmin, kmax, got) = dev.read(&mut engine, level, parity);
+                let w = (kmax.1 - kmin.1 + 1) as usize;
+                let scale = got.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                let par = parity as i64;
+                for (i, &g) in got.iter().enumerate() {
+                    let (kx, ky) = (kmin.0 + (i / w) as i64, kmin.1 + (i % w) as i64);
+                    let want = host.coefficient(level, 2 * kx + par, 2 * ky + par);
+                    if want.abs() > 1e-6 * scale {
+                        let e = (g - want).abs() / want.abs();
+                        worst = worst.max(e);
+                        assert!(
+                            e <= 1e-5,
+                            "{name}: level {level} parity {parity} offset ({kx}, {ky}): gpu {g:.7e} host {want:.7e} ({e:.1e})"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    println!("level tables: worst relative error {worst:.2e}");
+}
+
+/// The table-reading operator (`level_matvec.wgsl`) against the host's
+/// `AdaptiveOperator` on one quadtree mesh with cells of levels 0-3, random
+/// nonnegative unknowns with 30 % and 80 % zeros, at v tau / a = 3 along x
+/// and 30 obliquely. Bound: relative L2 <= 1e-5 (f32 table entries of
+/// relative error below 1e-6, chunk sums Kahan-compensated).
+#[test]
+fn gpu_level_matvec_matches_the_host_operator() {
+    use viscoslide::backend::gpu::GpuLevelTables;
+    use viscoslide::mesh::QuadMesh;
+    use viscoslide::operator::{AdaptiveOperator, LevelTables};
+    if gpu::context_for_tests().is_none() {
+        return;
+    }
+    let (nx, ny, levels) = (40usize, 28usize, 3u8);
+    let mut fine = vec![false; nx * ny];
+    for (cx, cy) in [(7usize, 6usize), (25, 19), (33, 4)] {
+        for ix in cx - 2..cx + 3 {
+            for iy in cy - 2..cy + 3 {
+                fine[ix * ny + iy] = true;
+            }
+        }
+    }
+    let mesh = QuadMesh::from_mask(nx, ny, A, levels, &fine).unwrap();
+    let counts = mesh.level_counts();
+    assert!(counts.iter().all(|&c| c > 0), "levels {counts:?}");
+    let m = common::paper_material();
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let mut engine = Some(Engine::new(gpu::context_for_tests().unwrap()));
+    for (lambda, dir, zeros) in [(3.0, 0.0, 0.3), (30.0, 2.2, 0.8)] {
+        let p = params(lambda * A / TAU, dir);
+        let kernel = SlidingKernel::new(&m, p).unwrap();
+        let host = std::sync::Arc::new(LevelTables::new(&kernel, nx, ny, A, levels).unwrap());
+        let mut op = AdaptiveOperator::new(host, &mesh);
+        let mut eng = engine.take().unwrap();
+        let dev = GpuLevelTables::new(&mut eng, &m, &p, nx, ny, A, levels).unwrap();
+        let mut g = GpuBackend::with_level_tables(eng, &dev, &mesh).unwrap();
+        let n = mesh.len();
+        assert_eq!(g.grid_len(), n);
+        let x: Vec<f64> = (0..n)
+            .map(|_| {
+                if rng.random_range(0.0..1.0) < zeros {
+                    0.0
+                } else {
+                    rng.random_range(0.0..1e5)
+                }
+            })
+            .collect();
+        let mut want = vec![0.0; n];
+        op.apply(&x, &mut want);
+        let mut gx = g.zeros(n);
+        g.upload(&x, &mut gx);
+        let mut gy = g.zeros(n);
+        g.apply(&gx, &mut gy);
+        let mut got = vec![0.0; n];
+        g.download(&gy, &mut got);
+        let e = rel_l2(&got, &want);
+        println!("level matvec, {n} cells, v tau/a = {lambda}: relative L2 {e:.2e}");
+        assert!(e <= 1e-5, "v tau/a = {lambda}: relative L2 {e:.2e}");
+        engine = Some(g.into_engine());
+    }
+}

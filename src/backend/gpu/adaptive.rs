@@ -84,18 +84,22 @@ impl MeshCells {
 
 /// The creep terms and scales of one (material, speed, direction) at the
 /// length unit `unit` \[m\].
-struct Plan {
+pub(super) struct Plan {
     /// `(w_k, 1 / l_k)` of the active terms, `l_k` in units of `unit`.
-    terms: Vec<f32>,
-    count: u32,
+    pub(super) terms: Vec<f32>,
+    pub(super) count: u32,
     /// Glassy-plus-relaxed compliance fraction at `unit`.
-    instantaneous: f32,
+    pub(super) instantaneous: f32,
     /// `(1 - nu^2)/pi * unit * (total compliance)` [m/Pa].
-    scale: f64,
-    e: [f32; 2],
+    pub(super) scale: f64,
+    pub(super) e: [f32; 2],
 }
 
-fn plan(material: &Material, params: &KernelParams, unit: f64) -> Result<Plan, GpuError> {
+pub(super) fn plan(
+    material: &Material,
+    params: &KernelParams,
+    unit: f64,
+) -> Result<Plan, GpuError> {
     if params.layer.is_some() {
         return Err(GpuError::Invalid(
             "the GPU coefficient kernels cover half-spaces only; finite-thickness coefficients are computed on the host".into(),
@@ -138,7 +142,7 @@ fn plan(material: &Material, params: &KernelParams, unit: f64) -> Result<Plan, G
 }
 
 /// Workgroup grid `(x, y)` of `groups` workgroups.
-fn grid(groups: u64) -> (u32, u32) {
+pub(super) fn grid(groups: u64) -> (u32, u32) {
     let groups = groups.max(1);
     let gx = groups.min(MAX_GROUPS_X);
     (gx as u32, groups.div_ceil(gx) as u32)
@@ -324,34 +328,7 @@ impl AdaptiveMatvec {
 
     /// Record `y = L x` (f32 vectors of at least [`Self::len`] entries).
     pub fn record_apply(&mut self, engine: &mut Engine, x: &Buf, y: &Buf) {
-        // The nonzero sources, in order (compact_*.wgsl, nonzero mode).
-        let (n, blocks) = (self.n as u32, self.chunks as u32);
-        let select_nonzero = Params {
-            i: [n, blocks, 1, 0],
-            ..Default::default()
-        };
-        let block_groups = groups_for(self.chunks as u64 * WORKGROUP as u64);
-        engine.dispatch(
-            Kernel::CompactCount,
-            &[x, &self.offsets],
-            select_nonzero,
-            block_groups,
-        );
-        engine.dispatch(
-            Kernel::CompactScan,
-            &[&self.offsets],
-            Params {
-                i: [blocks, 0, 0, 0],
-                ..Default::default()
-            },
-            (1, 1),
-        );
-        engine.dispatch(
-            Kernel::CompactWrite,
-            &[x, &self.offsets, &self.index],
-            select_nonzero,
-            block_groups,
-        );
+        record_nonzero_sources(engine, x, &self.offsets, &self.index, self.n, self.chunks);
         engine.dispatch(
             Kernel::AdaptiveMatvec,
             &[
@@ -365,15 +342,76 @@ impl AdaptiveMatvec {
             self.params,
             grid(self.n as u64 * self.chunks as u64),
         );
-        engine.dispatch(
-            Kernel::AdaptiveSum,
-            &[&self.partials, &self.offsets, y],
-            Params {
-                i: [self.n as u32, self.chunks as u32, 0, 0],
-                j: [0; 4],
-                f: [0.0, 0.0, 0.0, self.params.f[3]],
-            },
-            groups_for(self.n as u64),
+        record_chunk_sums(
+            engine,
+            &self.partials,
+            &self.offsets,
+            y,
+            self.n,
+            self.chunks,
+            self.params.f[3],
         );
     }
+}
+
+/// Record the compaction of the nonzero entries of `x` (`n` cells, `chunks`
+/// blocks of [`WORKGROUP`]) into `index`, in order, with the block offsets
+/// in `offsets` (`offsets[chunks]` is the count; compact_*.wgsl).
+pub(super) fn record_nonzero_sources(
+    engine: &mut Engine,
+    x: &Buf,
+    offsets: &Buf,
+    index: &Buf,
+    n: usize,
+    chunks: usize,
+) {
+    let select_nonzero = Params {
+        i: [n as u32, chunks as u32, 1, 0],
+        ..Default::default()
+    };
+    let block_groups = groups_for(chunks as u64 * WORKGROUP as u64);
+    engine.dispatch(
+        Kernel::CompactCount,
+        &[x, offsets],
+        select_nonzero,
+        block_groups,
+    );
+    engine.dispatch(
+        Kernel::CompactScan,
+        &[offsets],
+        Params {
+            i: [chunks as u32, 0, 0, 0],
+            ..Default::default()
+        },
+        (1, 1),
+    );
+    engine.dispatch(
+        Kernel::CompactWrite,
+        &[x, offsets, index],
+        select_nonzero,
+        block_groups,
+    );
+}
+
+/// Record `y_T = c0 sum_c partials[c n + T]` over the source chunks in use
+/// (adaptive_sum.wgsl).
+pub(super) fn record_chunk_sums(
+    engine: &mut Engine,
+    partials: &Buf,
+    offsets: &Buf,
+    y: &Buf,
+    n: usize,
+    chunks: usize,
+    c0: f32,
+) {
+    engine.dispatch(
+        Kernel::AdaptiveSum,
+        &[partials, offsets, y],
+        Params {
+            i: [n as u32, chunks as u32, 0, 0],
+            j: [0; 4],
+            f: [0.0, 0.0, 0.0, c0],
+        },
+        groups_for(n as u64),
+    );
 }

@@ -6,7 +6,10 @@
 //! a one-workgroup scan, an ordered write).
 //!
 //! The operator is the padded FFT convolution of a uniform grid
-//! ([`GpuBackend::new`]) or the matrix-free operator of a non-uniform mesh
+//! ([`GpuBackend::new`]) or the matrix-free operator of a non-uniform mesh:
+//! from device-computed level tables on a quadtree
+//! ([`GpuBackend::with_level_tables`], what `solve` uses) or with every
+//! coefficient evaluated per pair for cells anywhere
 //! ([`GpuBackend::with_adaptive`]).
 //!
 //! Precision: vectors and the matvec are f32 (relative matvec error about
@@ -18,6 +21,7 @@ use super::context::{GpuContext, GpuError};
 use super::engine::{groups_for, Buf, Engine, Kernel, Params, WORKGROUP};
 use super::fft::FftMatvec;
 pub use super::fft::SpectrumPrecision;
+use super::level_tables::{GpuLevelTables, LevelMatvec};
 use super::pool::{Pool, Slot};
 use crate::backend::Backend;
 use crate::kernel::KernelParams;
@@ -67,6 +71,8 @@ enum Operator {
     Fft(FftMatvec),
     /// Non-uniform mesh: coefficients evaluated on the fly.
     Adaptive(AdaptiveMatvec),
+    /// Quadtree mesh: coefficients read from level tables.
+    Levels(LevelMatvec),
 }
 
 /// The GPU executor of one grid and one influence operator.
@@ -132,6 +138,21 @@ impl GpuBackend {
         Ok(Self::assemble(engine, n, Operator::Adaptive(matvec)))
     }
 
+    /// The executor of a quadtree mesh (`grid_len` = its cells, in mesh
+    /// order) whose operator is [`LevelMatvec`]: one read of the level
+    /// tables `tables` (built on this engine for the mesh's fine grid) per
+    /// (target, nonzero source) pair. Unknowns and scaling as in
+    /// [`Self::with_adaptive`].
+    pub fn with_level_tables(
+        mut engine: Engine,
+        tables: &GpuLevelTables,
+        mesh: &crate::mesh::QuadMesh,
+    ) -> Result<Self, GpuError> {
+        let matvec = LevelMatvec::new(&mut engine, tables, mesh)?;
+        let n = matvec.len();
+        Ok(Self::assemble(engine, n, Operator::Levels(matvec)))
+    }
+
     fn assemble(mut engine: Engine, n: usize, matvec: Operator) -> Self {
         let usage = wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_SRC
@@ -184,7 +205,7 @@ impl GpuBackend {
     pub fn padded_shape(&self) -> (usize, usize) {
         match &self.matvec {
             Operator::Fft(m) => (m.mx, m.my),
-            Operator::Adaptive(_) => (0, 0),
+            Operator::Adaptive(_) | Operator::Levels(_) => (0, 0),
         }
     }
 
@@ -289,6 +310,7 @@ impl Backend for GpuBackend {
         match &mut self.matvec {
             Operator::Fft(m) => m.record_apply(&mut self.engine, x.buf(), y.buf()),
             Operator::Adaptive(m) => m.record_apply(&mut self.engine, x.buf(), y.buf()),
+            Operator::Levels(m) => m.record_apply(&mut self.engine, x.buf(), y.buf()),
         }
     }
 

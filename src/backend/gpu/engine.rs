@@ -62,6 +62,9 @@ pub enum Kernel {
     AdaptiveCoefficients,
     AdaptiveMatvec,
     AdaptiveSum,
+    LevelTable,
+    LevelBoxSum,
+    LevelMatvec,
 }
 
 impl Kernel {
@@ -91,6 +94,9 @@ impl Kernel {
             Kernel::AdaptiveCoefficients => "adaptive_coefficients.wgsl",
             Kernel::AdaptiveMatvec => "adaptive_matvec.wgsl",
             Kernel::AdaptiveSum => "adaptive_sum.wgsl",
+            Kernel::LevelTable => "level_table.wgsl",
+            Kernel::LevelBoxSum => "level_box_sum.wgsl",
+            Kernel::LevelMatvec => "level_matvec.wgsl",
         }
     }
 
@@ -119,6 +125,9 @@ impl Kernel {
             Kernel::AdaptiveCoefficients => &[R, R, W],
             Kernel::AdaptiveMatvec => &[R, R, R, R, R, W],
             Kernel::AdaptiveSum => &[R, R, W],
+            Kernel::LevelTable => &[R, W],
+            Kernel::LevelBoxSum => &[R, W],
+            Kernel::LevelMatvec => &[R, R, R, R, R, R, W],
         }
     }
 }
@@ -149,7 +158,7 @@ enum Command {
 pub struct Engine {
     pub ctx: GpuContext,
     pipelines: HashMap<Kernel, Pipeline>,
-    binds: HashMap<(Kernel, [u64; 6]), wgpu::BindGroup>,
+    binds: HashMap<(Kernel, [u64; 7]), wgpu::BindGroup>,
     ring: Buf,
     stride: u64,
     staged: Vec<u8>,
@@ -304,7 +313,7 @@ impl Engine {
         if self.staged.len() as u64 >= self.stride * RING_SLOTS {
             self.flush();
         }
-        let mut key = [0u64; 6];
+        let mut key = [0u64; 7];
         for (k, b) in bufs.iter().enumerate() {
             key[k] = b.id;
         }

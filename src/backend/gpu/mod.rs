@@ -11,6 +11,8 @@
 //! - [`coefficients`]: the influence-coefficient table computed on the device.
 //! - [`adaptive`]: coefficients between cells of different sizes and the
 //!   matrix-free operator of a non-uniform mesh.
+//! - [`level_tables`]: the same operator on a quadtree mesh from per-level
+//!   coefficient tables computed on the device.
 //! - [`backend`]: [`GpuBackend`], the [`crate::backend::Backend`] implementation.
 
 pub mod adaptive;
@@ -19,9 +21,11 @@ pub mod coefficients;
 pub mod context;
 pub mod engine;
 pub mod fft;
+pub mod level_tables;
 pub mod pool;
 pub mod shaders;
 
 pub use adaptive::{AdaptiveMatvec, MeshCells};
 pub use backend::{GpuBackend, GpuIndex, GpuOptions, GpuVector, SpectrumPrecision};
 pub use context::{context_for_tests, list_adapters, AdapterSummary, GpuContext, GpuError};
+pub use level_tables::{GpuLevelTables, LevelMatvec};

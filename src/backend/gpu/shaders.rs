@@ -36,9 +36,10 @@ pub const GREEN: (&str, &str) = (
 /// Helpers included by kernel `name` after [`SHARED`], in order.
 pub fn includes(name: &str) -> &'static [(&'static str, &'static str)] {
     match name {
-        "coefficients.wgsl" | "adaptive_coefficients.wgsl" | "adaptive_matvec.wgsl" => {
-            std::slice::from_ref(&GREEN)
-        }
+        "coefficients.wgsl"
+        | "adaptive_coefficients.wgsl"
+        | "adaptive_matvec.wgsl"
+        | "level_table.wgsl" => std::slice::from_ref(&GREEN),
         _ => &[],
     }
 }
@@ -76,6 +77,9 @@ kernels!(
     "adaptive_coefficients.wgsl",
     "adaptive_matvec.wgsl",
     "adaptive_sum.wgsl",
+    "level_table.wgsl",
+    "level_box_sum.wgsl",
+    "level_matvec.wgsl",
 );
 
 /// The source of kernel file `name` (e.g. `axpy.wgsl`) with the shared
