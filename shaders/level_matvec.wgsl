@@ -12,8 +12,10 @@
 // fine source), picking the integer (binding 1) or half-integer (binding 2)
 // table; entry k of a table stands for the offset 2k + parity, so
 // k = k_T - k_S - [q = 0 and p_S = 1] with k = floor(h / 2).
-// The first level's pass writes, later ones add; adaptive_sum.wgsl scales
-// by c0 and adds the chunks.
+// Cells (targets and sources alike) are in level order, a permutation of
+// the mesh's (level_tables.rs gathers and scatters). The first level's pass
+// writes, later ones add; adaptive_sum.wgsl scales by c0 and adds the
+// chunks.
 // cells[i] = (k_x, k_y, parity, level) as i32; P.i: (cells, chunks,
 // level | first << 8, w_even | w_odd << 16) with w the tables' row widths;
 // P.j: (kmin_x, kmin_y) of the integer table, then of the half-integer one,
@@ -36,10 +38,24 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     }
     let t = group % n;
     let chunk = group / n;
-    let j = chunk * WG + lid;
+    let at = chunk * n + t;
+    let first = (P.i.z >> 8u) == 1u;
     let level = i32(P.i.z & 255u);
+    // Cells are sorted by level, so a chunk's sources span the levels of
+    // its first and last entries: chunks past the nonzero sources, or
+    // without a source of this level, leave at once (the test reads the
+    // same entries in every invocation: uniform).
+    let count = offsets[P.i.y];
+    let j0 = chunk * WG;
+    if (j0 >= count || level < cells[index[j0]].w || level > cells[index[min(j0 + WG, count) - 1u]].w) {
+        if (first && lid == 0u) {
+            partials[at] = 0.0;
+        }
+        return;
+    }
+    let j = j0 + lid;
     var v = 0.0;
-    if (j < offsets[P.i.y]) {
+    if (j < count) {
         let s = index[j];
         let src = cells[s];
         if (src.w == level) {
@@ -61,8 +77,7 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     }
     let total = workgroup_sum4(lid, vec4<f32>(v, 0.0, 0.0, 0.0));
     if (lid == 0u) {
-        let at = chunk * n + t;
-        if ((P.i.z >> 8u) == 1u) {
+        if (first) {
             partials[at] = total.x;
         } else {
             partials[at] = partials[at] + total.x;

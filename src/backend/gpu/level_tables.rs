@@ -231,13 +231,21 @@ fn box_sum(
 }
 
 /// The operator `y_T = sum_S K_l(S)(c_T - c_S) x_S / 4^l(S)` of a quadtree
-/// mesh (paper Eq. 7) from [`GpuLevelTables`]: the nonzero sources are
-/// compacted (off the contact set `x_S = 0`), then for each source level of
-/// the mesh one workgroup per (target cell, chunk of [`WORKGROUP`] sources)
-/// reads one table entry per invocation, and a last pass adds the chunk
-/// partials and scales.
+/// mesh (paper Eq. 7) from [`GpuLevelTables`]: the vectors are permuted into
+/// level order, the nonzero sources compacted (off the contact set
+/// `x_S = 0`), then for each source level of the mesh one workgroup per
+/// (target cell, chunk of [`WORKGROUP`] sources) reads one table entry per
+/// invocation (chunks past the sources, or without a source of that level,
+/// return at once), a pass adds the chunk partials and scales, and the
+/// result is permuted back.
 pub struct LevelMatvec {
     tables: GpuLevelTables,
+    /// Mesh positions in level order (u32): the operator works on the
+    /// permuted vectors so that the sources of a level are contiguous.
+    order: Buf,
+    /// `x` and `y` in level order.
+    x_sorted: Buf,
+    y_sorted: Buf,
     cells: Buf,
     index: Buf,
     offsets: Buf,
@@ -289,9 +297,11 @@ impl LevelMatvec {
                 "{n} cells need more workgroups than one dispatch allows"
             )));
         }
-        let data: Vec<i32> = mesh
-            .cells
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        order.sort_by_key(|&k| mesh.cells[k as usize].level);
+        let data: Vec<i32> = order
             .iter()
+            .map(|&k| &mesh.cells[k as usize])
             .flat_map(|c| {
                 let (hx, hy) = c.centre_half();
                 [
@@ -303,6 +313,12 @@ impl LevelMatvec {
             })
             .collect();
         let cells = engine.storage_with("viscoslide quadtree cells", bytemuck::cast_slice(&data));
+        let order = engine.storage_with("viscoslide quadtree order", bytemuck::cast_slice(&order));
+        let vector = |engine: &mut Engine, label: &str| {
+            engine.create_buffer(label, 4 * n as u64, wgpu::BufferUsages::STORAGE)
+        };
+        let x_sorted = vector(engine, "viscoslide level-ordered x");
+        let y_sorted = vector(engine, "viscoslide level-ordered y");
         let partials = engine.create_buffer(
             "viscoslide level partial sums",
             partial_bytes,
@@ -320,6 +336,9 @@ impl LevelMatvec {
         );
         Ok(Self {
             tables: tables.clone(),
+            order,
+            x_sorted,
+            y_sorted,
             cells,
             index,
             offsets,
@@ -341,7 +360,19 @@ impl LevelMatvec {
 
     /// Record `y = L x` (f32 vectors of at least [`Self::len`] entries).
     pub fn record_apply(&mut self, engine: &mut Engine, x: &Buf, y: &Buf) {
-        record_nonzero_sources(engine, x, &self.offsets, &self.index, self.n, self.chunks);
+        let permute = Params {
+            i: [self.n as u32, 0, 0, 0],
+            ..Default::default()
+        };
+        let elementwise = groups_for(self.n as u64);
+        engine.dispatch(
+            Kernel::Gather,
+            &[&self.order, x, &self.x_sorted],
+            permute,
+            elementwise,
+        );
+        let xs = &self.x_sorted;
+        record_nonzero_sources(engine, xs, &self.offsets, &self.index, self.n, self.chunks);
         for (k, &level) in self.levels.iter().enumerate() {
             let [even, odd] = &self.tables.tables[level as usize];
             engine.dispatch(
@@ -350,7 +381,7 @@ impl LevelMatvec {
                     &even.buf,
                     &odd.buf,
                     &self.cells,
-                    x,
+                    xs,
                     &self.index,
                     &self.offsets,
                     &self.partials,
@@ -377,10 +408,16 @@ impl LevelMatvec {
             engine,
             &self.partials,
             &self.offsets,
-            y,
+            &self.y_sorted,
             self.n,
             self.chunks,
             self.tables.scale as f32,
+        );
+        engine.dispatch(
+            Kernel::Scatter,
+            &[&self.order, &self.y_sorted, y],
+            permute,
+            elementwise,
         );
     }
 }
