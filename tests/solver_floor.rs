@@ -3,8 +3,9 @@
 //! be sharpened further (f32 on large grids), the solve ends with that
 //! residual reported, provided it is below 1e-3; above that it is an error.
 //! The floor is simulated in f64 by an operator whose full product (used
-//! for the gap) carries a fixed relative perturbation that the rows-only
-//! product (used by the inner solves) does not, as f32 rounding does.
+//! for the gap) carries a fixed perturbation that the rows-only product
+//! (used by the inner solves) does not, as f32 rounding does: relative on
+//! every cell, or one cell's gap lowered so that the set toggles it.
 
 mod common;
 
@@ -39,6 +40,46 @@ impl GridOperator for Inconsistent {
 }
 
 fn solve(eps: f64) -> Result<f64, SolverError> {
+    solve_with(|exact| Inconsistent { exact, eps }, None).map(|(r, _)| r)
+}
+
+/// The exact operator with the gap of one open cell lowered by a fixed
+/// amount in the full product only: outside the set that cell
+/// interpenetrates (full product), inside it the inner solve (rows-only,
+/// exact) needs a slightly negative pressure there, so it enters and
+/// leaves in turn, as a cell at the edge of the contact does at the f32
+/// floor.
+struct Toggling {
+    exact: ToeplitzFft,
+    cell: usize,
+    lowered: f64,
+}
+
+impl GridOperator for Toggling {
+    fn shape(&self) -> (usize, usize) {
+        self.exact.shape()
+    }
+
+    fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+        self.exact.apply(x, y);
+        y[self.cell] -= self.lowered;
+    }
+
+    fn apply_rows(&mut self, x: &[f64], rows: &[usize], scratch: &mut [f64], out: &mut [f64]) {
+        self.exact.apply(x, scratch);
+        for (o, &r) in out.iter_mut().zip(rows) {
+            *o = scratch[r];
+        }
+    }
+}
+
+/// The test problem (32 x 32, paper material at the friction peak) on the
+/// operator `wrap` builds around the exact one, with the gap profile raised
+/// by `raise = (cell, amount)`: the residual and the contact-set sizes.
+fn solve_with<O: GridOperator + 'static>(
+    wrap: impl FnOnce(ToeplitzFft) -> O,
+    raise: Option<(usize, f64)>,
+) -> Result<(f64, Vec<usize>), SolverError> {
     let n = 32;
     let a = 0.01 / n as f64;
     let z = common::trig_surface(n, 0.01, 4, 0.8, 0.02, 1);
@@ -57,26 +98,27 @@ fn solve(eps: f64) -> Result<f64, SolverError> {
         values: &t.values,
     };
     let l00 = tab.get(0, 0);
-    let mut be = CpuBackend::new(Inconsistent {
-        exact: ToeplitzFft::new(tab),
-        eps,
-    });
+    let mut be = CpuBackend::new(wrap(ToeplitzFft::new(tab)));
     // In f64 the inner solves are first sharpened down to their floor
     // (16 eps), then the stagnation counts.
     let params = SolverParams {
         tolerance: 1e-8,
         ..Default::default()
     };
+    let mut g = common::gap_of(&z);
+    if let Some((cell, amount)) = raise {
+        g[cell] += amount;
+    }
     solver::solve(
         &mut be,
-        &common::gap_of(&z),
+        &g,
         a * a,
         l00,
         Control::Load(0.05),
         &params,
         &mut solver::Silent,
     )
-    .map(|(_, info)| info.residual)
+    .map(|(_, info)| (info.residual, info.contact_history))
 }
 
 #[test]
@@ -92,4 +134,67 @@ fn a_stagnant_residual_above_1e_3_is_an_error() {
         Err(SolverError::NoConvergence { residual, .. }) => assert!(residual > 1e-3),
         other => panic!("expected no convergence, got {other:?}"),
     }
+}
+
+/// A set that keeps toggling one cell at a stagnant residual is the floor
+/// too: accepted and reported (without the rule it cycles until the
+/// iteration cap, as a 1024^2 lavapipe solve did).
+#[test]
+fn a_set_toggling_at_the_floor_is_accepted() {
+    // The exact solution first: the open cell with the smallest gap.
+    let n = 32;
+    let (cell, gap) = {
+        let a = 0.01 / n as f64;
+        let z = common::trig_surface(n, 0.01, 4, 0.8, 0.02, 1);
+        let k = SlidingKernel::new(
+            &common::paper_material(),
+            KernelParams {
+                speed: 1e-2,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let t = k.table(n, n, a);
+        let tab = OffsetTable {
+            nx: n,
+            ny: n,
+            values: &t.values,
+        };
+        let mut be = CpuBackend::new(ToeplitzFft::new(tab));
+        let (sol, _) = solver::solve(
+            &mut be,
+            &common::gap_of(&z),
+            a * a,
+            tab.get(0, 0),
+            Control::Load(0.05),
+            &SolverParams::default(),
+            &mut solver::Silent,
+        )
+        .unwrap();
+        (0..n * n)
+            .filter(|&i| sol.contact[i] < 0.5)
+            .map(|i| (i, sol.gap[i]))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap()
+    };
+    // Bring that cell within 1e-3 of its gap of touching (the solution is
+    // unchanged: it stays open), then let the full product see it 1e-3
+    // inside.
+    assert!(gap > 0.0);
+    let (r, sizes) = solve_with(
+        |exact| Toggling {
+            exact,
+            cell,
+            lowered: 2e-3 * gap,
+        },
+        Some((cell, -0.999 * gap)),
+    )
+    .expect("a toggling set at a stagnant residual below 1e-3 is the floor");
+    let tail = &sizes[sizes.len() - 3..];
+    println!("residual {r:.2e}, last set sizes {tail:?}");
+    assert!(r > 1e-8 && r <= 1e-3, "{r:e}");
+    assert!(
+        tail.windows(2).any(|w| w[0] != w[1]),
+        "the set should toggle: {tail:?}"
+    );
 }
