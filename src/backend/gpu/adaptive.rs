@@ -234,26 +234,27 @@ pub fn pair_coefficients(
 pub struct AdaptiveMatvec {
     terms: Buf,
     cells: Buf,
-    /// Positions of the nonzero sources (u32), compacted per matvec.
-    index: Buf,
-    /// Block offsets of the compaction; `offsets[chunks]` is the count.
-    offsets: Buf,
-    partials: Buf,
-    n: usize,
-    chunks: usize,
+    pairs: PairWork,
     params: Params,
 }
 
-impl AdaptiveMatvec {
-    /// Plan the operator of `cells` for one material and sliding state.
-    pub fn new(
-        engine: &mut Engine,
-        material: &Material,
-        params: &KernelParams,
-        cells: &MeshCells,
-    ) -> Result<Self, GpuError> {
-        cells.check()?;
-        let n = cells.len();
+/// Work space of a pairwise operator over `n` cells: the compacted list of
+/// nonzero sources and the per-chunk partial sums of every target.
+pub(super) struct PairWork {
+    /// Positions of the nonzero sources (u32), compacted per matvec.
+    pub(super) index: Buf,
+    /// Block offsets of the compaction; `offsets[chunks]` is the count.
+    pub(super) offsets: Buf,
+    /// `partials[c n + T]`: target `T`'s sum over source chunk `c`.
+    pub(super) partials: Buf,
+    pub(super) n: usize,
+    /// Source chunks of [`WORKGROUP`].
+    pub(super) chunks: usize,
+}
+
+impl PairWork {
+    /// Buffers for `n` cells, checked against the device's limits.
+    pub(super) fn new(engine: &mut Engine, n: usize) -> Result<Self, GpuError> {
         engine.check_binding("the mesh cells", 16 * n as u64)?;
         engine.check_binding(&format!("a vector of {n} cells"), 4 * n as u64)?;
         let chunks = n.div_ceil(WORKGROUP as usize);
@@ -267,6 +268,91 @@ impl AdaptiveMatvec {
                 "{n} cells need more workgroups than one dispatch allows"
             )));
         }
+        Ok(Self {
+            partials: engine.create_buffer(
+                "viscoslide pairwise partial sums",
+                partial_bytes,
+                wgpu::BufferUsages::STORAGE,
+            ),
+            index: engine.create_buffer(
+                "viscoslide pairwise source index",
+                4 * n as u64,
+                wgpu::BufferUsages::STORAGE,
+            ),
+            offsets: engine.create_buffer(
+                "viscoslide pairwise source offsets",
+                4 * (chunks as u64 + 1),
+                wgpu::BufferUsages::STORAGE,
+            ),
+            n,
+            chunks,
+        })
+    }
+
+    /// The workgroup grid of one (target, source chunk) pass.
+    pub(super) fn pair_grid(&self) -> (u32, u32) {
+        grid(self.n as u64 * self.chunks as u64)
+    }
+
+    /// Record the compaction of the nonzero entries of `x` into `index`, in
+    /// order, with the block offsets in `offsets` (compact_*.wgsl).
+    pub(super) fn record_sources(&self, engine: &mut Engine, x: &Buf) {
+        let (n, chunks) = (self.n as u32, self.chunks as u32);
+        let select_nonzero = Params {
+            i: [n, chunks, 1, 0],
+            ..Default::default()
+        };
+        let block_groups = groups_for(self.chunks as u64 * WORKGROUP as u64);
+        engine.dispatch(
+            Kernel::CompactCount,
+            &[x, &self.offsets],
+            select_nonzero,
+            block_groups,
+        );
+        engine.dispatch(
+            Kernel::CompactScan,
+            &[&self.offsets],
+            Params {
+                i: [chunks, 0, 0, 0],
+                ..Default::default()
+            },
+            (1, 1),
+        );
+        engine.dispatch(
+            Kernel::CompactWrite,
+            &[x, &self.offsets, &self.index],
+            select_nonzero,
+            block_groups,
+        );
+    }
+
+    /// Record `y_T = c0 sum_c partials[c n + T]` over the source chunks in
+    /// use (adaptive_sum.wgsl).
+    pub(super) fn record_sums(&self, engine: &mut Engine, y: &Buf, c0: f32) {
+        engine.dispatch(
+            Kernel::AdaptiveSum,
+            &[&self.partials, &self.offsets, y],
+            Params {
+                i: [self.n as u32, self.chunks as u32, 0, 0],
+                j: [0; 4],
+                f: [0.0, 0.0, 0.0, c0],
+            },
+            groups_for(self.n as u64),
+        );
+    }
+}
+
+impl AdaptiveMatvec {
+    /// Plan the operator of `cells` for one material and sliding state.
+    pub fn new(
+        engine: &mut Engine,
+        material: &Material,
+        params: &KernelParams,
+        cells: &MeshCells,
+    ) -> Result<Self, GpuError> {
+        cells.check()?;
+        let n = cells.len();
+        let pairs = PairWork::new(engine, n)?;
         let a = cells.fine_side();
         let plan = plan(material, params, a)?;
         // Centres in fine sides from the lower-left centre: on a quadtree
@@ -286,29 +372,11 @@ impl AdaptiveMatvec {
         let terms =
             engine.storage_with("viscoslide creep terms", bytemuck::cast_slice(&plan.terms));
         let cells_buf = engine.storage_with("viscoslide mesh cells", bytemuck::cast_slice(&data));
-        let partials = engine.create_buffer(
-            "viscoslide adaptive partial sums",
-            partial_bytes,
-            wgpu::BufferUsages::STORAGE,
-        );
-        let index = engine.create_buffer(
-            "viscoslide adaptive source index",
-            4 * n as u64,
-            wgpu::BufferUsages::STORAGE,
-        );
-        let offsets = engine.create_buffer(
-            "viscoslide adaptive source offsets",
-            4 * (chunks as u64 + 1),
-            wgpu::BufferUsages::STORAGE,
-        );
+        let chunks = pairs.chunks;
         Ok(Self {
             terms,
             cells: cells_buf,
-            index,
-            offsets,
-            partials,
-            n,
-            chunks,
+            pairs,
             params: Params {
                 i: [n as u32, plan.count, chunks as u32, 0],
                 j: [0; 4],
@@ -319,99 +387,30 @@ impl AdaptiveMatvec {
 
     /// Number of cells.
     pub fn len(&self) -> usize {
-        self.n
+        self.pairs.n
     }
 
     pub fn is_empty(&self) -> bool {
-        self.n == 0
+        self.pairs.n == 0
     }
 
     /// Record `y = L x` (f32 vectors of at least [`Self::len`] entries).
     pub fn record_apply(&mut self, engine: &mut Engine, x: &Buf, y: &Buf) {
-        record_nonzero_sources(engine, x, &self.offsets, &self.index, self.n, self.chunks);
+        let w = &self.pairs;
+        w.record_sources(engine, x);
         engine.dispatch(
             Kernel::AdaptiveMatvec,
             &[
                 &self.terms,
                 &self.cells,
                 x,
-                &self.index,
-                &self.offsets,
-                &self.partials,
+                &w.index,
+                &w.offsets,
+                &w.partials,
             ],
             self.params,
-            grid(self.n as u64 * self.chunks as u64),
+            w.pair_grid(),
         );
-        record_chunk_sums(
-            engine,
-            &self.partials,
-            &self.offsets,
-            y,
-            self.n,
-            self.chunks,
-            self.params.f[3],
-        );
+        w.record_sums(engine, y, self.params.f[3]);
     }
-}
-
-/// Record the compaction of the nonzero entries of `x` (`n` cells, `chunks`
-/// blocks of [`WORKGROUP`]) into `index`, in order, with the block offsets
-/// in `offsets` (`offsets[chunks]` is the count; compact_*.wgsl).
-pub(super) fn record_nonzero_sources(
-    engine: &mut Engine,
-    x: &Buf,
-    offsets: &Buf,
-    index: &Buf,
-    n: usize,
-    chunks: usize,
-) {
-    let select_nonzero = Params {
-        i: [n as u32, chunks as u32, 1, 0],
-        ..Default::default()
-    };
-    let block_groups = groups_for(chunks as u64 * WORKGROUP as u64);
-    engine.dispatch(
-        Kernel::CompactCount,
-        &[x, offsets],
-        select_nonzero,
-        block_groups,
-    );
-    engine.dispatch(
-        Kernel::CompactScan,
-        &[offsets],
-        Params {
-            i: [chunks as u32, 0, 0, 0],
-            ..Default::default()
-        },
-        (1, 1),
-    );
-    engine.dispatch(
-        Kernel::CompactWrite,
-        &[x, offsets, index],
-        select_nonzero,
-        block_groups,
-    );
-}
-
-/// Record `y_T = c0 sum_c partials[c n + T]` over the source chunks in use
-/// (adaptive_sum.wgsl).
-pub(super) fn record_chunk_sums(
-    engine: &mut Engine,
-    partials: &Buf,
-    offsets: &Buf,
-    y: &Buf,
-    n: usize,
-    chunks: usize,
-    c0: f32,
-) {
-    engine.dispatch(
-        Kernel::AdaptiveSum,
-        &[partials, offsets, y],
-        Params {
-            i: [n as u32, chunks as u32, 0, 0],
-            j: [0; 4],
-            f: [0.0, 0.0, 0.0, c0],
-        },
-        groups_for(n as u64),
-    );
 }

@@ -17,9 +17,9 @@
 //! buffers (each within one storage binding), so the first pass runs once
 //! per source level present in the mesh.
 
-use super::adaptive::{grid, plan, record_chunk_sums, record_nonzero_sources};
+use super::adaptive::{grid, plan, PairWork};
 use super::context::GpuError;
-use super::engine::{groups_for, Buf, Engine, Kernel, Params, WORKGROUP};
+use super::engine::{groups_for, Buf, Engine, Kernel, Params};
 use crate::kernel::KernelParams;
 use crate::material::Material;
 use crate::mesh::QuadMesh;
@@ -234,10 +234,10 @@ fn box_sum(
 /// mesh (paper Eq. 7) from [`GpuLevelTables`]: the vectors are permuted into
 /// level order, the nonzero sources compacted (off the contact set
 /// `x_S = 0`), then for each source level of the mesh one workgroup per
-/// (target cell, chunk of [`WORKGROUP`] sources) reads one table entry per
-/// invocation (chunks past the sources, or without a source of that level,
-/// return at once), a pass adds the chunk partials and scales, and the
-/// result is permuted back.
+/// (target cell, chunk of [`super::engine::WORKGROUP`] sources) reads one
+/// table entry per invocation (chunks past the sources, or without a source
+/// of that level, return at once), a pass adds the chunk partials and
+/// scales, and the result is permuted back.
 pub struct LevelMatvec {
     tables: GpuLevelTables,
     /// Mesh positions in level order (u32): the operator works on the
@@ -247,13 +247,9 @@ pub struct LevelMatvec {
     x_sorted: Buf,
     y_sorted: Buf,
     cells: Buf,
-    index: Buf,
-    offsets: Buf,
-    partials: Buf,
+    pairs: PairWork,
     /// Source levels present in the mesh.
     levels: Vec<u8>,
-    n: usize,
-    chunks: usize,
 }
 
 impl LevelMatvec {
@@ -285,18 +281,7 @@ impl LevelMatvec {
             }
             present[c.level as usize] = true;
         }
-        engine.check_binding("the mesh cells", 16 * n as u64)?;
-        let chunks = n.div_ceil(WORKGROUP as usize);
-        let partial_bytes = 4 * (n as u64) * (chunks as u64);
-        engine.check_binding(
-            &format!("the partial sums of {n} cells ({chunks} source chunks)"),
-            partial_bytes,
-        )?;
-        if (n as u64) * (chunks as u64) > 65_535 * 65_535 {
-            return Err(GpuError::Invalid(format!(
-                "{n} cells need more workgroups than one dispatch allows"
-            )));
-        }
+        let pairs = PairWork::new(engine, n)?;
         let mut order: Vec<u32> = (0..n as u32).collect();
         order.sort_by_key(|&k| mesh.cells[k as usize].level);
         let data: Vec<i32> = order
@@ -319,52 +304,34 @@ impl LevelMatvec {
         };
         let x_sorted = vector(engine, "viscoslide level-ordered x");
         let y_sorted = vector(engine, "viscoslide level-ordered y");
-        let partials = engine.create_buffer(
-            "viscoslide level partial sums",
-            partial_bytes,
-            wgpu::BufferUsages::STORAGE,
-        );
-        let index = engine.create_buffer(
-            "viscoslide level source index",
-            4 * n as u64,
-            wgpu::BufferUsages::STORAGE,
-        );
-        let offsets = engine.create_buffer(
-            "viscoslide level source offsets",
-            4 * (chunks as u64 + 1),
-            wgpu::BufferUsages::STORAGE,
-        );
         Ok(Self {
             tables: tables.clone(),
             order,
             x_sorted,
             y_sorted,
             cells,
-            index,
-            offsets,
-            partials,
+            pairs,
             levels: (0..=12u8).filter(|&l| present[l as usize]).collect(),
-            n,
-            chunks,
         })
     }
 
     /// Number of cells.
     pub fn len(&self) -> usize {
-        self.n
+        self.pairs.n
     }
 
     pub fn is_empty(&self) -> bool {
-        self.n == 0
+        self.pairs.n == 0
     }
 
     /// Record `y = L x` (f32 vectors of at least [`Self::len`] entries).
     pub fn record_apply(&mut self, engine: &mut Engine, x: &Buf, y: &Buf) {
+        let w = &self.pairs;
         let permute = Params {
-            i: [self.n as u32, 0, 0, 0],
+            i: [w.n as u32, 0, 0, 0],
             ..Default::default()
         };
-        let elementwise = groups_for(self.n as u64);
+        let elementwise = groups_for(w.n as u64);
         engine.dispatch(
             Kernel::Gather,
             &[&self.order, x, &self.x_sorted],
@@ -372,7 +339,7 @@ impl LevelMatvec {
             elementwise,
         );
         let xs = &self.x_sorted;
-        record_nonzero_sources(engine, xs, &self.offsets, &self.index, self.n, self.chunks);
+        w.record_sources(engine, xs);
         for (k, &level) in self.levels.iter().enumerate() {
             let [even, odd] = &self.tables.tables[level as usize];
             engine.dispatch(
@@ -382,14 +349,14 @@ impl LevelMatvec {
                     &odd.buf,
                     &self.cells,
                     xs,
-                    &self.index,
-                    &self.offsets,
-                    &self.partials,
+                    &w.index,
+                    &w.offsets,
+                    &w.partials,
                 ],
                 Params {
                     i: [
-                        self.n as u32,
-                        self.chunks as u32,
+                        w.n as u32,
+                        w.chunks as u32,
                         level as u32 | ((k == 0) as u32) << 8,
                         even.width() as u32 | (odd.width() as u32) << 16,
                     ],
@@ -401,18 +368,10 @@ impl LevelMatvec {
                     ],
                     f: [0.0; 4],
                 },
-                grid(self.n as u64 * self.chunks as u64),
+                w.pair_grid(),
             );
         }
-        record_chunk_sums(
-            engine,
-            &self.partials,
-            &self.offsets,
-            &self.y_sorted,
-            self.n,
-            self.chunks,
-            self.tables.scale as f32,
-        );
+        w.record_sums(engine, &self.y_sorted, self.tables.scale as f32);
         engine.dispatch(
             Kernel::Scatter,
             &[&self.order, &self.y_sorted, y],
