@@ -63,6 +63,31 @@ fn params(speed: f64, direction: f64) -> KernelParams {
     }
 }
 
+/// `n` nonnegative pressures below 1e5 Pa, a fraction `zeros` of them zero.
+fn sparse_pressures(rng: &mut ChaCha8Rng, n: usize, zeros: f64) -> Vec<f64> {
+    (0..n)
+        .map(|_| {
+            if rng.random_range(0.0..1.0) < zeros {
+                0.0
+            } else {
+                rng.random_range(0.0..1e5)
+            }
+        })
+        .collect()
+}
+
+/// `L x` on the device, read back.
+fn gpu_apply(g: &mut GpuBackend, x: &[f64]) -> Vec<f64> {
+    let n = x.len();
+    let mut gx = g.zeros(n);
+    g.upload(x, &mut gx);
+    let mut gy = g.zeros(n);
+    g.apply(&gx, &mut gy);
+    let mut got = vec![0.0; n];
+    g.download(&gy, &mut got);
+    got
+}
+
 fn rel_l2(a: &[f64], b: &[f64]) -> f64 {
     let num: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
     let den: f64 = b.iter().map(|y| y * y).sum();
@@ -337,16 +362,7 @@ fn adaptive_matvec_matches_dense_cpu() {
         let engine = Engine::new(gpu::context_for_tests().unwrap());
         let mut g = GpuBackend::with_adaptive(engine, &m, &p, &cells).unwrap();
         assert_eq!(g.grid_len(), n);
-        // Nonnegative pressures with a fraction `zeros` of zeros.
-        let x: Vec<f64> = (0..n)
-            .map(|_| {
-                if rng.random_range(0.0..1.0) < zeros {
-                    0.0
-                } else {
-                    rng.random_range(0.0..1e5)
-                }
-            })
-            .collect();
+        let x = sparse_pressures(&mut rng, n, zeros);
         let mut want = vec![0.0; n];
         DenseCells { n, m: mat }.apply(&x, &mut want);
         let mut gx = g.zeros(n);
@@ -614,23 +630,10 @@ fn gpu_level_matvec_matches_the_host_operator() {
         let mut g = GpuBackend::with_level_tables(eng, &dev, &mesh).unwrap();
         let n = mesh.len();
         assert_eq!(g.grid_len(), n);
-        let x: Vec<f64> = (0..n)
-            .map(|_| {
-                if rng.random_range(0.0..1.0) < zeros {
-                    0.0
-                } else {
-                    rng.random_range(0.0..1e5)
-                }
-            })
-            .collect();
+        let x = sparse_pressures(&mut rng, n, zeros);
         let mut want = vec![0.0; n];
         op.apply(&x, &mut want);
-        let mut gx = g.zeros(n);
-        g.upload(&x, &mut gx);
-        let mut gy = g.zeros(n);
-        g.apply(&gx, &mut gy);
-        let mut got = vec![0.0; n];
-        g.download(&gy, &mut got);
+        let got = gpu_apply(&mut g, &x);
         let e = rel_l2(&got, &want);
         println!("level matvec, {n} cells, v tau/a = {lambda}: relative L2 {e:.2e}");
         assert!(e <= 1e-5, "v tau/a = {lambda}: relative L2 {e:.2e}");
