@@ -17,6 +17,9 @@ use rayon::prelude::*;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use rustfft::{Fft, FftPlanner};
 
+/// Rows per rayon task when copying into the padded buffer.
+const ROWS_PER_TASK: usize = 16;
+
 /// `y = F^-1 [m F [x padded]]` restricted to the input block.
 pub(crate) struct SpectralEngine {
     nx: usize,
@@ -151,13 +154,18 @@ impl SpectralEngine {
         assert_eq!(x.len(), nx * ny);
         assert_eq!(y.len(), nx * ny);
         let groups = self.pool.len();
-        self.rows[..nx * my]
-            .par_chunks_mut(my)
-            .zip(x.par_chunks(ny))
-            .for_each(|(r, xr)| {
-                r[..ny].copy_from_slice(xr);
-                r[ny..].fill(0.0);
-            });
+        if my == ny {
+            self.rows[..nx * ny].copy_from_slice(x);
+        } else {
+            self.rows[..nx * my]
+                .par_chunks_mut(my)
+                .zip(x.par_chunks(ny))
+                .with_min_len(ROWS_PER_TASK)
+                .for_each(|(r, xr)| {
+                    r[..ny].copy_from_slice(xr);
+                    r[ny..].fill(0.0);
+                });
+        }
         self.forward_rows(nx);
         // Column FFTs (padding rows are zero), multiplier, inverse column FFTs.
         let spec = &self.spec;
@@ -213,9 +221,13 @@ impl SpectralEngine {
                     if my % 2 == 0 {
                         s[myh - 1].im = 0.0;
                     }
-                    c2r.process_with_scratch(s, r, scratch)
+                    // Without padding the row is the output row.
+                    let out = if my == ny { &mut *yr } else { &mut *r };
+                    c2r.process_with_scratch(s, out, scratch)
                         .expect("buffer sizes match the plan");
-                    yr.copy_from_slice(&r[..ny]);
+                    if my != ny {
+                        yr.copy_from_slice(&r[..ny]);
+                    }
                 }
             });
     }
