@@ -218,6 +218,19 @@ impl SolveSetup {
         }
     }
 
+    /// The steady-sliding kernel of this material, speed, direction and
+    /// layer (paper Eq. 4-5).
+    pub fn sliding_kernel(&self) -> Result<SlidingKernel> {
+        Ok(SlidingKernel::new(
+            &self.material,
+            KernelParams {
+                speed: self.speed,
+                direction_rad: self.direction_rad,
+                layer: self.layer,
+            },
+        )?)
+    }
+
     /// Gap profile `g = max(z) - z` (physics.md section 1).
     pub fn gap_profile(&self) -> Vec<f64> {
         let zmax = self
@@ -269,14 +282,7 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
     }
     let t0 = Instant::now();
     let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
-    let kernel = SlidingKernel::new(
-        &setup.material,
-        KernelParams {
-            speed: setup.speed,
-            direction_rad: setup.direction_rad,
-            layer: setup.layer,
-        },
-    )?;
+    let kernel = setup.sliding_kernel()?;
     let table = kernel.table(nx, ny, a);
     let t_coeff = t0.elapsed().as_secs_f64();
     let tab = OffsetTable {
@@ -307,7 +313,7 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
 /// friction and statistics are computed exactly as for the uniform grid.
 fn solve_cpu_adaptive(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<SolveOutcome> {
     let t0 = Instant::now();
-    let plan = AdaptivePlan::new(setup, setup.layer)?;
+    let plan = AdaptivePlan::new(setup)?;
     let t_coeff = t0.elapsed().as_secs_f64();
     let mut t_iter = 0.0;
     let result = crate::mesh::solve_adaptive(
@@ -345,16 +351,9 @@ struct AdaptivePlan {
 }
 
 impl AdaptivePlan {
-    fn new(setup: &SolveSetup, layer: Option<Layer>) -> Result<Self> {
+    fn new(setup: &SolveSetup) -> Result<Self> {
         let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
-        let kernel = SlidingKernel::new(
-            &setup.material,
-            KernelParams {
-                speed: setup.speed,
-                direction_rad: setup.direction_rad,
-                layer,
-            },
-        )?;
+        let kernel = setup.sliding_kernel()?;
         let max_level = setup.adaptive.max_level.min(max_level_for(nx, ny));
         let tables = std::sync::Arc::new(LevelTables::new(&kernel, nx, ny, a, max_level)?);
         let l00 = tables.coefficient(0, 0, 0);
@@ -511,14 +510,7 @@ pub fn solve_gpu(
     }
     let t0 = Instant::now();
     let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
-    let kernel = SlidingKernel::new(
-        &setup.material,
-        KernelParams {
-            speed: setup.speed,
-            direction_rad: setup.direction_rad,
-            layer: setup.layer,
-        },
-    )?;
+    let kernel = setup.sliding_kernel()?;
     let mut engine = Engine::new(ctx);
     let table = match setup.layer {
         None => coefficients::coefficient_table(
@@ -566,7 +558,7 @@ fn solve_gpu_adaptive(
         ));
     }
     let t0 = Instant::now();
-    let plan = AdaptivePlan::new(setup, None)?;
+    let plan = AdaptivePlan::new(setup)?;
     let mut eng = Engine::new(ctx);
     let (nx, ny) = plan.tables.shape();
     let tables = GpuLevelTables::new(
