@@ -1,25 +1,27 @@
 // Matrix-free influence operator of a quadtree mesh from its level tables
 // (paper Eq. 7; physics.md section 7; CPU twin: AdaptiveOperator in
-// src/operator/adaptive.rs), first pass for the sources of one level l:
-// workgroup (T, c) adds the contributions of the nonzero sources
-// S = index[j] of level l, j in chunk c = [c WG, (c + 1) WG), to target
-// cell T, one source per invocation:
-//   partials[c n + T] (+)= sum_S K_l(h_T - h_S) x_S / 4^l,
-// with x_S = p_S 4^l the unknown (force in fine-cell units) and K_l the
-// dimensionless coefficient of a level-l cell (level_table.wgsl,
-// level_box_sum.wgsl) at the centre-to-centre offset in half fine sides.
-// That offset has the parity q ^ p_S (q: 1 for a fine target, p_S: 1 for a
-// fine source), picking the integer (binding 1) or half-integer (binding 2)
-// table; entry k of a table stands for the offset 2k + parity, so
-// k = k_T - k_S - [q = 0 and p_S = 1] with k = floor(h / 2).
+// src/operator/adaptive.rs), the pass for the sources of one level l: one
+// invocation per target cell T adds
+//   yout[T] (+)= c0 sum_S K_l(h_T - h_S) x_S / 4^l
+// over the nonzero sources S of level l, with x_S = p_S 4^l the unknown
+// (force in fine-cell units) and K_l the dimensionless coefficient of a
+// level-l cell (level_table.wgsl, level_box_sum.wgsl) at the centre-to-centre
+// offset in half fine sides. That offset has the parity q ^ p_S (q: 1 for a
+// fine target, p_S: 1 for a fine source), picking the integer (binding 1) or
+// half-integer (binding 2) table; entry k of a table stands for the offset
+// 2k + parity, so k = k_T - k_S - [q = 0 and p_S = 1] with k = floor(h / 2).
 // Cells (targets and sources alike) are in level order, a permutation of
-// the mesh's (level_tables.rs gathers and scatters). The first level's pass
-// writes, later ones add; adaptive_sum.wgsl scales by c0 and adds the
-// chunks.
-// cells[i] = (k_x, k_y, parity, level) as i32; P.i: (cells, chunks,
-// level | first << 8, w_even | w_odd << 16) with w the tables' row widths;
-// P.j: (kmin_x, kmin_y) of the integer table, then of the half-integer one,
-// as i32 bits.
+// the mesh's (level_tables.rs gathers and scatters), and the compacted
+// nonzero sources (index, ascending) keep that order: the sources of level
+// l are one run of index, found by two binary searches. The workgroup
+// stages WG sources at a time in workgroup memory; each invocation sums
+// them (Kahan-compensated) for its target. The first level's pass writes,
+// later ones add.
+// cells[i] = (k_x, k_y, parity, level) as i32; P.i: (cells, chunks of the
+// compaction, level | first << 8, w_even | w_odd << 16) with w the tables'
+// row widths; P.j: (kmin_x, kmin_y) of the integer table, then of the
+// half-integer one, as i32 bits; P.f.w = c0 = (1 - nu^2)/pi a (total
+// compliance).
 
 @group(0) @binding(1) var<storage, read> even: array<f32>;
 @group(0) @binding(2) var<storage, read> odd: array<f32>;
@@ -27,60 +29,87 @@
 @group(0) @binding(4) var<storage, read> xin: array<f32>;
 @group(0) @binding(5) var<storage, read> index: array<u32>;
 @group(0) @binding(6) var<storage, read> offsets: array<u32>;
-@group(0) @binding(7) var<storage, read_write> partials: array<f32>;
+@group(0) @binding(7) var<storage, read_write> yout: array<f32>;
+
+var<workgroup> tile_cell: array<vec4<i32>, WG>;
+var<workgroup> tile_x: array<f32, WG>;
+
+// First position j < count of index whose cell has a level >= level (0 ..
+// count; the levels along index do not decrease).
+fn first_of_level(level: i32, count: u32) -> u32 {
+    var lo = 0u;
+    var hi = count;
+    loop {
+        if (lo >= hi) {
+            break;
+        }
+        let mid = (lo + hi) / 2u;
+        if (cells[index[mid]].w < level) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
 
 @compute @workgroup_size(WG)
 fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let n = P.i.x;
-    let group = linear_group(wid, nwg);
-    if (group >= n * P.i.y) {
-        return;
-    }
-    let t = group % n;
-    let chunk = group / n;
-    let at = chunk * n + t;
+    let t = linear_id(wid, nwg, lid);
     let first = (P.i.z >> 8u) == 1u;
     let level = i32(P.i.z & 255u);
-    // Cells are sorted by level, so a chunk's sources span the levels of
-    // its first and last entries: chunks past the nonzero sources, or
-    // without a source of this level, leave at once (the test reads the
-    // same entries in every invocation: uniform).
+    // Every invocation reads the same entries: lo and hi are uniform.
     let count = offsets[P.i.y];
-    let j0 = chunk * WG;
-    if (j0 >= count || level < cells[index[j0]].w || level > cells[index[min(j0 + WG, count) - 1u]].w) {
-        if (first && lid == 0u) {
-            partials[at] = 0.0;
-        }
-        return;
+    let lo = first_of_level(level, count);
+    let hi = first_of_level(level + 1, count);
+    let live = t < n;
+    var tgt = vec4<i32>(0, 0, 0, 0);
+    if (live) {
+        tgt = cells[t];
     }
-    let j = j0 + lid;
-    var v = 0.0;
-    if (j < count) {
-        let s = index[j];
-        let src = cells[s];
-        if (src.w == level) {
-            let tgt = cells[t];
-            let odd_table = (tgt.z ^ src.z) == 1;
-            let corr = select(0, 1, tgt.z == 0 && src.z == 1);
-            let kx = tgt.x - src.x - corr;
-            let ky = tgt.y - src.y - corr;
-            var k: f32;
-            if (odd_table) {
-                let w = i32(P.i.w >> 16u);
-                k = odd[(kx - bitcast<i32>(P.j.z)) * w + ky - bitcast<i32>(P.j.w)];
-            } else {
-                let w = i32(P.i.w & 65535u);
-                k = even[(kx - bitcast<i32>(P.j.x)) * w + ky - bitcast<i32>(P.j.y)];
+    let w_even = i32(P.i.w & 65535u);
+    let w_odd = i32(P.i.w >> 16u);
+    let kmin_even = vec2<i32>(bitcast<i32>(P.j.x), bitcast<i32>(P.j.y));
+    let kmin_odd = vec2<i32>(bitcast<i32>(P.j.z), bitcast<i32>(P.j.w));
+    let area = f32(1u << (2u * u32(level)));
+    var sum = 0.0;
+    var comp = 0.0;
+    for (var base = lo; base < hi; base = base + WG) {
+        let j = base + lid;
+        if (j < hi) {
+            let s = index[j];
+            tile_cell[lid] = cells[s];
+            tile_x[lid] = xin[s] / area;
+        }
+        workgroupBarrier();
+        let m = min(WG, hi - base);
+        if (live) {
+            for (var k = 0u; k < m; k = k + 1u) {
+                let src = tile_cell[k];
+                let corr = select(0, 1, tgt.z == 0 && src.z == 1);
+                let kx = tgt.x - src.x - corr;
+                let ky = tgt.y - src.y - corr;
+                var c: f32;
+                if ((tgt.z ^ src.z) == 1) {
+                    c = odd[(kx - kmin_odd.x) * w_odd + ky - kmin_odd.y];
+                } else {
+                    c = even[(kx - kmin_even.x) * w_even + ky - kmin_even.y];
+                }
+                let term = c * tile_x[k] - comp;
+                let next = sum + term;
+                comp = (next - sum) - term;
+                sum = next;
             }
-            v = k * xin[s] / f32(1u << (2u * u32(level)));
         }
+        workgroupBarrier();
     }
-    let total = workgroup_sum4(lid, vec4<f32>(v, 0.0, 0.0, 0.0));
-    if (lid == 0u) {
+    if (live) {
+        let v = P.f.w * sum;
         if (first) {
-            partials[at] = total.x;
+            yout[t] = v;
         } else {
-            partials[at] = partials[at] + total.x;
+            yout[t] = yout[t] + v;
         }
     }
 }

@@ -238,42 +238,25 @@ pub struct AdaptiveMatvec {
     params: Params,
 }
 
-/// Work space of a pairwise operator over `n` cells: the compacted list of
-/// nonzero sources and the per-chunk partial sums of every target.
-pub(super) struct PairWork {
-    /// Positions of the nonzero sources (u32), compacted per matvec.
+/// The nonzero sources of a vector over `n` cells, compacted per matvec
+/// (off the contact set `x_S = 0`): shared by the pairwise operators.
+pub(super) struct SourceList {
+    /// Positions of the nonzero sources (u32), ascending.
     pub(super) index: Buf,
     /// Block offsets of the compaction; `offsets[chunks]` is the count.
     pub(super) offsets: Buf,
-    /// `partials[c n + T]`: target `T`'s sum over source chunk `c`.
-    pub(super) partials: Buf,
     pub(super) n: usize,
-    /// Source chunks of [`WORKGROUP`].
+    /// Blocks of [`WORKGROUP`] cells.
     pub(super) chunks: usize,
 }
 
-impl PairWork {
+impl SourceList {
     /// Buffers for `n` cells, checked against the device's limits.
     pub(super) fn new(engine: &mut Engine, n: usize) -> Result<Self, GpuError> {
         engine.check_binding("the mesh cells", 16 * n as u64)?;
         engine.check_binding(&format!("a vector of {n} cells"), 4 * n as u64)?;
         let chunks = n.div_ceil(WORKGROUP as usize);
-        let partial_bytes = 4 * (n as u64) * (chunks as u64);
-        engine.check_binding(
-            &format!("the partial sums of {n} cells ({chunks} source chunks)"),
-            partial_bytes,
-        )?;
-        if (n as u64) * (chunks as u64) > (MAX_GROUPS_X * MAX_GROUPS_X) {
-            return Err(GpuError::Invalid(format!(
-                "{n} cells need more workgroups than one dispatch allows"
-            )));
-        }
         Ok(Self {
-            partials: engine.create_buffer(
-                "viscoslide pairwise partial sums",
-                partial_bytes,
-                wgpu::BufferUsages::STORAGE,
-            ),
             index: engine.create_buffer(
                 "viscoslide pairwise source index",
                 4 * n as u64,
@@ -287,11 +270,6 @@ impl PairWork {
             n,
             chunks,
         })
-    }
-
-    /// The workgroup grid of one (target, source chunk) pass.
-    pub(super) fn pair_grid(&self) -> (u32, u32) {
-        grid(self.n as u64 * self.chunks as u64)
     }
 
     /// Record the compaction of the nonzero entries of `x` into `index`, in
@@ -325,19 +303,58 @@ impl PairWork {
             block_groups,
         );
     }
+}
+
+/// Work space of the on-the-fly operator: the source list and the
+/// per-chunk partial sums of every target.
+pub(super) struct PairWork {
+    pub(super) sources: SourceList,
+    /// `partials[c n + T]`: target `T`'s sum over source chunk `c`.
+    pub(super) partials: Buf,
+}
+
+impl PairWork {
+    /// Buffers for `n` cells, checked against the device's limits.
+    pub(super) fn new(engine: &mut Engine, n: usize) -> Result<Self, GpuError> {
+        let sources = SourceList::new(engine, n)?;
+        let chunks = sources.chunks;
+        let partial_bytes = 4 * (n as u64) * (chunks as u64);
+        engine.check_binding(
+            &format!("the partial sums of {n} cells ({chunks} source chunks)"),
+            partial_bytes,
+        )?;
+        if (n as u64) * (chunks as u64) > (MAX_GROUPS_X * MAX_GROUPS_X) {
+            return Err(GpuError::Invalid(format!(
+                "{n} cells need more workgroups than one dispatch allows"
+            )));
+        }
+        Ok(Self {
+            partials: engine.create_buffer(
+                "viscoslide pairwise partial sums",
+                partial_bytes,
+                wgpu::BufferUsages::STORAGE,
+            ),
+            sources,
+        })
+    }
+
+    /// The workgroup grid of one (target, source chunk) pass.
+    pub(super) fn pair_grid(&self) -> (u32, u32) {
+        grid(self.sources.n as u64 * self.sources.chunks as u64)
+    }
 
     /// Record `y_T = c0 sum_c partials[c n + T]` over the source chunks in
     /// use (adaptive_sum.wgsl).
     pub(super) fn record_sums(&self, engine: &mut Engine, y: &Buf, c0: f32) {
         engine.dispatch(
             Kernel::AdaptiveSum,
-            &[&self.partials, &self.offsets, y],
+            &[&self.partials, &self.sources.offsets, y],
             Params {
-                i: [self.n as u32, self.chunks as u32, 0, 0],
+                i: [self.sources.n as u32, self.sources.chunks as u32, 0, 0],
                 j: [0; 4],
                 f: [0.0, 0.0, 0.0, c0],
             },
-            groups_for(self.n as u64),
+            groups_for(self.sources.n as u64),
         );
     }
 }
@@ -372,7 +389,7 @@ impl AdaptiveMatvec {
         let terms =
             engine.storage_with("viscoslide creep terms", bytemuck::cast_slice(&plan.terms));
         let cells_buf = engine.storage_with("viscoslide mesh cells", bytemuck::cast_slice(&data));
-        let chunks = pairs.chunks;
+        let chunks = pairs.sources.chunks;
         Ok(Self {
             terms,
             cells: cells_buf,
@@ -387,25 +404,25 @@ impl AdaptiveMatvec {
 
     /// Number of cells.
     pub fn len(&self) -> usize {
-        self.pairs.n
+        self.pairs.sources.n
     }
 
     pub fn is_empty(&self) -> bool {
-        self.pairs.n == 0
+        self.pairs.sources.n == 0
     }
 
     /// Record `y = L x` (f32 vectors of at least [`Self::len`] entries).
     pub fn record_apply(&mut self, engine: &mut Engine, x: &Buf, y: &Buf) {
         let w = &self.pairs;
-        w.record_sources(engine, x);
+        w.sources.record_sources(engine, x);
         engine.dispatch(
             Kernel::AdaptiveMatvec,
             &[
                 &self.terms,
                 &self.cells,
                 x,
-                &w.index,
-                &w.offsets,
+                &w.sources.index,
+                &w.sources.offsets,
                 &w.partials,
             ],
             self.params,

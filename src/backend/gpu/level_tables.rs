@@ -17,7 +17,7 @@
 //! buffers (each within one storage binding), so the first pass runs once
 //! per source level present in the mesh.
 
-use super::adaptive::{grid, plan, PairWork};
+use super::adaptive::{grid, plan, SourceList};
 use super::context::GpuError;
 use super::engine::{groups_for, Buf, Engine, Kernel, Params};
 use crate::kernel::KernelParams;
@@ -233,11 +233,11 @@ fn box_sum(
 /// The operator `y_T = sum_S K_l(S)(c_T - c_S) x_S / 4^l(S)` of a quadtree
 /// mesh (paper Eq. 7) from [`GpuLevelTables`]: the vectors are permuted into
 /// level order, the nonzero sources compacted (off the contact set
-/// `x_S = 0`), then for each source level of the mesh one workgroup per
-/// (target cell, chunk of [`super::engine::WORKGROUP`] sources) reads one
-/// table entry per invocation (chunks past the sources, or without a source
-/// of that level, return at once), a pass adds the chunk partials and
-/// scales, and the result is permuted back.
+/// `x_S = 0`), then for each source level of the mesh one invocation per
+/// target cell sums one table entry per nonzero source of that level (the
+/// workgroup stages the sources in workgroup memory, so a pass costs
+/// targets x sources of the level and no work is launched for absent
+/// pairs), and the result is permuted back.
 pub struct LevelMatvec {
     tables: GpuLevelTables,
     /// Mesh positions in level order (u32): the operator works on the
@@ -247,7 +247,7 @@ pub struct LevelMatvec {
     x_sorted: Buf,
     y_sorted: Buf,
     cells: Buf,
-    pairs: PairWork,
+    sources: SourceList,
     /// Source levels present in the mesh.
     levels: Vec<u8>,
 }
@@ -281,7 +281,7 @@ impl LevelMatvec {
             }
             present[c.level as usize] = true;
         }
-        let pairs = PairWork::new(engine, n)?;
+        let sources = SourceList::new(engine, n)?;
         let mut order: Vec<u32> = (0..n as u32).collect();
         order.sort_by_key(|&k| mesh.cells[k as usize].level);
         let data: Vec<i32> = order
@@ -310,23 +310,23 @@ impl LevelMatvec {
             x_sorted,
             y_sorted,
             cells,
-            pairs,
+            sources,
             levels: (0..=12u8).filter(|&l| present[l as usize]).collect(),
         })
     }
 
     /// Number of cells.
     pub fn len(&self) -> usize {
-        self.pairs.n
+        self.sources.n
     }
 
     pub fn is_empty(&self) -> bool {
-        self.pairs.n == 0
+        self.sources.n == 0
     }
 
     /// Record `y = L x` (f32 vectors of at least [`Self::len`] entries).
     pub fn record_apply(&mut self, engine: &mut Engine, x: &Buf, y: &Buf) {
-        let w = &self.pairs;
+        let w = &self.sources;
         let permute = Params {
             i: [w.n as u32, 0, 0, 0],
             ..Default::default()
@@ -351,7 +351,7 @@ impl LevelMatvec {
                     xs,
                     &w.index,
                     &w.offsets,
-                    &w.partials,
+                    &self.y_sorted,
                 ],
                 Params {
                     i: [
@@ -366,12 +366,11 @@ impl LevelMatvec {
                         i32_bits(odd.kmin.0),
                         i32_bits(odd.kmin.1),
                     ],
-                    f: [0.0; 4],
+                    f: [0.0, 0.0, 0.0, self.tables.scale as f32],
                 },
-                w.pair_grid(),
+                elementwise,
             );
         }
-        w.record_sums(engine, &self.y_sorted, self.tables.scale as f32);
         engine.dispatch(
             Kernel::Scatter,
             &[&self.order, &self.y_sorted, y],
