@@ -593,10 +593,10 @@ fn gpu_level_tables_match_the_host() {
 }
 
 /// The device operator from device level tables against the host
-/// `AdaptiveOperator`, on two quadtree meshes with cells of levels 0-3: a
-/// small one (one workgroup of targets, one tile of sources) and one with
+/// `AdaptiveOperator`, on three quadtree meshes with cells of levels 0-3:
+/// a small one (one workgroup of targets, one tile of sources), one with
 /// more than a workgroup of fine cells (several workgroups and source
-/// tiles). Random nonnegative unknowns with 30 % and 80 % zeros at
+/// tiles) and one where every target sums over 3,000 fine sources. Random nonnegative unknowns with 30 % and 80 % zeros at
 /// v tau / a = 3 along x and 30 obliquely, and once with every fine (then
 /// every level-1) unknown zero, so that a level's pass has no source (the
 /// first pass must still write). Bound: relative L2 <= 1e-5 (f32 table
@@ -628,21 +628,34 @@ fn gpu_level_matvec_matches_the_host_operator() {
         &[(10, 10), (30, 60), (50, 20), (70, 70), (85, 40), (20, 40)],
         5,
     );
-    assert!(large.level_counts()[0] > 2 * 256, "{:?}", large.level_counts());
+    for mesh in [&small, &large] {
+        let counts = mesh.level_counts();
+        assert!(counts.iter().all(|&c| c > 0), "levels {counts:?}");
+    }
+    assert!(
+        large.level_counts()[0] > 2 * 256,
+        "{:?}",
+        large.level_counts()
+    );
+    // Every target sums thousands of sources (long per-invocation loops).
+    let centres: Vec<(usize, usize)> = (0..16)
+        .map(|k| (12 + 32 * (k % 4), 12 + 32 * (k / 4)))
+        .collect();
+    let many = patches(128, 128, &centres, 7);
+    assert!(many.level_counts()[0] > 3000, "{:?}", many.level_counts());
     let m = common::paper_material();
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let mut engine = Some(Engine::new(gpu::context_for_tests().unwrap()));
-    let cases: [(&QuadMesh, f64, f64, f64, Option<u8>); 5] = [
+    let cases: [(&QuadMesh, f64, f64, f64, Option<u8>); 6] = [
         (&small, 3.0, 0.0, 0.3, None),
         (&small, 30.0, 2.2, 0.8, None),
         (&large, 3.0, 0.0, 0.3, None),
         (&large, 30.0, 2.2, 0.3, Some(0)),
         (&large, 30.0, 2.2, 0.3, Some(1)),
+        (&many, 3.0, 0.0, 0.1, None),
     ];
     for (mesh, lambda, dir, zeros, empty_level) in cases {
         let (nx, ny) = (mesh.nx, mesh.ny);
-        let counts = mesh.level_counts();
-        assert!(counts.iter().all(|&c| c > 0), "levels {counts:?}");
         let p = params(lambda * A / TAU, dir);
         let kernel = SlidingKernel::new(&m, p).unwrap();
         let host = std::sync::Arc::new(LevelTables::new(&kernel, nx, ny, A, levels).unwrap());
@@ -670,7 +683,10 @@ fn gpu_level_matvec_matches_the_host_operator() {
         println!(
             "level matvec, {n} cells, v tau/a = {lambda}, level without sources {empty_level:?}: relative L2 {e:.2e}"
         );
-        assert!(e <= 1e-5, "{n} cells, v tau/a = {lambda}: relative L2 {e:.2e}");
+        assert!(
+            e <= 1e-5,
+            "{n} cells, v tau/a = {lambda}: relative L2 {e:.2e}"
+        );
         engine = Some(g.into_engine());
     }
 }
