@@ -14,7 +14,7 @@
 //! (as [`super::AdaptiveMatvec`] does for cells anywhere): the tables cost
 //! about `8 (n + 2^(L-1))^2` coefficient evaluations once per solve, after
 //! which a pair is a memory read. Tables of different levels are separate
-//! buffers (each within one storage binding), so the first pass runs once
+//! buffers (each within one storage binding), so the matvec runs one pass
 //! per source level present in the mesh.
 
 use super::adaptive::{grid, plan, SourceList};
