@@ -10,7 +10,7 @@ mod generate;
 mod io;
 mod psd;
 
-pub use config::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};
+pub use crate::config::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};
 pub use generate::{
     generate, generate_with_target, Anisotropy, GenerateParams, Normalisation, SelfAffinePsd,
     UpperCutoff,
