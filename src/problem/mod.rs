@@ -12,6 +12,7 @@
 //!   formulation x mesh, the executor by backend, one call of the iteration.
 //! - [`adaptive`]: the solve-certify-refine loop of the adaptive mesh.
 //! - [`solution`]: the result, its summary, analysis and files.
+//! - [`warnings`]: what a solution says about its own validity.
 //!
 //! Re-discretising: [`Problem::with_grid`] gives the same physical problem on
 //! another grid (a generated surface is generated again with the same seed
@@ -24,6 +25,7 @@ pub mod executor;
 pub mod setup;
 pub mod solution;
 pub mod solve;
+pub mod warnings;
 
 use std::path::PathBuf;
 

@@ -158,21 +158,6 @@ pub fn memory_estimate(nx: usize, ny: usize, restart: usize) -> u64 {
 
 pub(super) fn check_memory(nx: usize, ny: usize, restart: usize) -> Result<()> {
     let need = memory_estimate(nx, ny, restart);
-    if let Some(avail) = available_memory() {
-        if need > avail {
-            return Err(invalid(format!(
-                "a {nx} x {ny} grid needs about {:.1} GiB of memory, but only {:.1} GiB is available",
-                need as f64 / (1u64 << 30) as f64,
-                avail as f64 / (1u64 << 30) as f64
-            )));
-        }
-    }
-    Ok(())
-}
-
-fn available_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
+    crate::io::memory::check_fits(|| format!("{nx} x {ny} grid"), need)
+        .map_err(|e| invalid(e.to_string()))
 }

@@ -379,6 +379,7 @@ impl Problem {
             .mesh
             .as_ref()
             .map_or(self.surface.nx * self.surface.ny, |m| m.unknowns);
+        let warnings = self.warnings(&stats, mu, mu_d);
         let timings = Timings {
             coefficients_s: raw.t_coeff,
             operator_setup_s: raw
@@ -398,6 +399,7 @@ impl Problem {
             timings,
             unknowns,
             raw.mesh,
+            warnings,
         ))
     }
 

@@ -81,6 +81,12 @@ struct Headline {
 
 fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
     let points_dir = dir.join("points");
+    if !points_dir.is_dir() {
+        return Err(Error::Invalid(format!(
+            "{}: not a sweep directory (it has no points/ folder; `viscoslide sweep CONFIG --out DIR` makes one)",
+            dir.display()
+        )));
+    }
     let entries = std::fs::read_dir(&points_dir).map_err(|e| Error::io(&points_dir, e))?;
     let mut names: Vec<_> = entries
         .filter_map(|e| e.ok())

@@ -80,6 +80,9 @@ pub fn run_sweep(
     for point in todo.into_iter().take(count) {
         bar.set_message(point.id.clone());
         let value = solve_point(cfg, point)?;
+        for w in value["warnings"].as_array().into_iter().flatten() {
+            bar.suspend(|| eprintln!("warning: point {}: {}", point.id, w.as_str().unwrap_or("")));
+        }
         let path = point_path(&points_dir, point);
         write_atomic(
             &path,

@@ -62,6 +62,18 @@ impl SweepPlan {
                 "[sweep] give exactly one of speed, xi, speed_range and xi_range".into(),
             ));
         }
+        for (key, list) in [("speed", &cfg.speed), ("xi", &cfg.xi)] {
+            if list.as_ref().is_some_and(Vec::is_empty) {
+                return Err(Error::Invalid(format!(
+                    "[sweep] {key} is empty: give at least one value"
+                )));
+            }
+        }
+        if cfg.normal_load.as_ref().is_some_and(Vec::is_empty) {
+            return Err(Error::Invalid(
+                "[sweep] normal_load is empty: give at least one load (N) or leave it out".into(),
+            ));
+        }
         let (mut speeds, xi) = if let Some(v) = &cfg.speed {
             (v.clone(), false)
         } else if let Some(v) = &cfg.xi {
