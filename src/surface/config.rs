@@ -16,14 +16,22 @@
 //! rms_height = 1e-5         # m ... or rms_slope = 0.1
 //! seed = 7
 //! anisotropy = { ratio = 2.0, angle_deg = 30.0 }   # optional
+//!
+//! # ... or a surface following a tabulated PSD (q 1/m, C m^4 columns):
+//! # [surface.generate] with n, ny, length, seed and psd = "psd.csv" only
 //! ```
+//!
+//! A `file` may be `.x3p`, `.gwy` (sizes from the file; `length` optional),
+//! `.npy` or a text matrix (`length` needed); `format = "x3p"` overrides the
+//! extension, `length_y` gives a non-square side for `.npy`/text, and
+//! `fill_missing = true` fills missing points by harmonic interpolation.
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
 use super::generate::{Anisotropy, GenerateParams, Normalisation, UpperCutoff};
-use super::{HeightMap, SurfaceError};
+use super::{HeightMap, MissingData, ReadOptions, SurfaceError, SurfaceFormat, SynthParams};
 
 /// `[surface]`: a height map from `file` (with `length`, m), or generated
 /// from `[surface.generate]`; exactly one of the two.
@@ -39,6 +47,15 @@ pub struct SurfaceConfig {
     pub generate: Option<GenerateConfig>,
     /// A rigid sphere instead (the Hertz paraboloid), for smooth contacts.
     pub sphere: Option<SphereConfig>,
+    /// File format overriding the extension of `file`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub format: Option<SurfaceFormat>,
+    /// Side of `file` along y \[m\] (`.npy`/text; default square cells).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length_y: Option<f64>,
+    /// Fill missing points of `file` by harmonic interpolation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fill_missing: Option<bool>,
 }
 
 /// `[surface.sphere]`: the paraboloid `z = -(x^2 + y^2) / (2 R)` of a sphere
@@ -120,9 +137,60 @@ pub struct GenerateConfig {
     pub seed: Option<u64>,
     /// Optional anisotropic stretch.
     pub anisotropy: Option<AnisotropyConfig>,
+    /// A tabulated PSD (CSV, q \[1/m\], C \[m^4\]) to follow instead of the
+    /// self-affine formula (relative to the config's directory).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub psd: Option<PathBuf>,
 }
 
 impl GenerateConfig {
+    /// With `psd` set: the table's path and the grid and seed of the
+    /// synthesis ([`super::generate_from_table`]); `None` without `psd`.
+    /// The self-affine keys cannot be combined with `psd`.
+    pub fn synth_params(
+        &self,
+        fallback_length: Option<f64>,
+    ) -> Result<Option<(PathBuf, SynthParams)>, SurfaceError> {
+        let Some(psd) = &self.psd else {
+            return Ok(None);
+        };
+        let extra: Vec<&str> = [
+            (self.hurst.is_some(), "hurst"),
+            (self.scales.is_some(), "scales"),
+            (self.q1.is_some(), "q1"),
+            (self.ql.is_some(), "ql"),
+            (self.rolloff_q0.is_some(), "rolloff_q0"),
+            (self.rms_height.is_some(), "rms_height"),
+            (self.rms_slope.is_some(), "rms_slope"),
+            (self.anisotropy.is_some(), "anisotropy"),
+        ]
+        .into_iter()
+        .filter_map(|(g, k)| g.then_some(k))
+        .collect();
+        if !extra.is_empty() {
+            return Err(SurfaceError::Invalid(format!(
+                "[surface.generate] psd = {:?} follows the table; remove {}",
+                psd.display().to_string(),
+                extra.join(", ")
+            )));
+        }
+        let n = self.n.ok_or_else(|| {
+            SurfaceError::Invalid("[surface.generate] needs `n` (cells along x)".into())
+        })?;
+        let length = self.length.or(fallback_length).ok_or_else(|| {
+            SurfaceError::Invalid("[surface.generate] needs `length` (side along x, m)".into())
+        })?;
+        Ok(Some((
+            psd.clone(),
+            SynthParams {
+                nx: n,
+                ny: self.ny.unwrap_or(n),
+                length,
+                seed: self.seed.unwrap_or(0),
+            },
+        )))
+    }
+
     /// Keys set in `over` replace those of `self`.
     pub fn merged(&self, over: &GenerateConfig) -> GenerateConfig {
         GenerateConfig {
@@ -138,6 +206,7 @@ impl GenerateConfig {
             rms_slope: over.rms_slope.or(self.rms_slope),
             seed: over.seed.or(self.seed),
             anisotropy: over.anisotropy.or(self.anisotropy),
+            psd: over.psd.clone().or_else(|| self.psd.clone()),
         }
     }
 
@@ -226,6 +295,7 @@ impl SurfaceConfig {
         self.check_source()?;
         self.generate
             .as_ref()
+            .filter(|g| g.psd.is_none())
             .map(|g| g.params(self.length))
             .transpose()
     }
@@ -236,17 +306,29 @@ impl SurfaceConfig {
         if let Some(params) = self.generate_params()? {
             return super::generate(&params);
         }
+        if let Some(g) = &self.generate {
+            if let Some((table, sp)) = g.synth_params(self.length)? {
+                let table = super::TabulatedPsd::from_csv(&base_dir.join(table))?;
+                return super::generate_from_table(&table, &sp);
+            }
+        }
         if let Some(sphere) = &self.sphere {
             return sphere.height_map();
         }
         let file = self.file.as_ref().ok_or_else(|| {
             SurfaceError::Invalid("[surface] needs `file` or [surface.generate]".into())
         })?;
-        let length = self.length.ok_or_else(|| {
-            SurfaceError::Invalid(
-                "[surface] `file` needs `length` (side of the map along x, m)".into(),
-            )
-        })?;
-        super::read_height_map(&base_dir.join(file), length)
+        let path = base_dir.join(file);
+        let opts = ReadOptions {
+            format: self.format,
+            length: self.length,
+            length_y: self.length_y,
+            missing: if self.fill_missing.unwrap_or(false) {
+                MissingData::Fill
+            } else {
+                MissingData::Error
+            },
+        };
+        super::read_topography(&path, &opts)?.to_height_map(&path.display().to_string())
     }
 }
