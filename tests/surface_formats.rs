@@ -245,7 +245,7 @@ fn gwy_first_field_with_units() {
     let t = decode_gwy(&gwy_bytes(3, 2, &data), "g.gwy").unwrap();
     assert_eq!((t.nx, t.ny), (3, 2));
     assert!((t.dx - 1e-6).abs() < 1e-18 && (t.dy - 1e-6).abs() < 1e-18);
-    assert!((t.heights[0 * 2 + 1] - 4e-9).abs() < 1e-21); // x = 0, y = 1
+    assert!((t.heights[1] - 4e-9).abs() < 1e-21); // x = 0, y = 1
     assert!((t.heights[2 * 2] - 3e-9).abs() < 1e-21); // x = 2, y = 0
     let e = decode_gwy(b"GWYPxx", "g.gwy").unwrap_err().to_string();
     assert!(e.starts_with("g.gwy: ") && !e.contains('\n'), "{e}");

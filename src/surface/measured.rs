@@ -105,10 +105,11 @@ fn solve_small(mut a: [[f64; 6]; 6], mut b: [f64; 6], n: usize) -> [f64; 6] {
         if a[col][col].abs() <= 1e-14 * scale {
             continue;
         }
+        let pivot_row = a[col];
         for r in col + 1..n {
-            let f = a[r][col] / a[col][col];
-            for c in col..n {
-                a[r][c] -= f * a[col][c];
+            let f = a[r][col] / pivot_row[col];
+            for (v, p) in a[r][col..n].iter_mut().zip(&pivot_row[col..n]) {
+                *v -= f * p;
             }
             b[r] -= f * b[col];
         }

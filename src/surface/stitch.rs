@@ -169,7 +169,7 @@ pub fn stitch(scans: &[ScanPsd], bins_per_decade: usize) -> Result<StitchedPsd, 
     for (k, s) in scans.iter().enumerate() {
         for i in 0..s.q.len() {
             let (q, c, m) = (s.q[i], s.c[i], s.modes[i]);
-            if q < s.q_lo || q > s.q_hi || !(c > 0.0) {
+            if q < s.q_lo || q > s.q_hi || c.is_nan() || c <= 0.0 {
                 continue;
             }
             let b = (((q / q0).log10() * bins_per_decade as f64).floor() as usize).min(nb - 1);

@@ -271,13 +271,12 @@ impl Topography {
                 "{name}: {m} missing points; fill them first (--fill-missing)"
             )));
         }
-        HeightMap::new(self.nx, self.ny, self.length_x(), self.heights.clone()).map_err(|e| match e
-        {
-            SurfaceError::Shape { shape, .. } => SurfaceError::Shape {
-                path: name.to_string(),
-                shape,
-            },
-            other => other,
+        // Shape and finiteness were checked by `new` and just above.
+        Ok(HeightMap {
+            nx: self.nx,
+            ny: self.ny,
+            cell_size: self.dx,
+            heights: self.heights.clone(),
         })
     }
 }
