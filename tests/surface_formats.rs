@@ -398,3 +398,35 @@ fn convert_cli_round_trips_and_refuses_bad_input() {
         assert!(!d.join(n).exists(), "{n}");
     }
 }
+
+#[test]
+fn solver_config_reads_x3p_with_override_and_fill() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let (n, a) = (16, 1e-5);
+    let mut h: Vec<f64> = (0..n * n).map(|k| 1e-7 * (k as f64 * 0.1).sin()).collect();
+    let t = Topography::new(n, n, a, a, h.clone(), "t").unwrap();
+    std::fs::write(d.join("s.x3p"), encode_x3p(&t, X3pType::F64, None).unwrap()).unwrap();
+    std::fs::copy(d.join("s.x3p"), d.join("s.dat")).unwrap();
+    let load = |text: &str| {
+        let p = d.join("c.toml");
+        std::fs::write(&p, text).unwrap();
+        let cfg = viscoslide::config::load(&p, &[]).unwrap();
+        cfg.config.surface.unwrap().load(d)
+    };
+    let m = load("[surface]\nfile = \"s.x3p\"\n").unwrap();
+    assert_eq!((m.nx, m.ny, m.cell_size), (n, n, a));
+    assert_eq!(m.heights, h);
+    let m = load("[surface]\nfile = \"s.dat\"\nformat = \"x3p\"\n").unwrap();
+    assert_eq!(m.heights, h);
+    // Missing points: refused, or filled on request.
+    h[40] = f64::NAN;
+    let t = Topography::new(n, n, a, a, h, "t").unwrap();
+    std::fs::write(d.join("m.x3p"), encode_x3p(&t, X3pType::F32, None).unwrap()).unwrap();
+    let e = load("[surface]\nfile = \"m.x3p\"\n")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("missing") && e.contains("fill_missing"), "{e}");
+    let m = load("[surface]\nfile = \"m.x3p\"\nfill_missing = true\n").unwrap();
+    assert!(m.heights.iter().all(|v| v.is_finite()));
+}
