@@ -259,7 +259,7 @@ pub fn write_topography(
         .unwrap_or_else(|| SurfaceFormat::from_path(path));
     let bytes = encode_topography(topo, format, opts)?;
     crate::io::atomic::write_atomic(path, &bytes).map_err(|e| match e {
-        crate::Error::Io { source, .. } => SurfaceError::Io {
+        crate::io::OutputError::Io { source, .. } => SurfaceError::Io {
             path: path.display().to_string(),
             source,
         },

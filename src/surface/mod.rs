@@ -21,7 +21,7 @@ mod synth;
 mod topography;
 mod x3p;
 
-pub use config::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};
+pub use crate::config::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};
 pub use format::{
     encode_topography, read_topography, write_topography, ReadOptions, SurfaceFormat, WriteOptions,
 };
