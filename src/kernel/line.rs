@@ -50,6 +50,8 @@ pub struct LineProblem<'a> {
     pub kinks: &'a [KinkLine],
     /// Absolute tolerance of the adaptive integral (same units as the result).
     pub abs_tol: f64,
+    /// Relative tolerance of the adaptive integral.
+    pub rel_tol: f64,
 }
 
 /// `sum_k C_k int_0^inf dz e^{-z} F(d + l_k z e_v)` [F units / Pa].
@@ -114,7 +116,7 @@ pub fn memory_integral(p: &LineProblem, f: impl Fn(f64, f64) -> f64) -> f64 {
         },
         &breaks,
         p.abs_tol,
-        1e-14,
+        p.rel_tol,
         6000,
     );
     total
