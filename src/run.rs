@@ -16,7 +16,9 @@ use crate::error::{Error, Result};
 use crate::kernel::{Axis, KernelParams, Layer, SlidingKernel};
 use crate::material::Material;
 use crate::mesh::{AdaptiveParams, MeshReport};
-use crate::operator::{AdaptiveOperator, LevelTables, OffsetTable, SpectralPeriodic, ToeplitzFft};
+use crate::operator::{
+    AdaptiveOperator, LevelTables, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
+};
 use crate::solver::{self, ContactSolution, Control, Observer, SolveInfo, SolverParams};
 use crate::surface::HeightMap;
 
@@ -165,10 +167,8 @@ impl SolveSetup {
         }
         let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
         let formulation = sc.formulation.unwrap_or_default();
-        if layer.is_some() && formulation == Formulation::Periodic {
-            return Err(invalid(
-                "[layer] is not supported with [solver] formulation = \"periodic\" (use \"non_periodic\")",
-            ));
+        if let Some(w) = layer.and_then(|l| l.resolution_warning(surface.cell_size)) {
+            eprintln!("warning: {w}");
         }
         let mesh = sc.mesh.unwrap_or_default();
         if mesh == MeshKind::Adaptive && formulation == Formulation::Periodic {
@@ -456,8 +456,13 @@ fn iterate<B: Backend>(
 fn solve_cpu_periodic(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<SolveOutcome> {
     let t0 = Instant::now();
     let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
-    let (m, v, dir) = (&setup.material, setup.speed, setup.direction_rad);
-    let op = SpectralPeriodic::new(nx, ny, a, m, v, dir);
+    let m = &setup.material;
+    let params = KernelParams {
+        speed: setup.speed,
+        direction_rad: setup.direction_rad,
+        layer: setup.layer,
+    };
+    let op = SpectralPeriodic::with_params(nx, ny, a, m, &params, PeriodicResponse::Displacement);
     let l00 = op.self_coefficient();
     let mut backend = CpuBackend::new(op);
     let t_setup = t0.elapsed().as_secs_f64();
@@ -465,9 +470,10 @@ fn solve_cpu_periodic(setup: &SolveSetup, observer: &mut dyn Observer) -> Result
     let t2 = Instant::now();
     let stats = analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, a);
     let load = stats.normal_load;
-    let mut slope = SpectralPeriodic::sliding_slope(nx, ny, a, m, v, dir);
+    let mut slope =
+        SpectralPeriodic::with_params(nx, ny, a, m, &params, PeriodicResponse::SlidingSlope);
     let force = analysis::friction_force_stencil(&mut slope, &solution.pressure, a);
-    let force_d = analysis::friction_force_periodic(&solution.pressure, nx, ny, a, m, v, dir);
+    let force_d = analysis::friction_force_periodic_with(&solution.pressure, nx, ny, a, m, &params);
     let t_an = t2.elapsed().as_secs_f64();
     Ok(SolveOutcome {
         solution,

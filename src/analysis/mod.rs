@@ -23,5 +23,8 @@ pub use chi::{
 };
 pub use contact::{contact_statistics, ContactStatistics};
 pub use friction::{friction_force_dissipation, friction_force_stencil};
-pub use periodic::{friction_force_periodic, full_contact_friction_stress};
+pub use periodic::{
+    friction_force_periodic, friction_force_periodic_with, full_contact_friction_stress,
+    full_contact_friction_stress_layered,
+};
 pub use spots::{find_spots, spot_statistics, Connectivity, Spot, SpotStatistics};

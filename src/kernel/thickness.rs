@@ -82,6 +82,21 @@ impl LayerConfig {
 }
 
 impl Layer {
+    /// A warning when the layer is thinner than one cell of side `cell`
+    /// \[m\]: the grid does not resolve it (its coefficients stay the cell
+    /// integrals of Eq. 5, but the pressure varies on a scale the cells do
+    /// not follow).
+    pub fn resolution_warning(&self, cell: f64) -> Option<String> {
+        (self.thickness < cell).then(|| {
+            format!(
+                "[layer] thickness = {} m is thinner than one cell ({} m, {:.2} cells): the grid does not resolve the layer; refine the grid to at least one cell per thickness",
+                self.thickness,
+                cell,
+                self.thickness / cell
+            )
+        })
+    }
+
     /// Thickness must be positive and finite.
     pub fn validate(&self) -> Result<(), KernelError> {
         if !(self.thickness.is_finite() && self.thickness > 0.0) {
