@@ -255,3 +255,37 @@ fn refinement_of_a_fixed_layer() {
         );
     }
 }
+
+/// The friction-stencil coefficient `D_x` on a layer against its definition
+/// (physics.md section 5): `D_x = (1/a) [Kbar(x + a/2) - Kbar(x - a/2)]`,
+/// `Kbar` the average of `K` across the target's width, here by adaptive
+/// quadrature of `K` itself (split at the source's edges, where `K` has
+/// kinks), independent of the triangular-weight rule of the kernel.
+#[test]
+fn layer_derivative_matches_its_definition() {
+    for (h_cells, speed) in [(1.0, 0.0), (3.8, 2.0 * A / 0.01), (0.6, 0.3 * A / 0.01)] {
+        let k = kernel(h_cells, LayerBase::Bonded, speed);
+        let kbar = |x: f64, y: f64| {
+            let mut br = vec![y - 0.5 * A, y + 0.5 * A, -0.5 * A, 0.5 * A];
+            br.retain(|b| *b >= y - 0.5 * A && *b <= y + 0.5 * A);
+            br.sort_by(f64::total_cmp);
+            br.dedup();
+            adaptive(
+                |t| k.coefficient(x, t, A, A).total(),
+                &br,
+                1e-24,
+                1e-13,
+                400,
+            ) / A
+        };
+        let d00 = k.derivative(A, 0.0, A, A, Axis::X).abs();
+        for (i, j) in [(1.0, 0.0), (0.0, 1.0), (-2.0, 1.0), (1.0, 2.0), (0.0, 0.0)] {
+            let (x, y) = (i * A, j * A);
+            let want = (kbar(x + 0.5 * A, y) - kbar(x - 0.5 * A, y)) / A;
+            let got = k.derivative(x, y, A, A, Axis::X);
+            let err = (got - want).abs() / d00;
+            eprintln!("h = {h_cells} a, v = {speed:.2e}, ({i}, {j}): D = {got:.6e} vs {want:.6e} ({err:.1e})");
+            assert!(err < 1e-8, "{got:e} vs {want:e}");
+        }
+    }
+}
