@@ -56,7 +56,9 @@ fn main() {
         };
         (pressure, friction)
     };
-    println!("lambda = 16 cells, k lambda = 2 pi; v_peak = {v_peak:.4e} m/s (omega tau = E_inf/E0 at k)");
+    println!(
+        "lambda = 16 cells, k lambda = 2 pi; v_peak = {v_peak:.4e} m/s (omega tau = E_inf/E0 at k)"
+    );
     println!();
     println!("| base | h / lambda | S(k h) | v / v_peak | pressure: layer (half-space) | friction: layer (half-space) |");
     println!("|---|---|---|---|---|---|");
@@ -73,9 +75,7 @@ fn main() {
                 } else {
                     "0 (0)".into()
                 };
-                println!(
-                    "| {base:?} | {hl} | {s:.3e} | {vr} | {pl:+.2e} ({ph:+.2e}) | {fric} |"
-                );
+                println!("| {base:?} | {hl} | {s:.3e} | {vr} | {pl:+.2e} ({ph:+.2e}) | {fric} |");
             }
         }
     }

@@ -47,7 +47,7 @@
 
 use rayon::prelude::*;
 
-use super::line::{GLASSY, RELAXED};
+use super::line::{memory_breaks, GLASSY, RELAXED};
 use super::progress::Progress;
 use super::quad::{adaptive, clean_breaks, gauss_from_samples, gauss_legendre_unit};
 use super::{Axis, SlidingKernel};
@@ -379,19 +379,19 @@ fn march_row(
     let mut state = vec![0.0; nm];
     let adaptive_panel = |x: f64, lam: f64, len: f64| -> f64 {
         let l = 1.0 / lam;
-        let mut br = vec![-hx - x, hx - x, -x, l, 4.0 * l, 16.0 * l];
-        if len.is_infinite() {
-            let mut s = l.min(a) / 8.0;
-            while s < 46.0 * l.max(a) {
-                br.push(s);
-                s *= 4.0;
-            }
-        }
+        let mut br = vec![-hx - x, hx - x, -x];
         let hi = if len.is_infinite() {
             46.0 * l.max(a)
         } else {
             len
         };
+        // The geometric grid only for the tail to infinity.
+        let smallest = if len.is_infinite() {
+            l.min(a)
+        } else {
+            8.0 * hi
+        };
+        memory_breaks(&mut br, &[l], smallest, hi);
         let br = clean_breaks(br, 0.0, hi);
         let scale = g(x).abs() + g(x + a).abs();
         adaptive(
