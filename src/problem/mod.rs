@@ -237,14 +237,17 @@ impl Problem {
     /// The steady-sliding kernel of this material, speed, direction and
     /// layer (paper Eq. 4-5).
     pub fn sliding_kernel(&self) -> Result<SlidingKernel> {
-        Ok(SlidingKernel::new(
-            &self.material,
-            KernelParams {
-                speed: self.speed,
-                direction_rad: self.direction_rad,
-                layer: self.layer,
-            },
-        )?)
+        Ok(SlidingKernel::new(&self.material, self.kernel_params())?)
+    }
+
+    /// Speed, direction and layer, as the kernel and the periodic operator
+    /// take them.
+    pub fn kernel_params(&self) -> KernelParams {
+        KernelParams {
+            speed: self.speed,
+            direction_rad: self.direction_rad,
+            layer: self.layer,
+        }
     }
 
     /// Gap profile `g = max(z) - z` (physics.md section 1).

@@ -64,6 +64,9 @@ impl Problem {
             restart: sc.restart.unwrap_or(defaults.restart),
         };
         let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
+        if let Some(w) = layer.and_then(|l| l.resolution_warning(surface.cell_size)) {
+            eprintln!("warning: {w}");
+        }
         let formulation = sc.formulation.unwrap_or_default();
         let mesh = sc.mesh.unwrap_or_default();
         let ad = AdaptiveParams::default();
@@ -132,11 +135,6 @@ impl Problem {
                 "[solver] tolerance must be in (0, 1), got {}",
                 self.params.tolerance
             )));
-        }
-        if self.layer.is_some() && self.formulation == Formulation::Periodic {
-            return Err(invalid(
-                "[layer] is not supported with [solver] formulation = \"periodic\" (use \"non_periodic\")",
-            ));
         }
         if self.mesh == MeshKind::Adaptive && self.formulation == Formulation::Periodic {
             return Err(invalid(

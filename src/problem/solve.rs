@@ -15,7 +15,9 @@ use crate::backend::{Backend, CpuBackend};
 use crate::config::{Formulation, MeshKind};
 use crate::error::{Error, Result};
 use crate::kernel::{Axis, SlidingKernel};
-use crate::operator::{AdaptiveOperator, LevelTables, OffsetTable, SpectralPeriodic, ToeplitzFft};
+use crate::operator::{
+    AdaptiveOperator, LevelTables, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
+};
 use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, WarmStart};
 
 use super::adaptive::{solve_adaptive, AdaptiveParams, MeshReport};
@@ -236,7 +238,14 @@ impl Problem {
     fn periodic_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
         let t0 = Instant::now();
         let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
-        let op = SpectralPeriodic::new(nx, ny, a, &self.material, self.speed, self.direction_rad);
+        let op = SpectralPeriodic::with_params(
+            nx,
+            ny,
+            a,
+            &self.material,
+            &self.kernel_params(),
+            PeriodicResponse::Displacement,
+        );
         let l00 = op.self_coefficient();
         let mut backend = CpuBackend::new(op);
         let t_setup = t0.elapsed().as_secs_f64();
@@ -416,10 +425,18 @@ impl Problem {
         let load = stats.normal_load;
         let (m, v, dir) = (&self.material, self.speed, self.direction_rad);
         if self.formulation == Formulation::Periodic {
-            let mut slope = SpectralPeriodic::sliding_slope(nx, ny, a, m, v, dir);
+            let params = self.kernel_params();
+            let mut slope = SpectralPeriodic::with_params(
+                nx,
+                ny,
+                a,
+                m,
+                &params,
+                PeriodicResponse::SlidingSlope,
+            );
             let force = analysis::friction_force_stencil(&mut slope, &solution.pressure, a);
             let force_d =
-                analysis::friction_force_periodic(&solution.pressure, nx, ny, a, m, v, dir);
+                analysis::friction_force_periodic_with(&solution.pressure, nx, ny, a, m, &params);
             return Ok((-force / load, -force_d / load, stats));
         }
         if load.is_nan() || load <= 0.0 {
