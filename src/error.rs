@@ -20,6 +20,8 @@ pub enum Error {
     Solver(#[from] crate::solver::SolverError),
     #[error(transparent)]
     Plot(#[from] crate::plot::PlotError),
+    #[error(transparent)]
+    Persson(#[from] crate::persson::PerssonError),
     #[error("{context}: {source}")]
     Io {
         context: String,

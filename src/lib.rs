@@ -23,6 +23,7 @@ pub use error::{Error, Result};
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 pub mod analysis;
 pub mod operator;
+pub mod persson;
 pub mod report;
 pub mod run;
 pub mod solver;
