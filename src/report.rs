@@ -50,7 +50,7 @@ pub fn analyze(setup: &SolveSetup, out: &SolveOutcome) -> Result<Option<Analysis
         },
         ..defaults
     };
-    Ok(Some(analysis::analyze_fields(
+    Ok(Some(analysis::analyze(
         &analysis_inputs(setup, out),
         &params,
     )?))
@@ -183,5 +183,5 @@ pub fn write_solve(dir: &Path, setup: &SolveSetup, out: &SolveOutcome) -> Result
     if let Some(r) = &report {
         analysis::write_analysis(&mut staged, &analysis_inputs(setup, out), r)?;
     }
-    staged.commit()
+    Ok(staged.commit()?)
 }

@@ -11,7 +11,7 @@ mod io;
 mod psd;
 mod psd_table;
 
-pub use config::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};
+pub use crate::config::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};
 pub use generate::{
     generate, generate_with_target, Anisotropy, GenerateParams, Normalisation, SelfAffinePsd,
     UpperCutoff,

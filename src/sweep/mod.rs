@@ -8,9 +8,10 @@ mod compare;
 mod merge;
 mod plan;
 
+pub use crate::config::SweepConfig;
 pub use compare::{compare, read_measured, Measured};
 pub use merge::{aggregate, merge, MergedRow};
-pub use plan::{Point, Shard, SpeedAxis, SweepConfig, SweepPlan};
+pub use plan::{Point, Shard, SpeedAxis, SweepPlan};
 
 use std::path::{Path, PathBuf};
 
@@ -173,6 +174,6 @@ fn pin_config(cfg: &LoadedConfig, dir: &Path) -> Result<()> {
             "{} holds a sweep made with a different configuration; use another --out directory (or delete it) instead of mixing results",
             dir.display()
         ))),
-        Err(_) => write_atomic(&pinned, text.as_bytes()),
+        Err(_) => Ok(write_atomic(&pinned, text.as_bytes())?),
     }
 }
