@@ -47,7 +47,7 @@ pub enum MeshKind {
     Adaptive,
 }
 
-/// `[solver.adaptive]` (defaults in [`crate::mesh::AdaptiveParams`]).
+/// `[solver.adaptive]` (defaults in `crate::problem::AdaptiveParams`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub struct AdaptiveConfig {
