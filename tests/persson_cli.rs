@@ -255,3 +255,125 @@ fn anisotropic_surface_and_missing_pressure_are_refused() {
     assert!(err.contains("nominal pressure"), "{err}");
     assert!(!out.exists());
 }
+
+const ROUGH: &str = "[surface.generate]\nn = 32\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\nseed = 1\n";
+
+#[test]
+fn solve_records_persson_beside_the_simulation() {
+    use viscoslide::material::{CreepSpectrum, Material};
+    use viscoslide::persson::{Persson, PerssonParams};
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(
+        tmp.path(),
+        &format!(
+            "{SLS}{ROUGH}[loading]\nnormal_load = 0.3\nspeed = 0.01\n[analysis]\nenabled = false\n"
+        ),
+    );
+    let out = tmp.path().join("s");
+    let o = viscoslide(&[
+        "solve",
+        cfg.to_str().unwrap(),
+        "--backend",
+        "cpu",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("Persson's theory at this speed"));
+    let s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let mu = s["persson_friction_coefficient"].as_f64().unwrap();
+    let area = s["persson_contact_area_fraction"].as_f64().unwrap();
+    // The same theory from the library: continuum PSD, 0.3 N on 1 cm^2.
+    let params = GenerateParams {
+        nx: 32,
+        ny: 32,
+        length: 0.01,
+        hurst: 0.8,
+        upper: UpperCutoff::Scales(8.0),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 1,
+        ..GenerateParams::default()
+    };
+    let (psd, _) = viscoslide::persson::psd::continuum_self_affine(&params).unwrap();
+    let m = Material::new(
+        CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
+        0.5,
+    )
+    .unwrap();
+    let p = Persson::new(&m, &psd, 0.3 / 1e-4, PerssonParams::default())
+        .unwrap()
+        .point(0.01)
+        .unwrap();
+    assert!(
+        (mu / p.friction_coefficient - 1.0).abs() < 1e-9,
+        "{mu} vs {p:?}"
+    );
+    assert!((area / p.contact_area_fraction - 1.0).abs() < 1e-9);
+    assert_eq!(s["persson"]["psd"], "self_affine");
+}
+
+fn csv_column(text: &str, name: &str) -> Vec<String> {
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header.iter().position(|h| *h == name).unwrap();
+    lines
+        .map(|l| l.split(',').nth(k).unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn merge_draws_and_tabulates_persson() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(
+        tmp.path(),
+        &format!("{SLS}{ROUGH}[loading]\nnormal_load = 0.3\nspeed = 0.01\n[analysis]\nenabled = false\n[sweep]\nspeed = [0.003, 0.03]\n"),
+    );
+    let out = tmp.path().join("sw");
+    let o = viscoslide(&[
+        "sweep",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [
+        "friction_vs_xi.png",
+        "area_ratio_vs_xi.png",
+        "area_fraction_vs_xi.png",
+    ] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let mu: Vec<f64> = csv_column(&csv, "persson_friction")
+        .iter()
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let ratio: Vec<f64> = csv_column(&csv, "persson_area_ratio")
+        .iter()
+        .map(|s| s.parse().unwrap())
+        .collect();
+    assert_eq!(mu.len(), 3);
+    assert_eq!(mu[0], 0.0);
+    assert!(mu[1] > 0.0 && mu[2] > 0.0);
+    assert_eq!(ratio[0], 1.0);
+    assert!(ratio[2] < ratio[1] && ratio[1] < 1.0);
+
+    // A sphere: the theory does not apply, the merge still works.
+    let cfg = write_config(
+        tmp.path(),
+        &format!("{SLS}[surface.sphere]\nn = 16\nlength = 0.01\nradius = 0.05\n[loading]\nnormal_load = 0.01\nspeed = 0.01\n[analysis]\nenabled = false\n[sweep]\nspeed = [0.01]\n"),
+    );
+    let out = tmp.path().join("sphere");
+    let o = viscoslide(&[
+        "sweep",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert!(csv_column(&csv, "persson_friction")
+        .iter()
+        .all(|s| s.is_empty()));
+}

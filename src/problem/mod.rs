@@ -11,6 +11,8 @@
 //!   formulation x mesh, the executor by backend, one call of the iteration.
 //! - [`adaptive`]: the solve-certify-refine loop of the adaptive mesh.
 //! - [`solution`]: the result, its summary, analysis and files.
+//! - [`persson`]: Persson's theory for a configuration or a problem, the
+//!   analytic reference beside every simulation.
 //!
 //! Re-discretising: [`Problem::with_grid`] gives the same physical problem on
 //! another grid (a generated surface is generated again with the same seed
@@ -19,6 +21,7 @@
 //! one place.
 
 pub mod adaptive;
+pub mod persson;
 pub mod setup;
 pub mod solution;
 pub mod solve;
