@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::config::LoadedConfig;
+use crate::config::{LoadedConfig, XiScale};
 use crate::error::{Error, Result};
 use crate::io::StagedOutput;
 use crate::persson::{self, Persson, PerssonParams, PerssonPoint};
@@ -56,8 +56,8 @@ fn parse_speeds(s: &str) -> std::result::Result<(f64, f64, usize), String> {
 }
 
 /// Speeds of the config's `[sweep]` as `(min, max)` \[m/s\] of its positive
-/// speeds (`xi` converted with `xi_factor`), if it has any.
-fn sweep_speed_range(cfg: &LoadedConfig, xi_factor: Option<f64>) -> Result<Option<(f64, f64)>> {
+/// speeds (`xi` converted with `xi_scale`), if it has any.
+fn sweep_speed_range(cfg: &LoadedConfig, xi_scale: Option<XiScale>) -> Result<Option<(f64, f64)>> {
     let Some(sw) = &cfg.config.sweep else {
         return Ok(None);
     };
@@ -73,8 +73,8 @@ fn sweep_speed_range(cfg: &LoadedConfig, xi_factor: Option<f64>) -> Result<Optio
         return Ok(None);
     };
     let scale = if is_xi {
-        match xi_factor {
-            Some(f) => 1.0 / f,
+        match xi_scale {
+            Some(x) => x.speed(1.0),
             None => {
                 return Err(Error::Invalid(
                     "[sweep] gives xi, which needs a single-relaxation material and a surface length; give --speeds MIN,MAX,COUNT".into(),
@@ -112,7 +112,7 @@ pub fn run(args: PerssonArgs) -> Result<()> {
     )?;
     let (from, to, count, origin) = match args.speeds {
         Some((a, b, n)) => (a, b, n, "--speeds".to_string()),
-        None => match sweep_speed_range(&cfg, inputs.xi_factor())? {
+        None => match sweep_speed_range(&cfg, inputs.xi_scale())? {
             Some((a, b)) if b > a => (a, b, DEFAULT_COUNT, "[sweep] speed range".to_string()),
             Some((a, _)) => (
                 a / 100.0,
@@ -144,8 +144,8 @@ pub fn run(args: PerssonArgs) -> Result<()> {
     let curve = theory.curve(&speeds)?;
     let elapsed = t0.elapsed().as_secs_f64();
     let xi: Option<Vec<f64>> = inputs
-        .xi_factor()
-        .map(|f| curve.iter().map(|p| p.speed * f).collect());
+        .xi_scale()
+        .map(|x| curve.iter().map(|p| x.xi(p.speed)).collect());
 
     let json = report_json(
         &cfg,

@@ -14,7 +14,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use crate::config::LoadedConfig;
+use crate::config::{LoadedConfig, XiScale};
 use crate::error::{Error, Result};
 use crate::material::Material;
 use crate::persson::{self, psd::RadialInfo, Persson, PerssonParams};
@@ -65,11 +65,14 @@ pub struct TheoryInputs {
 }
 
 impl TheoryInputs {
-    /// `xi = v tau / L` for a single-relaxation material (the definition of
-    /// `solve`), else `None`.
-    pub fn xi_factor(&self) -> Option<f64> {
+    /// The scale of `xi = v tau / L` (the definition of `solve`) for a
+    /// single-relaxation material and a surface of known side, else `None`.
+    pub fn xi_scale(&self) -> Option<XiScale> {
         match (self.material.spectrum.terms.as_slice(), self.length_x) {
-            ([t], Some(l)) => Some(t.time / l),
+            ([t], Some(length)) => Some(XiScale {
+                creep_time: t.time,
+                length,
+            }),
             _ => None,
         }
     }
