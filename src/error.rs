@@ -29,6 +29,8 @@ pub enum Error {
     Analysis(crate::analysis::AnalysisError),
     #[error(transparent)]
     Plot(#[from] crate::plot::PlotError),
+    #[error(transparent)]
+    Persson(#[from] crate::persson::PerssonError),
     #[error("{context}: {source}")]
     Io {
         context: String,

@@ -50,7 +50,9 @@
 //! Data flows one way: `config` -> `material` and `surface` -> `mesh` ->
 //! `kernel` (influence coefficients) -> `operator` -> `backend` -> `solver`
 //! -> `analysis` -> `problem` (the API) -> `sweep` -> `cli`; `io` and `plot`
-//! serve every layer. `docs/ARCHITECTURE.md` says what each layer owns and
+//! serve every layer. `persson` (Persson's theory, the analytic reference)
+//! needs only `material` and `surface`; `problem` builds its inputs from a
+//! configuration or a problem. `docs/ARCHITECTURE.md` says what each layer owns and
 //! may import; `tests/architecture.rs` keeps the imports pointing down.
 
 pub mod backend;
@@ -70,6 +72,7 @@ pub use error::{Error, Result};
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 pub mod analysis;
 pub mod operator;
+pub mod persson;
 pub mod problem;
 pub mod solver;
 pub mod sweep;

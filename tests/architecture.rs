@@ -20,6 +20,7 @@ const LAYERS: &[&[&str]] = &[
     &["backend"],
     &["solver"],
     &["analysis"],
+    &["persson"],
     &["error"],
     &["problem"],
     &["sweep"],

@@ -5,6 +5,7 @@ mod analyze;
 mod gpu;
 mod kernel;
 mod material;
+pub mod persson;
 mod solve;
 mod surface;
 mod sweep;
@@ -47,6 +48,8 @@ pub enum Command {
     Gpu(gpu::GpuArgs),
     /// Anisotropy (Eq. 11-13), C_chi contours and contact spots of a solve.
     Analyze(analyze::AnalyzeArgs),
+    /// Persson's theory: friction and contact area against speed.
+    Persson(persson::PerssonArgs),
 }
 
 /// A config file plus `--set section.key=value` overrides.
@@ -78,5 +81,6 @@ pub fn run() -> Result<()> {
         Command::Compare(a) => sweep::compare(a),
         Command::Gpu(a) => gpu::run(a),
         Command::Analyze(a) => analyze::run(a),
+        Command::Persson(a) => persson::run(a),
     }
 }

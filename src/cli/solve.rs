@@ -77,6 +77,13 @@ pub fn run(args: SolveArgs) -> Result<()> {
         solution.info.residual,
         solution.timings.total_s
     );
+    match &solution.persson {
+        Ok(p) => println!(
+            "Persson's theory at this speed and {:.4e} Pa: friction coefficient {:.6e}, contact area fraction {:.5} ({} PSD)",
+            p.nominal_pressure, p.friction_coefficient, p.contact_area_fraction, p.psd
+        ),
+        Err(why) => println!("Persson's theory not evaluated: {why}"),
+    }
     println!("wrote {} files to {}", written.len(), args.out.display());
     Ok(())
 }

@@ -13,6 +13,8 @@
 //! - [`adaptive`]: the solve-certify-refine loop of the adaptive mesh.
 //! - [`solution`]: the result, its summary, analysis and files.
 //! - [`warnings`]: what a solution says about its own validity.
+//! - [`persson`]: Persson's theory for a configuration or a problem, the
+//!   analytic reference beside every simulation.
 //!
 //! Re-discretising: [`Problem::with_grid`] gives the same physical problem on
 //! another grid (a generated surface is generated again with the same seed
@@ -22,6 +24,7 @@
 
 pub mod adaptive;
 pub mod executor;
+pub mod persson;
 pub mod setup;
 pub mod solution;
 pub mod solve;

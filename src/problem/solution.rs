@@ -20,6 +20,7 @@ use crate::plot;
 use crate::solver::{ContactSolution, SolveInfo, WarmStart};
 use crate::surface::Window;
 
+use super::persson::PerssonEstimate;
 use super::{MeshReport, Problem};
 
 /// Wall-clock split of a solve \[s\].
@@ -70,6 +71,9 @@ pub struct Solution {
     /// What the user should know about the validity of the result (also in
     /// `summary.json`).
     pub warnings: Vec<String>,
+    /// Persson's theory at the same speed and nominal pressure
+    /// ([`Problem::persson_estimate`]), or why it does not apply.
+    pub persson: std::result::Result<PerssonEstimate, String>,
     record: Record,
 }
 
@@ -87,6 +91,7 @@ impl Solution {
         mesh: Option<MeshReport>,
         warnings: Vec<String>,
     ) -> Self {
+        let persson = problem.persson_estimate(stats.mean_pressure);
         Self {
             fields,
             info,
@@ -98,6 +103,7 @@ impl Solution {
             unknowns,
             mesh,
             warnings,
+            persson,
             record: Record {
                 nx: problem.surface.nx,
                 ny: problem.surface.ny,
@@ -214,6 +220,14 @@ impl Solution {
         let s = &self.stats;
         let r = &self.record;
         let spec = &r.material.spectrum;
+        let persson = match &self.persson {
+            Ok(p) => json!({
+                "nominal_pressure": p.nominal_pressure,
+                "psd": p.psd,
+                "theory": "Persson, J. Chem. Phys. 115, 3840 (2001); physics.md section 10",
+            }),
+            Err(why) => json!({ "not_evaluated": why }),
+        };
         json!({
             "friction_coefficient": self.friction_coefficient,
             "friction_coefficient_dissipation": self.friction_coefficient_dissipation,
@@ -255,6 +269,9 @@ impl Solution {
             "config": r.document,
             "analysis": analysis.map(analysis_headline),
             "warnings": self.warnings,
+            "persson_friction_coefficient": self.persson.as_ref().ok().map(|p| p.friction_coefficient),
+            "persson_contact_area_fraction": self.persson.as_ref().ok().map(|p| p.contact_area_fraction),
+            "persson": persson,
         })
     }
 

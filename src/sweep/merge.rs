@@ -3,6 +3,14 @@
 //! the sweep plots (friction vs xi as the paper's Fig. 1, `A / A(xi = 0)` as
 //! Fig. 7, anisotropy measures when present). The result depends only on
 //! the set of point files, not on the order they were written in.
+//!
+//! Persson's theory (physics.md section 10) for the sweep's material,
+//! surface and pressure is drawn in the same figures (a curve of 100
+//! speeds per load over the sweep's range, when the pinned configuration
+//! can be read back: see [`super::CONFIG_DIR_FILE`]; otherwise a line
+//! through the values recorded with each point) and its values at each
+//! row go into `sweep.csv` (`persson_friction`, `persson_area_fraction`,
+//! `persson_area_ratio`).
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -11,9 +19,13 @@ use serde::Deserialize;
 
 use super::Point;
 
+use crate::config::{self, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::io::StagedOutput;
+use crate::persson::{self, Persson, PerssonParams};
 use crate::plot::{xy_chart, Series, XyChart};
+use crate::problem::persson::{theory_inputs, TheoryInputs};
+use crate::surface::Window;
 
 /// One row of `sweep.csv`.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,6 +42,12 @@ pub struct MergedRow {
     pub area_ratio: Option<(f64, f64)>,
     pub gamma: Option<(f64, f64)>,
     pub lambda: Option<(f64, f64)>,
+    /// Persson's `mu` at this speed and load.
+    pub persson_friction: Option<f64>,
+    /// Persson's `A/A0` at this speed and load.
+    pub persson_area_fraction: Option<f64>,
+    /// Persson's `A(v) / A(0)` at this load.
+    pub persson_area_ratio: Option<f64>,
 }
 
 struct PointResult {
@@ -45,6 +63,8 @@ struct PointResult {
     area: f64,
     gamma: Option<f64>,
     lambda: Option<f64>,
+    persson_mu: Option<f64>,
+    persson_area: Option<f64>,
 }
 
 fn mean_std(v: &[f64]) -> (f64, f64) {
@@ -70,6 +90,11 @@ struct PointFile {
     contact_area_fraction: f64,
     analysis: Option<Headline>,
     point: Point,
+    /// Persson's theory at the point (absent in points of older versions).
+    #[serde(default)]
+    persson_friction_coefficient: Option<f64>,
+    #[serde(default)]
+    persson_contact_area_fraction: Option<f64>,
 }
 
 /// The analysis numbers a merge aggregates.
@@ -111,6 +136,8 @@ fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
             area: v.contact_area_fraction,
             gamma: v.analysis.as_ref().and_then(|a| a.gamma),
             lambda: v.analysis.as_ref().and_then(|a| a.lambda),
+            persson_mu: v.persson_friction_coefficient,
+            persson_area: v.persson_contact_area_fraction,
         });
     }
     if out.is_empty() {
@@ -163,10 +190,104 @@ pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
                 }),
                 gamma: opt(&|p| p.gamma),
                 lambda: opt(&|p| p.lambda),
+                persson_friction: opt(&|p| p.persson_mu).map(|m| m.0),
+                persson_area_fraction: opt(&|p| p.persson_area).map(|m| m.0),
+                persson_area_ratio: None,
             }
         })
         .collect();
     Ok(rows)
+}
+
+/// Persson's theory for the sweep in `dir`: its pinned configuration read
+/// back with the recorded directory for relative paths (the sweep
+/// directory itself when none is recorded). `Err` says why not.
+fn theory_for(dir: &Path) -> std::result::Result<TheoryInputs, String> {
+    let path = dir.join(super::CONFIG_FILE);
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let document: toml::Table =
+        toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let name = path.display().to_string();
+    let config = config::parse_document(&document, &name).map_err(|e| e.to_string())?;
+    let base_dir = std::fs::read_to_string(dir.join(super::CONFIG_DIR_FILE))
+        .map(|t| Path::new(t.trim()).to_path_buf())
+        .unwrap_or_else(|_| dir.to_path_buf());
+    let cfg = LoadedConfig {
+        config,
+        path,
+        base_dir,
+        document,
+    };
+    theory_inputs(&cfg, None, Window::None).map_err(|e| e.to_string())
+}
+
+/// The theory's curves per load label: `(x, mu, A/A0, A/A(0))` at 100
+/// speeds over the positive speeds of its rows.
+type Curve = Vec<(f64, f64, f64, f64)>;
+
+/// Fill the Persson columns of `rows` from `inputs` (each load at its
+/// measured nominal pressure) and return the smooth curves per load.
+fn theory_curves(
+    inputs: &TheoryInputs,
+    rows: &mut [MergedRow],
+    label: &dyn Fn(&MergedRow) -> String,
+    use_xi: bool,
+) -> Result<Vec<(String, Curve)>> {
+    let area = inputs.area;
+    let mut loads: Vec<String> = rows.iter().map(label).collect();
+    loads.dedup();
+    let mut curves = Vec::new();
+    for load in loads {
+        let idx: Vec<usize> = (0..rows.len())
+            .filter(|&i| label(&rows[i]) == load)
+            .collect();
+        let sigma0 = match area {
+            Some(a) => idx.iter().map(|&i| rows[i].normal_load).sum::<f64>() / idx.len() as f64 / a,
+            None => inputs.nominal_pressure,
+        };
+        let theory = Persson::new(
+            &inputs.material,
+            &inputs.psd,
+            sigma0,
+            PerssonParams::default(),
+        )?;
+        let a0 = theory.point(0.0)?.contact_area_fraction;
+        let speeds: Vec<f64> = idx.iter().map(|&i| rows[i].speed).collect();
+        for (&i, p) in idx.iter().zip(theory.curve(&speeds)?) {
+            let r = &mut rows[i];
+            r.persson_friction.get_or_insert(p.friction_coefficient);
+            r.persson_area_fraction
+                .get_or_insert(p.contact_area_fraction);
+            r.persson_area_ratio = Some(p.contact_area_fraction / a0);
+        }
+        let pos = speeds.iter().copied().filter(|v| *v > 0.0);
+        let (lo, hi) = (
+            pos.clone().fold(f64::INFINITY, f64::min),
+            pos.fold(0.0, f64::max),
+        );
+        if hi <= 0.0 {
+            continue;
+        }
+        let xi_scale = inputs.xi_scale();
+        let curve = theory
+            .curve(&persson::log_speeds(lo, hi, 100))?
+            .into_iter()
+            .map(|p| {
+                let x = match (use_xi, xi_scale) {
+                    (true, Some(s)) => s.xi(p.speed),
+                    _ => p.speed,
+                };
+                (
+                    x,
+                    p.friction_coefficient,
+                    p.contact_area_fraction,
+                    p.contact_area_fraction / a0,
+                )
+            })
+            .collect();
+        curves.push((load, curve));
+    }
+    Ok(curves)
 }
 
 fn fmt_opt(v: Option<(f64, f64)>) -> (String, String) {
@@ -178,14 +299,15 @@ fn fmt_opt(v: Option<(f64, f64)>) -> (String, String) {
 /// The CSV text of `rows`.
 pub fn csv(rows: &[MergedRow]) -> String {
     let mut out = String::from(
-        "normal_load_n,speed_m_s,xi,realisations,friction_mean,friction_std,friction_dissipation_mean,friction_dissipation_std,area_fraction_mean,area_fraction_std,area_ratio_mean,area_ratio_std,gamma_mean,gamma_std,lambda_mean,lambda_std\n",
+        "normal_load_n,speed_m_s,xi,realisations,friction_mean,friction_std,friction_dissipation_mean,friction_dissipation_std,area_fraction_mean,area_fraction_std,area_ratio_mean,area_ratio_std,gamma_mean,gamma_std,lambda_mean,lambda_std,persson_friction,persson_area_fraction,persson_area_ratio\n",
     );
+    let one = |v: Option<f64>| v.map(|x| format!("{x:.8e}")).unwrap_or_default();
     for r in rows {
         let (arm, ars) = fmt_opt(r.area_ratio);
         let (gm, gs) = fmt_opt(r.gamma);
         let (lm, ls) = fmt_opt(r.lambda);
         out.push_str(&format!(
-            "{:.8e},{:.8e},{},{},{:.8e},{:.8e},{:.8e},{:.8e},{:.8e},{:.8e},{arm},{ars},{gm},{gs},{lm},{ls}\n",
+            "{:.8e},{:.8e},{},{},{:.8e},{:.8e},{:.8e},{:.8e},{:.8e},{:.8e},{arm},{ars},{gm},{gs},{lm},{ls},{},{},{}\n",
             r.normal_load,
             r.speed,
             r.xi.map(|x| format!("{x:.8e}")).unwrap_or_default(),
@@ -196,6 +318,9 @@ pub fn csv(rows: &[MergedRow]) -> String {
             r.friction_dissipation.1,
             r.area_fraction.0,
             r.area_fraction.1,
+            one(r.persson_friction),
+            one(r.persson_area_fraction),
+            one(r.persson_area_ratio),
         ));
     }
     out
@@ -204,9 +329,7 @@ pub fn csv(rows: &[MergedRow]) -> String {
 /// Merge the finished points of `dir` into `dir/sweep.csv` and the plots
 /// (written atomically together). Returns the rows.
 pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
-    let rows = aggregate(dir)?;
-    let mut staged = StagedOutput::new(dir)?;
-    staged.write("sweep.csv", csv(&rows).as_bytes())?;
+    let mut rows = aggregate(dir)?;
     let use_xi = rows.iter().all(|r| r.xi.is_some());
     let x_of = |r: &MergedRow| if use_xi { r.xi.unwrap_or(0.0) } else { r.speed };
     let x_label = if use_xi { "xi = v tau / L" } else { "v [m/s]" };
@@ -214,7 +337,47 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
     let label = |r: &MergedRow| format!("{:.4e}", r.normal_load);
     let mut loads: Vec<String> = rows.iter().map(label).collect();
     loads.dedup();
+    // Persson's theory: smooth curves from the pinned configuration, else
+    // the values each point recorded (A/A(0) from the static point's).
+    let curves = match theory_for(dir) {
+        Ok(inputs) => theory_curves(&inputs, &mut rows, &label, use_xi)?,
+        Err(why) => {
+            eprintln!("note: Persson's theory drawn from the points' own values ({why})");
+            let statics: BTreeMap<String, f64> = rows
+                .iter()
+                .filter(|r| r.speed == 0.0)
+                .filter_map(|r| r.persson_area_fraction.map(|a| (label(r), a)))
+                .collect();
+            for r in rows.iter_mut() {
+                if let (Some(a), Some(a0)) = (r.persson_area_fraction, statics.get(&label(r))) {
+                    r.persson_area_ratio = Some(a / a0);
+                }
+            }
+            loads
+                .iter()
+                .map(|l| {
+                    let c: Curve = rows
+                        .iter()
+                        .filter(|r| label(r) == *l && x_of(r) > 0.0)
+                        .filter_map(|r| {
+                            Some((
+                                x_of(r),
+                                r.persson_friction?,
+                                r.persson_area_fraction?,
+                                r.persson_area_ratio.unwrap_or(f64::NAN),
+                            ))
+                        })
+                        .collect();
+                    (l.clone(), c)
+                })
+                .filter(|(_, c)| !c.is_empty())
+                .collect()
+        }
+    };
+    let mut staged = StagedOutput::new(dir)?;
+    staged.write("sweep.csv", csv(&rows).as_bytes())?;
     type Pick = fn(&MergedRow) -> Option<(f64, f64)>;
+    type TheoryPick = Option<fn(&(f64, f64, f64, f64)) -> f64>;
     // Paper Fig. 1 and 7 are against xi; Fig. 6 is against the speed.
     let (friction_title, area_title) = if use_xi {
         (
@@ -227,30 +390,49 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
             "Contact area A / A(v = 0)",
         )
     };
-    let charts: [(&str, &str, &str, Pick); 4] = [
+    let fraction_title = if use_xi {
+        "Contact area fraction against xi"
+    } else {
+        "Contact area fraction against sliding speed"
+    };
+    let charts: [(&str, &str, &str, Pick, TheoryPick); 5] = [
         (
             "friction_vs_xi.png",
             friction_title,
             "friction coefficient",
             |r| Some(r.friction),
+            Some(|c| c.1),
         ),
-        ("area_ratio_vs_xi.png", area_title, "A / A(0)", |r| {
-            r.area_ratio
-        }),
+        (
+            "area_ratio_vs_xi.png",
+            area_title,
+            "A / A(0)",
+            |r| r.area_ratio,
+            Some(|c| c.3),
+        ),
+        (
+            "area_fraction_vs_xi.png",
+            fraction_title,
+            "A / A0",
+            |r| Some(r.area_fraction),
+            Some(|c| c.2),
+        ),
         (
             "gamma_vs_xi.png",
             "Degree of isotropy of the deformed surface",
             "gamma",
             |r| r.gamma,
+            None,
         ),
         (
             "lambda_vs_xi.png",
             "Contact-area anisotropy",
             "lambda",
             |r| r.lambda,
+            None,
         ),
     ];
-    for (file, title, ylabel, pick) in charts {
+    for (file, title, ylabel, pick, theory) in charts {
         let mut series = Vec::new();
         for (c, load) in loads.iter().enumerate() {
             let sel: Vec<(f64, f64, f64)> = rows
@@ -269,6 +451,17 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
             s.mark = crate::plot::Mark::LineAndPoints;
             s.errors = Some(sel.iter().map(|t| t.2).collect());
             series.push(s);
+            let curve = curves.iter().find(|(l, _)| l == load).map(|(_, c)| c);
+            if let (Some(f), Some(curve)) = (theory, curve) {
+                let pts: Vec<(f64, f64)> = curve
+                    .iter()
+                    .map(|c| (c.0, f(c)))
+                    .filter(|p| p.1.is_finite())
+                    .collect();
+                if !pts.is_empty() {
+                    series.push(Series::line(format!("Persson, F_N = {load} N"), pts, c + 3));
+                }
+            }
         }
         if series.is_empty() {
             continue;

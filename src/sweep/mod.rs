@@ -27,6 +27,10 @@ use crate::solver::Silent;
 /// File in the sweep directory that pins the configuration it was made with.
 pub const CONFIG_FILE: &str = "sweep.toml";
 
+/// File in the sweep directory holding the directory the configuration's
+/// relative paths (a material file, a surface file) are resolved against.
+pub const CONFIG_DIR_FILE: &str = "sweep.config_dir";
+
 /// What a sweep run did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SweepRun {
@@ -172,5 +176,13 @@ fn pin_config(cfg: &LoadedConfig, dir: &Path) -> Result<()> {
             dir.display()
         ))),
         Err(_) => Ok(write_atomic(&pinned, text.as_bytes())?),
-    }
+    }?;
+    // Where the pinned configuration's relative paths point (for `merge`,
+    // which rebuilds Persson's theory from it); not part of the pin.
+    let base = std::fs::canonicalize(&cfg.base_dir).unwrap_or_else(|_| cfg.base_dir.clone());
+    write_atomic(
+        dir.join(CONFIG_DIR_FILE),
+        base.display().to_string().as_bytes(),
+    )?;
+    Ok(())
 }

@@ -1,0 +1,117 @@
+//! The PSD sources of Persson's theory, all as a [`TabulatedPsd`] (a
+//! piecewise power law in the project's radial convention,
+//! `<h^2> = 2 pi Int q C(q) dq`):
+//!
+//! * [`continuum_self_affine`]: the analytic PSD of `[surface.generate]`,
+//!   exact (a power law is a straight line in log-log axes), with `C0` set
+//!   by the continuum integral of the prescribed rms height or rms slope;
+//! * [`radial`]: the radial average of a height map's 2-D PSD, the
+//!   `surface stats` code ([`psd_2d`] and [`radial_average`]);
+//! * a `q, C` CSV: [`TabulatedPsd::from_csv`] itself.
+
+use serde::Serialize;
+
+use crate::surface::{
+    psd_2d, radial_average, GenerateParams, HeightMap, Normalisation, SelfAffinePsd, TabulatedPsd,
+    Window,
+};
+
+use super::PerssonError;
+
+/// The self-affine PSD of `params` in the continuum:
+/// `C(q) = C0` on `q_L <= q < q0`, `C0 (q/q0)^(-2(H+1))` on `q0 <= q <= q1`,
+/// with `C0` such that `2 pi Int_{qL}^{q1} q C dq` equals the prescribed
+/// mean square height, or `2 pi Int_{qL}^{q1} q^3 C dq` the prescribed mean
+/// square slope.
+///
+/// This differs on purpose from the `C0` of the generator
+/// ([`crate::surface::generate_with_target`]), which normalises the
+/// discrete sum over the grid's Fourier modes of one map; the two agree to
+/// the accuracy with which the lattice sum approximates the integral
+/// (a few percent for the first few scales).
+///
+/// Returns the table (two or three rows: `q_L`, the roll-off `q0` if any,
+/// `q1`) and the target with its continuum `C0`. An anisotropic stretch is
+/// an error: the theory is for isotropic roughness.
+pub fn continuum_self_affine(
+    params: &GenerateParams,
+) -> Result<(TabulatedPsd, SelfAffinePsd), PerssonError> {
+    if let Some(a) = params.anisotropy {
+        if a.ratio != 1.0 {
+            return Err(PerssonError::Invalid(format!(
+                "the surface is anisotropic ([surface.generate] anisotropy ratio = {}); the theory is for isotropic roughness only",
+                a.ratio
+            )));
+        }
+    }
+    let mut target = params.resolve()?;
+    let exponent = -2.0 * (target.hurst + 1.0);
+    let rows = |c0: f64| {
+        let mut q = vec![target.ql];
+        let mut c = vec![c0];
+        if target.q0 > target.ql {
+            q.push(target.q0);
+            c.push(c0);
+        }
+        q.push(target.q1);
+        c.push(c0 * (target.q1 / target.q0).powf(exponent));
+        (q, c)
+    };
+    let (q, c) = rows(1.0);
+    let unit = TabulatedPsd::new(q, c, "self-affine PSD")?;
+    let c0 = match params.normalisation {
+        Normalisation::RmsHeight(h) => h * h / unit.moment(0),
+        Normalisation::RmsSlope(s) => s * s / unit.moment(2),
+    };
+    target.c0 = c0;
+    target.anisotropy = None;
+    let (q, c) = rows(c0);
+    Ok((TabulatedPsd::new(q, c, "self-affine PSD")?, target))
+}
+
+/// What [`radial`] kept of a height map's radial PSD.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RadialInfo {
+    /// Radial bins with `C > 0` above the round-off floor.
+    pub bins: usize,
+    /// Bins dropped as round-off (`C <= 1e-20` of the largest).
+    pub dropped: usize,
+    /// Degree of isotropy of the slopes, `gamma = lambda_min / lambda_max` of
+    /// `<d_i h d_j h>` (1 for an isotropic surface; the theory assumes it).
+    pub slope_isotropy: f64,
+}
+
+/// Radial average of the 2-D PSD of `map` (the code of `surface stats`:
+/// [`psd_2d`] with `window`, then [`radial_average`]), as a table for
+/// log-log interpolation. Bins with `C` at or below `1e-20` of the largest
+/// (round-off of the FFT outside a generated surface's band) are dropped.
+pub fn radial(map: &HeightMap, window: Window) -> Result<(TabulatedPsd, RadialInfo), PerssonError> {
+    let psd = psd_2d(map, window)?;
+    let m = psd.slope_tensor();
+    let tr = m[0][0] + m[1][1];
+    let det = m[0][0] * m[1][1] - m[0][1] * m[0][1];
+    let disc = (0.25 * tr * tr - det).max(0.0).sqrt();
+    let slope_isotropy = if tr > 0.0 {
+        (0.5 * tr - disc) / (0.5 * tr + disc)
+    } else {
+        1.0
+    };
+    let r = radial_average(&psd);
+    let peak = r.c.iter().copied().fold(0.0, f64::max);
+    let floor = 1e-20 * peak;
+    let (q, c): (Vec<f64>, Vec<f64>) =
+        r.q.iter()
+            .zip(&r.c)
+            .filter(|(_, c)| **c > floor)
+            .map(|(q, c)| (*q, *c))
+            .unzip();
+    let info = RadialInfo {
+        bins: q.len(),
+        dropped: r.q.len() - q.len(),
+        slope_isotropy,
+    };
+    Ok((
+        TabulatedPsd::new(q, c, "radial PSD of the height map")?,
+        info,
+    ))
+}

@@ -1,0 +1,264 @@
+//! Persson's theory (module [`crate::persson`]) for a configuration or a
+//! [`Problem`]: a thin adapter that builds the theory's inputs (the
+//! material, an isotropic PSD, the nominal pressure) so that theory and
+//! simulation see the same rubber, the same surface and the same load.
+//!
+//! PSD: the continuum self-affine PSD of `[surface.generate]`
+//! ([`persson::psd::continuum_self_affine`]), the radial average of a
+//! surface file or of a height map given as values ([`persson::psd::radial`],
+//! no window), or a `q, C` CSV. Nominal pressure: `loading.mean_pressure`,
+//! else the normal load over the map's area (for a problem under
+//! displacement control, the solved mean pressure).
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::config::{LoadedConfig, XiScale};
+use crate::error::{Error, Result};
+use crate::material::Material;
+use crate::persson::{self, psd::RadialInfo, Persson, PerssonParams};
+use crate::solver::Control;
+use crate::surface::{TabulatedPsd, Window};
+
+use super::{Problem, SurfaceSource};
+
+/// Where the theory's PSD came from.
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum PsdSource {
+    /// The continuum self-affine PSD of `[surface.generate]`.
+    SelfAffine {
+        hurst: f64,
+        ql_per_m: f64,
+        rolloff_q0_per_m: f64,
+        q1_per_m: f64,
+        c0_m4: f64,
+    },
+    /// The radial average of the config's surface file.
+    SurfaceFile {
+        path: String,
+        window: Window,
+        radial: RadialInfo,
+    },
+    /// A `q, C` table.
+    Table { path: String, rows: usize },
+}
+
+/// The inputs of the theory built from a config: a thin adapter, the
+/// theory itself only sees the material, the PSD and the pressure.
+#[derive(Debug, Clone)]
+pub struct TheoryInputs {
+    pub material: Material,
+    pub psd: TabulatedPsd,
+    pub source: PsdSource,
+    /// `sigma0` \[Pa\].
+    pub nominal_pressure: f64,
+    /// How `sigma0` was obtained.
+    pub pressure_from: String,
+    /// Side of the surface along x \[m\] (defines `xi` for one-term spectra).
+    pub length_x: Option<f64>,
+    /// Nominal area `Lx Ly` of the surface \[m^2\], when the config defines it.
+    pub area: Option<f64>,
+    /// Warnings about the theory's assumptions.
+    pub notes: Vec<String>,
+}
+
+impl TheoryInputs {
+    /// The scale of `xi = v tau / L` (the definition of `solve`) for a
+    /// single-relaxation material and a surface of known side, else `None`.
+    pub fn xi_scale(&self) -> Option<XiScale> {
+        match (self.material.spectrum.terms.as_slice(), self.length_x) {
+            ([t], Some(length)) => Some(XiScale {
+                creep_time: t.time,
+                length,
+            }),
+            _ => None,
+        }
+    }
+}
+
+/// Build the theory's inputs from `cfg`: the material of `[material]`; the
+/// PSD of `psd_csv` if given, else of `[surface.generate]` (continuum) or of
+/// the `[surface] file` (radial average with `window`); the pressure
+/// `loading.mean_pressure`, or `loading.normal_load` over the surface's
+/// area.
+pub fn theory_inputs(
+    cfg: &LoadedConfig,
+    psd_csv: Option<&Path>,
+    window: Window,
+) -> Result<TheoryInputs> {
+    let material = cfg.material()?.build(&cfg.base_dir)?;
+    let mut notes = Vec::new();
+    if cfg.config.layer.is_some() {
+        notes.push(
+            "the config has a [layer]; Persson's theory here is for a half-space and ignores it"
+                .to_string(),
+        );
+    }
+    let surface = cfg.config.surface.as_ref();
+    let generate = match surface {
+        Some(s) => s.generate_params()?,
+        None => None,
+    };
+    // Side lengths (x, y) of the map when the config defines one.
+    let mut sides: Option<(f64, f64)> = generate
+        .as_ref()
+        .map(|p| (p.length, p.length * p.ny as f64 / p.nx as f64));
+    if let Some(sp) = surface.and_then(|s| s.sphere.as_ref()) {
+        sides = Some((sp.length, sp.length));
+    }
+    let (psd, source) = if let Some(path) = psd_csv {
+        let t = TabulatedPsd::from_csv(path)?;
+        let rows = t.q().len();
+        (
+            t,
+            PsdSource::Table {
+                path: path.display().to_string(),
+                rows,
+            },
+        )
+    } else {
+        match (surface, &generate) {
+            (None, _) => {
+                return Err(Error::Invalid(format!(
+                    "{}: Persson's theory needs a [surface] section or --psd CSV",
+                    cfg.path.display()
+                )))
+            }
+            (Some(_), Some(p)) => {
+                let (t, target) = persson::psd::continuum_self_affine(p)?;
+                (
+                    t,
+                    PsdSource::SelfAffine {
+                        hurst: target.hurst,
+                        ql_per_m: target.ql,
+                        rolloff_q0_per_m: target.q0,
+                        q1_per_m: target.q1,
+                        c0_m4: target.c0,
+                    },
+                )
+            }
+            (Some(s), None) if s.sphere.is_some() => {
+                return Err(Error::Invalid(
+                    "Persson's theory is for randomly rough surfaces, not [surface.sphere]; give [surface.generate], a surface file or --psd CSV".into(),
+                ))
+            }
+            (Some(s), None) => {
+                let map = s.load(&cfg.base_dir)?;
+                sides = Some((map.length_x(), map.length_y()));
+                let (t, info) = persson::psd::radial(&map, window)?;
+                if info.slope_isotropy < 0.7 {
+                    notes.push(format!(
+                        "the surface file's slopes are anisotropic (gamma = {:.3}); the isotropic theory uses its radial average",
+                        info.slope_isotropy
+                    ));
+                }
+                let path = s
+                    .file
+                    .as_ref()
+                    .map(|f| cfg.base_dir.join(f).display().to_string())
+                    .unwrap_or_default();
+                (
+                    t,
+                    PsdSource::SurfaceFile {
+                        path,
+                        window,
+                        radial: info,
+                    },
+                )
+            }
+        }
+    };
+    let loading = cfg.config.loading.clone().unwrap_or_default();
+    let (nominal_pressure, pressure_from) = match (loading.mean_pressure, loading.normal_load) {
+        (Some(p), _) => (p, "loading.mean_pressure".to_string()),
+        (None, Some(f)) => match sides {
+            Some((lx, ly)) => (
+                f / (lx * ly),
+                format!("loading.normal_load / ({lx:.6e} m x {ly:.6e} m)"),
+            ),
+            None => {
+                return Err(Error::Invalid(
+                    "[loading] normal_load needs the surface's area; give loading.mean_pressure (Pa) with --psd".into(),
+                ))
+            }
+        },
+        (None, None) => {
+            return Err(Error::Invalid(
+                "Persson's theory needs the nominal pressure: [loading] mean_pressure (Pa) or normal_load (N)".into(),
+            ))
+        }
+    };
+    Ok(TheoryInputs {
+        material,
+        psd,
+        source,
+        nominal_pressure,
+        pressure_from,
+        length_x: sides.map(|s| s.0),
+        area: sides.map(|s| s.0 * s.1),
+        notes,
+    })
+}
+
+/// Persson's theory at a solve's speed and nominal pressure, recorded
+/// beside the simulated friction and area.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PerssonEstimate {
+    /// `mu` of the theory.
+    pub friction_coefficient: f64,
+    /// `A/A0 = P(q1)` of the theory.
+    pub contact_area_fraction: f64,
+    /// `sigma0` \[Pa\] the theory was evaluated at.
+    pub nominal_pressure: f64,
+    /// Which PSD: `self_affine` (continuum) or `radial_average` (of the map).
+    pub psd: &'static str,
+}
+
+impl Problem {
+    /// The isotropic PSD Persson's theory sees for this problem's surface:
+    /// the continuum self-affine PSD of a generated surface, the radial
+    /// average of a surface read from a file or given as values. `Err`
+    /// says why the theory does not apply (a sphere, an anisotropic
+    /// surface).
+    pub fn persson_psd(&self) -> std::result::Result<(TabulatedPsd, &'static str), String> {
+        match &self.source {
+            SurfaceSource::Generated(p) => persson::psd::continuum_self_affine(p)
+                .map(|(t, _)| (t, "self_affine"))
+                .map_err(|e| e.to_string()),
+            SurfaceSource::Sphere(_) => {
+                Err("Persson's theory is for randomly rough surfaces, not a sphere".to_string())
+            }
+            SurfaceSource::File(_) | SurfaceSource::Given => {
+                persson::psd::radial(&self.surface, Window::None)
+                    .map(|(t, _)| (t, "radial_average"))
+                    .map_err(|e| e.to_string())
+            }
+        }
+    }
+
+    /// Persson's theory at this problem's speed; `mean_pressure` \[Pa\] is
+    /// used under displacement control (the solved nominal pressure), the
+    /// prescribed load over the map's area otherwise. `Err` says why the
+    /// theory was not evaluated.
+    pub fn persson_estimate(
+        &self,
+        mean_pressure: f64,
+    ) -> std::result::Result<PerssonEstimate, String> {
+        let (psd, kind) = self.persson_psd()?;
+        let sigma0 = match self.control {
+            Control::Load(f) => f / (self.surface.length_x() * self.surface.length_y()),
+            Control::Approach(_) => mean_pressure,
+        };
+        let p = Persson::new(&self.material, &psd, sigma0, PerssonParams::default())
+            .and_then(|t| t.point(self.speed))
+            .map_err(|e| e.to_string())?;
+        Ok(PerssonEstimate {
+            friction_coefficient: p.friction_coefficient,
+            contact_area_fraction: p.contact_area_fraction,
+            nominal_pressure: sigma0,
+            psd: kind,
+        })
+    }
+}

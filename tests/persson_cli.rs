@@ -1,0 +1,379 @@
+//! `viscoslide persson` end to end: the three PSD sources, default speeds,
+//! and one-line errors that leave nothing behind.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use viscoslide::surface::{self, GenerateParams, Normalisation, UpperCutoff};
+
+fn viscoslide(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn repo(p: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(p)
+        .display()
+        .to_string()
+}
+
+fn files(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .collect();
+    v.sort();
+    v
+}
+
+fn json(dir: &Path) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(dir.join("persson.json")).unwrap()).unwrap()
+}
+
+const SLS: &str = "[material]\nmodel = \"sls\"\nrelaxed_modulus = 3.3333333333333335e6\nglassy_modulus = 1.0e7\ncreep_time = 0.01\n";
+
+#[test]
+fn fig1_config_writes_three_files_with_xi_over_the_sweep_range() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("p");
+    let o = viscoslide(&[
+        "persson",
+        &repo("configs/paper_friction_speed.toml"),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(files(&out), ["persson.csv", "persson.json", "persson.png"]);
+    let j = json(&out);
+    let xi = j["xi"].as_array().unwrap();
+    let v = j["speed"].as_array().unwrap();
+    assert_eq!(xi.len(), 100);
+    // [sweep] xi_range = [1e-4, 1.0, 17]; xi = v tau / L with tau / L = 1.
+    assert!((xi[0].as_f64().unwrap() - 1e-4).abs() < 1e-15);
+    assert!((xi[99].as_f64().unwrap() - 1.0).abs() < 1e-12);
+    assert!((v[0].as_f64().unwrap() - 1e-4).abs() < 1e-15);
+    // F_N = 0.30 N on 1 cm^2.
+    assert!((j["inputs"]["sigma0_pa"].as_f64().unwrap() - 3e3).abs() < 1e-9);
+    assert_eq!(j["inputs"]["psd"]["source"]["kind"], "self_affine");
+    let rms_slope = j["inputs"]["psd"]["rms_slope"].as_f64().unwrap();
+    assert!(
+        (rms_slope - 0.02).abs() < 1e-12,
+        "continuum C0: {rms_slope}"
+    );
+    let csv = std::fs::read_to_string(out.join("persson.csv")).unwrap();
+    assert!(csv.starts_with("speed_m_per_s,xi,friction_coefficient,contact_area_fraction"));
+    assert_eq!(csv.lines().count(), 101);
+}
+
+fn write_config(dir: &Path, text: &str) -> PathBuf {
+    let p = dir.join("c.toml");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn surface_file_and_csv_sources_and_explicit_speeds() {
+    let tmp = tempfile::tempdir().unwrap();
+    let params = GenerateParams {
+        nx: 128,
+        ny: 128,
+        length: 0.01,
+        hurst: 0.8,
+        // The band reaches the grid's Nyquist wavenumber: no round-off bins.
+        upper: UpperCutoff::Scales(64.0),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 3,
+        ..GenerateParams::default()
+    };
+    let map = surface::generate(&params).unwrap();
+    surface::save_npy(&map, &tmp.path().join("h.npy"), surface::NpyPrecision::F64).unwrap();
+    let cfg = write_config(
+        tmp.path(),
+        &format!("{SLS}[surface]\nfile = \"h.npy\"\nlength = 0.01\n[loading]\nmean_pressure = 3e3\nspeed = 0.01\n"),
+    );
+    let out = tmp.path().join("file");
+    let o = viscoslide(&[
+        "persson",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--speeds",
+        "1e-3,1e-1,5",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j = json(&out);
+    assert_eq!(j["inputs"]["psd"]["source"]["kind"], "surface_file");
+    assert_eq!(j["speed"].as_array().unwrap().len(), 5);
+    let mu_file: Vec<f64> = j["friction_coefficient"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(mu_file.iter().all(|m| *m > 0.0));
+
+    // The same surface through `surface stats --out`'s psd.csv.
+    let stats = tmp.path().join("stats");
+    let o = viscoslide(&[
+        "surface",
+        "stats",
+        tmp.path().join("h.npy").to_str().unwrap(),
+        "--length",
+        "0.01",
+        "--out",
+        stats.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out2 = tmp.path().join("csv");
+    let o = viscoslide(&[
+        "persson",
+        cfg.to_str().unwrap(),
+        "--out",
+        out2.to_str().unwrap(),
+        "--speeds",
+        "1e-3,1e-1,5",
+        "--psd",
+        stats.join("psd.csv").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j2 = json(&out2);
+    assert_eq!(j2["inputs"]["psd"]["source"]["kind"], "table");
+    for (a, b) in mu_file
+        .iter()
+        .zip(j2["friction_coefficient"].as_array().unwrap())
+    {
+        let b = b.as_f64().unwrap();
+        // psd.csv holds 11 significant digits.
+        assert!((a - b).abs() < 1e-8 * a, "{a} vs {b}");
+    }
+}
+
+#[test]
+fn default_speeds_centre_on_the_loss_peak_without_a_sweep() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(
+        tmp.path(),
+        &format!("{SLS}[surface.generate]\nn = 64\nlength = 0.01\nhurst = 0.8\nscales = 16\nrms_slope = 0.02\n[loading]\nnormal_load = 0.3\nspeed = 0.01\n"),
+    );
+    let out = tmp.path().join("p");
+    let o = viscoslide(&[
+        "persson",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j = json(&out);
+    let v = j["speed"].as_array().unwrap();
+    assert_eq!(v.len(), 100);
+    let ratio = v[99].as_f64().unwrap() / v[0].as_f64().unwrap();
+    assert!((ratio / 1e4 - 1.0).abs() < 1e-9);
+    assert!(j["inputs"]["speeds"]["origin"]
+        .as_str()
+        .unwrap()
+        .contains("loss peak"));
+}
+
+#[test]
+fn bad_psd_tables_are_one_line_errors_and_write_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(
+        tmp.path(),
+        &format!("{SLS}[loading]\nmean_pressure = 3e3\nspeed = 0.01\n"),
+    );
+    let cases = [
+        ("q,C\n1e3,1e-20\n", "at least 2 rows"),
+        ("1e3,1e-20\n0,1e-21\n", "finite and positive"),
+        ("1e3,1e-20\n-2e3,1e-21\n", "finite and positive"),
+        ("1e3,1e-20\n2e3,-1e-21\n", "finite and positive"),
+        ("1e3,1e-20\n2e3,0\n", "finite and positive"),
+        ("1e3,1e-20\n2e3,NaN\n", "finite and positive"),
+        ("1e3,NaN\n2e3,1e-21\n", "finite and positive"),
+        ("2e3,1e-20\n1e3,1e-21\n", "increase strictly"),
+        ("1e3,1e-20\n1e3,1e-21\n", "increase strictly"),
+        ("1e3,1e-20\n2e3,abc\n", "cannot read 'abc'"),
+    ];
+    for (i, (text, want)) in cases.iter().enumerate() {
+        let csv = tmp.path().join(format!("bad{i}.csv"));
+        std::fs::write(&csv, text).unwrap();
+        let out = tmp.path().join(format!("out{i}"));
+        let o = viscoslide(&[
+            "persson",
+            cfg.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--speeds",
+            "1e-3,1e-1,5",
+            "--psd",
+            csv.to_str().unwrap(),
+        ]);
+        assert!(!o.status.success(), "{text:?} was accepted");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.trim_end().lines().count(), 1, "{text:?}: {err}");
+        assert!(err.contains(want), "{text:?}: {err}");
+        assert!(!out.exists(), "{text:?}: output directory was created");
+    }
+}
+
+#[test]
+fn anisotropic_surface_and_missing_pressure_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(
+        tmp.path(),
+        &format!("{SLS}[surface.generate]\nn = 64\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\nanisotropy = {{ ratio = 2.0, angle_deg = 30.0 }}\n[loading]\nmean_pressure = 3e3\n"),
+    );
+    let out = tmp.path().join("p");
+    let o = viscoslide(&[
+        "persson",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("anisotropic") && err.trim_end().lines().count() == 1,
+        "{err}"
+    );
+    assert!(!out.exists());
+
+    let cfg = write_config(
+        tmp.path(),
+        &format!("{SLS}[surface.generate]\nn = 64\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\n[loading]\napproach = 1e-6\n"),
+    );
+    let o = viscoslide(&[
+        "persson",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("nominal pressure"), "{err}");
+    assert!(!out.exists());
+}
+
+const ROUGH: &str = "[surface.generate]\nn = 32\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\nseed = 1\n";
+
+#[test]
+fn solve_records_persson_beside_the_simulation() {
+    use viscoslide::material::{CreepSpectrum, Material};
+    use viscoslide::persson::{Persson, PerssonParams};
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(
+        tmp.path(),
+        &format!(
+            "{SLS}{ROUGH}[loading]\nnormal_load = 0.3\nspeed = 0.01\n[analysis]\nenabled = false\n"
+        ),
+    );
+    let out = tmp.path().join("s");
+    let o = viscoslide(&[
+        "solve",
+        cfg.to_str().unwrap(),
+        "--backend",
+        "cpu",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("Persson's theory at this speed"));
+    let s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let mu = s["persson_friction_coefficient"].as_f64().unwrap();
+    let area = s["persson_contact_area_fraction"].as_f64().unwrap();
+    // The same theory from the library: continuum PSD, 0.3 N on 1 cm^2.
+    let params = GenerateParams {
+        nx: 32,
+        ny: 32,
+        length: 0.01,
+        hurst: 0.8,
+        upper: UpperCutoff::Scales(8.0),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 1,
+        ..GenerateParams::default()
+    };
+    let (psd, _) = viscoslide::persson::psd::continuum_self_affine(&params).unwrap();
+    let m = Material::new(
+        CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
+        0.5,
+    )
+    .unwrap();
+    let p = Persson::new(&m, &psd, 0.3 / 1e-4, PerssonParams::default())
+        .unwrap()
+        .point(0.01)
+        .unwrap();
+    assert!(
+        (mu / p.friction_coefficient - 1.0).abs() < 1e-9,
+        "{mu} vs {p:?}"
+    );
+    assert!((area / p.contact_area_fraction - 1.0).abs() < 1e-9);
+    assert_eq!(s["persson"]["psd"], "self_affine");
+}
+
+fn csv_column(text: &str, name: &str) -> Vec<String> {
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header.iter().position(|h| *h == name).unwrap();
+    lines
+        .map(|l| l.split(',').nth(k).unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn merge_draws_and_tabulates_persson() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(
+        tmp.path(),
+        &format!("{SLS}{ROUGH}[loading]\nnormal_load = 0.3\nspeed = 0.01\n[analysis]\nenabled = false\n[sweep]\nspeed = [0.003, 0.03]\n"),
+    );
+    let out = tmp.path().join("sw");
+    let o = viscoslide(&[
+        "sweep",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [
+        "friction_vs_xi.png",
+        "area_ratio_vs_xi.png",
+        "area_fraction_vs_xi.png",
+    ] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let mu: Vec<f64> = csv_column(&csv, "persson_friction")
+        .iter()
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let ratio: Vec<f64> = csv_column(&csv, "persson_area_ratio")
+        .iter()
+        .map(|s| s.parse().unwrap())
+        .collect();
+    assert_eq!(mu.len(), 3);
+    assert_eq!(mu[0], 0.0);
+    assert!(mu[1] > 0.0 && mu[2] > 0.0);
+    assert_eq!(ratio[0], 1.0);
+    assert!(ratio[2] < ratio[1] && ratio[1] < 1.0);
+
+    // A sphere: the theory does not apply, the merge still works.
+    let cfg = write_config(
+        tmp.path(),
+        &format!("{SLS}[surface.sphere]\nn = 16\nlength = 0.01\nradius = 0.05\n[loading]\nnormal_load = 0.01\nspeed = 0.01\n[analysis]\nenabled = false\n[sweep]\nspeed = [0.01]\n"),
+    );
+    let out = tmp.path().join("sphere");
+    let o = viscoslide(&[
+        "sweep",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert!(csv_column(&csv, "persson_friction")
+        .iter()
+        .all(|s| s.is_empty()));
+}
