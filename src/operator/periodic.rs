@@ -274,7 +274,7 @@ pub(crate) fn column_weight(j: usize, ny: usize) -> f64 {
 /// For a sum over all modes of `|P(q)|^2 Re m(q)`: `|P|^2` of a real
 /// `nx x ny` field on the half spectrum (`P` the unnormalised forward
 /// transform) and `column_weight * Re m(q)` for the multiplier of `response`,
-/// both column-major as [`half_spectrum`].
+/// both column-major (`ny / 2 + 1` columns of `nx` modes).
 pub fn periodic_friction_weights(
     field: &[f64],
     nx: usize,
