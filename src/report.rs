@@ -90,6 +90,8 @@ pub fn summary(setup: &SolveSetup, out: &SolveOutcome, analysis: Option<&Analysi
         "mesh": out.mesh,
         "iterations": out.info.iterations,
         "matvecs": out.info.matvecs,
+        "preconditioner_applications": out.info.preconditioner_applications,
+        "matvecs_by_level": out.info.levels,
         "residual": out.info.residual,
         "load_error": out.info.load_error,
         "residual_history": out.info.history,

@@ -37,6 +37,8 @@ pub struct SolveSetup {
     pub mesh: MeshKind,
     /// Controls of the adaptive mesh.
     pub adaptive: AdaptiveParams,
+    /// Grids of the coarse-to-fine cascade at most (uniform CPU grids).
+    pub cascade_levels: usize,
     /// Seed of a generated surface.
     pub seed: Option<u64>,
     /// The merged configuration document.
@@ -156,6 +158,7 @@ impl SolveSetup {
             max_iterations: sc.max_iterations.unwrap_or(defaults.max_iterations),
             max_matvecs: sc.max_matvecs.unwrap_or(defaults.max_matvecs),
             restart: sc.restart.unwrap_or(defaults.restart),
+            precondition: sc.precondition.unwrap_or(defaults.precondition),
         };
         if !(params.tolerance > 0.0 && params.tolerance < 1.0) {
             return Err(invalid(format!(
@@ -187,6 +190,11 @@ impl SolveSetup {
             None => ad,
         };
         adaptive.check().map_err(invalid)?;
+        if sc.cascade_levels == Some(0) {
+            return Err(invalid(
+                "[solver] cascade_levels must be at least 1 (1: the fine grid only)",
+            ));
+        }
         if sc.adaptive.is_some() && mesh != MeshKind::Adaptive {
             return Err(invalid(
                 "[solver.adaptive] is given but [solver] mesh is not \"adaptive\"",
@@ -203,6 +211,7 @@ impl SolveSetup {
             formulation,
             mesh,
             adaptive,
+            cascade_levels: sc.cascade_levels.unwrap_or(CASCADE_LEVELS),
             seed,
             document: cfg.document.clone(),
             analysis: cfg.config.analysis.clone(),
@@ -285,15 +294,24 @@ pub fn solve_cpu(setup: &SolveSetup, observer: &mut dyn Observer) -> Result<Solv
     let kernel = setup.sliding_kernel()?;
     let table = kernel.table(nx, ny, a);
     let t_coeff = t0.elapsed().as_secs_f64();
-    let tab = OffsetTable {
-        nx,
-        ny,
-        values: &table.values,
-    };
-    let l00 = tab.get(0, 0);
-    let mut backend = CpuBackend::new(ToeplitzFft::new(tab));
-    let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
-    let (solution, info, t_iter) = iterate(setup, &mut backend, l00, observer)?;
+    let mut fine_table = Some(table);
+    let (solution, info, t_iter) = iterate_cascade(setup, observer, |nx, ny, a| {
+        let table = match fine_table.take() {
+            Some(t) if t.nx == nx && t.ny == ny => t,
+            _ => kernel.table(nx, ny, a),
+        };
+        let tab = OffsetTable {
+            nx,
+            ny,
+            values: &table.values,
+        };
+        let l00 = tab.get(0, 0);
+        (
+            CpuBackend::new(ToeplitzFft::new(tab).with_preconditioner()),
+            l00,
+        )
+    })?;
+    let t_setup = 0.0;
     let split = (t_coeff, Some(t_setup), t_iter);
     finish(
         setup,
@@ -450,6 +468,59 @@ fn iterate<B: Backend>(
     Ok((solution, info, t1.elapsed().as_secs_f64()))
 }
 
+/// Grids of the coarse-to-fine cascade: the fine grid halved while even,
+/// down to this many cells a side at least.
+const CASCADE_COARSEST: usize = 64;
+/// Grids of the cascade at most (the fine one included), by default.
+const CASCADE_LEVELS: usize = 8;
+
+/// The constrained iteration of `setup` as a coarse-to-fine cascade
+/// ([`solver::solve_cascade`]) on CPU backends built by
+/// `build(nx, ny, cell_size)` (returning the backend and its self
+/// coefficient); the coarse grids' gap profiles are the fine one's 2 x 2
+/// block means. Returns the solution, its convergence report and the
+/// iteration's wall time \[s\] (coarse grids' setup included).
+fn iterate_cascade<Op, F>(
+    setup: &SolveSetup,
+    observer: &mut dyn Observer,
+    mut build: F,
+) -> Result<(ContactSolution, SolveInfo, f64)>
+where
+    Op: crate::operator::GridOperator,
+    F: FnMut(usize, usize, f64) -> (CpuBackend<Op>, f64),
+{
+    let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
+    let t1 = Instant::now();
+    let shapes = solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, setup.cascade_levels);
+    let mut gaps = vec![setup.gap_profile()];
+    for w in shapes.windows(2).rev() {
+        let (fx, fy) = w[1];
+        let coarse = solver::cascade::restrict_mean(gaps.last().expect("fine gap"), fx, fy);
+        gaps.push(coarse);
+    }
+    gaps.reverse();
+    let levels = shapes.len();
+    let (solution, info) = solver::solve_cascade(
+        &shapes,
+        |k, (lx, _ly)| {
+            let cell = a * (nx / lx) as f64;
+            let (backend, l00) = build(lx, shapes[k].1, cell);
+            Ok(solver::CascadeLevel {
+                backend,
+                gap: std::mem::take(&mut gaps[k]),
+                cell_area: cell * cell,
+                self_coefficient: l00,
+            })
+        },
+        setup.control,
+        &setup.params,
+        None,
+        observer,
+    )?;
+    debug_assert_eq!(info.levels.len(), levels);
+    Ok((solution, info, t1.elapsed().as_secs_f64()))
+}
+
 /// Solve a periodic cell spectrally (paper Appendix, Eq. A1-A2): the same
 /// constrained iteration on the [`SpectralPeriodic`] operator; friction by
 /// the spectral slope stencil and by the Fourier dissipation sum (A3-A4).
@@ -457,11 +528,12 @@ fn solve_cpu_periodic(setup: &SolveSetup, observer: &mut dyn Observer) -> Result
     let t0 = Instant::now();
     let (nx, ny, a) = (setup.surface.nx, setup.surface.ny, setup.surface.cell_size);
     let (m, v, dir) = (&setup.material, setup.speed, setup.direction_rad);
-    let op = SpectralPeriodic::new(nx, ny, a, m, v, dir);
-    let l00 = op.self_coefficient();
-    let mut backend = CpuBackend::new(op);
-    let t_setup = t0.elapsed().as_secs_f64();
-    let (solution, info, t_iter) = iterate(setup, &mut backend, l00, observer)?;
+    let t_setup = 0.0;
+    let (solution, info, t_iter) = iterate_cascade(setup, observer, |nx, ny, a| {
+        let op = SpectralPeriodic::new(nx, ny, a, m, v, dir).with_preconditioner();
+        let l00 = op.self_coefficient();
+        (CpuBackend::new(op), l00)
+    })?;
     let t2 = Instant::now();
     let stats = analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, a);
     let load = stats.normal_load;
