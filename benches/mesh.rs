@@ -15,8 +15,9 @@ use common::{material, surface_gap};
 use criterion::{criterion_group, criterion_main, Criterion};
 use viscoslide::backend::CpuBackend;
 use viscoslide::kernel::{KernelParams, SlidingKernel};
-use viscoslide::mesh::{self, AdaptiveParams, QuadMesh};
+use viscoslide::mesh::QuadMesh;
 use viscoslide::operator::{AdaptiveOperator, GridOperator, LevelTables, OffsetTable, ToeplitzFft};
+use viscoslide::problem::adaptive::{self, AdaptiveParams};
 use viscoslide::solver::{self, Control, SolverParams};
 
 const SPEED: f64 = 1.17e-2; // xi = v tau / L = 1.17e-2 with tau = 0.01 s, L = 0.01 m
@@ -41,10 +42,10 @@ fn kernel() -> SlidingKernel {
     .unwrap()
 }
 
-fn adaptive_solve(tables: &Arc<LevelTables>, g: &[f64]) -> mesh::AdaptiveSolution {
+fn adaptive_solve(tables: &Arc<LevelTables>, g: &[f64]) -> adaptive::AdaptiveSolution {
     let a = tables.cell_size();
     let l00 = tables.coefficient(0, 0, 0);
-    mesh::solve_adaptive(
+    adaptive::solve_adaptive(
         g,
         tables.clone(),
         &AdaptiveParams::default(),

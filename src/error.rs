@@ -1,5 +1,8 @@
-//! The crate-wide error type: each module has its own typed error, and this
-//! enum wraps them so the command line can report any of them in one line.
+//! The crate-wide error type. Each layer has its own typed error (config,
+//! material, surface, kernel, file formats and output, solver, GPU, mesh,
+//! analysis, plots); this enum sits above them all and wraps each by `From`,
+//! so the library API and the command line report any of them in one line.
+//! No lower layer imports it.
 
 use std::path::PathBuf;
 
@@ -17,7 +20,13 @@ pub enum Error {
     #[error(transparent)]
     Npy(#[from] crate::io::npy::NpyError),
     #[error(transparent)]
+    Output(#[from] crate::io::OutputError),
+    #[error(transparent)]
     Solver(#[from] crate::solver::SolverError),
+    #[error(transparent)]
+    Gpu(#[from] crate::backend::gpu::GpuError),
+    #[error(transparent)]
+    Analysis(crate::analysis::AnalysisError),
     #[error(transparent)]
     Plot(#[from] crate::plot::PlotError),
     #[error("{context}: {source}")]
@@ -39,6 +48,21 @@ impl Error {
         Error::Io {
             context: path.into().display().to_string(),
             source,
+        }
+    }
+}
+
+impl From<crate::analysis::AnalysisError> for Error {
+    /// The analysis wraps lower errors; unwrap them so each keeps its own
+    /// variant here.
+    fn from(e: crate::analysis::AnalysisError) -> Self {
+        use crate::analysis::AnalysisError as A;
+        match e {
+            A::Surface(e) => Error::Surface(e),
+            A::Npy(e) => Error::Npy(e),
+            A::Plot(e) => Error::Plot(e),
+            A::Output(e) => Error::Output(e),
+            other => Error::Analysis(other),
         }
     }
 }

@@ -2,9 +2,56 @@
 //! linear viscoelastic solid, after Carbone & Putignano, "Rough viscoelastic
 //! sliding contact: Theory and experiments", Phys. Rev. E 89, 032408 (2014).
 //!
-//! Data flows one way: `config` -> `material` and `surface` -> `kernel`
-//! (influence coefficients) -> operator and solver -> analysis -> report.
-//! Every module owns one job; see `../shared/DESIGN.md` for the map.
+//! # The library API
+//!
+//! A [`problem::Problem`] (material, surface, loading, layer, solver
+//! options) is built from a configuration file
+//! ([`problem::Problem::from_config`]) or from values; `solve` runs it on an
+//! [`problem::Executor`] and returns a [`problem::Solution`] that analyses,
+//! summarises and writes itself. Every front end (the command line, sweeps)
+//! uses only this:
+//!
+//! ```
+//! use viscoslide::material::{CreepSpectrum, Material};
+//! use viscoslide::problem::{Executor, Problem};
+//! use viscoslide::solver::{Control, Silent};
+//! use viscoslide::surface::{GenerateParams, UpperCutoff};
+//!
+//! # fn main() -> viscoslide::Result<()> {
+//! // A standard linear solid (E0 = 3.3 MPa, E_inf = 10 MPa, tau = 10 ms) ...
+//! let spectrum = CreepSpectrum::standard_linear_solid(3.3e6, 1e7, 0.01)?;
+//! let material = Material::new(spectrum, 0.5)?;
+//! // ... under a self-affine surface of 32 x 32 cells on 1 cm ...
+//! let surface = GenerateParams {
+//!     nx: 32,
+//!     ny: 32,
+//!     upper: UpperCutoff::Scales(8.0),
+//!     seed: 7,
+//!     ..Default::default()
+//! };
+//! // ... pressed with 0.1 N and sliding at 1 cm/s.
+//! let problem = Problem::generated(material, surface, Control::Load(0.1), 0.01)?;
+//! let solution = problem.solve(&Executor::Cpu, &mut Silent)?;
+//! assert!(solution.friction_coefficient > 0.0);
+//! assert!(solution.stats.contact_area_fraction < 1.0);
+//! let summary = solution.summary();
+//! assert_eq!(summary["grid"], serde_json::json!([32, 32]));
+//!
+//! // The same physical problem on a finer grid, started from nothing.
+//! let fine = problem.with_grid(64)?.solve(&Executor::Cpu, &mut Silent)?;
+//! assert_eq!(fine.grid(), (64, 64));
+//! // `solution.write(dir)` writes summary.json, the maps and the figures.
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! # Layers
+//!
+//! Data flows one way: `config` -> `material` and `surface` -> `mesh` ->
+//! `kernel` (influence coefficients) -> `operator` -> `backend` -> `solver`
+//! -> `analysis` -> `problem` (the API) -> `sweep` -> `cli`; `io` and `plot`
+//! serve every layer. `docs/ARCHITECTURE.md` says what each layer owns and
+//! may import; `tests/architecture.rs` keeps the imports pointing down.
 
 pub mod backend;
 pub mod cli;
@@ -23,7 +70,6 @@ pub use error::{Error, Result};
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 pub mod analysis;
 pub mod operator;
-pub mod report;
-pub mod run;
+pub mod problem;
 pub mod solver;
 pub mod sweep;

@@ -13,7 +13,7 @@
 //! 1 degree on `theta_P`.
 
 use viscoslide::analysis::anisotropy::wrap_axis_deg;
-use viscoslide::analysis::{analyze_fields, AnalysisInputs, AnalysisParams, AnalysisReport};
+use viscoslide::analysis::{analyze, AnalysisInputs, AnalysisParams, AnalysisReport};
 use viscoslide::surface::{generate, Anisotropy, GenerateParams, UpperCutoff, Window};
 
 const N: usize = 256;
@@ -47,7 +47,7 @@ fn surface_rolloff(
 
 fn analyse(u: &[f64], n: usize, scales: Option<f64>, params: &AnalysisParams) -> AnalysisReport {
     let zeros = vec![0.0; n * n];
-    analyze_fields(
+    analyze(
         &AnalysisInputs {
             nx: n,
             ny: n,

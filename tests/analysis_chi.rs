@@ -15,7 +15,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use viscoslide::analysis::anisotropy::wrap_axis_deg;
 use viscoslide::analysis::{
-    analyze_fields, find_spots, spot_statistics, AnalysisInputs, AnalysisParams, AnalysisReport,
+    analyze, find_spots, spot_statistics, AnalysisInputs, AnalysisParams, AnalysisReport,
     Connectivity,
 };
 
@@ -84,7 +84,7 @@ fn ellipses(
 
 fn analyse(chi: &[f64], n: usize, params: &AnalysisParams) -> AnalysisReport {
     let zeros = vec![0.0; n * n];
-    analyze_fields(
+    analyze(
         &AnalysisInputs {
             nx: n,
             ny: n,

@@ -11,9 +11,10 @@ use viscoslide::backend::CpuBackend;
 use viscoslide::config;
 use viscoslide::kernel::{KernelParams, SlidingKernel};
 use viscoslide::material::Material;
-use viscoslide::mesh::{self, AdaptiveParams, QuadMesh};
+use viscoslide::mesh::QuadMesh;
 use viscoslide::operator::{AdaptiveOperator, GridOperator, LevelTables, OffsetTable, ToeplitzFft};
-use viscoslide::run::{self, SolveSetup};
+use viscoslide::problem::adaptive::{self, AdaptiveParams};
+use viscoslide::problem::{Executor, Problem};
 use viscoslide::solver::{self, Control, SolverParams};
 
 fn kernel(material: &Material, speed: f64, direction_deg: f64) -> SlidingKernel {
@@ -180,13 +181,13 @@ normal_load = 0.30
 xi = 1.17e-2
 "#;
 
-fn setup(extra: &[&str]) -> SolveSetup {
+fn setup(extra: &[&str]) -> Problem {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("rough.toml");
     std::fs::write(&path, ROUGH).unwrap();
     let overrides: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
     let cfg = config::load(&path, &overrides).unwrap();
-    SolveSetup::from_config(&cfg).unwrap()
+    Problem::from_config(&cfg).unwrap()
 }
 
 /// The certified adaptive solution is the uniform grid's solution: the
@@ -194,9 +195,11 @@ fn setup(extra: &[&str]) -> SolveSetup {
 /// friction, with several times fewer unknowns.
 #[test]
 fn adaptive_solve_reproduces_the_uniform_grid() {
-    let uniform = run::solve_cpu(&setup(&[]), &mut solver::Silent).unwrap();
+    let uniform = setup(&[])
+        .solve(&Executor::Cpu, &mut solver::Silent)
+        .unwrap();
     let ad_setup = setup(&["solver.mesh=\"adaptive\""]);
-    let adaptive = run::solve_cpu(&ad_setup, &mut solver::Silent).unwrap();
+    let adaptive = ad_setup.solve(&Executor::Cpu, &mut solver::Silent).unwrap();
     let report = adaptive.mesh.as_ref().unwrap();
     assert_eq!(uniform.unknowns, 96 * 96);
     assert_eq!(adaptive.unknowns, report.unknowns);
@@ -212,15 +215,15 @@ fn adaptive_solve_reproduces_the_uniform_grid() {
         adaptive.stats.contact_area_fraction
     );
     assert!(ratio > 2.0, "only {ratio:.2}x fewer unknowns");
-    assert_eq!(uniform.solution.contact, adaptive.solution.contact);
+    assert_eq!(uniform.fields.contact, adaptive.fields.contact);
     let num: f64 = uniform
-        .solution
+        .fields
         .pressure
         .iter()
-        .zip(&adaptive.solution.pressure)
+        .zip(&adaptive.fields.pressure)
         .map(|(p, q)| (p - q).powi(2))
         .sum();
-    let den: f64 = uniform.solution.pressure.iter().map(|p| p * p).sum();
+    let den: f64 = uniform.fields.pressure.iter().map(|p| p * p).sum();
     // Both solves stop at a complementarity residual of 1e-8.
     assert!(
         (num / den).sqrt() < 1e-6,
@@ -229,7 +232,7 @@ fn adaptive_solve_reproduces_the_uniform_grid() {
     );
     assert!(rel(adaptive.friction_coefficient, uniform.friction_coefficient) < 1e-6);
     // The full-resolution gap is open wherever there is no contact.
-    for (g, c) in adaptive.solution.gap.iter().zip(&adaptive.solution.contact) {
+    for (g, c) in adaptive.fields.gap.iter().zip(&adaptive.fields.contact) {
         if *c < 0.5 {
             assert!(*g > -1e-12, "open cell with gap {g:e}");
         }
@@ -252,7 +255,7 @@ fn an_unsettled_mesh_is_refused() {
         margin: 0,
         max_rounds: 1,
     };
-    let err = mesh::solve_adaptive(
+    let err = adaptive::solve_adaptive(
         &s.gap_profile(),
         tables.clone(),
         &params,
@@ -308,7 +311,7 @@ fn config_errors_name_the_problem() {
         let overrides: Vec<String> = over.iter().map(|s| s.to_string()).collect();
         let msg = match config::load(&path, &overrides) {
             Err(e) => e.to_string(),
-            Ok(cfg) => SolveSetup::from_config(&cfg).unwrap_err().to_string(),
+            Ok(cfg) => Problem::from_config(&cfg).unwrap_err().to_string(),
         };
         assert!(msg.contains(want), "{over:?}: {msg}");
     }
@@ -340,13 +343,13 @@ fn adaptive_mesh_on_the_gpu_matches_the_cpu() {
         ],
     )
     .unwrap();
-    let s = SolveSetup::from_config(&cfg).unwrap();
-    let cpu = run::solve_cpu(&s, &mut solver::Silent).unwrap();
-    let gpu = run::solve_gpu(&s, ctx, &mut solver::Silent).unwrap();
+    let s = Problem::from_config(&cfg).unwrap();
+    let cpu = s.solve(&Executor::Cpu, &mut solver::Silent).unwrap();
+    let gpu = s.solve(&Executor::Gpu(ctx), &mut solver::Silent).unwrap();
     assert!(gpu.backend.contains("adaptive mesh"), "{}", gpu.backend);
     assert_eq!(cpu.unknowns, gpu.unknowns);
     assert!(cpu.unknowns < 24 * 24);
-    assert_eq!(cpu.solution.contact, gpu.solution.contact);
+    assert_eq!(cpu.fields.contact, gpu.fields.contact);
     let e = rel(gpu.friction_coefficient, cpu.friction_coefficient);
     println!(
         "adaptive {} unknowns: mu cpu {:.7e} gpu {:.7e} ({e:.1e})",

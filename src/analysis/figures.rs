@@ -10,7 +10,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::analyze::{AnalysisInputs, AnalysisReport};
+use super::report::{AnalysisInputs, AnalysisReport};
 use crate::plot::{self, format_tick, Field, PlotError, PALETTE};
 
 fn err(path: &Path, e: impl std::fmt::Display) -> PlotError {

@@ -4,24 +4,27 @@
 //! area (paper Section IV, Eq. 11-13, Fig. 8-10). Nothing here depends on how
 //! the solve was done.
 
-pub mod analyze;
 pub mod anisotropy;
 pub mod chi;
 pub mod contact;
+pub mod fields;
 pub mod figures;
+pub mod files;
 pub mod friction;
 pub mod periodic;
+pub mod report;
 pub mod spots;
 
-pub use analyze::{
-    analyze_dir, analyze_fields, read_summary, scales_from_config, write_analysis, AnalysisError,
-    AnalysisInputs, AnalysisParams, AnalysisReport, ChiReport, SolveSummary, ANALYSIS_FILES,
-};
 pub use anisotropy::{deformed_anisotropy, AnisotropyTensor, DeformedAnisotropy, ZetaBand};
 pub use chi::{
     chi_spectrum, contour_level, fit_centred_ellipse, ChiLevel, ChiSpectrum, EllipseFit,
 };
 pub use contact::{contact_statistics, ContactStatistics};
+pub use fields::analyze;
+pub use files::{analyze_dir, read_summary, scales_from_config, write_analysis, SolveSummary};
 pub use friction::{friction_force_dissipation, friction_force_stencil};
 pub use periodic::{friction_force_periodic, full_contact_friction_stress};
+pub use report::{
+    AnalysisError, AnalysisInputs, AnalysisParams, AnalysisReport, ChiReport, ANALYSIS_FILES,
+};
 pub use spots::{find_spots, spot_statistics, Connectivity, Spot, SpotStatistics};

@@ -4,10 +4,9 @@ use std::path::PathBuf;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::backend::gpu::{GpuBackend, GpuContext};
 use crate::backend::BackendChoice;
 use crate::error::{Error, Result};
-use crate::run::{self, SolveSetup};
+use crate::problem::{Executor, Problem};
 use crate::solver::Observer;
 
 #[derive(Debug, clap::Args)]
@@ -36,44 +35,16 @@ impl Observer for Spinner {
 
 pub fn run(args: SolveArgs) -> Result<()> {
     let cfg = args.config.load()?;
-    let setup = SolveSetup::from_config(&cfg)?;
+    let problem = Problem::from_config(&cfg)?;
     let choice = BackendChoice::resolve(args.backend).map_err(Error::Invalid)?;
-    let gpu = match choice {
-        BackendChoice::Cpu => {
-            eprintln!("backend: cpu");
-            None
-        }
-        BackendChoice::Gpu => {
-            let ctx = GpuContext::open().map_err(|e| Error::Invalid(e.to_string()))?;
-            eprintln!("backend: gpu, adapter {}", ctx.adapter);
-            Some(ctx)
-        }
-        BackendChoice::Auto => match GpuContext::open().and_then(|ctx| {
-            GpuBackend::check_fits(&ctx, setup.surface.nx, setup.surface.ny).map(|()| ctx)
-        }) {
-            Ok(ctx) if ctx.adapter.device_type == "Cpu" => {
-                eprintln!(
-                    "backend: cpu (auto: the only adapter, {}, is emulated on the CPU and slower than the CPU backend; --backend gpu forces it)",
-                    ctx.adapter
-                );
-                None
-            }
-            Ok(ctx) => {
-                eprintln!("backend: gpu (auto), adapter {}", ctx.adapter);
-                Some(ctx)
-            }
-            Err(e) => {
-                eprintln!("backend: cpu (auto: {e})");
-                None
-            }
-        },
-    };
+    let (executor, line) = Executor::select(choice, &problem)?;
+    eprintln!("{line}");
     eprintln!(
         "solving {} x {} cells, v = {:.4e} m/s{}",
-        setup.surface.nx,
-        setup.surface.ny,
-        setup.speed,
-        setup
+        problem.surface.nx,
+        problem.surface.ny,
+        problem.speed,
+        problem
             .xi()
             .map(|x| format!(" (xi = {x:.4e})"))
             .unwrap_or_default()
@@ -86,22 +57,19 @@ pub fn run(args: SolveArgs) -> Result<()> {
     bar.set_message("computing influence coefficients");
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
     let mut spinner = Spinner(bar);
-    let outcome = match gpu {
-        Some(ctx) => run::solve_gpu(&setup, ctx, &mut spinner),
-        None => run::solve_cpu(&setup, &mut spinner),
-    };
+    let solution = problem.solve(&executor, &mut spinner);
     spinner.0.finish_and_clear();
-    let outcome = outcome?;
-    let written = crate::report::write_solve(&args.out, &setup, &outcome)?;
+    let solution = solution?;
+    let written = solution.write(&args.out)?;
     println!(
         "friction coefficient {:.6e} (dissipation: {:.6e}), contact area fraction {:.5}, {} iterations, {} matvecs, residual {:.2e}, {:.2} s",
-        outcome.friction_coefficient,
-        outcome.friction_coefficient_dissipation,
-        outcome.stats.contact_area_fraction,
-        outcome.info.iterations,
-        outcome.info.matvecs,
-        outcome.info.residual,
-        outcome.timings.total_s
+        solution.friction_coefficient,
+        solution.friction_coefficient_dissipation,
+        solution.stats.contact_area_fraction,
+        solution.info.iterations,
+        solution.info.matvecs,
+        solution.info.residual,
+        solution.timings.total_s
     );
     println!("wrote {} files to {}", written.len(), args.out.display());
     Ok(())

@@ -6,7 +6,32 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use crate::error::{Error, Result};
+/// Errors writing output files; each names the path.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("output file {0} was announced but never written")]
+    Unwritten(String),
+    #[error("{0} is not a file path")]
+    NotAFile(String),
+}
+
+impl OutputError {
+    /// An I/O error with the path that caused it.
+    pub fn io(path: impl AsRef<Path>, source: std::io::Error) -> Self {
+        OutputError::Io {
+            path: path.as_ref().display().to_string(),
+            source,
+        }
+    }
+}
+
+type Result<T, E = OutputError> = std::result::Result<T, E>;
 
 /// A set of output files written together, or not at all.
 #[derive(Debug)]
@@ -21,13 +46,13 @@ impl StagedOutput {
     /// Prepare to write into `dir` (created if missing).
     pub fn new(dir: impl AsRef<Path>) -> Result<Self> {
         let dir = dir.as_ref().to_path_buf();
-        fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+        fs::create_dir_all(&dir).map_err(|e| OutputError::io(&dir, e))?;
         let staging = dir.join(format!(
             ".staging-{}-{}",
             std::process::id(),
             unique_suffix()
         ));
-        fs::create_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
+        fs::create_dir_all(&staging).map_err(|e| OutputError::io(&staging, e))?;
         Ok(Self {
             dir,
             staging,
@@ -57,7 +82,7 @@ impl StagedOutput {
     /// Write `bytes` as the file `name`.
     pub fn write(&mut self, name: &str, bytes: &[u8]) -> Result<()> {
         let p = self.path(name);
-        fs::write(&p, bytes).map_err(|e| Error::io(&p, e))
+        fs::write(&p, bytes).map_err(|e| OutputError::io(&p, e))
     }
 
     /// Move every staged file into the target directory.
@@ -66,15 +91,13 @@ impl StagedOutput {
         for name in &self.names {
             let from = self.staging.join(name);
             if !from.exists() {
-                return Err(Error::Invalid(format!(
-                    "output file {name} was announced but never written"
-                )));
+                return Err(OutputError::Unwritten(name.clone()));
             }
         }
         for name in &self.names {
             let from = self.staging.join(name);
             let to = self.dir.join(name);
-            fs::rename(&from, &to).map_err(|e| Error::io(&to, e))?;
+            fs::rename(&from, &to).map_err(|e| OutputError::io(&to, e))?;
             out.push(to);
         }
         self.committed = true;
@@ -99,20 +122,20 @@ pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<()> {
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))?;
     let file_name = path
         .file_name()
-        .ok_or_else(|| Error::Invalid(format!("{} is not a file path", path.display())))?;
+        .ok_or_else(|| OutputError::NotAFile(path.display().to_string()))?;
     let tmp = dir.join(format!(
         ".{}.tmp-{}-{}",
         file_name.to_string_lossy(),
         std::process::id(),
         unique_suffix()
     ));
-    fs::write(&tmp, bytes).map_err(|e| Error::io(&tmp, e))?;
+    fs::write(&tmp, bytes).map_err(|e| OutputError::io(&tmp, e))?;
     fs::rename(&tmp, path).map_err(|e| {
         let _ = fs::remove_file(&tmp);
-        Error::io(path, e)
+        OutputError::io(path, e)
     })
 }
 

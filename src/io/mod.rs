@@ -3,4 +3,4 @@
 pub mod atomic;
 pub mod npy;
 
-pub use atomic::StagedOutput;
+pub use atomic::{write_atomic, OutputError, StagedOutput};

@@ -38,32 +38,13 @@ use serde::{Deserialize, Serialize};
 
 use super::quad::gauss_legendre_unit;
 use super::KernelError;
-
-/// How the layer is supported at its base.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum LayerBase {
-    /// Bonded (no slip, no normal displacement) to a rigid base.
-    Bonded,
-    /// Resting on a rigid base without friction (no shear traction).
-    Frictionless,
-}
+pub use crate::config::{LayerBase, LayerConfig};
 
 /// A viscoelastic layer of finite thickness on a rigid base (Eq. 5).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Layer {
     /// Thickness `h` \[m\].
     pub thickness: f64,
-    pub base: LayerBase,
-}
-
-/// `[layer]` section of a config: `thickness` (m) and `base`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct LayerConfig {
-    /// Thickness `h` \[m\].
-    pub thickness: f64,
-    /// `"bonded"` or `"frictionless"`.
     pub base: LayerBase,
 }
 

@@ -1,49 +1,11 @@
-//! The `[material]` section of a config (key names fixed by the project).
+//! Building a [`Material`] from its `[material]` section (the types live in
+//! [`crate::config::material`]; key names fixed by the project).
 
-use std::path::{Path, PathBuf};
-
-use serde::{Deserialize, Serialize};
+use std::path::Path;
 
 use super::file::load_material_file;
 use super::{CreepSpectrum, CreepTerm, Material, MaterialError, PronySeries, PronyTerm};
-
-/// Which material description a config gives.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum MaterialModel {
-    /// Standard linear solid: `relaxed_modulus`, `glassy_modulus`, and
-    /// `creep_time` or `relaxation_time`.
-    Sls,
-    /// `creep_spectrum = [[C_k, tau_k], ...]` with `glassy_modulus`.
-    CreepSpectrum,
-    /// Generalized Maxwell `prony = [[E_j, theta_j], ...]` with `relaxed_modulus`.
-    Prony,
-    /// A `material.toml` written by `viscoslide material fit`.
-    File,
-}
-
-/// `[material]`: SI units (Pa, 1/Pa, s).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialConfig {
-    pub model: MaterialModel,
-    /// `E0` \[Pa\].
-    pub relaxed_modulus: Option<f64>,
-    /// `E_inf` \[Pa\].
-    pub glassy_modulus: Option<f64>,
-    /// Creep (retardation) time of the SLS \[s\].
-    pub creep_time: Option<f64>,
-    /// Stress-relaxation time of the SLS \[s\] (`creep_time * E0 / E_inf`).
-    pub relaxation_time: Option<f64>,
-    /// `[[C_k (1/Pa), tau_k (s)], ...]`.
-    pub creep_spectrum: Option<Vec<[f64; 2]>>,
-    /// `[[E_j (Pa), theta_j (s)], ...]`.
-    pub prony: Option<Vec<[f64; 2]>>,
-    /// Poisson ratio (default 0.5).
-    pub poisson: Option<f64>,
-    /// Path of a `material.toml` (relative to the config file).
-    pub file: Option<PathBuf>,
-}
+use crate::config::{MaterialConfig, MaterialModel};
 
 /// Each key of `[material]` with the unit its error messages quote.
 const KEYS: [(&str, &str); 8] = [

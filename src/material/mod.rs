@@ -24,7 +24,7 @@ pub mod nnls;
 mod prony;
 mod spectrum;
 
-pub use config::{MaterialConfig, MaterialModel};
+pub use crate::config::{MaterialConfig, MaterialModel};
 pub use dma::{fit_spectrum, DmaData, DmaPoint, FitInfo, FitParams, SpectrumFit, Wlf};
 pub use eval::{ComplexModulus, DynamicModuli};
 pub use file::{load_material_file, material_toml, FitRecord};

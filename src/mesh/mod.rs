@@ -4,12 +4,11 @@
 //! coarse cells elsewhere, refined as the contact set moves.
 //!
 //! - [`quadtree`]: the mesh, its geometry and the height rule.
-//! - [`refine`]: the solve-certify-refine loop around [`crate::solver`].
 //!
-//! The pairwise operator lives in [`crate::operator::AdaptiveOperator`].
+//! The pairwise operator lives in [`crate::operator::AdaptiveOperator`]; the
+//! solve-certify-refine loop beside the other solve paths, in
+//! [`crate::problem::adaptive`].
 
 pub mod quadtree;
-pub mod refine;
 
 pub use quadtree::{dilate, Cell, MeshError, QuadMesh};
-pub use refine::{solve_adaptive, AdaptiveParams, AdaptiveSolution, MeshReport};

@@ -71,6 +71,10 @@ pub struct SolverParams {
     /// Right-precondition the inner solves with the backend's approximate
     /// inverse of the operator where it has one ([`Backend::precondition`]).
     pub precondition: bool,
+    /// Grids of a coarse-to-fine cascade at most, the fine one included,
+    /// for callers that run one ([`cascade::cascade_shapes`]; 1: none).
+    /// [`solve_from`] itself solves on one grid.
+    pub cascade_levels: usize,
 }
 
 impl Default for SolverParams {
@@ -81,6 +85,7 @@ impl Default for SolverParams {
             max_matvecs: 50_000,
             restart: 30,
             precondition: true,
+            cascade_levels: 8,
         }
     }
 }

@@ -1,59 +1,11 @@
-//! The `[surface]` section of a config.
-//!
-//! ```toml
-//! [surface]                 # either a file ...
-//! file = "heights.npy"      # .npy (float64/float32) or text matrix, m
-//! length = 0.01             # side along x, m
-//!
-//! [surface.generate]        # ... or a generated self-affine surface
-//! n = 512                   # cells along x (and y unless `ny` is given)
-//! ny = 512                  # optional
-//! length = 0.01             # side along x, m (or [surface] length)
-//! hurst = 0.8               # 0 < H <= 1
-//! scales = 64               # N: q1 = N q_L ... or q1 = 4.0e4 (1/m)
-//! ql = 628.3                # optional lower cut-off, 1/m (default 2 pi / L)
-//! rolloff_q0 = 1.3e3        # optional roll-off wavenumber, 1/m
-//! rms_height = 1e-5         # m ... or rms_slope = 0.1
-//! seed = 7
-//! anisotropy = { ratio = 2.0, angle_deg = 30.0 }   # optional
-//! ```
+//! Building a [`HeightMap`] from its `[surface]` section (the types live in
+//! [`crate::config::surface`]).
 
-use std::path::{Path, PathBuf};
-
-use serde::{Deserialize, Serialize};
+use std::path::Path;
 
 use super::generate::{Anisotropy, GenerateParams, Normalisation, UpperCutoff};
 use super::{HeightMap, SurfaceError};
-
-/// `[surface]`: a height map from `file` (with `length`, m), or generated
-/// from `[surface.generate]`; exactly one of the two.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct SurfaceConfig {
-    /// `.npy` (or plain-text) height map, heights in m at cell centres;
-    /// relative to the config file's directory.
-    pub file: Option<PathBuf>,
-    /// Side of the map along x \[m\]; cells are square.
-    pub length: Option<f64>,
-    /// Generate a self-affine surface instead of reading one.
-    pub generate: Option<GenerateConfig>,
-    /// A rigid sphere instead (the Hertz paraboloid), for smooth contacts.
-    pub sphere: Option<SphereConfig>,
-}
-
-/// `[surface.sphere]`: the paraboloid `z = -(x^2 + y^2) / (2 R)` of a sphere
-/// of radius `R` (the Hertz approximation, valid while the contact radius is
-/// much smaller than `R`), centred on an `n x n` map of side `length`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SphereConfig {
-    /// Cells per side.
-    pub n: usize,
-    /// Side of the map \[m\].
-    pub length: f64,
-    /// Sphere radius `R` \[m\].
-    pub radius: f64,
-}
+use crate::config::{GenerateConfig, SphereConfig, SurfaceConfig};
 
 impl SphereConfig {
     /// The height map of the paraboloid at the cell centres.
@@ -80,67 +32,7 @@ impl SphereConfig {
     }
 }
 
-/// `anisotropy = { ratio, angle_deg }` (see [`Anisotropy`]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct AnisotropyConfig {
-    /// Stretch factor `s > 0` along `e(theta)`.
-    pub ratio: f64,
-    /// `theta` \[degrees\] from +x.
-    pub angle_deg: f64,
-}
-
-/// `[surface.generate]`: parameters of [`super::generate`]. Every key is
-/// optional in the type so that command-line flags can be merged on top;
-/// [`GenerateConfig::params`] checks which are required.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct GenerateConfig {
-    /// Cells along x (and along y unless `ny` is given), `>= 8`.
-    pub n: Option<usize>,
-    /// Cells along y.
-    pub ny: Option<usize>,
-    /// Side along x \[m\].
-    pub length: Option<f64>,
-    /// Hurst exponent.
-    pub hurst: Option<f64>,
-    /// Number of scales `N` (`q1 = N q_L`); exclusive with `q1`.
-    pub scales: Option<f64>,
-    /// Upper cut-off [1/m]; exclusive with `scales`.
-    pub q1: Option<f64>,
-    /// Lower cut-off `q_L` [1/m]; default `2 pi / length`.
-    pub ql: Option<f64>,
-    /// Roll-off wavenumber `q0` [1/m]; default `q_L` (no roll-off).
-    pub rolloff_q0: Option<f64>,
-    /// rms height \[m\]; exclusive with `rms_slope`.
-    pub rms_height: Option<f64>,
-    /// rms slope; exclusive with `rms_height`.
-    pub rms_slope: Option<f64>,
-    /// Seed of the random phases; default 0.
-    pub seed: Option<u64>,
-    /// Optional anisotropic stretch.
-    pub anisotropy: Option<AnisotropyConfig>,
-}
-
 impl GenerateConfig {
-    /// Keys set in `over` replace those of `self`.
-    pub fn merged(&self, over: &GenerateConfig) -> GenerateConfig {
-        GenerateConfig {
-            n: over.n.or(self.n),
-            ny: over.ny.or(self.ny),
-            length: over.length.or(self.length),
-            hurst: over.hurst.or(self.hurst),
-            scales: over.scales.or(self.scales),
-            q1: over.q1.or(self.q1),
-            ql: over.ql.or(self.ql),
-            rolloff_q0: over.rolloff_q0.or(self.rolloff_q0),
-            rms_height: over.rms_height.or(self.rms_height),
-            rms_slope: over.rms_slope.or(self.rms_slope),
-            seed: over.seed.or(self.seed),
-            anisotropy: over.anisotropy.or(self.anisotropy),
-        }
-    }
-
     /// Generator parameters; `fallback_length` (`[surface] length`) is used
     /// when `length` is not given here. Errors name the missing or
     /// conflicting keys. The values themselves are checked by

@@ -145,7 +145,7 @@ pub fn encode_npy(map: &HeightMap, precision: NpyPrecision) -> Vec<u8> {
 /// Write a height map as `.npy` (atomically: temporary file, then rename).
 pub fn save_npy(map: &HeightMap, path: &Path, precision: NpyPrecision) -> Result<(), SurfaceError> {
     crate::io::atomic::write_atomic(path, &encode_npy(map, precision)).map_err(|e| match e {
-        crate::Error::Io { source, .. } => SurfaceError::Io {
+        crate::io::OutputError::Io { source, .. } => SurfaceError::Io {
             path: path.display().to_string(),
             source,
         },

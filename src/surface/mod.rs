@@ -9,8 +9,9 @@ mod fft2;
 mod generate;
 mod io;
 mod psd;
+mod psd_table;
 
-pub use config::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};
+pub use crate::config::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};
 pub use generate::{
     generate, generate_with_target, Anisotropy, GenerateParams, Normalisation, SelfAffinePsd,
     UpperCutoff,
@@ -23,6 +24,7 @@ pub use psd::{
     fit_hurst, psd_2d, radial_average, stats, stats_with_window, HurstFit, Psd2d, RadialPsd,
     SurfaceStats, Window,
 };
+pub use psd_table::TabulatedPsd;
 
 use crate::io::npy::NpyError;
 

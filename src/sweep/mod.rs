@@ -8,9 +8,10 @@ mod compare;
 mod merge;
 mod plan;
 
+pub use crate::config::SweepConfig;
 pub use compare::{compare, read_measured, Measured};
 pub use merge::{aggregate, merge, MergedRow};
-pub use plan::{Point, Shard, SpeedAxis, SweepConfig, SweepPlan};
+pub use plan::{Point, Shard, SpeedAxis, SweepPlan};
 
 use std::path::{Path, PathBuf};
 
@@ -20,7 +21,7 @@ use serde_json::Value;
 use crate::config::{self, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic;
-use crate::run::{self, SolveSetup};
+use crate::problem::{Executor, Problem};
 use crate::solver::Silent;
 
 /// File in the sweep directory that pins the configuration it was made with.
@@ -135,10 +136,10 @@ pub fn solve_point(cfg: &LoadedConfig, point: &Point) -> Result<Value> {
         base_dir: cfg.base_dir.clone(),
         document: doc,
     };
-    let setup = SolveSetup::from_config(&point_cfg)?;
-    let outcome = run::solve_cpu(&setup, &mut Silent)?;
-    let analysis = crate::report::analyze(&setup, &outcome)?;
-    let mut value = crate::report::summary(&setup, &outcome, analysis.as_ref());
+    let problem = Problem::from_config(&point_cfg)?;
+    let solution = problem.solve(&Executor::Cpu, &mut Silent)?;
+    let analysis = solution.analyze_configured()?;
+    let mut value = solution.summary_with(analysis.as_ref());
     if let Value::Object(map) = &mut value {
         map.remove("config");
         map.remove("residual_history");
@@ -173,6 +174,6 @@ fn pin_config(cfg: &LoadedConfig, dir: &Path) -> Result<()> {
             "{} holds a sweep made with a different configuration; use another --out directory (or delete it) instead of mixing results",
             dir.display()
         ))),
-        Err(_) => write_atomic(&pinned, text.as_bytes()),
+        Err(_) => Ok(write_atomic(&pinned, text.as_bytes())?),
     }
 }

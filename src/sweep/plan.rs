@@ -4,28 +4,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::config::SweepConfig;
 use crate::error::{Error, Result};
-
-/// `[sweep]`: the axes of a sweep. Exactly one speed axis.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct SweepConfig {
-    /// Sliding speeds [m/s].
-    pub speed: Option<Vec<f64>>,
-    /// Dimensionless speeds `xi = v tau / L`.
-    pub xi: Option<Vec<f64>>,
-    /// Log-spaced speeds `[from, to, points]` [m/s].
-    pub speed_range: Option<[f64; 3]>,
-    /// Log-spaced `xi`: `[from, to, points]`.
-    pub xi_range: Option<[f64; 3]>,
-    /// Add the static point (`v = 0`, fully relaxed), the reference of
-    /// `A / A(xi = 0)` (default true).
-    pub include_static: Option<bool>,
-    /// Normal loads \[N\] (default: the `[loading]` one).
-    pub normal_load: Option<Vec<f64>>,
-    /// Surface realisations: seeds of `[surface.generate]` (default: its own).
-    pub seeds: Option<Vec<u64>>,
-}
 
 /// The speed of one point.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -9,7 +9,7 @@
 //! `(1 - nu^2)/pi * (total compliance)`, where `T_s` is the dimensionless
 //! unit-cell coefficient with memory lengths `l_k / s` (CPU twin:
 //! [`crate::kernel::SlidingKernel::coefficient`]). The creep terms are
-//! classified as in [`super::coefficients::coefficient_table`], per source
+//! classified as in [`super::plan::plan`], per source
 //! size: memory lengths below `1e-7` source sides act as relaxed compliance,
 //! infinite ones (`v = inf`) as glassy. Half-spaces only.
 //!
@@ -18,17 +18,14 @@
 //! `y_T = sum_S K(x_T - x_S; s_S) x_S (a / s_S)^2`, collocated at cell
 //! centres.
 
-use super::coefficients::RELAXED_CELLS;
 use super::context::GpuError;
 use super::engine::{groups_for, Buf, Engine, Kernel, Params, WORKGROUP};
+use super::plan::{grid, plan, read_scaled, MAX_GROUPS_X};
 use crate::kernel::KernelParams;
 use crate::material::Material;
 
 /// Invocations per workgroup of the pair kernel (`PWG`).
 const PAIR_WORKGROUP: u64 = 64;
-
-/// Workgroups of one dispatch along x (the WebGPU minimum limit).
-const MAX_GROUPS_X: u64 = 65_535;
 
 /// Square cells of a non-uniform mesh: centres `(x, y)` and sides \[m\].
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -80,72 +77,6 @@ impl MeshCells {
         }
         Ok(())
     }
-}
-
-/// The creep terms and scales of one (material, speed, direction) at the
-/// length unit `unit` \[m\].
-pub(super) struct Plan {
-    /// `(w_k, 1 / l_k)` of the active terms, `l_k` in units of `unit`.
-    pub(super) terms: Vec<f32>,
-    pub(super) count: u32,
-    /// Glassy-plus-relaxed compliance fraction at `unit`.
-    pub(super) instantaneous: f32,
-    /// `(1 - nu^2)/pi * unit * (total compliance)` [m/Pa].
-    pub(super) scale: f64,
-    pub(super) e: [f32; 2],
-}
-
-pub(super) fn plan(
-    material: &Material,
-    params: &KernelParams,
-    unit: f64,
-) -> Result<Plan, GpuError> {
-    if params.layer.is_some() {
-        return Err(GpuError::Invalid(
-            "the GPU coefficient kernels cover half-spaces only; finite-thickness coefficients are computed on the host".into(),
-        ));
-    }
-    if params.speed.is_nan() || params.speed < 0.0 || !params.direction_rad.is_finite() {
-        return Err(GpuError::Invalid(format!(
-            "speed {} m/s and direction {} rad",
-            params.speed, params.direction_rad
-        )));
-    }
-    let spectrum = &material.spectrum;
-    let total =
-        spectrum.glassy_compliance() + spectrum.terms.iter().map(|t| t.compliance).sum::<f64>();
-    let mut instantaneous = spectrum.glassy_compliance();
-    let mut terms: Vec<f32> = Vec::new();
-    for t in &spectrum.terms {
-        // Relaxed at the unit (the finest side) means relaxed at every
-        // larger source; the kernel classifies the rest per source size.
-        let l = params.speed * t.time / unit;
-        if l.is_nan() || l < RELAXED_CELLS {
-            instantaneous += t.compliance;
-        } else if l.is_finite() {
-            terms.extend([(t.compliance / total) as f32, (1.0 / l) as f32]);
-        }
-    }
-    let count = (terms.len() / 2) as u32;
-    if terms.is_empty() {
-        terms = vec![0.0, 1.0];
-    }
-    let (s, c) = params.direction_rad.sin_cos();
-    let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
-    Ok(Plan {
-        terms,
-        count,
-        instantaneous: (instantaneous / total) as f32,
-        scale: material.composite_factor() / std::f64::consts::PI * unit * total,
-        e: [snap(c) as f32, snap(s) as f32],
-    })
-}
-
-/// Workgroup grid `(x, y)` of `groups` workgroups.
-pub(super) fn grid(groups: u64) -> (u32, u32) {
-    let groups = groups.max(1);
-    let gx = groups.min(MAX_GROUPS_X);
-    (gx as u32, groups.div_ceil(gx) as u32)
 }
 
 /// `K(t_i - (x_i, y_i); s_i)` [m/Pa] for each pair of a target point
@@ -217,11 +148,7 @@ pub fn pair_coefficients(
         },
         grid((count as u64).div_ceil(PAIR_WORKGROUP)),
     );
-    let dimensionless = engine.read_f32(&out, 0, count);
-    Ok(dimensionless
-        .iter()
-        .map(|&v| plan.scale * v as f64)
-        .collect())
+    Ok(read_scaled(engine, &out, count, plan.scale))
 }
 
 /// The matrix-free operator `y_T = sum_S K(x_T - x_S; s_S) x_S (a / s_S)^2`

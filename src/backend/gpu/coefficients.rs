@@ -6,15 +6,11 @@
 //! `(1 - nu^2)/pi * a * (total compliance)` in f64. Half-spaces only: the
 //! finite-thickness factor `Theta` (Eq. 5) stays on the host.
 
-use super::adaptive::{grid, plan};
 use super::context::GpuError;
 use super::engine::{Engine, Kernel, Params};
+use super::plan::{grid, plan, read_scaled};
 use crate::kernel::KernelParams;
 use crate::material::Material;
-
-/// Memory lengths below this many cells act as relaxed compliance (the
-/// neglected part is about `l |grad L| / L`, below 1e-7).
-pub(super) const RELAXED_CELLS: f64 = 1e-7;
 /// Invocations per workgroup of the coefficient kernel (`CWG`).
 const COEFF_WORKGROUP: u64 = 64;
 
@@ -52,9 +48,5 @@ pub fn coefficient_table(
         },
         grid((count as u64).div_ceil(COEFF_WORKGROUP)),
     );
-    let dimensionless = engine.read_f32(&out, 0, count);
-    Ok(dimensionless
-        .iter()
-        .map(|&v| plan.scale * v as f64)
-        .collect())
+    Ok(read_scaled(engine, &out, count, plan.scale))
 }

@@ -97,7 +97,8 @@ pub enum GpuError {
     Invalid(String),
 }
 
-/// An open device and its queue.
+/// An open device and its queue (cloning shares the device).
+#[derive(Clone)]
 pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,

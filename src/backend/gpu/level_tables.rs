@@ -17,9 +17,10 @@
 //! buffers (each within one storage binding), so the matvec runs one pass
 //! per source level present in the mesh.
 
-use super::adaptive::{grid, plan, SourceList};
+use super::adaptive::SourceList;
 use super::context::GpuError;
 use super::engine::{groups_for, Buf, Engine, Kernel, Params};
+use super::plan::{grid, plan, read_scaled};
 use crate::kernel::KernelParams;
 use crate::material::Material;
 use crate::mesh::QuadMesh;
@@ -180,12 +181,8 @@ impl GpuLevelTables {
         parity: usize,
     ) -> ((i64, i64), (i64, i64), Vec<f64>) {
         let lat = &self.tables[level as usize][parity];
-        let v = engine.read_f32(&lat.buf, 0, lat.len());
-        (
-            lat.kmin,
-            lat.kmax,
-            v.iter().map(|&x| self.scale * x as f64).collect(),
-        )
+        let v = read_scaled(engine, &lat.buf, lat.len(), self.scale);
+        (lat.kmin, lat.kmax, v)
     }
 }
 

@@ -8,6 +8,8 @@
 //!   recording, submission and readback.
 //! - [`pool`]: grid-sized storage buffers, recycled.
 //! - [`fft`]: the padded Stockham FFT and the Toeplitz matvec (paper Eq. 7).
+//! - [`plan`]: what the coefficient kernels share: the creep-term plan, the
+//!   workgroup grid of large dispatches and the scaled f32 read-back.
 //! - [`coefficients`]: the influence-coefficient table computed on the device.
 //! - [`adaptive`]: coefficients between cells of different sizes and the
 //!   matrix-free operator of a non-uniform mesh.
@@ -22,6 +24,7 @@ pub mod context;
 pub mod engine;
 pub mod fft;
 pub mod level_tables;
+pub mod plan;
 pub mod pool;
 pub mod shaders;
 

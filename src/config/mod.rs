@@ -1,13 +1,31 @@
 //! Run configuration: one TOML file in SI units, deserialised with
 //! `deny_unknown_fields`, with `--set section.key=value` overrides applied to
 //! the parsed document before it is typed. Errors name the key and its unit.
+//!
+//! One file per section; these types import nothing else of the crate (the
+//! layers above build their objects from them: `MaterialConfig::build` in
+//! `material`, `SurfaceConfig::load` in `surface`, `LayerConfig::build` in
+//! `kernel`, the problem in `problem`, the sweep plan in `sweep`).
+
+pub mod analysis;
+pub mod layer;
+pub mod loading;
+pub mod material;
+pub mod solver;
+pub mod surface;
+pub mod sweep;
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::material::MaterialConfig;
-use crate::surface::SurfaceConfig;
+pub use analysis::AnalysisConfig;
+pub use layer::{LayerBase, LayerConfig};
+pub use loading::LoadingConfig;
+pub use material::{MaterialConfig, MaterialModel};
+pub use solver::{AdaptiveConfig, Formulation, MeshKind, SolverConfig};
+pub use surface::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};
+pub use sweep::SweepConfig;
 
 /// Errors reading or checking a configuration.
 #[derive(Debug, thiserror::Error)]
@@ -35,109 +53,9 @@ pub struct Config {
     pub surface: Option<SurfaceConfig>,
     pub loading: Option<LoadingConfig>,
     pub solver: Option<SolverConfig>,
-    pub layer: Option<crate::kernel::LayerConfig>,
-    pub sweep: Option<crate::sweep::SweepConfig>,
+    pub layer: Option<LayerConfig>,
+    pub sweep: Option<SweepConfig>,
     pub analysis: Option<AnalysisConfig>,
-}
-
-/// `[loading]`: what presses the bodies together and how fast they slide.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct LoadingConfig {
-    /// Normal load `F_N` \[N\].
-    pub normal_load: Option<f64>,
-    /// Nominal mean pressure `p0 = F_N / A0` \[Pa\] (`A0` the map's area).
-    pub mean_pressure: Option<f64>,
-    /// Rigid approach `delta` \[m\] (displacement control instead of load).
-    pub approach: Option<f64>,
-    /// Sliding speed `v` [m/s].
-    pub speed: Option<f64>,
-    /// Dimensionless speed `xi = v tau / L` (single-relaxation materials;
-    /// `tau` the creep time, `L` the map's side along x).
-    pub xi: Option<f64>,
-    /// Sliding direction, degrees from +x (default 0).
-    pub direction_deg: Option<f64>,
-}
-
-/// Which discretisation of the half-space the solver uses. Typed so that a
-/// non-periodic run can never silently become periodic.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum Formulation {
-    /// Finite rough pad on an infinite solid: exact linear convolution (paper Eq. 6-7).
-    #[default]
-    NonPeriodic,
-    /// Periodic cell solved spectrally (paper Appendix, Eq. A1-A2): the
-    /// domain must be much longer than the relaxation length `v tau`.
-    Periodic,
-}
-
-/// `[analysis]`: the anisotropy analysis that `solve` runs after each solve
-/// (paper Eq. 11-13 and the contact-area PSD).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct AnalysisConfig {
-    /// Run it (default true).
-    pub enabled: Option<bool>,
-    /// Lower band factor `zeta1` (default 1).
-    pub zeta1: Option<f64>,
-    /// Upper band factor `zeta2` (default: the surface's number of scales).
-    pub zeta2: Option<f64>,
-    /// Levels of `C_chi / C_chi(0)` for the ellipse fits (default [0.5, 0.3]).
-    pub chi_levels: Option<Vec<f64>>,
-}
-
-/// `[solver]`: iteration controls.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct SolverConfig {
-    /// Relative complementarity residual (default 1e-8).
-    pub tolerance: Option<f64>,
-    /// Active-set iterations (default 200).
-    pub max_iterations: Option<usize>,
-    /// Operator applications (default 50000).
-    pub max_matvecs: Option<usize>,
-    /// GMRES restart length (default 30).
-    pub restart: Option<usize>,
-    /// Discretisation (default `non_periodic`).
-    pub formulation: Option<Formulation>,
-    /// Mesh of the non-periodic formulation (default `uniform`).
-    pub mesh: Option<MeshKind>,
-    /// `[solver.adaptive]`: controls of `mesh = "adaptive"`.
-    pub adaptive: Option<AdaptiveConfig>,
-    /// Right-precondition the inner solves with the operator's approximate
-    /// inverse (default true; uniform CPU grids).
-    pub precondition: Option<bool>,
-    /// Grids of the coarse-to-fine cascade at most, the fine one included
-    /// (default 8; 1: solve on the fine grid only; uniform CPU grids).
-    pub cascade_levels: Option<usize>,
-}
-
-/// The mesh the non-periodic problem is solved on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum MeshKind {
-    /// Every cell at the surface's resolution: Toeplitz operator, FFT matvec.
-    #[default]
-    Uniform,
-    /// Quadtree: fine cells where contact is possible or found, coarse
-    /// elsewhere (physics.md section 7; [`crate::mesh`]).
-    Adaptive,
-}
-
-/// `[solver.adaptive]` (defaults in [`crate::mesh::AdaptiveParams`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct AdaptiveConfig {
-    /// Coarsest cells are `2^max_level` fine cells a side (default 5).
-    pub max_level: Option<u8>,
-    /// Area fraction, the highest part of the surface, meshed fine from the
-    /// start (default 0.1).
-    pub initial_fraction: Option<f64>,
-    /// Fine cells added around each refinement (default 1).
-    pub margin: Option<usize>,
-    /// Solve-certify-refine rounds allowed (default 12).
-    pub max_rounds: Option<usize>,
 }
 
 /// A parsed config with the directory its relative paths refer to.

@@ -26,7 +26,7 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
-use super::quadtree::{dilate, MeshError, QuadMesh};
+use crate::mesh::{dilate, MeshError, QuadMesh};
 use crate::operator::{AdaptiveOperator, GridOperator, LevelTables, OffsetTable, ToeplitzFft};
 use crate::solver::{ContactSolution, SolveInfo, SolverError, WarmStart};
 

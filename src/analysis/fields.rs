@@ -1,0 +1,147 @@
+//! The contact analysis of one solved map: deformed-surface anisotropy
+//! (Eq. 11-13), contact-area anisotropy from `C_chi` (Fig. 10) and
+//! contact-spot statistics (physics.md section 5).
+
+use super::anisotropy::deformed_anisotropy;
+use super::chi::{chi_spectrum, contour_level, ChiLevel};
+use super::report::{
+    param, AnalysisError, AnalysisInputs, AnalysisParams, AnalysisReport, ChiReport,
+};
+use super::spots::{find_spots, statistics_of, Connectivity};
+use crate::surface::{psd_2d, HeightMap};
+
+pub(super) fn check_inputs(inp: &AnalysisInputs<'_>) -> Result<(), AnalysisError> {
+    let n = inp.nx * inp.ny;
+    for (name, f) in [
+        ("displacement", inp.displacement),
+        ("contact", inp.contact),
+        ("pressure", inp.pressure),
+    ] {
+        if f.len() != n {
+            return Err(AnalysisError::Shape {
+                name: name.into(),
+                found: [f.len(), 1],
+                expected: [inp.nx, inp.ny],
+            });
+        }
+    }
+    if !(inp.cell_size.is_finite() && inp.cell_size > 0.0) {
+        return Err(param(
+            "cell_size",
+            inp.cell_size,
+            "must be a length > 0 (m)",
+        ));
+    }
+    Ok(())
+}
+
+fn check_params(p: &AnalysisParams) -> Result<(), AnalysisError> {
+    if !(p.zeta1.is_finite() && p.zeta1 >= 0.0) {
+        return Err(param("zeta1", p.zeta1, "must be finite and >= 0"));
+    }
+    if let Some(z2) = p.zeta2 {
+        if !(z2.is_finite() && z2 > p.zeta1) {
+            return Err(param("zeta2", z2, "must be finite and exceed zeta1"));
+        }
+    }
+    if p.chi_levels.is_empty() {
+        return Err(param("levels", "[]", "give at least one level in (0, 1)"));
+    }
+    for &l in &p.chi_levels {
+        if !(l > 0.0 && l < 1.0) {
+            return Err(param("levels", l, "levels of C_chi/C_chi(0) lie in (0, 1)"));
+        }
+    }
+    if let Some(r) = p.chi_window_cells {
+        if !(r.is_finite() && r >= 2.0) {
+            return Err(param("chi_window_cells", r, "must be at least 2 cells"));
+        }
+    }
+    if p.rays < 3 {
+        return Err(param("rays", p.rays, "need at least 3 rays"));
+    }
+    Ok(())
+}
+
+/// Analyse one solved contact (physics.md section 5; paper Section IV).
+///
+/// 1. Eq. 11-13 on the displacement, band `zeta1 q0 <= |q| <= zeta2 q0`
+///    (see [`super::anisotropy`]).
+/// 2. `C_chi` contours and centred least-squares ellipses (see [`super::chi`]).
+/// 3. Spots under 4-connectivity (see [`super::spots`]).
+pub fn analyze(
+    inputs: &AnalysisInputs<'_>,
+    params: &AnalysisParams,
+) -> Result<AnalysisReport, AnalysisError> {
+    check_inputs(inputs)?;
+    check_params(params)?;
+    let (nx, ny, a) = (inputs.nx, inputs.ny, inputs.cell_size);
+    let map = HeightMap::new(nx, ny, nx as f64 * a, inputs.displacement.to_vec())?;
+    let psd = psd_2d(&map, params.window)?;
+    let zeta2 = match (params.zeta2, inputs.scales) {
+        (Some(z), _) => z,
+        (None, Some(s)) if s.is_finite() && s > params.zeta1 => s,
+        _ => (nx.min(ny) / 2) as f64,
+    };
+    if zeta2 <= params.zeta1 {
+        return Err(param("zeta2", zeta2, "must exceed zeta1"));
+    }
+    let def = deformed_anisotropy(&psd, params.zeta1, zeta2);
+
+    let spots = find_spots(inputs.contact, nx, ny, Connectivity::Four);
+    let count_8 = find_spots(inputs.contact, nx, ny, Connectivity::Eight).len();
+    let spot_stats = statistics_of(&spots, count_8, a);
+    let contact_cells = inputs.contact.iter().filter(|&&c| c > 0.5).count();
+
+    let chi = if contact_cells == 0 {
+        None
+    } else {
+        let radius = params.chi_window_cells.unwrap_or_else(|| {
+            let (mut sw, mut sv) = (0.0, 0.0);
+            for s in &spots {
+                let w = s.cells as f64;
+                sw += w;
+                sv += w * s.major_variance();
+            }
+            1.5 * (4.0 * (sv / sw).sqrt()).max(2.0)
+        });
+        let spec = chi_spectrum(inputs.contact, nx, ny, a, radius);
+        let levels: Vec<ChiLevel> = params
+            .chi_levels
+            .iter()
+            .map(|&l| contour_level(&spec, l, params.rays))
+            .collect();
+        Some(ChiReport {
+            window_radius_cells: spec.window_radius_cells,
+            flat_radius_cells: spec.flat_radius_cells,
+            background_cells: spec.background_cells,
+            c0: spec.c0,
+            q0: spec.dqx,
+            levels,
+        })
+    };
+    let first = chi
+        .as_ref()
+        .and_then(|c| c.levels.iter().find(|l| l.ellipse.is_some()));
+    let t = def.tensor;
+    Ok(AnalysisReport {
+        m20: t.m20,
+        m02: t.m02,
+        m11: t.m11,
+        gamma: t.gamma,
+        theta_p_deg: t.theta_p_deg,
+        tensor: t,
+        tensor_normalised: def.normalised,
+        band: def.band,
+        filtered_mean_square: def.mean_square,
+        window: params.window,
+        lambda: first.and_then(|l| l.ellipse.map(|e| e.lambda)),
+        ellipse_angle_deg: first.and_then(|l| l.ellipse.map(|e| e.angle_deg)),
+        lambda_level: first.map(|l| l.level),
+        chi,
+        spots: spot_stats,
+        contact_area_fraction: contact_cells as f64 / (nx * ny) as f64,
+        params: params.clone(),
+        version: crate::VERSION,
+    })
+}

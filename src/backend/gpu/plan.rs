@@ -1,0 +1,92 @@
+//! What the GPU coefficient kernels share (`shaders/coefficients.wgsl`,
+//! `shaders/adaptive_*.wgsl`, `shaders/level_*.wgsl`): the classification of
+//! the creep terms of one (material, speed, direction) into the uniforms the
+//! shaders read ([`plan`]), the workgroup grid of a large dispatch
+//! ([`grid`]), and the f32 read-back scaled to m/Pa in f64
+//! ([`read_scaled`]).
+
+use super::context::GpuError;
+use super::engine::{Buf, Engine};
+use crate::kernel::KernelParams;
+use crate::material::Material;
+
+/// Memory lengths below this many cells act as relaxed compliance (the
+/// neglected part is about `l |grad L| / L`, below 1e-7).
+pub const RELAXED_CELLS: f64 = 1e-7;
+
+/// Workgroups of one dispatch along x (the WebGPU minimum limit).
+pub const MAX_GROUPS_X: u64 = 65_535;
+
+/// The creep terms and scales of one (material, speed, direction) at the
+/// length unit `unit` \[m\].
+pub struct Plan {
+    /// `(w_k, 1 / l_k)` of the active terms, `l_k` in units of `unit`.
+    pub terms: Vec<f32>,
+    pub count: u32,
+    /// Glassy-plus-relaxed compliance fraction at `unit`.
+    pub instantaneous: f32,
+    /// `(1 - nu^2)/pi * unit * (total compliance)` [m/Pa].
+    pub scale: f64,
+    pub e: [f32; 2],
+}
+
+/// Classify the creep terms of `material` at the sliding state `params`
+/// with lengths in units of `unit` \[m\] (half-spaces only).
+pub fn plan(material: &Material, params: &KernelParams, unit: f64) -> Result<Plan, GpuError> {
+    if params.layer.is_some() {
+        return Err(GpuError::Invalid(
+            "the GPU coefficient kernels cover half-spaces only; finite-thickness coefficients are computed on the host".into(),
+        ));
+    }
+    if params.speed.is_nan() || params.speed < 0.0 || !params.direction_rad.is_finite() {
+        return Err(GpuError::Invalid(format!(
+            "speed {} m/s and direction {} rad",
+            params.speed, params.direction_rad
+        )));
+    }
+    let spectrum = &material.spectrum;
+    let total =
+        spectrum.glassy_compliance() + spectrum.terms.iter().map(|t| t.compliance).sum::<f64>();
+    let mut instantaneous = spectrum.glassy_compliance();
+    let mut terms: Vec<f32> = Vec::new();
+    for t in &spectrum.terms {
+        // Relaxed at the unit (the finest side) means relaxed at every
+        // larger source; the kernel classifies the rest per source size.
+        let l = params.speed * t.time / unit;
+        if l.is_nan() || l < RELAXED_CELLS {
+            instantaneous += t.compliance;
+        } else if l.is_finite() {
+            terms.extend([(t.compliance / total) as f32, (1.0 / l) as f32]);
+        }
+    }
+    let count = (terms.len() / 2) as u32;
+    if terms.is_empty() {
+        terms = vec![0.0, 1.0];
+    }
+    let (s, c) = params.direction_rad.sin_cos();
+    let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
+    Ok(Plan {
+        terms,
+        count,
+        instantaneous: (instantaneous / total) as f32,
+        scale: material.composite_factor() / std::f64::consts::PI * unit * total,
+        e: [snap(c) as f32, snap(s) as f32],
+    })
+}
+
+/// Workgroup grid `(x, y)` of `groups` workgroups.
+pub fn grid(groups: u64) -> (u32, u32) {
+    let groups = groups.max(1);
+    let gx = groups.min(MAX_GROUPS_X);
+    (gx as u32, groups.div_ceil(gx) as u32)
+}
+
+/// Read `count` f32 values of `buf` back and scale them by `scale` in f64:
+/// a dimensionless table turned into m/Pa.
+pub fn read_scaled(engine: &mut Engine, buf: &Buf, count: usize, scale: f64) -> Vec<f64> {
+    engine
+        .read_f32(buf, 0, count)
+        .iter()
+        .map(|&v| scale * v as f64)
+        .collect()
+}

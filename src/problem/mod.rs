@@ -1,0 +1,271 @@
+//! The library API: a [`Problem`] (material, surface, loading, layer,
+//! solver options), built from a configuration or directly from values;
+//! [`Problem::solve`] on an [`Executor`] gives a [`Solution`] (fields,
+//! scalars, convergence, timings) that analyses ([`Solution::analyze`]),
+//! summarises ([`Solution::summary`]) and writes itself
+//! ([`Solution::write`], all files or none). Every front end (the command
+//! line, sweeps, comparisons) goes through this module.
+//!
+//! - [`setup`]: reading and checking a problem from a configuration.
+//! - [`solve`]: the one path through a solve: the operator chosen by
+//!   formulation x mesh, the executor by backend, one call of the iteration.
+//! - [`adaptive`]: the solve-certify-refine loop of the adaptive mesh.
+//! - [`solution`]: the result, its summary, analysis and files.
+//!
+//! Re-discretising: [`Problem::with_grid`] gives the same physical problem on
+//! another grid (a generated surface is generated again with the same seed
+//! and parameters; a sphere is sampled again), and [`Problem::solve_from`]
+//! takes an optional warm start, so a coarse-to-fine cascade is wired in
+//! one place.
+
+pub mod adaptive;
+pub mod setup;
+pub mod solution;
+pub mod solve;
+
+use std::path::PathBuf;
+
+pub use adaptive::{AdaptiveParams, AdaptiveSolution, MeshReport};
+pub use setup::memory_estimate;
+pub use solution::{Solution, Timings};
+pub use solve::{Discretisation, Executor};
+
+use crate::config::{AnalysisConfig, Formulation, MeshKind, SphereConfig};
+use crate::error::{Error, Result};
+use crate::kernel::{KernelParams, Layer, SlidingKernel};
+use crate::material::Material;
+use crate::solver::{Control, SolverParams};
+use crate::surface::{GenerateParams, HeightMap};
+
+/// Where the surface of a problem came from: what [`Problem::with_grid`]
+/// needs to sample it again at another resolution.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SurfaceSource {
+    /// Generated from these parameters (the seed included).
+    Generated(GenerateParams),
+    /// The paraboloid of a sphere.
+    Sphere(SphereConfig),
+    /// Read from this file: one resolution only.
+    File(PathBuf),
+    /// Given as a height map by the caller: one resolution only.
+    Given,
+}
+
+/// One steady-sliding contact problem, checked.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    pub material: Material,
+    pub surface: HeightMap,
+    /// What the surface was made from.
+    pub source: SurfaceSource,
+    pub control: Control,
+    /// Sliding speed \[m/s\].
+    pub speed: f64,
+    /// Sliding direction \[rad\] from +x.
+    pub direction_rad: f64,
+    pub layer: Option<Layer>,
+    pub params: SolverParams,
+    pub formulation: Formulation,
+    /// Uniform grid or adaptive quadtree (non-periodic formulation).
+    pub mesh: MeshKind,
+    /// Controls of the adaptive mesh.
+    pub adaptive: AdaptiveParams,
+    /// Seed of a generated surface.
+    pub seed: Option<u64>,
+    /// The merged configuration document (recorded in `summary.json`).
+    pub document: toml::Table,
+    /// `[analysis]` settings (`None`: the defaults, analysis on).
+    pub analysis: Option<AnalysisConfig>,
+}
+
+fn invalid(msg: impl Into<String>) -> Error {
+    Error::Invalid(msg.into())
+}
+
+impl Problem {
+    /// A problem from values: `surface` pressed by `control` and sliding
+    /// along +x at `speed` \[m/s\] on a half-space of `material`; the
+    /// non-periodic formulation on a uniform grid with the default solver
+    /// controls. Change any of them with the `with_*` methods.
+    pub fn new(material: Material, surface: HeightMap, control: Control, speed: f64) -> Self {
+        Self {
+            material,
+            surface,
+            source: SurfaceSource::Given,
+            control,
+            speed,
+            direction_rad: 0.0,
+            layer: None,
+            params: SolverParams::default(),
+            formulation: Formulation::default(),
+            mesh: MeshKind::default(),
+            adaptive: AdaptiveParams::default(),
+            seed: None,
+            document: toml::Table::new(),
+            analysis: None,
+        }
+    }
+
+    /// [`Problem::new`] on a generated self-affine surface (physics.md
+    /// section 8): the surface is generated from `surface` and recorded, so
+    /// that [`Problem::with_grid`] can generate it again at another size.
+    pub fn generated(
+        material: Material,
+        surface: GenerateParams,
+        control: Control,
+        speed: f64,
+    ) -> Result<Self> {
+        setup::check_memory(
+            surface.nx,
+            surface.ny,
+            SolverParams::default().restart,
+            Formulation::default(),
+        )?;
+        let map = crate::surface::generate(&surface)?;
+        let mut problem = Self::new(material, map, control, speed);
+        problem.seed = Some(surface.seed);
+        problem.source = SurfaceSource::Generated(surface);
+        Ok(problem)
+    }
+
+    /// Sliding direction in degrees from +x.
+    pub fn with_direction_deg(mut self, degrees: f64) -> Self {
+        self.direction_rad = degrees.to_radians();
+        self
+    }
+
+    /// A layer of finite thickness on a rigid base (paper Eq. 5).
+    pub fn with_layer(mut self, layer: Layer) -> Self {
+        self.layer = Some(layer);
+        self
+    }
+
+    /// Solver controls.
+    pub fn with_solver_params(mut self, params: SolverParams) -> Self {
+        self.params = params;
+        self
+    }
+
+    /// The periodic or non-periodic formulation.
+    pub fn with_formulation(mut self, formulation: Formulation) -> Self {
+        self.formulation = formulation;
+        self
+    }
+
+    /// The adaptive quadtree mesh with `params` (non-periodic formulation).
+    pub fn with_adaptive_mesh(mut self, params: AdaptiveParams) -> Self {
+        self.mesh = MeshKind::Adaptive;
+        self.adaptive = params;
+        self
+    }
+
+    /// `[analysis]` settings used by [`Solution::write`].
+    pub fn with_analysis(mut self, analysis: AnalysisConfig) -> Self {
+        self.analysis = Some(analysis);
+        self
+    }
+
+    /// The same physical problem on a grid of `n` cells along x (and the
+    /// same aspect ratio along y): a generated surface is generated again
+    /// from the same parameters and seed, a sphere sampled again. The load,
+    /// speed, material and controls are unchanged; the recorded
+    /// configuration says the new `n`. A surface read from a file or given
+    /// as values has one resolution and is refused.
+    pub fn with_grid(&self, n: usize) -> Result<Self> {
+        let (nx, ny) = (self.surface.nx, self.surface.ny);
+        let ny_new = ((ny as f64) * n as f64 / nx as f64).round().max(1.0) as usize;
+        setup::check_memory(n, ny_new, self.params.restart, self.formulation)?;
+        let (surface, source) = match &self.source {
+            SurfaceSource::Generated(p) => {
+                let p = GenerateParams {
+                    nx: n,
+                    ny: ny_new,
+                    ..p.clone()
+                };
+                (crate::surface::generate(&p)?, SurfaceSource::Generated(p))
+            }
+            SurfaceSource::Sphere(s) => {
+                let s = SphereConfig { n, ..*s };
+                (s.height_map()?, SurfaceSource::Sphere(s))
+            }
+            SurfaceSource::File(path) => {
+                return Err(invalid(format!(
+                    "the surface read from {} has one resolution ({nx} x {ny}); re-discretising needs a generated surface or a sphere",
+                    path.display()
+                )))
+            }
+            SurfaceSource::Given => {
+                return Err(invalid(format!(
+                    "a surface given as values has one resolution ({nx} x {ny}); re-discretising needs a generated surface or a sphere"
+                )))
+            }
+        };
+        let mut document = self.document.clone();
+        record_grid(&mut document, &source);
+        Ok(Self {
+            surface,
+            source,
+            document,
+            ..self.clone()
+        })
+    }
+
+    /// `xi = v tau / L` for single-relaxation materials.
+    pub fn xi(&self) -> Option<f64> {
+        match self.material.spectrum.terms.as_slice() {
+            [t] => Some(self.speed * t.time / self.surface.length_x()),
+            _ => None,
+        }
+    }
+
+    /// The steady-sliding kernel of this material, speed, direction and
+    /// layer (paper Eq. 4-5).
+    pub fn sliding_kernel(&self) -> Result<SlidingKernel> {
+        Ok(SlidingKernel::new(
+            &self.material,
+            KernelParams {
+                speed: self.speed,
+                direction_rad: self.direction_rad,
+                layer: self.layer,
+            },
+        )?)
+    }
+
+    /// Gap profile `g = max(z) - z` (physics.md section 1).
+    pub fn gap_profile(&self) -> Vec<f64> {
+        let zmax = self
+            .surface
+            .heights
+            .iter()
+            .cloned()
+            .fold(f64::NEG_INFINITY, f64::max);
+        self.surface.heights.iter().map(|z| zmax - z).collect()
+    }
+}
+
+/// Write the grid of a re-discretised surface into the recorded document.
+fn record_grid(document: &mut toml::Table, source: &SurfaceSource) {
+    let section = |doc: &mut toml::Table, name: &str| -> Option<toml::Table> {
+        match doc.get(name) {
+            Some(toml::Value::Table(t)) => Some(t.clone()),
+            _ => None,
+        }
+    };
+    let Some(mut surface) = section(document, "surface") else {
+        return;
+    };
+    let (key, n, ny) = match source {
+        SurfaceSource::Generated(p) => ("generate", p.nx, Some(p.ny)),
+        SurfaceSource::Sphere(s) => ("sphere", s.n, None),
+        _ => return,
+    };
+    if let Some(toml::Value::Table(t)) = surface.get_mut(key) {
+        t.insert("n".into(), toml::Value::Integer(n as i64));
+        if let Some(ny) = ny {
+            if ny != n || t.contains_key("ny") {
+                t.insert("ny".into(), toml::Value::Integer(ny as i64));
+            }
+        }
+    }
+    document.insert("surface".into(), toml::Value::Table(surface));
+}

@@ -1,0 +1,216 @@
+//! A [`Problem`] from a configuration: the `[material]`, `[surface]`,
+//! `[loading]`, `[solver]` and optional `[layer]` and `[analysis]` sections,
+//! read and checked, and the memory a grid needs.
+
+use crate::config::{Formulation, LoadedConfig, MeshKind};
+use crate::error::{Error, Result};
+use crate::solver::{Control, SolverParams};
+
+use super::{AdaptiveParams, Problem, SurfaceSource};
+
+fn invalid(msg: impl Into<String>) -> Error {
+    Error::Invalid(msg.into())
+}
+
+impl Problem {
+    /// Read and check the `[material]`, `[surface]`, `[loading]`, `[solver]`
+    /// and optional `[layer]` sections.
+    pub fn from_config(cfg: &LoadedConfig) -> Result<Self> {
+        let material = cfg.material()?.build(&cfg.base_dir)?;
+        let surface_cfg = cfg.surface()?;
+        let sc = cfg.config.solver.clone().unwrap_or_default();
+        let restart = sc.restart.unwrap_or(SolverParams::default().restart);
+        let formulation = sc.formulation.unwrap_or_default();
+        // Refuse grids that cannot fit before generating them.
+        if let Some(gp) = surface_cfg.generate_params()? {
+            check_memory(gp.nx, gp.ny, restart, formulation)?;
+        }
+        let surface = surface_cfg.load(&cfg.base_dir)?;
+        check_memory(surface.nx, surface.ny, restart, formulation)?;
+        let seed = surface_cfg.generate.as_ref().map(|g| g.seed.unwrap_or(0));
+        let source = match (
+            surface_cfg.generate_params()?,
+            &surface_cfg.sphere,
+            &surface_cfg.file,
+        ) {
+            (Some(p), _, _) => SurfaceSource::Generated(p),
+            (None, Some(s), _) => SurfaceSource::Sphere(*s),
+            (None, None, Some(f)) => SurfaceSource::File(cfg.base_dir.join(f)),
+            (None, None, None) => SurfaceSource::Given,
+        };
+        let loading = cfg.config.loading.clone().ok_or_else(|| {
+            invalid(format!(
+                "{}: section [loading] is required (normal_load or mean_pressure, and speed or xi)",
+                cfg.path.display()
+            ))
+        })?;
+        let area0 = surface.length_x() * surface.length_y();
+        let control = match (loading.normal_load, loading.mean_pressure, loading.approach) {
+            (Some(f), None, None) => Control::Load(f),
+            (None, Some(p), None) => Control::Load(p * area0),
+            (None, None, Some(d)) => Control::Approach(d),
+            (None, None, None) => {
+                return Err(invalid(
+                    "[loading] needs one of normal_load (N), mean_pressure (Pa) or approach (m)",
+                ))
+            }
+            _ => return Err(invalid(
+                "[loading] give only one of normal_load (N), mean_pressure (Pa) and approach (m)",
+            )),
+        };
+        let speed = match (loading.speed, loading.xi) {
+            (Some(v), None) => v,
+            (None, Some(xi)) => {
+                let terms = &material.spectrum.terms;
+                if terms.len() != 1 {
+                    return Err(invalid(format!(
+                        "[loading] xi = v tau / L needs a single-relaxation material (this one has {} creep terms); give speed (m/s)",
+                        terms.len()
+                    )));
+                }
+                xi * surface.length_x() / terms[0].time
+            }
+            (None, None) => return Err(invalid("[loading] needs speed (m/s) or xi (v tau / L)")),
+            _ => return Err(invalid("[loading] give only one of speed (m/s) and xi")),
+        };
+        let direction_rad = loading.direction_deg.unwrap_or(0.0).to_radians();
+        let defaults = SolverParams::default();
+        let params = SolverParams {
+            tolerance: sc.tolerance.unwrap_or(defaults.tolerance),
+            max_iterations: sc.max_iterations.unwrap_or(defaults.max_iterations),
+            max_matvecs: sc.max_matvecs.unwrap_or(defaults.max_matvecs),
+            restart: sc.restart.unwrap_or(defaults.restart),
+            precondition: sc.precondition.unwrap_or(defaults.precondition),
+            cascade_levels: sc.cascade_levels.unwrap_or(defaults.cascade_levels),
+        };
+        if params.cascade_levels == 0 {
+            return Err(invalid(
+                "[solver] cascade_levels must be at least 1 (1: the fine grid only)",
+            ));
+        }
+        let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
+        let formulation = sc.formulation.unwrap_or_default();
+        let mesh = sc.mesh.unwrap_or_default();
+        let ad = AdaptiveParams::default();
+        let adaptive = match &sc.adaptive {
+            Some(c) => AdaptiveParams {
+                max_level: c.max_level.unwrap_or(ad.max_level),
+                initial_fraction: c.initial_fraction.unwrap_or(ad.initial_fraction),
+                margin: c.margin.unwrap_or(ad.margin),
+                max_rounds: c.max_rounds.unwrap_or(ad.max_rounds),
+            },
+            None => ad,
+        };
+        if sc.adaptive.is_some() && mesh != MeshKind::Adaptive {
+            return Err(invalid(
+                "[solver.adaptive] is given but [solver] mesh is not \"adaptive\"",
+            ));
+        }
+        let problem = Self {
+            material,
+            surface,
+            source,
+            control,
+            speed,
+            direction_rad,
+            layer,
+            params,
+            formulation,
+            mesh,
+            adaptive,
+            seed,
+            document: cfg.document.clone(),
+            analysis: cfg.config.analysis.clone(),
+        };
+        problem.check()?;
+        Ok(problem)
+    }
+
+    /// Check the values: a positive load or approach, a speed `>= 0`, a
+    /// finite direction, a tolerance in (0, 1), and the combinations the
+    /// formulations support. Every solve checks its problem first.
+    pub fn check(&self) -> Result<()> {
+        match self.control {
+            Control::Load(f) if !(f.is_finite() && f > 0.0) => {
+                return Err(invalid(format!(
+                    "[loading] the normal load must be positive, got {f} N"
+                )))
+            }
+            Control::Approach(d) if !(d.is_finite() && d > 0.0) => {
+                return Err(invalid(format!(
+                    "[loading] approach must be positive, got {d} m"
+                )))
+            }
+            _ => {}
+        }
+        if self.speed.is_nan() || self.speed < 0.0 {
+            return Err(invalid(format!(
+                "[loading] speed must be >= 0, got {} m/s",
+                self.speed
+            )));
+        }
+        if !self.direction_rad.is_finite() {
+            return Err(invalid("[loading] direction_deg must be finite"));
+        }
+        if !(self.params.tolerance > 0.0 && self.params.tolerance < 1.0) {
+            return Err(invalid(format!(
+                "[solver] tolerance must be in (0, 1), got {}",
+                self.params.tolerance
+            )));
+        }
+        if self.layer.is_some() && self.formulation == Formulation::Periodic {
+            return Err(invalid(
+                "[layer] is not supported with [solver] formulation = \"periodic\" (use \"non_periodic\")",
+            ));
+        }
+        if self.mesh == MeshKind::Adaptive && self.formulation == Formulation::Periodic {
+            return Err(invalid(
+                "[solver] mesh = \"adaptive\" needs formulation = \"non_periodic\" (the periodic formulation is spectral)",
+            ));
+        }
+        self.adaptive.check().map_err(invalid)?;
+        Ok(())
+    }
+}
+
+/// Bytes the CPU path needs for an `nx x ny` grid, roughly. Non-periodic:
+/// padded FFT buffers and coefficient tables (about 40 grid vectors) plus
+/// the Krylov basis of `restart + 1` vectors. Periodic: the unpadded
+/// transform with its operator and preconditioner spectra, the iteration's
+/// and the solution's grid vectors (about 20; measured 18 at 4096^2) plus
+/// a Krylov basis over a contact set of up to a quarter of the grid (the
+/// cascade starts the fine grid near its final set).
+pub fn memory_estimate(nx: usize, ny: usize, restart: usize, formulation: Formulation) -> u64 {
+    let n = (nx as u64).saturating_mul(ny as u64);
+    let vectors = match formulation {
+        Formulation::NonPeriodic => 48 + restart as u64,
+        Formulation::Periodic => 20 + (restart as u64 + 1).div_ceil(4),
+    };
+    n.saturating_mul(8 * vectors)
+}
+
+pub(super) fn check_memory(
+    nx: usize,
+    ny: usize,
+    restart: usize,
+    formulation: Formulation,
+) -> Result<()> {
+    let need = memory_estimate(nx, ny, restart, formulation);
+    if let Some(avail) = available_memory() {
+        if need > avail {
+            return Err(invalid(format!(
+                "a {nx} x {ny} grid needs about {:.1} GiB of memory, but only {:.1} GiB is available",
+                need as f64 / (1u64 << 30) as f64,
+                avail as f64 / (1u64 << 30) as f64
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}

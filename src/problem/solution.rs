@@ -1,0 +1,338 @@
+//! The result of a solve: fields, scalars, convergence and timings, with
+//! what it records of its problem; it analyses itself (the contact
+//! analysis of paper Section IV), summarises itself (`summary.json`: every
+//! scalar result, convergence, seed, configuration, version, backend, wall
+//! time) and writes itself: maps as `.npy` (axis 0 = x = sliding
+//! direction) and PNG figures, all files of one solve atomically (see
+//! [`crate::io::StagedOutput`]).
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+use serde_json::{json, Value};
+
+use crate::analysis::{self, AnalysisInputs, AnalysisParams, AnalysisReport, ContactStatistics};
+use crate::config::{AnalysisConfig, Formulation};
+use crate::error::Result;
+use crate::io::{npy, StagedOutput};
+use crate::material::Material;
+use crate::plot;
+use crate::solver::{ContactSolution, SolveInfo, WarmStart};
+use crate::surface::Window;
+
+use super::{MeshReport, Problem};
+
+/// Wall-clock split of a solve \[s\].
+#[derive(Debug, Clone, Copy, Serialize, Default)]
+pub struct Timings {
+    pub coefficients_s: f64,
+    pub operator_setup_s: f64,
+    pub iteration_s: f64,
+    pub analysis_s: f64,
+    pub total_s: f64,
+}
+
+/// What a solution keeps of its problem: everything but the height map.
+#[derive(Debug, Clone)]
+struct Record {
+    nx: usize,
+    ny: usize,
+    cell_size: f64,
+    speed: f64,
+    xi: Option<f64>,
+    direction_rad: f64,
+    seed: Option<u64>,
+    formulation: Formulation,
+    material: Material,
+    document: toml::Table,
+    analysis: Option<AnalysisConfig>,
+}
+
+/// Scalar and field results of one solve.
+#[derive(Debug, Clone)]
+pub struct Solution {
+    /// Pressure, displacement, gap and contact on the grid, and the approach.
+    pub fields: ContactSolution,
+    pub info: SolveInfo,
+    pub stats: ContactStatistics,
+    /// `mu = -F_T / F_N` from the exact-work stencil (paper Eq. 9).
+    pub friction_coefficient: f64,
+    /// `mu` from the dissipated power (Appendix A3-A4).
+    pub friction_coefficient_dissipation: f64,
+    /// Which executor ran it.
+    pub backend: String,
+    pub timings: Timings,
+    /// Cells solved for: `nx ny` on the uniform grid, the mesh's cells on
+    /// the adaptive one.
+    pub unknowns: usize,
+    /// The adaptive mesh, when one was used.
+    pub mesh: Option<MeshReport>,
+    /// What the user should know about the validity of the result (also in
+    /// `summary.json`).
+    pub warnings: Vec<String>,
+    record: Record,
+}
+
+impl Solution {
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn new(
+        problem: &Problem,
+        fields: ContactSolution,
+        info: SolveInfo,
+        stats: ContactStatistics,
+        (friction_coefficient, friction_coefficient_dissipation): (f64, f64),
+        backend: String,
+        timings: Timings,
+        unknowns: usize,
+        mesh: Option<MeshReport>,
+    ) -> Self {
+        Self {
+            fields,
+            info,
+            stats,
+            friction_coefficient,
+            friction_coefficient_dissipation,
+            backend,
+            timings,
+            unknowns,
+            mesh,
+            warnings: Vec::new(),
+            record: Record {
+                nx: problem.surface.nx,
+                ny: problem.surface.ny,
+                cell_size: problem.surface.cell_size,
+                speed: problem.speed,
+                xi: problem.xi(),
+                direction_rad: problem.direction_rad,
+                seed: problem.seed,
+                formulation: problem.formulation,
+                material: problem.material.clone(),
+                document: problem.document.clone(),
+                analysis: problem.analysis.clone(),
+            },
+        }
+    }
+
+    /// Grid `(nx, ny)`.
+    pub fn grid(&self) -> (usize, usize) {
+        (self.record.nx, self.record.ny)
+    }
+
+    /// Sliding speed \[m/s\].
+    pub fn speed(&self) -> f64 {
+        self.record.speed
+    }
+
+    /// `xi = v tau / L` for single-relaxation materials.
+    pub fn xi(&self) -> Option<f64> {
+        self.record.xi
+    }
+
+    /// `|mu - mu_d| / |mu_d|` of the two friction routes (absolute when
+    /// `mu_d = 0`).
+    pub fn friction_relative_difference(&self) -> f64 {
+        let (mu, mu_d) = (
+            self.friction_coefficient,
+            self.friction_coefficient_dissipation,
+        );
+        if mu_d != 0.0 {
+            (mu - mu_d).abs() / mu_d.abs()
+        } else {
+            (mu - mu_d).abs()
+        }
+    }
+
+    /// This solution as the warm start of a neighbouring solve on the same
+    /// grid (see [`Problem::solve_from`]).
+    pub fn warm_start(&self) -> WarmStart {
+        WarmStart {
+            contact: self.fields.contact.clone(),
+            pressure: self.fields.pressure.clone(),
+            approach: self.fields.approach,
+        }
+    }
+
+    /// The fields as the contact analysis sees them.
+    pub fn analysis_inputs(&self) -> AnalysisInputs<'_> {
+        let r = &self.record;
+        let lx = r.nx as f64 * r.cell_size;
+        let config = serde_json::to_value(&r.document).unwrap_or(Value::Null);
+        AnalysisInputs {
+            nx: r.nx,
+            ny: r.ny,
+            cell_size: r.cell_size,
+            displacement: &self.fields.displacement,
+            contact: &self.fields.contact,
+            pressure: &self.fields.pressure,
+            scales: analysis::scales_from_config(&config, 2.0 * std::f64::consts::PI / lx),
+            xi: r.xi,
+        }
+    }
+
+    /// The analysis parameters the problem's `[analysis]` section asks for
+    /// (`None` when it is disabled). Periodic solves have periodic fields:
+    /// no taper.
+    pub fn analysis_params(&self) -> Option<AnalysisParams> {
+        let cfg = self.record.analysis.clone().unwrap_or_default();
+        if !cfg.enabled.unwrap_or(true) {
+            return None;
+        }
+        let defaults = AnalysisParams::default();
+        Some(AnalysisParams {
+            zeta1: cfg.zeta1.unwrap_or(defaults.zeta1),
+            zeta2: cfg.zeta2,
+            chi_levels: cfg.chi_levels.unwrap_or(defaults.chi_levels),
+            window: if self.record.formulation == Formulation::Periodic {
+                Window::None
+            } else {
+                defaults.window
+            },
+            ..defaults
+        })
+    }
+
+    /// The contact analysis (paper Eq. 11-13, Fig. 8-10) of this solution.
+    pub fn analyze(&self, params: &AnalysisParams) -> Result<AnalysisReport> {
+        Ok(analysis::analyze(&self.analysis_inputs(), params)?)
+    }
+
+    /// The analysis the problem's `[analysis]` section asks for, `None`
+    /// when it is disabled.
+    pub fn analyze_configured(&self) -> Result<Option<AnalysisReport>> {
+        self.analysis_params().map(|p| self.analyze(&p)).transpose()
+    }
+
+    /// The `summary.json` document without an analysis.
+    pub fn summary(&self) -> Value {
+        self.summary_with(None)
+    }
+
+    /// The `summary.json` document. Key names are fixed: scripts read them.
+    /// With an analysis, its headline numbers appear under `analysis`.
+    pub fn summary_with(&self, analysis: Option<&AnalysisReport>) -> Value {
+        let s = &self.stats;
+        let r = &self.record;
+        let spec = &r.material.spectrum;
+        json!({
+            "friction_coefficient": self.friction_coefficient,
+            "friction_coefficient_dissipation": self.friction_coefficient_dissipation,
+            "friction_relative_difference": self.friction_relative_difference(),
+            "contact_area_fraction": s.contact_area_fraction,
+            "contact_area": s.contact_area,
+            "contact_cells": s.contact_cells,
+            "approach": self.fields.approach,
+            "max_pressure": s.max_pressure,
+            "mean_pressure": s.mean_pressure,
+            "normal_load": s.normal_load,
+            "pressure_centroid": s.pressure_centroid,
+            "speed": r.speed,
+            "xi": r.xi,
+            "direction_deg": r.direction_rad.to_degrees(),
+            "grid": [r.nx, r.ny],
+            "cell_size": r.cell_size,
+            "length": [r.nx as f64 * r.cell_size, r.ny as f64 * r.cell_size],
+            "unknowns": self.unknowns,
+            "mesh": self.mesh,
+            "iterations": self.info.iterations,
+            "matvecs": self.info.matvecs,
+            "preconditioner_applications": self.info.preconditioner_applications,
+            "matvecs_by_level": self.info.levels,
+            "residual": self.info.residual,
+            "load_error": self.info.load_error,
+            "residual_history": self.info.history,
+            "contact_history": self.info.contact_history,
+            "backend": self.backend,
+            "wall_time_s": self.timings.total_s,
+            "timings": self.timings,
+            "seed": r.seed,
+            "version": crate::VERSION,
+            "formulation": r.formulation,
+            "material": {
+                "relaxed_modulus": spec.relaxed_modulus(),
+                "glassy_modulus": spec.glassy_modulus,
+                "poisson": r.material.poisson,
+                "creep_spectrum": spec.terms.iter().map(|t| [t.compliance, t.time]).collect::<Vec<_>>(),
+            },
+            "config": r.document,
+            "analysis": analysis.map(analysis_headline),
+            "warnings": self.warnings,
+        })
+    }
+
+    /// Write every output of this solve into `dir`, the configured analysis
+    /// included: all files appear together or not at all. Returns the
+    /// written paths.
+    pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        let report = self.analyze_configured()?;
+        let (nx, ny, a) = (self.record.nx, self.record.ny, self.record.cell_size);
+        let mut staged = StagedOutput::new(dir)?;
+        let doc = self.summary_with(report.as_ref());
+        staged.write(
+            "summary.json",
+            serde_json::to_string_pretty(&doc)
+                .expect("summary is serialisable")
+                .as_bytes(),
+        )?;
+        let sol = &self.fields;
+        for (name, field) in [
+            ("pressure.npy", &sol.pressure),
+            ("displacement.npy", &sol.displacement),
+            ("gap.npy", &sol.gap),
+            ("contact.npy", &sol.contact),
+        ] {
+            staged.write(name, &npy::encode_f64(&[nx, ny], field))?;
+        }
+        let extent = (0.0, nx as f64 * a, 0.0, ny as f64 * a);
+        let title_suffix = match self.record.xi {
+            Some(xi) => format!("xi = {xi:.3e}"),
+            None => format!("v = {:.3e} m/s", self.record.speed),
+        };
+        let p = staged.path("pressure.png");
+        plot::heatmap(
+            &p,
+            &format!("Contact pressure, {title_suffix}"),
+            &plot::Field {
+                nx,
+                ny,
+                values: &sol.pressure,
+                extent,
+            },
+            "p [Pa]",
+            None,
+        )?;
+        let c = staged.path("contact.png");
+        plot::heatmap(
+            &c,
+            &format!(
+                "Contact area (A/A0 = {:.4}), {title_suffix}",
+                self.stats.contact_area_fraction
+            ),
+            &plot::Field {
+                nx,
+                ny,
+                values: &sol.contact,
+                extent,
+            },
+            "in contact",
+            None,
+        )?;
+        if let Some(r) = &report {
+            analysis::write_analysis(&mut staged, &self.analysis_inputs(), r)?;
+        }
+        Ok(staged.commit()?)
+    }
+}
+
+/// The headline numbers of an analysis, as recorded in `summary.json`.
+fn analysis_headline(r: &AnalysisReport) -> Value {
+    json!({
+        "gamma": r.gamma,
+        "theta_p_deg": r.theta_p_deg,
+        "m20": r.m20,
+        "m02": r.m02,
+        "m11": r.m11,
+        "lambda": r.lambda,
+        "ellipse_angle_deg": r.ellipse_angle_deg,
+        "spots": r.spots.count,
+    })
+}

@@ -1,0 +1,619 @@
+//! The one path through a solve: the operator is chosen by formulation x
+//! mesh ([`Discretisation`]), the executor by backend ([`Executor`]), and
+//! every path runs the constrained iteration through one function
+//! (`Problem::iterate`, the only caller of [`solver::solve_from`]); the
+//! friction by both routes, the contact statistics and the timings are then
+//! computed once for all paths.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use crate::analysis::{self, ContactStatistics};
+use crate::backend::gpu::engine::Engine;
+use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuLevelTables, GpuOptions};
+use crate::backend::{Backend, BackendChoice, CpuBackend};
+use crate::config::{Formulation, MeshKind};
+use crate::error::{Error, Result};
+use crate::kernel::{Axis, SlidingKernel};
+use crate::operator::{AdaptiveOperator, LevelTables, OffsetTable, SpectralPeriodic, ToeplitzFft};
+use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, WarmStart};
+
+use super::adaptive::{solve_adaptive, AdaptiveParams, MeshReport};
+use super::{Problem, Solution, Timings};
+
+/// Grids of the coarse-to-fine cascade: the fine grid halved while even,
+/// down to this many cells a side at least.
+const CASCADE_COARSEST: usize = 64;
+
+fn invalid(msg: impl Into<String>) -> Error {
+    Error::Invalid(msg.into())
+}
+
+/// Who runs the iteration.
+#[derive(Clone)]
+pub enum Executor {
+    /// The CPU reference path (rayon, rustfft), f64.
+    Cpu,
+    /// A GPU device (wgpu), f32 vectors.
+    Gpu(GpuContext),
+}
+
+impl std::fmt::Debug for Executor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Executor::Cpu => write!(f, "Executor::Cpu"),
+            Executor::Gpu(ctx) => write!(f, "Executor::Gpu({})", ctx.adapter),
+        }
+    }
+}
+
+impl Executor {
+    /// Resolve a backend choice for `problem`: `auto` takes a GPU when one
+    /// exists, the problem fits on it and it is not emulated on the CPU.
+    /// Returns the executor and a line saying which was picked and why.
+    pub fn select(choice: BackendChoice, problem: &Problem) -> Result<(Executor, String)> {
+        let (nx, ny) = (problem.surface.nx, problem.surface.ny);
+        Ok(match choice {
+            BackendChoice::Cpu => (Executor::Cpu, "backend: cpu".into()),
+            BackendChoice::Gpu => {
+                let ctx = GpuContext::open()?;
+                let line = format!("backend: gpu, adapter {}", ctx.adapter);
+                (Executor::Gpu(ctx), line)
+            }
+            BackendChoice::Auto => match GpuContext::open()
+                .and_then(|ctx| GpuBackend::check_fits(&ctx, nx, ny).map(|()| ctx))
+            {
+                Ok(ctx) if ctx.adapter.device_type == "Cpu" => (
+                    Executor::Cpu,
+                    format!(
+                        "backend: cpu (auto: the only adapter, {}, is emulated on the CPU and slower than the CPU backend; --backend gpu forces it)",
+                        ctx.adapter
+                    ),
+                ),
+                Ok(ctx) => {
+                    let line = format!("backend: gpu (auto), adapter {}", ctx.adapter);
+                    (Executor::Gpu(ctx), line)
+                }
+                Err(e) => (Executor::Cpu, format!("backend: cpu (auto: {e})")),
+            },
+        })
+    }
+}
+
+/// The operator a problem is solved with: formulation x mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Discretisation {
+    /// Non-periodic, uniform grid: Toeplitz operator, FFT matvec (paper Eq. 6-7).
+    Uniform,
+    /// Periodic cell, spectral operator (paper Appendix, Eq. A1-A2).
+    Periodic,
+    /// Non-periodic on an adaptive quadtree: pairwise level-table operator.
+    Adaptive,
+}
+
+/// What every path hands to the common finish.
+pub(super) struct Raw {
+    pub solution: ContactSolution,
+    pub info: SolveInfo,
+    pub backend: String,
+    pub mesh: Option<MeshReport>,
+    /// Coefficient tables \[s\].
+    pub t_coeff: f64,
+    /// Operator set-up \[s\]; `None`: the time not accounted for otherwise
+    /// (the adaptive mesh's rounds).
+    pub t_setup: Option<f64>,
+    /// Iteration \[s\].
+    pub t_iter: f64,
+}
+
+impl Problem {
+    /// The operator this problem is solved with.
+    pub fn discretisation(&self) -> Discretisation {
+        match (self.formulation, self.mesh) {
+            (Formulation::Periodic, _) => Discretisation::Periodic,
+            (Formulation::NonPeriodic, MeshKind::Uniform) => Discretisation::Uniform,
+            (Formulation::NonPeriodic, MeshKind::Adaptive) => Discretisation::Adaptive,
+        }
+    }
+
+    /// Solve on `executor`; `observer` sees every outer iteration.
+    pub fn solve(&self, executor: &Executor, observer: &mut dyn Observer) -> Result<Solution> {
+        self.solve_from(executor, None, observer)
+    }
+
+    /// [`Problem::solve`] from a warm start (a previous solution's contact
+    /// set, pressure and approach on this grid, e.g. from
+    /// [`Solution::warm_start`] of a neighbouring speed or load); the start
+    /// changes the path, not the solution. The adaptive mesh warm-starts
+    /// each round from the previous one and takes no outside start.
+    pub fn solve_from(
+        &self,
+        executor: &Executor,
+        start: Option<&WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Solution> {
+        self.check()?;
+        let t0 = Instant::now();
+        let kind = self.discretisation();
+        if let Some(w) = start {
+            let n = self.surface.nx * self.surface.ny;
+            if kind == Discretisation::Adaptive {
+                return Err(invalid(
+                    "the adaptive mesh takes no warm start (its rounds warm-start each other); use mesh = \"uniform\"",
+                ));
+            }
+            if w.pressure.len() != n || w.contact.len() != n {
+                return Err(invalid(format!(
+                    "the warm start has {} cells, the {} x {} grid needs {n}",
+                    w.pressure.len(),
+                    self.surface.nx,
+                    self.surface.ny
+                )));
+            }
+        }
+        let raw = match (kind, executor) {
+            (Discretisation::Periodic, Executor::Cpu) => self.periodic_cpu(start, observer)?,
+            (Discretisation::Periodic, Executor::Gpu(_)) => {
+                return Err(invalid(
+                    "the GPU path solves the non-periodic formulation; use --backend cpu for formulation = \"periodic\"",
+                ))
+            }
+            (Discretisation::Uniform, Executor::Cpu) => self.uniform_cpu(start, observer)?,
+            (Discretisation::Uniform, Executor::Gpu(ctx)) => {
+                self.uniform_gpu(ctx.clone(), start, observer)?
+            }
+            (Discretisation::Adaptive, Executor::Cpu) => self.adaptive_cpu(observer)?,
+            (Discretisation::Adaptive, Executor::Gpu(ctx)) => {
+                self.adaptive_gpu(ctx.clone(), observer)?
+            }
+        };
+        self.finish(raw, t0)
+    }
+
+    /// The constrained iteration (paper Eq. 6-7 with `p >= 0`) of this
+    /// problem on `backend` (`l00` the self coefficient, `g` the gap profile
+    /// over the backend's unknowns) at the relative tolerance `tolerance`:
+    /// the one call of the solver for every discretisation and executor.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn iterate<B: Backend>(
+        &self,
+        backend: &mut B,
+        g: &[f64],
+        l00: f64,
+        tolerance: f64,
+        start: Option<&WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> std::result::Result<(ContactSolution, SolveInfo), SolverError> {
+        let a = self.surface.cell_size;
+        let params = solver::SolverParams {
+            tolerance,
+            ..self.params.clone()
+        };
+        solver::solve_from(
+            backend,
+            g,
+            a * a,
+            l00,
+            self.control,
+            &params,
+            start,
+            observer,
+        )
+    }
+
+    /// [`Problem::iterate`] over the whole grid at the problem's tolerance,
+    /// timed.
+    fn iterate_grid<B: Backend>(
+        &self,
+        backend: &mut B,
+        l00: f64,
+        start: Option<&WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<(ContactSolution, SolveInfo, f64)> {
+        let t = Instant::now();
+        let g = self.gap_profile();
+        let (solution, info) =
+            self.iterate(backend, &g, l00, self.params.tolerance, start, observer)?;
+        Ok((solution, info, t.elapsed().as_secs_f64()))
+    }
+
+    /// Whether a solve without an outside start runs as a coarse-to-fine
+    /// cascade (uniform CPU grids, `cascade_levels > 1`, a grid side that
+    /// halves at least once to 64 cells or more). An outside start (a
+    /// neighbouring speed, or a coarser grid's solution prolonged with
+    /// [`WarmStart::prolonged`]) replaces the coarse grids.
+    fn cascades(&self, start: Option<&WarmStart>) -> bool {
+        let (nx, ny) = (self.surface.nx, self.surface.ny);
+        start.is_none()
+            && solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.params.cascade_levels)
+                .len()
+                > 1
+    }
+
+    /// The constrained iteration as a coarse-to-fine cascade
+    /// ([`solver::solve_cascade`]) on CPU backends built by
+    /// `build(nx, ny, cell_size)` (the backend and its self coefficient);
+    /// the coarse grids' gap profiles are the fine one's 2 x 2 block means
+    /// (any surface, files included, and no band limit to meet). Returns
+    /// the solution, its report (fine-grid-equivalent matvecs) and the
+    /// iteration's wall time \[s\], the coarse grids' set-up included.
+    fn iterate_cascade<Op, F>(
+        &self,
+        observer: &mut dyn Observer,
+        mut build: F,
+    ) -> Result<(ContactSolution, SolveInfo, f64)>
+    where
+        Op: crate::operator::GridOperator,
+        F: FnMut(usize, usize, f64) -> (CpuBackend<Op>, f64),
+    {
+        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
+        let t = Instant::now();
+        let shapes =
+            solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.params.cascade_levels);
+        let mut gaps = vec![self.gap_profile()];
+        for w in shapes.windows(2).rev() {
+            let (fx, fy) = w[1];
+            let coarse = solver::cascade::restrict_mean(gaps.last().expect("fine gap"), fx, fy);
+            gaps.push(coarse);
+        }
+        gaps.reverse();
+        let (solution, info) = solver::solve_cascade(
+            &shapes,
+            |k, (lx, ly)| {
+                let cell = a * (nx / lx) as f64;
+                let (backend, l00) = build(lx, ly, cell);
+                Ok(solver::CascadeLevel {
+                    backend,
+                    gap: std::mem::take(&mut gaps[k]),
+                    cell_area: cell * cell,
+                    self_coefficient: l00,
+                })
+            },
+            self.control,
+            &self.params,
+            None,
+            observer,
+        )?;
+        Ok((solution, info, t.elapsed().as_secs_f64()))
+    }
+
+    /// Uniform grid on the CPU: the host coefficient table, Toeplitz-FFT.
+    fn uniform_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
+        let t0 = Instant::now();
+        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
+        let kernel = self.sliding_kernel()?;
+        let table = kernel.table(nx, ny, a);
+        let t_coeff = t0.elapsed().as_secs_f64();
+        let mut fine = Some(table);
+        // The fine grid's table is computed once; coarse grids' on demand.
+        let mut build = |nx: usize, ny: usize, a: f64| {
+            let table = match fine.take() {
+                Some(t) if t.nx == nx && t.ny == ny => t,
+                _ => kernel.table(nx, ny, a),
+            };
+            let tab = OffsetTable {
+                nx,
+                ny,
+                values: &table.values,
+            };
+            let l00 = tab.get(0, 0);
+            (
+                CpuBackend::new(ToeplitzFft::new(tab).with_preconditioner()),
+                l00,
+            )
+        };
+        let (solution, info, t_iter) = if self.cascades(start) {
+            self.iterate_cascade(observer, build)?
+        } else {
+            let (mut backend, l00) = build(nx, ny, a);
+            self.iterate_grid(&mut backend, l00, start, observer)?
+        };
+        let t_setup = 0.0;
+        Ok(Raw {
+            solution,
+            info,
+            backend: "cpu".into(),
+            mesh: None,
+            t_coeff,
+            t_setup: Some(t_setup),
+            t_iter,
+        })
+    }
+
+    /// Uniform grid on the GPU (f32 on the device): the coefficient table
+    /// of a half-space computed on the device (`shaders/coefficients.wgsl`,
+    /// about 4e-7 relative to the host table; a finite layer's table on the
+    /// host), its spectrum on the host in f64.
+    fn uniform_gpu(
+        &self,
+        ctx: GpuContext,
+        start: Option<&WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Raw> {
+        let t0 = Instant::now();
+        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
+        let kernel = self.sliding_kernel()?;
+        let mut engine = Engine::new(ctx);
+        let table = match self.layer {
+            None => coefficients::coefficient_table(
+                &mut engine,
+                &self.material,
+                kernel.params(),
+                nx,
+                ny,
+                a,
+            )?,
+            Some(_) => kernel.table(nx, ny, a).values,
+        };
+        let t_coeff = t0.elapsed().as_secs_f64();
+        let l00 = OffsetTable {
+            nx,
+            ny,
+            values: &table,
+        }
+        .get(0, 0);
+        let mut backend = GpuBackend::with_engine(engine, nx, ny, &table, GpuOptions::default())?;
+        let name = backend.name();
+        let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
+        let (solution, info, t_iter) = self.iterate_grid(&mut backend, l00, start, observer)?;
+        Ok(Raw {
+            solution,
+            info,
+            backend: name,
+            mesh: None,
+            t_coeff,
+            t_setup: Some(t_setup),
+            t_iter,
+        })
+    }
+
+    /// A periodic cell solved spectrally (paper Appendix, Eq. A1-A2) on the
+    /// CPU: the same iteration on the [`SpectralPeriodic`] operator.
+    fn periodic_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
+        let t0 = Instant::now();
+        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
+        let (m, v, dir) = (&self.material, self.speed, self.direction_rad);
+        let build = |nx, ny, a| {
+            let op = SpectralPeriodic::new(nx, ny, a, m, v, dir).with_preconditioner();
+            let l00 = op.self_coefficient();
+            (CpuBackend::new(op), l00)
+        };
+        let t_setup = t0.elapsed().as_secs_f64();
+        let (solution, info, t_iter) = if self.cascades(start) {
+            self.iterate_cascade(observer, build)?
+        } else {
+            let (mut backend, l00) = build(nx, ny, a);
+            self.iterate_grid(&mut backend, l00, start, observer)?
+        };
+        Ok(Raw {
+            solution,
+            info,
+            backend: "cpu".into(),
+            mesh: None,
+            t_coeff: 0.0,
+            t_setup: Some(t_setup),
+            t_iter,
+        })
+    }
+
+    /// The adaptive quadtree ([`crate::mesh`]; physics.md section 7) with the
+    /// pairwise CPU operator: level tables once, then solve-certify-refine
+    /// rounds. The fields come back on the fine grid.
+    fn adaptive_cpu(&self, observer: &mut dyn Observer) -> Result<Raw> {
+        let t0 = Instant::now();
+        let plan = AdaptivePlan::new(self)?;
+        let t_coeff = t0.elapsed().as_secs_f64();
+        let mut t_iter = 0.0;
+        let result = solve_adaptive(
+            &self.gap_profile(),
+            plan.tables.clone(),
+            &plan.params,
+            self.params.tolerance,
+            |mesh, g_mesh, start, tol| {
+                let t = Instant::now();
+                let mut backend = CpuBackend::new(AdaptiveOperator::new(plan.tables.clone(), mesh));
+                let r = self.iterate(&mut backend, g_mesh, plan.l00, tol, start, observer);
+                t_iter += t.elapsed().as_secs_f64();
+                r
+            },
+        )
+        .map_err(|e| invalid(e.to_string()))?;
+        Ok(Raw {
+            solution: result.solution,
+            info: result.info,
+            backend: "cpu (adaptive mesh)".into(),
+            mesh: Some(result.report),
+            t_coeff,
+            t_setup: None,
+            t_iter,
+        })
+    }
+
+    /// The adaptive mesh on the GPU: the level tables computed on the device
+    /// once (`shaders/level_table.wgsl`, `shaders/level_box_sum.wgsl`, f32)
+    /// and each round's iteration there with the pairwise operator that
+    /// reads them (`shaders/level_matvec.wgsl`); each round's certificate
+    /// uses the host's f64 level tables. Half-spaces only.
+    fn adaptive_gpu(&self, ctx: GpuContext, observer: &mut dyn Observer) -> Result<Raw> {
+        if self.layer.is_some() {
+            return Err(invalid(
+                "the GPU adaptive operator covers half-spaces only; use --backend cpu with [layer]",
+            ));
+        }
+        let t0 = Instant::now();
+        let plan = AdaptivePlan::new(self)?;
+        let mut eng = Engine::new(ctx);
+        let (nx, ny) = plan.tables.shape();
+        let tables = GpuLevelTables::new(
+            &mut eng,
+            &self.material,
+            plan.kernel.params(),
+            nx,
+            ny,
+            plan.tables.cell_size(),
+            plan.tables.max_level(),
+        )?;
+        let t_coeff = t0.elapsed().as_secs_f64();
+        let mut engine = Some(eng);
+        let mut name = String::new();
+        let mut t_iter = 0.0;
+        let mut gpu_error: Option<String> = None;
+        let result = solve_adaptive(
+            &self.gap_profile(),
+            plan.tables.clone(),
+            &plan.params,
+            self.params.tolerance,
+            |mesh, g_mesh, start, tol| {
+                let t = Instant::now();
+                let eng = engine.take().expect("engine returned after each round");
+                let mut backend = match GpuBackend::with_level_tables(eng, &tables, mesh) {
+                    Ok(b) => b,
+                    Err(e) => {
+                        gpu_error = Some(e.to_string());
+                        return Err(SolverError::Invalid(e.to_string()));
+                    }
+                };
+                name = backend.name();
+                let r = self.iterate(&mut backend, g_mesh, plan.l00, tol, start, observer);
+                engine = Some(backend.into_engine());
+                t_iter += t.elapsed().as_secs_f64();
+                r
+            },
+        )
+        .map_err(|e| invalid(gpu_error.clone().unwrap_or_else(|| e.to_string())))?;
+        Ok(Raw {
+            solution: result.solution,
+            info: result.info,
+            backend: format!("{name} (adaptive mesh)"),
+            mesh: Some(result.report),
+            t_coeff,
+            t_setup: None,
+            t_iter,
+        })
+    }
+
+    /// Friction by both routes, contact statistics and timings of any path.
+    fn finish(&self, raw: Raw, t0: Instant) -> Result<Solution> {
+        let t2 = Instant::now();
+        let (mu, mu_d, stats) = self.friction_and_stats(&raw.solution)?;
+        let t_an = t2.elapsed().as_secs_f64();
+        let total = t0.elapsed().as_secs_f64();
+        let unknowns = raw
+            .mesh
+            .as_ref()
+            .map_or(self.surface.nx * self.surface.ny, |m| m.unknowns);
+        let timings = Timings {
+            coefficients_s: raw.t_coeff,
+            operator_setup_s: raw
+                .t_setup
+                .unwrap_or(total - raw.t_coeff - raw.t_iter - t_an),
+            iteration_s: raw.t_iter,
+            analysis_s: t_an,
+            total_s: total,
+        };
+        Ok(Solution::new(
+            self,
+            raw.solution,
+            raw.info,
+            stats,
+            (mu, mu_d),
+            raw.backend,
+            timings,
+            unknowns,
+            raw.mesh,
+        ))
+    }
+
+    /// `mu = -F_T / F_N` by the exact-work stencil (paper Eq. 9) and by the
+    /// dissipated power (Appendix A3-A4), and the contact statistics. The
+    /// periodic formulation uses the spectral slope and the Fourier
+    /// dissipation sum.
+    pub fn friction_and_stats(
+        &self,
+        solution: &ContactSolution,
+    ) -> Result<(f64, f64, ContactStatistics)> {
+        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
+        let stats = analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, a);
+        let load = stats.normal_load;
+        let (m, v, dir) = (&self.material, self.speed, self.direction_rad);
+        if self.formulation == Formulation::Periodic {
+            let mut slope = SpectralPeriodic::sliding_slope(nx, ny, a, m, v, dir);
+            let force = analysis::friction_force_stencil(&mut slope, &solution.pressure, a);
+            let force_d =
+                analysis::friction_force_periodic(&solution.pressure, nx, ny, a, m, v, dir);
+            return Ok((-force / load, -force_d / load, stats));
+        }
+        if load.is_nan() || load <= 0.0 {
+            return Err(invalid(
+                "the solution carries no load: the surfaces do not touch",
+            ));
+        }
+        let kernel = self.sliding_kernel()?;
+        let (c, s) = (dir.cos(), dir.sin());
+        let mut force = 0.0;
+        for (axis, w) in [(Axis::X, c), (Axis::Y, s)] {
+            if w.abs() < 1e-15 {
+                continue;
+            }
+            let d = kernel.derivative_table(nx, ny, a, axis);
+            let mut op = ToeplitzFft::new(OffsetTable {
+                nx,
+                ny,
+                values: &d.values,
+            });
+            force += w * analysis::friction_force_stencil(&mut op, &solution.pressure, a);
+        }
+        let force_d = analysis::friction::friction_force_dissipation_layered(
+            &solution.pressure,
+            nx,
+            ny,
+            a,
+            &m.spectrum,
+            m.poisson,
+            v,
+            dir,
+            self.layer.as_ref(),
+        );
+        Ok((-force / load, -force_d / load, stats))
+    }
+}
+
+/// What both adaptive executors share: the kernel, the level tables of the
+/// fine grid (also the certificate's), the self coefficient and the mesh
+/// controls clamped to the grid.
+struct AdaptivePlan {
+    kernel: SlidingKernel,
+    tables: Arc<LevelTables>,
+    l00: f64,
+    params: AdaptiveParams,
+}
+
+impl AdaptivePlan {
+    fn new(problem: &Problem) -> Result<Self> {
+        let (nx, ny, a) = (
+            problem.surface.nx,
+            problem.surface.ny,
+            problem.surface.cell_size,
+        );
+        let kernel = problem.sliding_kernel()?;
+        let max_level = problem.adaptive.max_level.min(max_level_for(nx, ny));
+        let tables = Arc::new(LevelTables::new(&kernel, nx, ny, a, max_level)?);
+        let l00 = tables.coefficient(0, 0, 0);
+        let params = AdaptiveParams {
+            max_level,
+            ..problem.adaptive
+        };
+        Ok(Self {
+            kernel,
+            tables,
+            l00,
+            params,
+        })
+    }
+}
+
+/// Coarsest useful level: blocks no larger than the grid.
+fn max_level_for(nx: usize, ny: usize) -> u8 {
+    let m = nx.min(ny).max(1);
+    (usize::BITS - 1 - m.leading_zeros()) as u8
+}

@@ -1,0 +1,369 @@
+//! The import graph of `src/` (docs/ARCHITECTURE.md): every `use` and
+//! every `crate::` path in code (comments and doc links excluded) must point
+//! to the importing module's own layer or a lower one, and the files must
+//! form no circle. A parent module declaring or re-exporting its children
+//! is not an import; a child using its parent's items is.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// Top-level modules from the bottom up; a module may import its own
+/// layer's module and anything in a lower layer, nothing above.
+const LAYERS: &[&[&str]] = &[
+    &["io", "plot"],
+    &["config"],
+    &["material"],
+    &["surface"],
+    &["mesh"],
+    &["kernel"],
+    &["operator"],
+    &["backend"],
+    &["solver"],
+    &["analysis"],
+    &["error"],
+    &["problem"],
+    &["sweep"],
+    &["cli"],
+];
+
+/// Items of the crate root that any module may name.
+const ROOT_ITEMS: &[&str] = &["VERSION"];
+
+/// Root re-exports and the module they come from.
+const ROOT_ALIASES: &[(&str, &str)] = &[("Error", "error"), ("Result", "error")];
+
+fn layer_of(module: &str) -> usize {
+    LAYERS
+        .iter()
+        .position(|l| l.contains(&module))
+        .unwrap_or_else(|| panic!("module `{module}` is in no layer of tests/architecture.rs"))
+}
+
+fn src() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
+}
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// Module path of a file: `src/a/b.rs` and `src/a/b/mod.rs` are `[a, b]`.
+fn module_path(file: &Path) -> Vec<String> {
+    let rel = file.strip_prefix(src()).unwrap();
+    let mut parts: Vec<String> = rel
+        .iter()
+        .map(|c| c.to_string_lossy().trim_end_matches(".rs").to_string())
+        .collect();
+    if parts
+        .last()
+        .is_some_and(|l| l == "mod" || l == "lib" || l == "main")
+    {
+        parts.pop();
+    }
+    parts
+}
+
+/// The code of a file without comments and string literals.
+fn code_of(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let b = text.as_bytes();
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'/' && b.get(i + 1) == Some(&b'/') {
+            while i < b.len() && b[i] != b'\n' {
+                i += 1;
+            }
+        } else if b[i] == b'/' && b.get(i + 1) == Some(&b'*') {
+            i += 2;
+            while i + 1 < b.len() && !(b[i] == b'*' && b[i + 1] == b'/') {
+                i += 1;
+            }
+            i += 2;
+        } else if b[i] == b'"' {
+            i += 1;
+            while i < b.len() && b[i] != b'"' {
+                if b[i] == b'\\' {
+                    i += 1;
+                }
+                i += 1;
+            }
+            i += 1;
+            out.push_str("\"\"");
+        } else if b[i] == b'\'' && b.get(i + 2) == Some(&b'\'') {
+            // A char literal such as '{' or '/'.
+            i += 3;
+        } else {
+            out.push(b[i] as char);
+            i += 1;
+        }
+    }
+    out
+}
+
+/// Expand `a::{b, c::{d, e}}` into `a::b`, `a::c::d`, `a::c::e`.
+fn expand(tree: &str) -> Vec<String> {
+    let tree = tree.trim();
+    let Some(open) = tree.find('{') else {
+        let t = tree.split(" as ").next().unwrap().trim();
+        return if t.is_empty() {
+            vec![]
+        } else {
+            vec![t.to_string()]
+        };
+    };
+    let prefix = tree[..open].trim_end_matches("::").trim();
+    let inner = &tree[open + 1..tree.rfind('}').unwrap()];
+    let mut items = Vec::new();
+    let (mut depth, mut start) = (0, 0);
+    for (k, c) in inner.char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => depth -= 1,
+            ',' if depth == 0 => {
+                items.push(&inner[start..k]);
+                start = k + 1;
+            }
+            _ => {}
+        }
+    }
+    items.push(&inner[start..]);
+    items
+        .into_iter()
+        .flat_map(expand)
+        .map(|s| {
+            if s == "self" {
+                prefix.to_string()
+            } else {
+                format!("{prefix}::{s}")
+            }
+        })
+        .collect()
+}
+
+/// Every path a file names: its `use` trees expanded, and every `crate::`
+/// or `super::` path elsewhere in its code.
+fn paths_of(code: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut rest = code;
+    let mut plain = String::new();
+    while let Some(k) = rest.find("use ") {
+        let before = &rest[..k];
+        let at_word = before
+            .chars()
+            .last()
+            .is_none_or(|c| !(c.is_alphanumeric() || c == '_'));
+        plain.push_str(before);
+        if !at_word {
+            plain.push_str("use ");
+            rest = &rest[k + 4..];
+            continue;
+        }
+        let end = rest[k..].find(';').map_or(rest.len(), |e| k + e);
+        out.extend(expand(&rest[k + 4..end]));
+        rest = &rest[end..];
+    }
+    plain.push_str(rest);
+    for prefix in ["crate::", "super::"] {
+        let mut s = plain.as_str();
+        while let Some(k) = s.find(prefix) {
+            let tail = &s[k..];
+            let end = tail
+                .find(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
+                .unwrap_or(tail.len());
+            out.push(tail[..end].trim_end_matches(':').to_string());
+            s = &s[k + prefix.len()..];
+        }
+    }
+    out
+}
+
+/// The module a path names, relative to the module `here` (`None` for
+/// external crates and `std`).
+fn resolve(path: &str, here: &[String], is_mod_file: bool) -> Option<Vec<String>> {
+    let mut parts: Vec<&str> = path.split("::").map(str::trim).collect();
+    let mut base: Vec<String> = match parts[0] {
+        "crate" => {
+            parts.remove(0);
+            vec![]
+        }
+        "super" | "self" => {
+            // `super` in a.rs and in a/mod.rs both name a's parent.
+            let mut b = here.to_vec();
+            let _ = is_mod_file;
+            while parts.first() == Some(&"super") {
+                b.pop();
+                parts.remove(0);
+            }
+            if parts.first() == Some(&"self") {
+                parts.remove(0);
+            }
+            b
+        }
+        _ => return None,
+    };
+    if base.is_empty() {
+        if let Some(first) = parts.first() {
+            if ROOT_ITEMS.contains(first) {
+                return Some(vec![]);
+            }
+            if let Some((_, m)) = ROOT_ALIASES.iter().find(|(a, _)| a == first) {
+                return Some(vec![m.to_string()]);
+            }
+        }
+    }
+    base.extend(parts.iter().map(|p| p.to_string()));
+    Some(base)
+}
+
+/// The deepest module file that exists along `path`.
+fn module_file(path: &[String], files: &BTreeMap<Vec<String>, PathBuf>) -> Option<Vec<String>> {
+    (0..=path.len())
+        .rev()
+        .map(|n| path[..n].to_vec())
+        .find(|p| files.contains_key(p))
+}
+
+struct Graph {
+    /// Module path -> file.
+    files: BTreeMap<Vec<String>, PathBuf>,
+    /// File module -> the file modules it imports.
+    edges: BTreeMap<Vec<String>, BTreeSet<Vec<String>>>,
+}
+
+fn graph() -> Graph {
+    let mut all = Vec::new();
+    rust_files(&src(), &mut all);
+    all.retain(|p| !p.ends_with("main.rs"));
+    let files: BTreeMap<Vec<String>, PathBuf> =
+        all.iter().map(|p| (module_path(p), p.clone())).collect();
+    let mut edges = BTreeMap::new();
+    for (module, file) in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        // Unit tests are not part of the layering.
+        let text = match text.find("#[cfg(test)]") {
+            Some(k) => &text[..k],
+            None => &text[..],
+        };
+        let is_mod = file.ends_with("mod.rs") || file.ends_with("lib.rs");
+        let mut to = BTreeSet::new();
+        for p in paths_of(&code_of(text)) {
+            let Some(target) = resolve(&p, module, is_mod) else {
+                continue;
+            };
+            let Some(target) = module_file(&target, &files) else {
+                continue;
+            };
+            // A parent naming its own children declares or re-exports them.
+            let is_child = target.len() > module.len() && target.starts_with(module);
+            if target != *module && !is_child {
+                to.insert(target);
+            }
+        }
+        edges.insert(module.clone(), to);
+    }
+    Graph { files, edges }
+}
+
+#[test]
+fn imports_point_down_the_layers() {
+    let g = graph();
+    let mut upward = Vec::new();
+    for (from, tos) in &g.edges {
+        let Some(from_top) = from.first() else {
+            continue;
+        };
+        for to in tos {
+            let Some(to_top) = to.first() else {
+                continue;
+            };
+            if to_top == from_top {
+                continue;
+            }
+            if layer_of(to_top) >= layer_of(from_top) {
+                upward.push(format!("{} -> {}", from.join("::"), to.join("::")));
+            }
+        }
+    }
+    assert!(
+        upward.is_empty(),
+        "imports that do not point to a lower layer:\n{}",
+        upward.join("\n")
+    );
+    // Every top-level module has a layer.
+    for m in g.files.keys().filter_map(|k| k.first()) {
+        layer_of(m);
+    }
+}
+
+#[test]
+fn the_files_form_no_circle() {
+    let g = graph();
+    // Depth-first search with colours; report the first circle found.
+    fn visit(
+        n: &Vec<String>,
+        g: &Graph,
+        state: &mut BTreeMap<Vec<String>, u8>,
+        stack: &mut Vec<Vec<String>>,
+    ) -> Option<Vec<Vec<String>>> {
+        state.insert(n.clone(), 1);
+        stack.push(n.clone());
+        for m in g.edges.get(n).into_iter().flatten() {
+            match state.get(m).copied().unwrap_or(0) {
+                1 => {
+                    let k = stack.iter().position(|s| s == m).unwrap();
+                    let mut c = stack[k..].to_vec();
+                    c.push(m.clone());
+                    return Some(c);
+                }
+                0 => {
+                    if let Some(c) = visit(m, g, state, stack) {
+                        return Some(c);
+                    }
+                }
+                _ => {}
+            }
+        }
+        stack.pop();
+        state.insert(n.clone(), 2);
+        None
+    }
+    let mut state = BTreeMap::new();
+    for n in g.edges.keys() {
+        if state.get(n).copied().unwrap_or(0) == 0 {
+            if let Some(c) = visit(n, &g, &mut state, &mut Vec::new()) {
+                let names: Vec<String> = c.iter().map(|m| m.join("::")).collect();
+                panic!("import circle: {}", names.join(" -> "));
+            }
+        }
+    }
+}
+
+/// The checker itself: a made-up circle and an upward import are found.
+#[test]
+fn the_checker_sees_circles_and_upward_imports() {
+    assert_eq!(
+        expand("crate::a::{b, c::{d as e, self}}"),
+        vec!["crate::a::b", "crate::a::c::d", "crate::a::c"]
+    );
+    let code =
+        code_of("// use crate::cli;\nuse crate::config::Config;\nfn f() { crate::io::x(); }\n");
+    let paths = paths_of(&code);
+    assert_eq!(paths, vec!["crate::config::Config", "crate::io::x"]);
+    assert!(layer_of("config") < layer_of("problem"));
+    let here = vec!["analysis".to_string(), "fields".to_string()];
+    assert_eq!(
+        resolve("super::report::AnalysisReport", &here, false),
+        Some(vec![
+            "analysis".into(),
+            "report".into(),
+            "AnalysisReport".into()
+        ])
+    );
+}
