@@ -21,7 +21,7 @@ use serde::{Deserialize, Serialize};
 
 pub use analysis::AnalysisConfig;
 pub use layer::{LayerBase, LayerConfig};
-pub use loading::LoadingConfig;
+pub use loading::{LoadingConfig, Sliding, XiScale};
 pub use material::{MaterialConfig, MaterialModel};
 pub use solver::{AdaptiveConfig, Formulation, MeshKind, SolverConfig};
 pub use surface::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};

@@ -3,14 +3,10 @@
 //! read and checked, and the memory a grid needs.
 
 use crate::config::{Formulation, LoadedConfig, MeshKind};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::solver::{Control, SolverParams};
 
-use super::{AdaptiveParams, Problem, SurfaceSource};
-
-fn invalid(msg: impl Into<String>) -> Error {
-    Error::Invalid(msg.into())
-}
+use super::{invalid, speed_of, AdaptiveParams, Problem, SurfaceSource};
 
 impl Problem {
     /// Read and check the `[material]`, `[surface]`, `[loading]`, `[solver]`
@@ -58,21 +54,8 @@ impl Problem {
                 "[loading] give only one of normal_load (N), mean_pressure (Pa) and approach (m)",
             )),
         };
-        let speed = match (loading.speed, loading.xi) {
-            (Some(v), None) => v,
-            (None, Some(xi)) => {
-                let terms = &material.spectrum.terms;
-                if terms.len() != 1 {
-                    return Err(invalid(format!(
-                        "[loading] xi = v tau / L needs a single-relaxation material (this one has {} creep terms); give speed (m/s)",
-                        terms.len()
-                    )));
-                }
-                xi * surface.length_x() / terms[0].time
-            }
-            (None, None) => return Err(invalid("[loading] needs speed (m/s) or xi (v tau / L)")),
-            _ => return Err(invalid("[loading] give only one of speed (m/s) and xi")),
-        };
+        let sliding = loading.sliding().map_err(invalid)?;
+        let speed = speed_of(sliding, &material, &surface)?;
         let direction_rad = loading.direction_deg.unwrap_or(0.0).to_radians();
         let defaults = SolverParams::default();
         let params = SolverParams {

@@ -11,7 +11,7 @@ use std::time::Instant;
 use crate::analysis::{self, ContactStatistics};
 use crate::backend::gpu::engine::Engine;
 use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuLevelTables, GpuOptions};
-use crate::backend::{Backend, BackendChoice, CpuBackend};
+use crate::backend::{Backend, CpuBackend};
 use crate::config::{Formulation, MeshKind};
 use crate::error::{Error, Result};
 use crate::kernel::{Axis, SlidingKernel};
@@ -19,66 +19,11 @@ use crate::operator::{AdaptiveOperator, LevelTables, OffsetTable, SpectralPeriod
 use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, WarmStart};
 
 use super::adaptive::{solve_adaptive, AdaptiveParams, MeshReport};
-use super::{Problem, Solution, Timings};
+use super::{invalid, Executor, Problem, Solution, Timings};
 
 /// Grids of the coarse-to-fine cascade: the fine grid halved while even,
 /// down to this many cells a side at least.
 const CASCADE_COARSEST: usize = 64;
-
-fn invalid(msg: impl Into<String>) -> Error {
-    Error::Invalid(msg.into())
-}
-
-/// Who runs the iteration.
-#[derive(Clone)]
-pub enum Executor {
-    /// The CPU reference path (rayon, rustfft), f64.
-    Cpu,
-    /// A GPU device (wgpu), f32 vectors.
-    Gpu(GpuContext),
-}
-
-impl std::fmt::Debug for Executor {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Executor::Cpu => write!(f, "Executor::Cpu"),
-            Executor::Gpu(ctx) => write!(f, "Executor::Gpu({})", ctx.adapter),
-        }
-    }
-}
-
-impl Executor {
-    /// Resolve a backend choice for `problem`: `auto` takes a GPU when one
-    /// exists, the problem fits on it and it is not emulated on the CPU.
-    /// Returns the executor and a line saying which was picked and why.
-    pub fn select(choice: BackendChoice, problem: &Problem) -> Result<(Executor, String)> {
-        let (nx, ny) = (problem.surface.nx, problem.surface.ny);
-        Ok(match choice {
-            BackendChoice::Cpu => (Executor::Cpu, "backend: cpu".into()),
-            BackendChoice::Gpu => {
-                let ctx = GpuContext::open()?;
-                let line = format!("backend: gpu, adapter {}", ctx.adapter);
-                (Executor::Gpu(ctx), line)
-            }
-            BackendChoice::Auto => match GpuContext::open()
-                .and_then(|ctx| GpuBackend::check_fits(&ctx, nx, ny).map(|()| ctx))
-            {
-                Ok(ctx) if ctx.adapter.device_type == "Cpu" => (
-                    Executor::Cpu,
-                    format!(
-                        "backend: cpu (auto: the only adapter, {}, is emulated on the CPU and slower than the CPU backend; --backend gpu forces it)",
-                        ctx.adapter
-                    ),
-                ),
-                Ok(ctx) => {
-                    let line = format!("backend: gpu (auto), adapter {}", ctx.adapter);
-                    (Executor::Gpu(ctx), line)
-                }
-                Err(e) => (Executor::Cpu, format!("backend: cpu (auto: {e})")),
-            },
-        })
-    }
-}
 
 /// The operator a problem is solved with: formulation x mesh.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -403,29 +348,22 @@ impl Problem {
         let t0 = Instant::now();
         let plan = AdaptivePlan::new(self)?;
         let t_coeff = t0.elapsed().as_secs_f64();
-        let mut t_iter = 0.0;
-        let result = solve_adaptive(
-            &self.gap_profile(),
-            plan.tables.clone(),
-            &plan.params,
-            self.params.tolerance,
-            |mesh, g_mesh, start, tol| {
-                let t = Instant::now();
-                let mut backend = CpuBackend::new(AdaptiveOperator::new(plan.tables.clone(), mesh));
-                let r = self.iterate(&mut backend, g_mesh, plan.l00, tol, start, observer);
-                t_iter += t.elapsed().as_secs_f64();
-                r
-            },
-        )
-        .map_err(|e| invalid(e.to_string()))?;
-        Ok(Raw {
-            solution: result.solution,
-            info: result.info,
-            backend: "cpu (adaptive mesh)".into(),
-            mesh: Some(result.report),
+        let raw = self.adaptive_rounds(
+            &plan,
             t_coeff,
-            t_setup: None,
-            t_iter,
+            |mesh| {
+                Ok(CpuBackend::new(AdaptiveOperator::new(
+                    plan.tables.clone(),
+                    mesh,
+                )))
+            },
+            drop,
+            observer,
+        )?;
+        // The uniform CPU path reports "cpu" too, without the thread count.
+        Ok(Raw {
+            backend: "cpu (adaptive mesh)".into(),
+            ..raw
         })
     }
 
@@ -454,10 +392,37 @@ impl Problem {
             plan.tables.max_level(),
         )?;
         let t_coeff = t0.elapsed().as_secs_f64();
-        let mut engine = Some(eng);
+        // The device's engine goes into each round's backend and back.
+        let engine = std::cell::RefCell::new(Some(eng));
+        self.adaptive_rounds(
+            &plan,
+            t_coeff,
+            |mesh| {
+                let eng = engine
+                    .borrow_mut()
+                    .take()
+                    .expect("engine returned after each round");
+                Ok(GpuBackend::with_level_tables(eng, &tables, mesh)?)
+            },
+            |backend: GpuBackend| *engine.borrow_mut() = Some(backend.into_engine()),
+            observer,
+        )
+    }
+
+    /// The solve-certify-refine rounds of [`solve_adaptive`] on backends made
+    /// by `backend_for` for each round's mesh (and handed to `give_back`
+    /// after it): the one adaptive path of both executors.
+    fn adaptive_rounds<B: Backend>(
+        &self,
+        plan: &AdaptivePlan,
+        t_coeff: f64,
+        mut backend_for: impl FnMut(&crate::mesh::QuadMesh) -> Result<B>,
+        mut give_back: impl FnMut(B),
+        observer: &mut dyn Observer,
+    ) -> Result<Raw> {
         let mut name = String::new();
         let mut t_iter = 0.0;
-        let mut gpu_error: Option<String> = None;
+        let mut failure: Option<Error> = None;
         let result = solve_adaptive(
             &self.gap_profile(),
             plan.tables.clone(),
@@ -465,22 +430,23 @@ impl Problem {
             self.params.tolerance,
             |mesh, g_mesh, start, tol| {
                 let t = Instant::now();
-                let eng = engine.take().expect("engine returned after each round");
-                let mut backend = match GpuBackend::with_level_tables(eng, &tables, mesh) {
-                    Ok(b) => b,
-                    Err(e) => {
-                        gpu_error = Some(e.to_string());
-                        return Err(SolverError::Invalid(e.to_string()));
-                    }
-                };
+                let mut backend = backend_for(mesh).map_err(|e| {
+                    let msg = e.to_string();
+                    failure = Some(e);
+                    SolverError::Invalid(msg)
+                })?;
                 name = backend.name();
                 let r = self.iterate(&mut backend, g_mesh, plan.l00, tol, start, observer);
-                engine = Some(backend.into_engine());
+                give_back(backend);
                 t_iter += t.elapsed().as_secs_f64();
                 r
             },
-        )
-        .map_err(|e| invalid(gpu_error.clone().unwrap_or_else(|| e.to_string())))?;
+        );
+        let result = match (result, failure) {
+            (Ok(r), _) => r,
+            (Err(_), Some(e)) => return Err(e),
+            (Err(e), None) => return Err(invalid(e.to_string())),
+        };
         Ok(Raw {
             solution: result.solution,
             info: result.info,
