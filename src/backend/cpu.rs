@@ -75,6 +75,14 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
         self.op.apply(x, y);
     }
 
+    fn has_preconditioner(&self) -> bool {
+        self.op.has_preconditioner()
+    }
+
+    fn precondition(&mut self, x: &Vec<f64>, y: &mut Vec<f64>) {
+        self.op.precondition(x, y);
+    }
+
     fn dot(&mut self, a: &Vec<f64>, b: &Vec<f64>) -> f64 {
         dot(a, b)
     }

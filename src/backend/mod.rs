@@ -52,6 +52,16 @@ pub trait Backend {
         self.apply(x, full);
         self.gather(index, full, short);
     }
+    /// Whether [`Backend::precondition`] applies an approximate inverse of
+    /// the operator (default: no; the iteration then runs unpreconditioned).
+    fn has_preconditioner(&self) -> bool {
+        false
+    }
+    /// `y = K x` on grid vectors, `K` an approximate inverse of `L` (the
+    /// stiffness); only called when [`Backend::has_preconditioner`].
+    fn precondition(&mut self, x: &Self::Vector, y: &mut Self::Vector) {
+        self.copy(x, y);
+    }
     /// `a . b`.
     fn dot(&mut self, a: &Self::Vector, b: &Self::Vector) -> f64;
     /// `out[k] = basis[k] . w` for every `k` (one batched reduction).

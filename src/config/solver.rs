@@ -33,6 +33,12 @@ pub struct SolverConfig {
     pub mesh: Option<MeshKind>,
     /// `[solver.adaptive]`: controls of `mesh = "adaptive"`.
     pub adaptive: Option<AdaptiveConfig>,
+    /// Right-precondition the inner solves with the operator's approximate
+    /// inverse (default true; uniform CPU grids).
+    pub precondition: Option<bool>,
+    /// Grids of the coarse-to-fine cascade at most, the fine one included
+    /// (default 8; 1: solve on the fine grid only; uniform CPU grids).
+    pub cascade_levels: Option<usize>,
 }
 
 /// The mesh the non-periodic problem is solved on.

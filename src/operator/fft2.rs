@@ -35,6 +35,9 @@ pub(crate) struct SpectralEngine {
     /// Multiplier, column-major (`myh` columns of length `mx`), scaled by
     /// `1 / (mx my)` (the unnormalised inverse transforms).
     multiplier_t: Vec<Complex64>,
+    /// Optional second multiplier with the same layout and scaling:
+    /// the approximate inverse applied by [`SpectralEngine::apply_inverse`].
+    inverse_t: Option<Vec<Complex64>>,
     rows: Vec<f64>,
     spec: Vec<Complex64>,
     spec_t: Vec<Complex64>,
@@ -72,6 +75,7 @@ impl SpectralEngine {
             fwd,
             inv,
             multiplier_t: vec![Complex64::default(); myh * mx],
+            inverse_t: None,
             rows: vec![0.0; mx * my],
             spec: vec![Complex64::default(); mx * myh],
             spec_t: vec![Complex64::default(); myh * mx],
@@ -127,6 +131,43 @@ impl SpectralEngine {
     }
 
     /// Row r2c transforms of the first `count` rows of `rows` into `spec`.
+    /// Set the second multiplier to the regularised inverse of the first:
+    /// `1 / m` where `|m| > floor max |m|`; `1 / max |m|` where `m = 0` (a
+    /// mode the operator does not see, e.g. `q = 0` of the periodic cell:
+    /// the stiffness of the longest wave, so that the inverse stays
+    /// positive definite); `1 / (floor max |m|)` in the direction of `m` in
+    /// between.
+    pub(crate) fn set_inverse_multiplier(&mut self, floor: f64) {
+        let scale = 1.0 / (self.mx * self.my) as f64;
+        let largest = self
+            .multiplier_t
+            .iter()
+            .map(|m| m.norm())
+            .fold(0.0, f64::max);
+        let cut = floor * largest;
+        let inv = self
+            .multiplier_t
+            .par_iter()
+            .map(|&m| {
+                let r = m.norm();
+                if r == 0.0 {
+                    Complex64::new(scale * scale / largest, 0.0)
+                } else {
+                    // m is stored times `scale`; the inverse is stored times
+                    // `scale` as well.
+                    let m = if r < cut { m * (cut / r) } else { m };
+                    m.conj() / m.norm_sqr() * (scale * scale)
+                }
+            })
+            .collect();
+        self.inverse_t = Some(inv);
+    }
+
+    /// Whether [`SpectralEngine::set_inverse_multiplier`] was called.
+    pub(crate) fn has_inverse(&self) -> bool {
+        self.inverse_t.is_some()
+    }
+
     fn forward_rows(&mut self, count: usize) {
         let (my, myh) = (self.my, self.myh);
         let r2c = &self.r2c;
@@ -145,6 +186,17 @@ impl SpectralEngine {
 
     /// `y = F^-1 [m F [x]]` on the `nx x ny` block (C order).
     pub(crate) fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+        self.convolve(x, y, false);
+    }
+
+    /// `y = F^-1 [m^-1 F [x padded]]` with the inverse multiplier (panics
+    /// when none was set).
+    pub(crate) fn apply_inverse(&mut self, x: &[f64], y: &mut [f64]) {
+        assert!(self.inverse_t.is_some(), "no inverse multiplier was set");
+        self.convolve(x, y, true);
+    }
+
+    fn convolve(&mut self, x: &[f64], y: &mut [f64], inverse: bool) {
         let (nx, ny, mx, my, myh) = (self.nx, self.ny, self.mx, self.my, self.myh);
         assert_eq!(x.len(), nx * ny);
         assert_eq!(y.len(), nx * ny);
@@ -168,7 +220,14 @@ impl SpectralEngine {
         let cols_per = myh.div_ceil(groups).max(1);
         self.spec_t
             .par_chunks_mut(cols_per * mx)
-            .zip(self.multiplier_t.par_chunks(cols_per * mx))
+            .zip(
+                if inverse {
+                    self.inverse_t.as_deref().expect("checked by the caller")
+                } else {
+                    &self.multiplier_t
+                }
+                .par_chunks(cols_per * mx),
+            )
             .enumerate()
             .zip(self.pool.par_iter_mut())
             .for_each(|((g, (cols, ms)), scratch)| {

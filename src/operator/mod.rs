@@ -36,6 +36,16 @@ pub trait GridOperator: Send + Sync {
             *o = scratch[r];
         }
     }
+    /// Whether [`GridOperator::precondition`] applies an approximate
+    /// inverse (default: no).
+    fn has_preconditioner(&self) -> bool {
+        false
+    }
+    /// `y = K x` with `K` an approximate inverse of `L` on the whole grid
+    /// (the identity unless [`GridOperator::has_preconditioner`]).
+    fn precondition(&mut self, x: &[f64], y: &mut [f64]) {
+        y.copy_from_slice(x);
+    }
 }
 
 /// Entries of a block-Toeplitz operator: `table(di, dj)` is the response at

@@ -235,6 +235,17 @@ impl SpectralPeriodic {
     pub fn self_coefficient(&self) -> f64 {
         self.diagonal
     }
+
+    /// Also provide the stiffness `K ~ L^-1` (multiplier `1 / m(q)`,
+    /// `|q| E(-q.v) / (2 (1 - nu^2))`; at `q = 0`, where `L` has none, that
+    /// of the longest wave) as the operator's
+    /// preconditioner ([`GridOperator::precondition`]): operator
+    /// preconditioning of the first-kind equation on the contact set
+    /// (Steinbach & Wendland, Adv. Comput. Math. 9, 191, 1998).
+    pub fn with_preconditioner(mut self) -> Self {
+        self.engine.set_inverse_multiplier(0.0);
+        self
+    }
 }
 
 /// The discrete multiplier of every mode of the half spectrum of an
@@ -306,6 +317,18 @@ impl GridOperator for SpectralPeriodic {
 
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
         self.engine.apply(x, y);
+    }
+
+    fn has_preconditioner(&self) -> bool {
+        self.engine.has_inverse()
+    }
+
+    fn precondition(&mut self, x: &[f64], y: &mut [f64]) {
+        if self.engine.has_inverse() {
+            self.engine.apply_inverse(x, y);
+        } else {
+            y.copy_from_slice(x);
+        }
     }
 }
 

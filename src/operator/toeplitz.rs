@@ -55,6 +55,16 @@ impl ToeplitzFft {
         Self { engine }
     }
 
+    /// Also provide an approximate inverse as the operator's preconditioner
+    /// ([`GridOperator::precondition`]): the inverse of the circulant of the
+    /// padded transform, of which `L` is the leading block, restricted to the
+    /// grid (`K = R C^-1 R^T`). Modes where the circulant's multiplier is
+    /// below `1e-6` of its largest are clamped there.
+    pub fn with_preconditioner(mut self) -> Self {
+        self.engine.set_inverse_multiplier(1e-6);
+        self
+    }
+
     /// Padded transform sizes `(mx, my)`.
     pub fn padded_shape(&self) -> (usize, usize) {
         self.engine.padded_shape()
@@ -68,6 +78,18 @@ impl GridOperator for ToeplitzFft {
 
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
         self.engine.apply(x, y);
+    }
+
+    fn has_preconditioner(&self) -> bool {
+        self.engine.has_inverse()
+    }
+
+    fn precondition(&mut self, x: &[f64], y: &mut [f64]) {
+        if self.engine.has_inverse() {
+            self.engine.apply_inverse(x, y);
+        } else {
+            y.copy_from_slice(x);
+        }
     }
 }
 

@@ -177,6 +177,7 @@ pub fn solve_adaptive(
         load_error: 0.0,
         history: vec![],
         contact_history: vec![],
+        ..SolveInfo::default()
     };
     let mut unknowns_history = vec![];
     let mut marked_count = 0;

@@ -123,7 +123,12 @@ impl Problem {
         control: Control,
         speed: f64,
     ) -> Result<Self> {
-        setup::check_memory(surface.nx, surface.ny, SolverParams::default().restart)?;
+        setup::check_memory(
+            surface.nx,
+            surface.ny,
+            SolverParams::default().restart,
+            Formulation::default(),
+        )?;
         let map = crate::surface::generate(&surface)?;
         let mut problem = Self::new(material, map, control, speed);
         problem.seed = Some(surface.seed);
@@ -177,7 +182,7 @@ impl Problem {
     pub fn with_grid(&self, n: usize) -> Result<Self> {
         let (nx, ny) = (self.surface.nx, self.surface.ny);
         let ny_new = ((ny as f64) * n as f64 / nx as f64).round().max(1.0) as usize;
-        setup::check_memory(n, ny_new, self.params.restart)?;
+        setup::check_memory(n, ny_new, self.params.restart, self.formulation)?;
         let (surface, source) = match &self.source {
             SurfaceSource::Generated(p) => {
                 let p = GenerateParams {

@@ -250,6 +250,8 @@ impl Solution {
             "mesh": self.mesh,
             "iterations": self.info.iterations,
             "matvecs": self.info.matvecs,
+            "preconditioner_applications": self.info.preconditioner_applications,
+            "matvecs_by_level": self.info.levels,
             "residual": self.info.residual,
             "load_error": self.info.load_error,
             "residual_history": self.info.history,

@@ -23,6 +23,10 @@ use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, War
 use super::adaptive::{solve_adaptive, AdaptiveParams, MeshReport};
 use super::{invalid, Executor, Problem, Solution, Timings};
 
+/// Grids of the coarse-to-fine cascade: the fine grid halved while even,
+/// down to this many cells a side at least.
+const CASCADE_COARSEST: usize = 64;
+
 /// The operator a problem is solved with: formulation x mesh.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Discretisation {
@@ -160,21 +164,98 @@ impl Problem {
         Ok((solution, info, t.elapsed().as_secs_f64()))
     }
 
+    /// Whether a solve without an outside start runs as a coarse-to-fine
+    /// cascade (uniform CPU grids, `cascade_levels > 1`, a grid side that
+    /// halves at least once to 64 cells or more). An outside start (a
+    /// neighbouring speed, or a coarser grid's solution prolonged with
+    /// [`WarmStart::prolonged`]) replaces the coarse grids.
+    fn cascades(&self, start: Option<&WarmStart>) -> bool {
+        let (nx, ny) = (self.surface.nx, self.surface.ny);
+        start.is_none()
+            && solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.params.cascade_levels)
+                .len()
+                > 1
+    }
+
+    /// The constrained iteration as a coarse-to-fine cascade
+    /// ([`solver::solve_cascade`]) on CPU backends built by
+    /// `build(nx, ny, cell_size)` (the backend and its self coefficient);
+    /// the coarse grids' gap profiles are the fine one's 2 x 2 block means
+    /// (any surface, files included, and no band limit to meet). Returns
+    /// the solution, its report (fine-grid-equivalent matvecs) and the
+    /// iteration's wall time \[s\], the coarse grids' set-up included.
+    fn iterate_cascade<Op, F>(
+        &self,
+        observer: &mut dyn Observer,
+        mut build: F,
+    ) -> Result<(ContactSolution, SolveInfo, f64)>
+    where
+        Op: crate::operator::GridOperator,
+        F: FnMut(usize, usize, f64) -> (CpuBackend<Op>, f64),
+    {
+        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
+        let t = Instant::now();
+        let shapes =
+            solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.params.cascade_levels);
+        let mut gaps = vec![self.gap_profile()];
+        for w in shapes.windows(2).rev() {
+            let (fx, fy) = w[1];
+            let coarse = solver::cascade::restrict_mean(gaps.last().expect("fine gap"), fx, fy);
+            gaps.push(coarse);
+        }
+        gaps.reverse();
+        let (solution, info) = solver::solve_cascade(
+            &shapes,
+            |k, (lx, ly)| {
+                let cell = a * (nx / lx) as f64;
+                let (backend, l00) = build(lx, ly, cell);
+                Ok(solver::CascadeLevel {
+                    backend,
+                    gap: std::mem::take(&mut gaps[k]),
+                    cell_area: cell * cell,
+                    self_coefficient: l00,
+                })
+            },
+            self.control,
+            &self.params,
+            None,
+            observer,
+        )?;
+        Ok((solution, info, t.elapsed().as_secs_f64()))
+    }
+
     /// Uniform grid on the CPU: the host coefficient table, Toeplitz-FFT.
     fn uniform_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
         let t0 = Instant::now();
         let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
-        let table = self.sliding_kernel()?.table(nx, ny, a);
+        let kernel = self.sliding_kernel()?;
+        let table = kernel.table(nx, ny, a);
         let t_coeff = t0.elapsed().as_secs_f64();
-        let tab = OffsetTable {
-            nx,
-            ny,
-            values: &table.values,
+        let mut fine = Some(table);
+        // The fine grid's table is computed once; coarse grids' on demand.
+        let mut build = |nx: usize, ny: usize, a: f64| {
+            let table = match fine.take() {
+                Some(t) if t.nx == nx && t.ny == ny => t,
+                _ => kernel.table(nx, ny, a),
+            };
+            let tab = OffsetTable {
+                nx,
+                ny,
+                values: &table.values,
+            };
+            let l00 = tab.get(0, 0);
+            (
+                CpuBackend::new(ToeplitzFft::new(tab).with_preconditioner()),
+                l00,
+            )
         };
-        let l00 = tab.get(0, 0);
-        let mut backend = CpuBackend::new(ToeplitzFft::new(tab));
-        let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
-        let (solution, info, t_iter) = self.iterate_grid(&mut backend, l00, start, observer)?;
+        let (solution, info, t_iter) = if self.cascades(start) {
+            self.iterate_cascade(observer, build)?
+        } else {
+            let (mut backend, l00) = build(nx, ny, a);
+            self.iterate_grid(&mut backend, l00, start, observer)?
+        };
+        let t_setup = 0.0;
         Ok(Raw {
             solution,
             info,
@@ -238,18 +319,27 @@ impl Problem {
     fn periodic_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
         let t0 = Instant::now();
         let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
-        let op = SpectralPeriodic::with_params(
-            nx,
-            ny,
-            a,
-            &self.material,
-            &self.kernel_params(),
-            PeriodicResponse::Displacement,
-        );
-        let l00 = op.self_coefficient();
-        let mut backend = CpuBackend::new(op);
+        let (m, params) = (&self.material, self.kernel_params());
+        let build = |nx, ny, a| {
+            let op = SpectralPeriodic::with_params(
+                nx,
+                ny,
+                a,
+                m,
+                &params,
+                PeriodicResponse::Displacement,
+            )
+            .with_preconditioner();
+            let l00 = op.self_coefficient();
+            (CpuBackend::new(op), l00)
+        };
         let t_setup = t0.elapsed().as_secs_f64();
-        let (solution, info, t_iter) = self.iterate_grid(&mut backend, l00, start, observer)?;
+        let (solution, info, t_iter) = if self.cascades(start) {
+            self.iterate_cascade(observer, build)?
+        } else {
+            let (mut backend, l00) = build(nx, ny, a);
+            self.iterate_grid(&mut backend, l00, start, observer)?
+        };
         Ok(Raw {
             solution,
             info,

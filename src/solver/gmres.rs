@@ -2,7 +2,9 @@
 //! (CGS2), written against [`Backend`] so that every long vector may live on
 //! a device and each iteration reads back only a few scalars (two batched
 //! dot-product sets and a norm). Vectors may carry one extra host scalar, so
-//! the same routine solves the bordered system of load control.
+//! the same routine solves the bordered system of load control. An operator
+//! may supply a right preconditioner `M` (GMRES then runs on `A M` and
+//! minimises the true residual).
 
 use crate::backend::Backend;
 
@@ -18,6 +20,19 @@ pub trait AugOperator<B: Backend> {
     fn apply(&mut self, backend: &mut B, x_v: &B::Vector, x_s: f64, y: &mut AugVec<B::Vector>);
     /// Whether the bordering scalar is an unknown.
     fn bordered(&self) -> bool;
+    /// Whether [`AugOperator::precondition`] applies a right preconditioner.
+    fn preconditioned(&self) -> bool {
+        false
+    }
+    /// `y = M (x_v, x_s)`, `M` an approximate inverse of `A`.
+    fn precondition(
+        &mut self,
+        _backend: &mut B,
+        _x_v: &B::Vector,
+        _x_s: f64,
+        _y: &mut AugVec<B::Vector>,
+    ) {
+    }
 }
 
 /// Outcome of one GMRES solve.
@@ -32,6 +47,8 @@ pub struct GmresWork<V> {
     basis: Vec<V>,
     basis_s: Vec<f64>,
     w: AugVec<V>,
+    /// `M v_j` under right preconditioning.
+    z: AugVec<V>,
     h: Vec<f64>,
 }
 
@@ -46,6 +63,10 @@ impl<V> GmresWork<V> {
                 v: backend.zeros(len),
                 s: 0.0,
             },
+            z: AugVec {
+                v: backend.zeros(len),
+                s: 0.0,
+            },
             h: vec![0.0; (restart + 1) * restart],
         }
     }
@@ -56,11 +77,15 @@ impl<V> GmresWork<V> {
             backend.resize(v, len);
         }
         backend.resize(&mut self.w.v, len);
+        backend.resize(&mut self.z.v, len);
     }
 }
 
 /// Solve `A x = rhs` to `|r| <= tol |rhs|`, starting from `x`, with at most
-/// `max_matvecs` applications of `A`.
+/// `max_matvecs` applications of `A`; stop early once the residual is
+/// `reduction` times the starting one (`0`: never), as an inexact Newton
+/// step asks (the outcome is then not `converged` unless `tol` holds too).
+#[allow(clippy::too_many_arguments)]
 pub fn gmres<B: Backend, A: AugOperator<B>>(
     backend: &mut B,
     op: &mut A,
@@ -68,6 +93,7 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
     x: &mut AugVec<B::Vector>,
     work: &mut GmresWork<B::Vector>,
     tol: f64,
+    reduction: f64,
     max_matvecs: usize,
 ) -> GmresOutcome {
     let bordered = op.bordered();
@@ -87,6 +113,7 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
     let mut hcol = vec![0.0; m + 1];
     let mut dots = vec![0.0; m + 1];
     let mut neg = vec![0.0; m + 1];
+    let mut beta0 = f64::NAN;
     loop {
         // r0 = rhs - A x, stored in basis[0] (the operator writes into w).
         op.apply(backend, &x.v, x.s, &mut work.w);
@@ -96,7 +123,10 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
         work.basis_s[0] = if bordered { rhs.s - work.w.s } else { 0.0 };
         let beta = (backend.dot(&work.basis[0], &work.basis[0]) + sq(work.basis_s[0])).sqrt();
         let rel = beta / bnorm;
-        if rel <= tol || matvecs >= max_matvecs {
+        if beta0.is_nan() {
+            beta0 = beta;
+        }
+        if rel <= tol || beta <= reduction * beta0 || matvecs >= max_matvecs {
             return GmresOutcome {
                 converged: rel <= tol,
             };
@@ -106,8 +136,14 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
         gvec.fill(0.0);
         gvec[0] = beta;
         let mut k_done = 0;
+        let preconditioned = op.preconditioned();
         for j in 0..m {
-            op.apply(backend, &work.basis[j], work.basis_s[j], &mut work.w);
+            if preconditioned {
+                op.precondition(backend, &work.basis[j], work.basis_s[j], &mut work.z);
+                op.apply(backend, &work.z.v, work.z.s, &mut work.w);
+            } else {
+                op.apply(backend, &work.basis[j], work.basis_s[j], &mut work.w);
+            }
             matvecs += 1;
             // CGS2: classical Gram-Schmidt twice, each pass one batched
             // reduction and one fused update.
@@ -154,7 +190,8 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
                 backend.scale(1.0 / hn, &mut work.basis[j + 1]);
                 work.basis_s[j + 1] = work.w.s / hn;
             }
-            if rel <= tol || breakdown || matvecs >= max_matvecs {
+            let reduced = gvec[j + 1].abs() <= reduction * beta0;
+            if rel <= tol || reduced || breakdown || matvecs >= max_matvecs {
                 break;
             }
         }
@@ -167,13 +204,26 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
             let d = work.h[i * m + i];
             y[i] = if d != 0.0 { acc / d } else { 0.0 };
         }
-        backend.combine(&y[..k_done], &work.basis[..k_done], &mut x.v);
-        if bordered {
-            x.s += y[..k_done]
+        let ys = if bordered {
+            y[..k_done]
                 .iter()
                 .zip(&work.basis_s)
                 .map(|(a, b)| a * b)
-                .sum::<f64>();
+                .sum::<f64>()
+        } else {
+            0.0
+        };
+        if preconditioned {
+            // x += M (V y): the combination in z, its image in w.
+            backend.scale(0.0, &mut work.z.v);
+            backend.combine(&y[..k_done], &work.basis[..k_done], &mut work.z.v);
+            work.z.s = ys;
+            op.precondition(backend, &work.z.v, work.z.s, &mut work.w);
+            backend.axpy(1.0, &work.w.v, &mut x.v);
+            x.s += work.w.s;
+        } else {
+            backend.combine(&y[..k_done], &work.basis[..k_done], &mut x.v);
+            x.s += ys;
         }
     }
 }

@@ -14,14 +14,36 @@
 //! convergence of this iteration on the viscoelastic operator is demonstrated
 //! by the tests against the dense direct solver.
 //!
+//! Three things keep the work nearly independent of the grid:
+//! - the inner solves are right-preconditioned, where the backend has one,
+//!   with the restriction to `I` of an approximate inverse of `L` (the
+//!   spectral stiffness; operator preconditioning of a first-kind integral
+//!   equation), bordered by its Schur complement for the load row
+//!   ([`solve_from`]); their iteration counts then barely grow with the
+//!   resolution of the contact spots;
+//! - inexact Newton: each outer iteration reduces its inner residual by a
+//!   fixed factor relative to its warm start (1e-2 while the set moves a
+//!   lot, down to the full tolerance once it settles), not relative to
+//!   `|g_I|`, so a good start still progresses every iteration;
+//! - nested iteration ([`cascade`]): the same problem solved on coarser
+//!   grids first gives the fine grid a start a few outer iterations from
+//!   its solution (instead of a bearing-area guess some 70 times too large
+//!   on many-scale surfaces).
+//!
 //! Written once against [`Backend`]: every vector stays in backend storage;
 //! the host sees only scalars and, once per outer iteration, two counts.
 
+mod active_set;
+pub mod cascade;
+mod full_contact;
 mod gmres;
 pub mod reference;
 
+pub use active_set::solve_from;
+pub use cascade::{solve_cascade, CascadeLevel, LevelInfo};
+pub use full_contact::solve_full_contact;
+
 use crate::backend::Backend;
-use gmres::{gmres, AugOperator, AugVec, GmresWork};
 
 /// What is prescribed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -46,6 +68,13 @@ pub struct SolverParams {
     pub max_matvecs: usize,
     /// GMRES restart length.
     pub restart: usize,
+    /// Right-precondition the inner solves with the backend's approximate
+    /// inverse of the operator where it has one ([`Backend::precondition`]).
+    pub precondition: bool,
+    /// Grids of a coarse-to-fine cascade at most, the fine one included,
+    /// for callers that run one ([`cascade::cascade_shapes`]; 1: none).
+    /// [`solve_from`] itself solves on one grid.
+    pub cascade_levels: usize,
 }
 
 impl Default for SolverParams {
@@ -55,17 +84,26 @@ impl Default for SolverParams {
             max_iterations: 200,
             max_matvecs: 50_000,
             restart: 30,
+            precondition: true,
+            cascade_levels: 8,
         }
     }
 }
 
 /// Convergence report of a solve.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize)]
 pub struct SolveInfo {
-    /// Active-set iterations.
+    /// Active-set iterations (on the finest grid of a cascade).
     pub iterations: usize,
-    /// Applications of the influence operator.
+    /// Applications of the influence operator; for a cascade
+    /// ([`solve_cascade`]) the fine-grid equivalent (an application on a
+    /// grid of a quarter of the cells counts 1/4), rounded up.
     pub matvecs: usize,
+    /// Applications of the preconditioner (an approximate inverse of the
+    /// operator, [`Backend::precondition`]), counted like `matvecs`.
+    pub preconditioner_applications: usize,
+    /// Per grid of a cascade, coarse to fine (empty for a single grid).
+    pub levels: Vec<LevelInfo>,
     /// `|min(p, k gap)| / |p|` with `k = 1 / L_00` (a gap turned into the
     /// pressure that closes it on one cell).
     pub residual: f64,
@@ -122,38 +160,6 @@ pub trait Observer {
 pub struct Silent;
 impl Observer for Silent {}
 
-/// The bordered operator on the contact set `I` (short vectors over `I`):
-/// `y = (L_II x - delta_scale s 1, load_scale sum x)`.
-struct Bordered<'a, B: Backend> {
-    index: &'a B::Index,
-    full_in: &'a mut B::Vector,
-    full_out: &'a mut B::Vector,
-    /// `delta = delta_scale * s`.
-    delta_scale: f64,
-    /// Load row scale.
-    load_scale: f64,
-    bordered: bool,
-    matvecs: usize,
-}
-
-impl<B: Backend> AugOperator<B> for Bordered<'_, B> {
-    fn apply(&mut self, backend: &mut B, x_v: &B::Vector, x_s: f64, y: &mut AugVec<B::Vector>) {
-        backend.scatter(self.index, x_v, self.full_in);
-        backend.apply_rows(self.full_in, self.index, self.full_out, &mut y.v);
-        self.matvecs += 1;
-        if self.bordered {
-            backend.add_scalar(-self.delta_scale * x_s, &mut y.v);
-            y.s = self.load_scale * backend.sum(x_v);
-        } else {
-            y.s = 0.0;
-        }
-    }
-
-    fn bordered(&self) -> bool {
-        self.bordered
-    }
-}
-
 /// Solve the contact problem for the gap profile `g` (>= 0, one value per
 /// cell) on a grid of square cells of area `cell_area`.
 ///
@@ -192,261 +198,41 @@ pub struct WarmStart {
     pub approach: f64,
 }
 
-/// [`solve`] from a warm start (`None`: the bearing-area guess of
-/// [`solve`]). The start only changes the path, not the solution.
-#[allow(clippy::too_many_arguments)]
-pub fn solve_from<B: Backend>(
-    backend: &mut B,
-    g: &[f64],
-    cell_area: f64,
-    self_coefficient: f64,
-    control: Control,
-    params: &SolverParams,
-    start: Option<&WarmStart>,
-    observer: &mut dyn Observer,
-) -> Result<(ContactSolution, SolveInfo), SolverError> {
-    let n = backend.grid_len();
-    check_problem(g, n, cell_area, self_coefficient, control)?;
-    let stiffness = 1.0 / self_coefficient;
-    let (tolerance, tight) = tolerances(params.tolerance, backend.epsilon());
-    let loose = 1e-4_f64.max(tight);
-    let rough = 1e-2_f64.max(loose);
-
-    // Initial contact set.
-    let mut host_mask = vec![0.0; n];
-    let (delta0, host) = match start {
-        Some(ws) if ws.contact.len() == n && ws.pressure.len() == n && ws.approach.is_finite() => {
-            host_mask.copy_from_slice(&ws.contact);
-            if host_mask.iter().all(|&m| m <= 0.5) {
-                return Err(SolverError::Invalid(
-                    "the warm start has an empty contact set".into(),
-                ));
-            }
-            (ws.approach, ws.pressure.clone())
-        }
-        Some(_) => {
-            return Err(SolverError::Invalid(format!(
-                "the warm start does not match the {n} cells of the problem"
-            )))
-        }
-        None => {
-            let (delta0, p0) =
-                initial_guess(g, cell_area, self_coefficient, control, &mut host_mask);
-            (delta0, host_mask.iter().map(|m| p0 * m).collect())
-        }
-    };
-    let mut mask = backend.zeros(n);
-    backend.upload(&host_mask, &mut mask);
-    let mut gv = backend.zeros(n);
-    backend.upload(g, &mut gv);
-    let mut p_full = backend.zeros(n);
-    backend.upload(&host, &mut p_full);
-
-    let bordered = matches!(control, Control::Load(_));
-    let delta_scale = self_coefficient;
-    let mut delta = delta0;
-    let mut work = GmresWork::new(backend, params.restart, 0);
-    let mut rhs = AugVec {
-        v: backend.zeros(0),
-        s: 0.0,
-    };
-    let mut p = AugVec {
-        v: backend.zeros(0),
-        s: 0.0,
-    };
-    let mut u = backend.zeros(n);
-    let mut gap = backend.zeros(n);
-    let mut full_in = backend.zeros(n);
-    let mut full_out = backend.zeros(n);
-
-    let mut matvecs = 0usize;
-    let mut history = Vec::new();
-    let mut contact_history = Vec::new();
-    let mut contact_cells = host_mask.iter().filter(|&&m| m > 0.5).count();
-    let mut last_changes = usize::MAX;
-    let mut residual = f64::INFINITY;
-    let mut stalled = false;
-    // The inner tolerance is relative to |g_I|; where the complementarity
-    // residual (relative to |p|) stalls above the target on an unchanged
-    // set, the inner solves are sharpened towards the arithmetic's floor.
-    let floor_inner = INNER_FLOOR * backend.epsilon();
-    let mut sharp = tight;
-    let mut stagnant = 0usize;
-    let mut best_residual = f64::INFINITY;
-    for iteration in 1..=params.max_iterations {
-        // Inexact Newton: while the contact set still moves a lot, a rough
-        // solve decides the next set as well as an exact one would.
-        // A residual that did not fall means the rough solves no longer
-        // move the pressure (cells entering at p = 0 would leave again).
-        let inner_tol = if stalled || last_changes <= (contact_cells / 200).max(1) {
-            sharp
-        } else if last_changes <= contact_cells / 10 {
-            loose
-        } else {
-            rough
-        };
-        let index = backend.index_of(&mask);
-        let m = backend.index_len(&index);
-        if m == 0 {
-            return Err(SolverError::Invalid(
-                "the contact set is empty: under approach control the surfaces do not touch".into(),
-            ));
-        }
-        let load_scale = self_coefficient / (m as f64).sqrt();
-        work.resize(backend, m);
-        backend.resize(&mut rhs.v, m);
-        backend.resize(&mut p.v, m);
-        // rhs = -g_I (+ delta under approach control); load row.
-        backend.gather(&index, &gv, &mut rhs.v);
-        backend.scale(-1.0, &mut rhs.v);
-        match control {
-            Control::Load(f) => rhs.s = load_scale * f / cell_area,
-            Control::Approach(d) => {
-                backend.add_scalar(d, &mut rhs.v);
-                rhs.s = 0.0;
-            }
-        }
-        // Warm start: the previous pressure on the new set, the previous approach.
-        backend.gather(&index, &p_full, &mut p.v);
-        p.s = delta / delta_scale;
-        let mut op = Bordered::<B> {
-            index: &index,
-            full_in: &mut full_in,
-            full_out: &mut full_out,
-            delta_scale,
-            load_scale,
-            bordered,
-            matvecs: 0,
-        };
-        let budget = params.max_matvecs.saturating_sub(matvecs).max(1);
-        let outcome = gmres(backend, &mut op, &rhs, &mut p, &mut work, inner_tol, budget);
-        matvecs += op.matvecs;
-        if bordered {
-            delta = p.s * delta_scale;
-        }
-        // Gap everywhere.
-        backend.scatter(&index, &p.v, &mut p_full);
-        backend.apply(&p_full, &mut u);
-        matvecs += 1;
-        backend.gap(&gv, &u, delta, &mut gap);
-        let (r2, p2) = backend.complementarity(&p_full, &gap, stiffness);
-        residual = if p2 > 0.0 {
-            (r2 / p2).sqrt()
-        } else {
-            f64::INFINITY
-        };
-        // Rounding floor of the residual: on a contact cell the gap is a
-        // cancellation of terms of size |u|, so it carries an error of
-        // about epsilon |u|, i.e. epsilon k |u| in pressure units.
-        let floor = if p2 > 0.0 {
-            ROUNDING_FLOOR * backend.epsilon() * stiffness * (backend.dot(&u, &u) / p2).sqrt()
-        } else {
-            0.0
-        };
-        let previous_residual = history.last().copied().unwrap_or(f64::INFINITY);
-        stalled = residual >= previous_residual;
-        if stalled && inner_tol == sharp && sharp > floor_inner {
-            sharp = (0.01 * sharp).max(floor_inner);
-        }
-        let (changes, size) = backend.update_active_set(&p_full, &gap, &mut mask);
-        history.push(residual);
-        contact_history.push(size);
-        observer.iteration(iteration, matvecs, residual, size);
-        // At the arithmetic's floor the residual stops improving once the
-        // inner solves cannot be sharpened further (f32 on large grids,
-        // where the floor estimate above is optimistic). The set may then
-        // keep toggling a few cells: one whose gap (full product) is below
-        // zero enters, the inner solve (already within its tolerance) leaves
-        // its pressure at zero or pushes it below, and it leaves again.
-        let settled = changes == 0 && inner_tol == sharp && outcome.converged;
-        let at_inner_floor = inner_tol <= floor_inner && outcome.converged;
-        let few_changes = changes <= (size / FLOOR_TOGGLES).max(1);
-        if residual < STAGNATION * best_residual {
-            best_residual = residual;
-            stagnant = 0;
-        } else if at_inner_floor && few_changes {
-            stagnant += 1;
-        } else {
-            stagnant = 0;
-        }
-        let at_floor = stagnant >= STAGNANT_ITERATIONS && residual <= STAGNANT_ACCEPT;
-        if (settled && residual <= tolerance.max(floor)) || at_floor {
-            let load_error = match control {
-                Control::Load(f) => (cell_area * backend.sum(&p_full) - f).abs() / f,
-                Control::Approach(_) => 0.0,
-            };
-            let mut out = |v: &B::Vector| {
-                let mut h = vec![0.0; n];
-                backend.download(v, &mut h);
-                h
-            };
-            return Ok((
-                ContactSolution {
-                    pressure: out(&p_full),
-                    displacement: out(&u),
-                    gap: out(&gap),
-                    contact: out(&mask),
-                    approach: delta,
-                },
-                SolveInfo {
-                    iterations: iteration,
-                    matvecs,
-                    residual,
-                    load_error,
-                    history,
-                    contact_history,
-                },
-            ));
-        }
-        last_changes = changes;
-        contact_cells = size;
-        if matvecs >= params.max_matvecs {
-            break;
-        }
-    }
-    Err(SolverError::NoConvergence {
-        iterations: history.len(),
-        matvecs,
-        residual,
-        history,
-    })
-}
-
 /// Smallest inner (GMRES) tolerance, in units of the backend's epsilon.
-const INNER_FLOOR: f64 = 16.0;
+pub(crate) const INNER_FLOOR: f64 = 16.0;
 /// Smallest outer (complementarity) tolerance, in units of the backend's
 /// epsilon.
-const OUTER_FLOOR: f64 = 128.0;
+pub(crate) const OUTER_FLOOR: f64 = 128.0;
 /// The outer test accepts a residual below this multiple of its rounding
 /// floor `epsilon k |u| / |p|` (which grows with the grid side: the
 /// displacement integrates the pressure over the patch, `k = 1 / L_00`
 /// only over one cell). Far below the default tolerance in f64; in f32 it
 /// is what can be reached (measured: 2.5e-5 on a 128 x 128 patch, where
 /// `epsilon k |u| / |p|` is 3.2e-6).
-const ROUNDING_FLOOR: f64 = 16.0;
+pub(crate) const ROUNDING_FLOOR: f64 = 16.0;
 /// A residual less than 1 % below the best so far counts as stagnant.
-const STAGNATION: f64 = 0.99;
+pub(crate) const STAGNATION: f64 = 0.99;
 /// At the floor, the set may toggle at most one cell in this many (at least
 /// one cell) per iteration.
-const FLOOR_TOGGLES: usize = 1000;
+pub(crate) const FLOOR_TOGGLES: usize = 1000;
 /// Stagnant outer iterations (inner solves at the floor, the set unchanged
 /// or toggling a few cells) after which the residual is the arithmetic's
 /// floor.
-const STAGNANT_ITERATIONS: usize = 3;
+pub(crate) const STAGNANT_ITERATIONS: usize = 3;
 /// Largest residual accepted at the floor (measured f32 floors: 5.8e-5 at
 /// 512^2, 1.3e-4 at 1024^2); above it a stagnant solve is an error.
-const STAGNANT_ACCEPT: f64 = 1e-3;
+pub(crate) const STAGNANT_ACCEPT: f64 = 1e-3;
 
 /// `(outer, inner)` tolerances: the requested outer tolerance and
 /// `0.01` of it for the inner solves, each clamped to what the backend's
 /// arithmetic can reach (for f64 the defaults are far above the floors; f32
 /// storage gives about `1.5e-5` and `1.9e-6`).
-fn tolerances(tolerance: f64, epsilon: f64) -> (f64, f64) {
+pub(crate) fn tolerances(tolerance: f64, epsilon: f64) -> (f64, f64) {
     let outer = tolerance.max(OUTER_FLOOR * epsilon);
     (outer, (0.01 * outer).max(INNER_FLOOR * epsilon))
 }
 
-fn check_problem(
+pub(crate) fn check_problem(
     g: &[f64],
     n: usize,
     cell_area: f64,
@@ -478,181 +264,4 @@ fn check_problem(
         ))),
         _ => Ok(()),
     }
-}
-
-/// Full contact: the pressure that keeps every cell in contact, from one
-/// linear solve of the bordered system on the whole grid (no sign
-/// constraint). Physical when every pressure comes out positive; with
-/// `Control::Load(0.0)` it gives the pure response to the profile `g`.
-pub fn solve_full_contact<B: Backend>(
-    backend: &mut B,
-    g: &[f64],
-    cell_area: f64,
-    self_coefficient: f64,
-    control: Control,
-    params: &SolverParams,
-) -> Result<(ContactSolution, SolveInfo), SolverError> {
-    let n = backend.grid_len();
-    check_problem(g, n, cell_area, self_coefficient, control)?;
-    let mut mask = backend.zeros(n);
-    backend.upload(&vec![1.0; n], &mut mask);
-    let index = backend.index_of(&mask);
-    let mut gv = backend.zeros(n);
-    backend.upload(g, &mut gv);
-    let bordered = matches!(control, Control::Load(_));
-    let load_scale = self_coefficient / (n as f64).sqrt();
-    let mut rhs = AugVec {
-        v: backend.zeros(n),
-        s: 0.0,
-    };
-    backend.copy(&gv, &mut rhs.v);
-    backend.scale(-1.0, &mut rhs.v);
-    match control {
-        Control::Load(f) => rhs.s = load_scale * f / cell_area,
-        Control::Approach(d) => backend.add_scalar(d, &mut rhs.v),
-    }
-    let mut full_in = backend.zeros(n);
-    let mut full_out = backend.zeros(n);
-    let mut op = Bordered::<B> {
-        index: &index,
-        full_in: &mut full_in,
-        full_out: &mut full_out,
-        delta_scale: self_coefficient,
-        load_scale,
-        bordered,
-        matvecs: 0,
-    };
-    let mut p = AugVec {
-        v: backend.zeros(n),
-        s: 0.0,
-    };
-    let mut work = GmresWork::new(backend, params.restart, n);
-    let outcome = gmres(
-        backend,
-        &mut op,
-        &rhs,
-        &mut p,
-        &mut work,
-        tolerances(params.tolerance, backend.epsilon()).1,
-        params.max_matvecs,
-    );
-    let mut matvecs = op.matvecs;
-    if !outcome.converged {
-        return Err(SolverError::NoConvergence {
-            iterations: 1,
-            matvecs,
-            residual: f64::NAN,
-            history: vec![],
-        });
-    }
-    let delta = match control {
-        Control::Load(_) => p.s * self_coefficient,
-        Control::Approach(d) => d,
-    };
-    let mut u = backend.zeros(n);
-    backend.apply(&p.v, &mut u);
-    matvecs += 1;
-    let mut gap = backend.zeros(n);
-    backend.gap(&gv, &u, delta, &mut gap);
-    let (r2, p2) = backend.complementarity(&p.v, &gap, 1.0 / self_coefficient);
-    let load_error = match control {
-        Control::Load(f) if f > 0.0 => (cell_area * backend.sum(&p.v) - f).abs() / f,
-        _ => 0.0,
-    };
-    let mut out = |v: &B::Vector| {
-        let mut h = vec![0.0; n];
-        backend.download(v, &mut h);
-        h
-    };
-    let solution = ContactSolution {
-        pressure: out(&p.v),
-        displacement: out(&u),
-        gap: out(&gap),
-        contact: vec![1.0; n],
-        approach: delta,
-    };
-    let residual = if p2 > 0.0 { (r2 / p2).sqrt() } else { 0.0 };
-    Ok((
-        solution,
-        SolveInfo {
-            iterations: 1,
-            matvecs,
-            residual,
-            load_error,
-            history: vec![residual],
-            contact_history: vec![n],
-        },
-    ))
-}
-
-/// Initial contact set and pressure. Under load control: the cells with the
-/// smallest gap, as many as the linear area-load law predicts (paper Eq. 10,
-/// `A/A0 = kappa p0 / (E* m)` with `kappa = 2`, `m` the rms slope of the
-/// gap profile and `E*` read off the self coefficient: for a square cell
-/// `L_00 = (1 - nu^2) / (pi E) 4 a asinh(1)`, so `E* = 4 asinh(1) a / (pi L_00)`).
-fn initial_guess(
-    g: &[f64],
-    cell_area: f64,
-    l00: f64,
-    control: Control,
-    mask: &mut [f64],
-) -> (f64, f64) {
-    let n = g.len();
-    let mut sorted: Vec<f64> = g.to_vec();
-    sorted.sort_by(|a, b| a.total_cmp(b));
-    let count = match control {
-        Control::Load(f) => {
-            let a = cell_area.sqrt();
-            let e_star = 4.0 * 1f64.asinh() * a / (std::f64::consts::PI * l00);
-            let mean_p = f / (cell_area * n as f64);
-            let slope = rms_slope_along_rows(g, a);
-            let fraction = if slope > 0.0 {
-                2.0 * mean_p / (e_star * slope)
-            } else {
-                1.0
-            };
-            ((fraction * n as f64).ceil() as usize).clamp(1, n.div_ceil(2))
-        }
-        Control::Approach(d) => sorted.iter().filter(|&&x| x < d).count().max(1),
-    };
-    let threshold = sorted[count - 1];
-    let mut m = 0usize;
-    for (mk, &gi) in mask.iter_mut().zip(g) {
-        if gi <= threshold && m < count {
-            *mk = 1.0;
-            m += 1;
-        }
-    }
-    let p0 = match control {
-        Control::Load(f) => f / (cell_area * m as f64),
-        Control::Approach(_) => 0.0,
-    };
-    (threshold, p0)
-}
-
-/// rms of the finite-difference slope of `g` along the storage rows and
-/// columns of a square grid (`sqrt(<|grad g|^2>)`); the grid shape is taken
-/// as square when `n` is a perfect square, else as one row.
-fn rms_slope_along_rows(g: &[f64], a: f64) -> f64 {
-    let n = g.len();
-    let side = (n as f64).sqrt().round() as usize;
-    if side * side != n || side < 2 {
-        return 0.0;
-    }
-    let mut s2 = 0.0;
-    let mut count = 0usize;
-    for i in 0..side {
-        for j in 0..side - 1 {
-            let d = g[i * side + j + 1] - g[i * side + j];
-            s2 += d * d;
-            count += 1;
-        }
-    }
-    for i in 0..side - 1 {
-        for j in 0..side {
-            let d = g[(i + 1) * side + j] - g[i * side + j];
-            s2 += d * d;
-        }
-    }
-    (2.0 * s2 / (2 * count) as f64).sqrt() / a
 }

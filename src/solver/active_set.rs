@@ -1,0 +1,484 @@
+//! The primal-dual active-set iteration (semismooth Newton) of
+//! [`solve_from`], with its inner Krylov solves on the bordered contact-set
+//! system (module docs of [`super`]).
+
+use super::gmres::{gmres, AugOperator, AugVec, GmresWork};
+use super::{
+    check_problem, tolerances, ContactSolution, Control, Observer, SolveInfo, SolverError,
+    SolverParams, WarmStart, FLOOR_TOGGLES, INNER_FLOOR, ROUNDING_FLOOR, STAGNANT_ACCEPT,
+    STAGNANT_ITERATIONS, STAGNATION,
+};
+use crate::backend::Backend;
+
+/// How far one outer iteration solves its contact-set system (inexact
+/// Newton). Every solve stops at the sharp (final) tolerance; before that,
+/// at a reduction of its starting residual that depends on how much the
+/// contact set still moves: a rough solve decides the next set as well as
+/// an exact one would while many cells change. The reduction is relative to
+/// the warm start's residual, not to `|g_I|`, so that a good start (a
+/// prolonged coarse solution) still makes progress each iteration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Phase {
+    /// More than a tenth of the set changed.
+    Rough,
+    /// Less than a tenth, more than 1 in 200 cells.
+    Loose,
+    /// A few cells; the set has almost settled.
+    Sharp,
+}
+
+impl Phase {
+    /// The phase after an iteration that changed `changes` of `cells`
+    /// cells; a residual that did not fall (`stalled`: cells entering at
+    /// `p = 0` leave again) moves it one step towards sharp.
+    fn choose(changes: usize, cells: usize, stalled: bool) -> Self {
+        let few = changes <= (cells / 200).max(1);
+        let some = changes <= cells / 10;
+        if few || (stalled && some) {
+            Self::Sharp
+        } else if some || stalled {
+            Self::Loose
+        } else {
+            Self::Rough
+        }
+    }
+
+    /// Reduction of the starting residual at which the solve stops (0: only
+    /// the sharp tolerance); `settle` for a set that changed by at most one
+    /// cell in [`FLOOR_TOGGLES`] in the last iteration (or a stalled
+    /// residual): solve to the end.
+    fn reduction(self, settle: bool) -> f64 {
+        match self {
+            Self::Rough => 1e-2,
+            Self::Loose => 1e-3,
+            Self::Sharp if settle => 0.0,
+            Self::Sharp => 1e-4,
+        }
+    }
+}
+
+/// The bordered operator on the contact set `I` (short vectors over `I`):
+/// `y = (L_II x - delta_scale s 1, load_scale sum x)`.
+///
+/// With a backend preconditioner `K ~ L^-1` it is right-preconditioned by
+/// the block inverse built on `K_II = R K R^T`: for `(r, t)`,
+/// `s = (t / load_scale - 1.K_II r) / (delta_scale 1.K_II 1)` and
+/// `x = K_II (r + delta_scale s 1)`, which is the exact inverse when
+/// `K_II = L_II^-1` (the load row is met exactly, the approach follows the
+/// Schur complement `1.K_II 1`).
+pub(crate) struct Bordered<'a, B: Backend> {
+    pub(crate) index: &'a B::Index,
+    pub(crate) full_in: &'a mut B::Vector,
+    pub(crate) full_out: &'a mut B::Vector,
+    /// `delta = delta_scale * s`.
+    pub(crate) delta_scale: f64,
+    /// Load row scale.
+    pub(crate) load_scale: f64,
+    pub(crate) bordered: bool,
+    pub(crate) matvecs: usize,
+    /// `K_II 1` and `1.K_II 1` when preconditioned.
+    pub(crate) schur: Option<(B::Vector, f64)>,
+    pub(crate) preconditioner_applications: usize,
+}
+
+impl<'a, B: Backend> Bordered<'a, B> {
+    /// The operator on `index`, preconditioned when `precondition` and the
+    /// backend has a preconditioner (one application for `K_II 1`).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        backend: &mut B,
+        index: &'a B::Index,
+        full_in: &'a mut B::Vector,
+        full_out: &'a mut B::Vector,
+        delta_scale: f64,
+        load_scale: f64,
+        bordered: bool,
+        precondition: bool,
+    ) -> Self {
+        let mut op = Self {
+            index,
+            full_in,
+            full_out,
+            delta_scale,
+            load_scale,
+            bordered,
+            matvecs: 0,
+            schur: None,
+            preconditioner_applications: 0,
+        };
+        if precondition && backend.has_preconditioner() {
+            let m = backend.index_len(index);
+            let mut ones = backend.zeros(m);
+            backend.add_scalar(1.0, &mut ones);
+            let mut k1 = backend.zeros(m);
+            op.restricted_stiffness(backend, &ones, &mut k1);
+            let sigma = backend.sum(&k1);
+            op.schur = Some((k1, sigma));
+        }
+        op
+    }
+
+    /// `y = K_II x` on short vectors.
+    fn restricted_stiffness(&mut self, backend: &mut B, x: &B::Vector, y: &mut B::Vector) {
+        backend.scatter(self.index, x, self.full_in);
+        backend.precondition(self.full_in, self.full_out);
+        backend.gather(self.index, self.full_out, y);
+        self.preconditioner_applications += 1;
+    }
+}
+
+impl<B: Backend> AugOperator<B> for Bordered<'_, B> {
+    fn apply(&mut self, backend: &mut B, x_v: &B::Vector, x_s: f64, y: &mut AugVec<B::Vector>) {
+        backend.scatter(self.index, x_v, self.full_in);
+        backend.apply_rows(self.full_in, self.index, self.full_out, &mut y.v);
+        self.matvecs += 1;
+        if self.bordered {
+            backend.add_scalar(-self.delta_scale * x_s, &mut y.v);
+            y.s = self.load_scale * backend.sum(x_v);
+        } else {
+            y.s = 0.0;
+        }
+    }
+
+    fn bordered(&self) -> bool {
+        self.bordered
+    }
+
+    fn preconditioned(&self) -> bool {
+        self.schur.is_some()
+    }
+
+    fn precondition(
+        &mut self,
+        backend: &mut B,
+        x_v: &B::Vector,
+        x_s: f64,
+        y: &mut AugVec<B::Vector>,
+    ) {
+        self.restricted_stiffness(backend, x_v, &mut y.v);
+        let (k1, sigma) = self.schur.as_ref().expect("preconditioned");
+        if self.bordered && *sigma > 0.0 {
+            let s = (x_s / self.load_scale - backend.sum(&y.v)) / (self.delta_scale * sigma);
+            backend.axpy(self.delta_scale * s, k1, &mut y.v);
+            y.s = s;
+        } else {
+            y.s = 0.0;
+        }
+    }
+}
+
+/// [`super::solve`] from a warm start (`None`: the bearing-area guess of
+/// [`super::solve`]). The start only changes the path, not the solution.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_from<B: Backend>(
+    backend: &mut B,
+    g: &[f64],
+    cell_area: f64,
+    self_coefficient: f64,
+    control: Control,
+    params: &SolverParams,
+    start: Option<&WarmStart>,
+    observer: &mut dyn Observer,
+) -> Result<(ContactSolution, SolveInfo), SolverError> {
+    solve_owned(
+        backend,
+        g,
+        cell_area,
+        self_coefficient,
+        control,
+        params,
+        start.cloned(),
+        observer,
+    )
+}
+
+/// [`solve_from`] taking the start by value: its host vectors are freed
+/// once uploaded (on the largest grids each is hundreds of MB).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn solve_owned<B: Backend>(
+    backend: &mut B,
+    g: &[f64],
+    cell_area: f64,
+    self_coefficient: f64,
+    control: Control,
+    params: &SolverParams,
+    start: Option<WarmStart>,
+    observer: &mut dyn Observer,
+) -> Result<(ContactSolution, SolveInfo), SolverError> {
+    let n = backend.grid_len();
+    check_problem(g, n, cell_area, self_coefficient, control)?;
+    let stiffness = 1.0 / self_coefficient;
+    let (tolerance, tight) = tolerances(params.tolerance, backend.epsilon());
+
+    // Initial contact set.
+    let (delta0, host_mask, host) = match start {
+        Some(ws) if ws.contact.len() == n && ws.pressure.len() == n && ws.approach.is_finite() => {
+            if ws.contact.iter().all(|&m| m <= 0.5) {
+                return Err(SolverError::Invalid(
+                    "the warm start has an empty contact set".into(),
+                ));
+            }
+            (ws.approach, ws.contact, ws.pressure)
+        }
+        Some(_) => {
+            return Err(SolverError::Invalid(format!(
+                "the warm start does not match the {n} cells of the problem"
+            )))
+        }
+        None => {
+            let mut host_mask = vec![0.0; n];
+            let (delta0, p0) =
+                initial_guess(g, cell_area, self_coefficient, control, &mut host_mask);
+            let host = host_mask.iter().map(|m| p0 * m).collect();
+            (delta0, host_mask, host)
+        }
+    };
+    let mut contact_cells = host_mask.iter().filter(|&&m| m > 0.5).count();
+    let mut mask = backend.zeros(n);
+    backend.upload(&host_mask, &mut mask);
+    drop(host_mask);
+    let mut gv = backend.zeros(n);
+    backend.upload(g, &mut gv);
+    let mut p_full = backend.zeros(n);
+    backend.upload(&host, &mut p_full);
+    drop(host);
+
+    let bordered = matches!(control, Control::Load(_));
+    let delta_scale = self_coefficient;
+    let mut delta = delta0;
+    let mut work = GmresWork::new(backend, params.restart, 0);
+    let mut rhs = AugVec {
+        v: backend.zeros(0),
+        s: 0.0,
+    };
+    let mut p = AugVec {
+        v: backend.zeros(0),
+        s: 0.0,
+    };
+    let mut u = backend.zeros(n);
+    let mut gap = backend.zeros(n);
+    let mut full_in = backend.zeros(n);
+    let mut full_out = backend.zeros(n);
+
+    let mut matvecs = 0usize;
+    let mut preconditioner_applications = 0usize;
+    let mut history = Vec::new();
+    let mut contact_history = Vec::new();
+    let mut last_changes = usize::MAX;
+    let mut residual = f64::INFINITY;
+    let mut stalled = false;
+    // The inner tolerance is relative to |g_I|; where the complementarity
+    // residual (relative to |p|) stalls above the target on an unchanged
+    // set, the inner solves are sharpened towards the arithmetic's floor.
+    let floor_inner = INNER_FLOOR * backend.epsilon();
+    let mut sharp = tight;
+    let mut stagnant = 0usize;
+    let mut best_residual = f64::INFINITY;
+    for iteration in 1..=params.max_iterations {
+        let phase = Phase::choose(last_changes, contact_cells, stalled);
+        let index = backend.index_of(&mask);
+        let m = backend.index_len(&index);
+        if m == 0 {
+            return Err(SolverError::Invalid(
+                "the contact set is empty: under approach control the surfaces do not touch".into(),
+            ));
+        }
+        let load_scale = self_coefficient / (m as f64).sqrt();
+        work.resize(backend, m);
+        backend.resize(&mut rhs.v, m);
+        backend.resize(&mut p.v, m);
+        // rhs = -g_I (+ delta under approach control); load row.
+        backend.gather(&index, &gv, &mut rhs.v);
+        backend.scale(-1.0, &mut rhs.v);
+        match control {
+            Control::Load(f) => rhs.s = load_scale * f / cell_area,
+            Control::Approach(d) => {
+                backend.add_scalar(d, &mut rhs.v);
+                rhs.s = 0.0;
+            }
+        }
+        // Warm start: the previous pressure on the new set, the previous approach.
+        backend.gather(&index, &p_full, &mut p.v);
+        p.s = delta / delta_scale;
+        let mut op = Bordered::new(
+            backend,
+            &index,
+            &mut full_in,
+            &mut full_out,
+            delta_scale,
+            load_scale,
+            bordered,
+            params.precondition,
+        );
+        let budget = params.max_matvecs.saturating_sub(matvecs).max(1);
+        let reduction =
+            phase.reduction(stalled || last_changes <= (contact_cells / FLOOR_TOGGLES).max(1));
+        let outcome = gmres(
+            backend, &mut op, &rhs, &mut p, &mut work, sharp, reduction, budget,
+        );
+        matvecs += op.matvecs;
+        preconditioner_applications += op.preconditioner_applications;
+        if bordered {
+            delta = p.s * delta_scale;
+        }
+        // Gap everywhere.
+        backend.scatter(&index, &p.v, &mut p_full);
+        backend.apply(&p_full, &mut u);
+        matvecs += 1;
+        backend.gap(&gv, &u, delta, &mut gap);
+        let (r2, p2) = backend.complementarity(&p_full, &gap, stiffness);
+        residual = if p2 > 0.0 {
+            (r2 / p2).sqrt()
+        } else {
+            f64::INFINITY
+        };
+        // Rounding floor of the residual: on a contact cell the gap is a
+        // cancellation of terms of size |u|, so it carries an error of
+        // about epsilon |u|, i.e. epsilon k |u| in pressure units.
+        let floor = if p2 > 0.0 {
+            ROUNDING_FLOOR * backend.epsilon() * stiffness * (backend.dot(&u, &u) / p2).sqrt()
+        } else {
+            0.0
+        };
+        let previous_residual = history.last().copied().unwrap_or(f64::INFINITY);
+        stalled = residual >= previous_residual;
+        if stalled && phase == Phase::Sharp && reduction == 0.0 && sharp > floor_inner {
+            sharp = (0.01 * sharp).max(floor_inner);
+        }
+        let (changes, size) = backend.update_active_set(&p_full, &gap, &mut mask);
+        history.push(residual);
+        contact_history.push(size);
+        observer.iteration(iteration, matvecs, residual, size);
+        // At the arithmetic's floor the residual stops improving once the
+        // inner solves cannot be sharpened further (f32 on large grids,
+        // where the floor estimate above is optimistic). The set may then
+        // keep toggling a few cells: one whose gap (full product) is below
+        // zero enters, the inner solve (already within its tolerance) leaves
+        // its pressure at zero or pushes it below, and it leaves again.
+        let settled = changes == 0 && outcome.converged;
+        let at_inner_floor = sharp <= floor_inner && outcome.converged;
+        let few_changes = changes <= (size / FLOOR_TOGGLES).max(1);
+        if residual < STAGNATION * best_residual {
+            best_residual = residual;
+            stagnant = 0;
+        } else if at_inner_floor && few_changes {
+            stagnant += 1;
+        } else {
+            stagnant = 0;
+        }
+        let at_floor = stagnant >= STAGNANT_ITERATIONS && residual <= STAGNANT_ACCEPT;
+        if (settled && residual <= tolerance.max(floor)) || at_floor {
+            let load_error = match control {
+                Control::Load(f) => (cell_area * backend.sum(&p_full) - f).abs() / f,
+                Control::Approach(_) => 0.0,
+            };
+            let mut out = |v: &B::Vector| {
+                let mut h = vec![0.0; n];
+                backend.download(v, &mut h);
+                h
+            };
+            return Ok((
+                ContactSolution {
+                    pressure: out(&p_full),
+                    displacement: out(&u),
+                    gap: out(&gap),
+                    contact: out(&mask),
+                    approach: delta,
+                },
+                SolveInfo {
+                    iterations: iteration,
+                    matvecs,
+                    preconditioner_applications,
+                    levels: Vec::new(),
+                    residual,
+                    load_error,
+                    history,
+                    contact_history,
+                },
+            ));
+        }
+        last_changes = changes;
+        contact_cells = size;
+        if matvecs >= params.max_matvecs {
+            break;
+        }
+    }
+    Err(SolverError::NoConvergence {
+        iterations: history.len(),
+        matvecs,
+        residual,
+        history,
+    })
+}
+
+/// Initial contact set and pressure. Under load control: the cells with the
+/// smallest gap, as many as the linear area-load law predicts (paper Eq. 10,
+/// `A/A0 = kappa p0 / (E* m)` with `kappa = 2`, `m` the rms slope of the
+/// gap profile and `E*` read off the self coefficient: for a square cell
+/// `L_00 = (1 - nu^2) / (pi E) 4 a asinh(1)`, so `E* = 4 asinh(1) a / (pi L_00)`).
+pub(crate) fn initial_guess(
+    g: &[f64],
+    cell_area: f64,
+    l00: f64,
+    control: Control,
+    mask: &mut [f64],
+) -> (f64, f64) {
+    let n = g.len();
+    let mut sorted: Vec<f64> = g.to_vec();
+    sorted.sort_by(|a, b| a.total_cmp(b));
+    let count = match control {
+        Control::Load(f) => {
+            let a = cell_area.sqrt();
+            let e_star = 4.0 * 1f64.asinh() * a / (std::f64::consts::PI * l00);
+            let mean_p = f / (cell_area * n as f64);
+            let slope = rms_slope_along_rows(g, a);
+            let fraction = if slope > 0.0 {
+                2.0 * mean_p / (e_star * slope)
+            } else {
+                1.0
+            };
+            ((fraction * n as f64).ceil() as usize).clamp(1, n.div_ceil(2))
+        }
+        Control::Approach(d) => sorted.iter().filter(|&&x| x < d).count().max(1),
+    };
+    let threshold = sorted[count - 1];
+    let mut m = 0usize;
+    for (mk, &gi) in mask.iter_mut().zip(g) {
+        if gi <= threshold && m < count {
+            *mk = 1.0;
+            m += 1;
+        }
+    }
+    let p0 = match control {
+        Control::Load(f) => f / (cell_area * m as f64),
+        Control::Approach(_) => 0.0,
+    };
+    (threshold, p0)
+}
+
+/// rms of the finite-difference slope of `g` along the storage rows and
+/// columns of a square grid (`sqrt(<|grad g|^2>)`); the grid shape is taken
+/// as square when `n` is a perfect square, else as one row.
+fn rms_slope_along_rows(g: &[f64], a: f64) -> f64 {
+    let n = g.len();
+    let side = (n as f64).sqrt().round() as usize;
+    if side * side != n || side < 2 {
+        return 0.0;
+    }
+    let mut s2 = 0.0;
+    let mut count = 0usize;
+    for i in 0..side {
+        for j in 0..side - 1 {
+            let d = g[i * side + j + 1] - g[i * side + j];
+            s2 += d * d;
+            count += 1;
+        }
+    }
+    for i in 0..side - 1 {
+        for j in 0..side {
+            let d = g[(i + 1) * side + j] - g[i * side + j];
+            s2 += d * d;
+        }
+    }
+    (2.0 * s2 / (2 * count) as f64).sqrt() / a
+}
