@@ -71,6 +71,13 @@ pub fn run(args: SolveArgs) -> Result<()> {
         solution.info.residual,
         solution.timings.total_s
     );
+    match solution.cells_per_shortest_wavelength() {
+        Some(c) => println!("cells per shortest wavelength {c:.3}"),
+        None => println!("cells per shortest wavelength: not defined (no roughness)"),
+    }
+    for w in &solution.warnings {
+        eprintln!("warning: {w}");
+    }
     println!("wrote {} files to {}", written.len(), args.out.display());
     Ok(())
 }

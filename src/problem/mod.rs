@@ -19,6 +19,7 @@
 //! one place.
 
 pub mod adaptive;
+pub mod resolution;
 pub mod setup;
 pub mod solution;
 pub mod solve;
@@ -26,7 +27,8 @@ pub mod solve;
 use std::path::PathBuf;
 
 pub use adaptive::{AdaptiveParams, AdaptiveSolution, MeshReport};
-pub use setup::memory_estimate;
+pub use resolution::{ShortestWavelength, MIN_CELLS_PER_WAVELENGTH};
+pub use setup::{check_memory, memory_estimate};
 pub use solution::{Solution, Timings};
 pub use solve::{Discretisation, Executor};
 

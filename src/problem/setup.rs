@@ -173,7 +173,9 @@ pub fn memory_estimate(nx: usize, ny: usize, restart: usize) -> u64 {
     n.saturating_mul(8 * (48 + restart as u64))
 }
 
-pub(super) fn check_memory(nx: usize, ny: usize, restart: usize) -> Result<()> {
+/// Refuse an `nx x ny` grid whose [`memory_estimate`] exceeds the memory
+/// available now (read from `/proc/meminfo`; no check where it is absent).
+pub fn check_memory(nx: usize, ny: usize, restart: usize) -> Result<()> {
     let need = memory_estimate(nx, ny, restart);
     if let Some(avail) = available_memory() {
         if need > avail {
