@@ -127,6 +127,31 @@ fn range(vals: impl Iterator<Item = f64>, log: bool) -> Option<(f64, f64)> {
 /// Draw `chart` into a PNG at `path` (800x600 pixels).
 pub fn xy_chart(path: &Path, chart: &XyChart) -> Result<(), PlotError> {
     ensure_font();
+    let root = BitMapBackend::new(path, (800, 600)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
+    xy_on(path, &root, chart)?;
+    root.present().map_err(|e| draw_err(path, e))?;
+    Ok(())
+}
+
+/// Draw `charts` stacked top to bottom into one PNG at `path` (800 pixels
+/// wide, 450 per panel).
+pub fn xy_panels(path: &Path, charts: &[XyChart]) -> Result<(), PlotError> {
+    ensure_font();
+    let height = 450 * charts.len().max(1) as u32;
+    let root = BitMapBackend::new(path, (800, height)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
+    let panels = root.split_evenly((charts.len().max(1), 1));
+    for (chart, area) in charts.iter().zip(&panels) {
+        xy_on(path, area, chart)?;
+    }
+    root.present().map_err(|e| draw_err(path, e))?;
+    Ok(())
+}
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+fn xy_on(path: &Path, root: &Area<'_>, chart: &XyChart) -> Result<(), PlotError> {
     let xs = chart
         .series
         .iter()
@@ -143,23 +168,33 @@ pub fn xy_chart(path: &Path, chart: &XyChart) -> Result<(), PlotError> {
     let (x0, x1) = range(xs, chart.log_x).ok_or_else(nodata)?;
     let (y0, y1) = range(ys, chart.log_y).ok_or_else(nodata)?;
     match (chart.log_x, chart.log_y) {
-        (false, false) => draw_xy(path, chart, x0..x1, y0..y1),
-        (true, false) => draw_xy(path, chart, (x0..x1).log_scale(), y0..y1),
-        (false, true) => draw_xy(path, chart, x0..x1, (y0..y1).log_scale()),
-        (true, true) => draw_xy(path, chart, (x0..x1).log_scale(), (y0..y1).log_scale()),
+        (false, false) => draw_xy(path, root, chart, x0..x1, y0..y1),
+        (true, false) => draw_xy(path, root, chart, (x0..x1).log_scale(), y0..y1),
+        (false, true) => draw_xy(path, root, chart, x0..x1, (y0..y1).log_scale()),
+        (true, true) => draw_xy(
+            path,
+            root,
+            chart,
+            (x0..x1).log_scale(),
+            (y0..y1).log_scale(),
+        ),
     }
 }
 
-fn draw_xy<X, Y>(path: &Path, chart: &XyChart, xr: X, yr: Y) -> Result<(), PlotError>
+fn draw_xy<X, Y>(
+    path: &Path,
+    root: &Area<'_>,
+    chart: &XyChart,
+    xr: X,
+    yr: Y,
+) -> Result<(), PlotError>
 where
     X: AsRangedCoord<Value = f64>,
     Y: AsRangedCoord<Value = f64>,
     X::CoordDescType: ValueFormatter<f64>,
     Y::CoordDescType: ValueFormatter<f64>,
 {
-    let root = BitMapBackend::new(path, (800, 600)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
-    let mut ctx = ChartBuilder::on(&root)
+    let mut ctx = ChartBuilder::on(root)
         .caption(&chart.title, ("sans-serif", 22))
         .margin(12)
         .x_label_area_size(50)
@@ -229,7 +264,6 @@ where
         .position(SeriesLabelPosition::UpperRight)
         .draw()
         .map_err(|e| draw_err(path, e))?;
-    root.present().map_err(|e| draw_err(path, e))?;
     Ok(())
 }
 
