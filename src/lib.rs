@@ -49,7 +49,7 @@
 //!
 //! Data flows one way: `config` -> `material` and `surface` -> `mesh` ->
 //! `kernel` (influence coefficients) -> `operator` -> `backend` -> `solver`
-//! -> `analysis` -> `problem` (the API) -> `sweep` -> `cli`; `io` and `plot`
+//! -> `analysis` -> `problem` (the API) -> `sweep` and `refine` -> `cli`; `io` and `plot`
 //! serve every layer. `docs/ARCHITECTURE.md` says what each layer owns and
 //! may import; `tests/architecture.rs` keeps the imports pointing down.
 
@@ -71,5 +71,6 @@ pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 pub mod analysis;
 pub mod operator;
 pub mod problem;
+pub mod refine;
 pub mod solver;
 pub mod sweep;

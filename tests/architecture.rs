@@ -22,7 +22,7 @@ const LAYERS: &[&[&str]] = &[
     &["analysis"],
     &["error"],
     &["problem"],
-    &["sweep"],
+    &["sweep", "refine"],
     &["cli"],
 ];
 
