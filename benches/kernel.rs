@@ -1,12 +1,13 @@
 //! Coefficient-table throughput (physics.md section 3): the full
 //! `(2n-1)^2` table for the paper's single-relaxation material at
 //! `v tau / a = 3` (and its friction-stencil table `D_x`) and for a 34-term
-//! spectrum. Set `CI` to shrink to 128^2.
+//! spectrum; and the 256^2 table (`K` and `D_x`) of a layer two cells thick
+//! (bonded, cell integrals of Eq. 5). Set `CI` to shrink to 128^2.
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
+use viscoslide::kernel::{Axis, KernelParams, Layer, LayerBase, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, CreepTerm, Material};
 
 fn sls() -> Material {
@@ -65,6 +66,25 @@ fn bench(c: &mut Criterion) {
     .unwrap();
     group.bench_function(format!("spectrum34_{n}"), |b| {
         b.iter(|| black_box(spec_kernel.table(black_box(n), n, cell)))
+    });
+    let nl = if ci { 128 } else { 256 };
+    let layer_kernel = SlidingKernel::new(
+        &sls(),
+        KernelParams {
+            speed: 3.0 * cell / 0.01,
+            layer: Some(Layer {
+                thickness: 2.0 * cell,
+                base: LayerBase::Bonded,
+            }),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    group.bench_function(format!("layer_2cells_{nl}"), |b| {
+        b.iter(|| black_box(layer_kernel.table(black_box(nl), nl, cell)))
+    });
+    group.bench_function(format!("layer_2cells_dx_{nl}"), |b| {
+        b.iter(|| black_box(layer_kernel.derivative_table(black_box(nl), nl, cell, Axis::X)))
     });
     group.finish();
 }

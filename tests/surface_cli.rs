@@ -98,7 +98,7 @@ fn generate_writes_four_files_and_records_seed() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(s["stats"]["nx"], 96);
-    let rms2 = s["stats"]["rms_height"].as_f64().unwrap();
+    let rms2 = s["stats"]["rms_height_real"].as_f64().unwrap();
     assert!((rms2 / rms - 1.0).abs() < 1e-12);
 }
 

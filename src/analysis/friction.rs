@@ -71,9 +71,11 @@ pub fn friction_force_dissipation(
 
 /// [`friction_force_dissipation`] for a layer of finite thickness: the
 /// half-space transfer function is multiplied by the layer's compliance
-/// ratio `S(|q| h)` (Eq. 5). The coefficients of [`crate::kernel`] apply
-/// `Theta` at the centre-to-centre distance (paper Eq. 6), so the two routes
-/// agree as `a / h -> 0`.
+/// ratio `S(|q| h)`. This is the Fourier transform of the paper's Eq. 4-5
+/// (`Theta` at the displaced point along the trail), whose cell integrals
+/// the coefficients of [`crate::kernel`] are, so the two routes evaluate the
+/// same integral (up to this quadrature's zone sampling and alias
+/// truncation).
 #[allow(clippy::too_many_arguments)]
 pub fn friction_force_dissipation_layered(
     pressure: &[f64],

@@ -3,7 +3,7 @@
 //! by the friction stencil (physics.md section 5).
 
 use crate::error::{Error, Result};
-use crate::kernel::{Axis, KernelParams, SlidingKernel};
+use crate::kernel::{Axis, KernelParams, SlidingKernel, ThetaRule};
 
 #[derive(Debug, clap::Args)]
 pub struct KernelArgs {
@@ -33,6 +33,11 @@ pub struct KernelArgs {
     /// Print a JSON array instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// With a `[layer]`: the paper's Eq. 6 collocation (`Theta` at the
+    /// centre distance times the half-space's cell integral) instead of the
+    /// cell integral of Eq. 5's Green's function.
+    #[arg(long)]
+    pub collocation: bool,
 }
 
 fn parse_offset(s: &str) -> std::result::Result<(i64, i64), String> {
@@ -71,9 +76,17 @@ pub fn run(args: KernelArgs) -> Result<()> {
             direction_rad: args.direction_deg.to_radians(),
             layer,
         },
-    )?;
+    )?
+    .with_theta_rule(if args.collocation {
+        ThetaRule::Collocation
+    } else {
+        ThetaRule::CellIntegral
+    });
     let a = args.cell_size;
     SlidingKernel::check_cell(a, a)?;
+    if let Some(w) = layer.and_then(|l| l.resolution_warning(a)) {
+        eprintln!("warning: {w}");
+    }
     let rows: Vec<serde_json::Value> = args
         .offsets
         .iter()

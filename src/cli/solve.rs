@@ -6,6 +6,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::backend::BackendChoice;
 use crate::error::{Error, Result};
+use crate::io::check_output_dir;
 use crate::problem::{Executor, Problem};
 use crate::solver::Observer;
 
@@ -35,6 +36,8 @@ impl Observer for Spinner {
 
 pub fn run(args: SolveArgs) -> Result<()> {
     let cfg = args.config.load()?;
+    // Refuse an output place that cannot be written before solving.
+    check_output_dir(&args.out)?;
     let problem = Problem::from_config(&cfg)?;
     let choice = BackendChoice::resolve(args.backend).map_err(Error::Invalid)?;
     let (executor, line) = Executor::select(choice, &problem)?;
@@ -60,6 +63,9 @@ pub fn run(args: SolveArgs) -> Result<()> {
     let solution = problem.solve(&executor, &mut spinner);
     spinner.0.finish_and_clear();
     let solution = solution?;
+    for w in &solution.warnings {
+        eprintln!("warning: {w}");
+    }
     let written = solution.write(&args.out)?;
     println!(
         "friction coefficient {:.6e} (dissipation: {:.6e}), contact area fraction {:.5}, {} iterations, {} matvecs, residual {:.2e}, {:.2} s",
@@ -74,9 +80,6 @@ pub fn run(args: SolveArgs) -> Result<()> {
     match solution.cells_per_shortest_wavelength() {
         Some(c) => println!("cells per shortest wavelength {c:.3}"),
         None => println!("cells per shortest wavelength: not defined (no roughness)"),
-    }
-    for w in &solution.warnings {
-        eprintln!("warning: {w}");
     }
     println!("wrote {} files to {}", written.len(), args.out.display());
     Ok(())

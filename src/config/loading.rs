@@ -20,3 +20,73 @@ pub struct LoadingConfig {
     /// Sliding direction, degrees from +x (default 0).
     pub direction_deg: Option<f64>,
 }
+
+impl LoadingConfig {
+    /// The sliding speed as given: `speed` or `xi`, exactly one.
+    pub fn sliding(&self) -> Result<Sliding, &'static str> {
+        match (self.speed, self.xi) {
+            (Some(v), None) => Ok(Sliding::Speed(v)),
+            (None, Some(xi)) => Ok(Sliding::Xi(xi)),
+            (None, None) => Err("[loading] needs speed (m/s) or xi (v tau / L)"),
+            _ => Err("[loading] give only one of speed (m/s) and xi"),
+        }
+    }
+
+    /// Set the sliding speed, replacing `speed` and `xi`.
+    pub fn set_sliding(&mut self, sliding: Sliding) {
+        (self.speed, self.xi) = match sliding {
+            Sliding::Speed(v) => (Some(v), None),
+            Sliding::Xi(x) => (None, Some(x)),
+        };
+    }
+
+    /// Set the normal load \[N\], replacing `mean_pressure` and `approach`.
+    pub fn set_normal_load(&mut self, load: f64) {
+        self.normal_load = Some(load);
+        self.mean_pressure = None;
+        self.approach = None;
+    }
+}
+
+/// A sliding speed as a user gives it: in m/s, or as the dimensionless
+/// `xi = v tau / L`. Serialised as `{"speed": v}` or `{"xi": xi}`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Sliding {
+    /// `v` \[m/s\].
+    Speed(f64),
+    /// `xi = v tau / L`.
+    Xi(f64),
+}
+
+impl Sliding {
+    /// The number as given (m/s or xi).
+    pub fn value(&self) -> f64 {
+        match *self {
+            Sliding::Speed(v) | Sliding::Xi(v) => v,
+        }
+    }
+}
+
+/// The one conversion between a speed `v` \[m/s\] and `xi = v tau / L`
+/// (paper Section III): `tau` the creep time of a single-relaxation
+/// material, `L` the map's side along x.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct XiScale {
+    /// Creep time `tau` \[s\].
+    pub creep_time: f64,
+    /// Side of the map along x \[m\].
+    pub length: f64,
+}
+
+impl XiScale {
+    /// `v = xi L / tau` \[m/s\].
+    pub fn speed(&self, xi: f64) -> f64 {
+        xi * self.length / self.creep_time
+    }
+
+    /// `xi = v tau / L`.
+    pub fn xi(&self, speed: f64) -> f64 {
+        speed * self.creep_time / self.length
+    }
+}

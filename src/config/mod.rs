@@ -21,7 +21,7 @@ use serde::{Deserialize, Serialize};
 
 pub use analysis::AnalysisConfig;
 pub use layer::{LayerBase, LayerConfig};
-pub use loading::LoadingConfig;
+pub use loading::{LoadingConfig, Sliding, XiScale};
 pub use material::{MaterialConfig, MaterialModel};
 pub use solver::{AdaptiveConfig, Formulation, MeshKind, SolverConfig};
 pub use surface::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};
@@ -118,7 +118,7 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedConfig, ConfigErr
             message: one_line(&e, &text),
         })?
     } else {
-        parse_document(&document, &name)?
+        parse_document(&document, &name).map_err(|e| blame_override(&text, &name, overrides, e))?
     };
     let base_dir = path
         .parent()
@@ -131,6 +131,39 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedConfig, ConfigErr
         base_dir,
         document,
     })
+}
+
+/// The error of a file with overrides, put where it belongs: the file's own
+/// error (with its line numbers) when the file alone is wrong, else the
+/// first `--set` that breaks it, named by its flag (a line of the merged
+/// document would point into a file the value did not come from).
+fn blame_override(text: &str, name: &str, overrides: &[String], err: ConfigError) -> ConfigError {
+    if let Err(e) = toml::from_str::<Config>(text) {
+        return ConfigError::Parse {
+            path: name.into(),
+            message: one_line(&e, text),
+        };
+    }
+    let Ok(mut document) = toml::from_str::<toml::Table>(text) else {
+        return err;
+    };
+    for arg in overrides {
+        if apply_override(&mut document, arg).is_err() {
+            return err;
+        }
+        if let Err(ConfigError::Parse { message, .. }) = parse_document(&document, name) {
+            // "line N, key `k`: ..." names a line of the merged document.
+            let message = match message.split_once(", ") {
+                Some((head, rest)) if head.starts_with("line ") => rest.to_string(),
+                _ => message,
+            };
+            return ConfigError::Override {
+                arg: arg.clone(),
+                message,
+            };
+        }
+    }
+    err
 }
 
 /// Type-check a TOML document as a [`Config`].

@@ -17,7 +17,15 @@
 //! rms_height = 1e-5         # m ... or rms_slope = 0.1
 //! seed = 7
 //! anisotropy = { ratio = 2.0, angle_deg = 30.0 }   # optional
+//!
+//! # ... or a surface following a tabulated PSD (q 1/m, C m^4 columns):
+//! # [surface.generate] with n, ny, length, seed and psd = "psd.csv" only
 //! ```
+//!
+//! A `file` may be `.x3p`, `.gwy` (sizes from the file; `length` optional),
+//! `.npy` or a text matrix (`length` needed); `format = "x3p"` overrides the
+//! extension, `length_y` gives a non-square side for `.npy`/text, and
+//! `fill_missing = true` fills missing points by harmonic interpolation.
 
 use std::path::PathBuf;
 
@@ -37,6 +45,16 @@ pub struct SurfaceConfig {
     pub generate: Option<GenerateConfig>,
     /// A rigid sphere instead (the Hertz paraboloid), for smooth contacts.
     pub sphere: Option<SphereConfig>,
+    /// Format of `file` overriding its extension: "x3p", "gwy", "npy" or "text".
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub format: Option<String>,
+    /// Side of `file` along y \[m\] (`.npy`/text; default square cells).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length_y: Option<f64>,
+    /// Fill missing points of `file` by harmonic interpolation (default:
+    /// a file with missing points is an error).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fill_missing: Option<bool>,
 }
 
 /// `[surface.sphere]`: the paraboloid `z = -(x^2 + y^2) / (2 R)` of a sphere
@@ -93,6 +111,11 @@ pub struct GenerateConfig {
     pub seed: Option<u64>,
     /// Optional anisotropic stretch.
     pub anisotropy: Option<AnisotropyConfig>,
+    /// A tabulated PSD (CSV, q \[1/m\], C \[m^4\]) to follow instead of the
+    /// self-affine formula (relative to the config's directory); only `n`,
+    /// `ny`, `length` and `seed` go with it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub psd: Option<PathBuf>,
 }
 
 impl GenerateConfig {
@@ -111,6 +134,7 @@ impl GenerateConfig {
             rms_slope: over.rms_slope.or(self.rms_slope),
             seed: over.seed.or(self.seed),
             anisotropy: over.anisotropy.or(self.anisotropy),
+            psd: over.psd.clone().or_else(|| self.psd.clone()),
         }
     }
 }

@@ -19,6 +19,14 @@ pub enum OutputError {
     Unwritten(String),
     #[error("{0} is not a file path")]
     NotAFile(String),
+    #[error("{path}: not a directory, so the output directory {dir} cannot be made under it")]
+    NotADirectory { path: String, dir: String },
+    #[error("{dir}: cannot write output there ({source})")]
+    Unwritable {
+        dir: String,
+        #[source]
+        source: std::io::Error,
+    },
 }
 
 impl OutputError {
@@ -33,12 +41,48 @@ impl OutputError {
 
 type Result<T, E = OutputError> = std::result::Result<T, E>;
 
+/// Check, before long work, that output can be written to `dir`: its
+/// nearest existing ancestor must be a directory that accepts a new file.
+/// Creates nothing (a probe file is made and removed at once).
+pub fn check_output_dir(dir: &Path) -> Result<()> {
+    let mut p = dir;
+    let existing = loop {
+        match fs::metadata(p) {
+            Ok(m) if m.is_dir() => break p,
+            Ok(_) => {
+                return Err(OutputError::NotADirectory {
+                    path: p.display().to_string(),
+                    dir: dir.display().to_string(),
+                })
+            }
+            Err(_) => match p.parent() {
+                Some(q) if !q.as_os_str().is_empty() => p = q,
+                _ => break Path::new("."),
+            },
+        }
+    };
+    let probe = existing.join(format!(
+        ".viscoslide-probe-{}-{}",
+        std::process::id(),
+        unique_suffix()
+    ));
+    let unwritable = |source| OutputError::Unwritable {
+        dir: dir.display().to_string(),
+        source,
+    };
+    fs::File::create_new(&probe).map_err(unwritable)?;
+    fs::remove_file(&probe).map_err(unwritable)
+}
+
 /// A set of output files written together, or not at all.
 #[derive(Debug)]
 pub struct StagedOutput {
     dir: PathBuf,
     staging: PathBuf,
     names: Vec<String>,
+    /// Names of the whole output set: those not written this time are
+    /// removed from `dir` on commit.
+    set: Vec<String>,
     committed: bool,
 }
 
@@ -57,6 +101,7 @@ impl StagedOutput {
             dir,
             staging,
             names: Vec::new(),
+            set: Vec::new(),
             committed: false,
         })
     }
@@ -85,7 +130,16 @@ impl StagedOutput {
         fs::write(&p, bytes).map_err(|e| OutputError::io(&p, e))
     }
 
-    /// Move every staged file into the target directory.
+    /// Declare the names of the whole output set this write replaces: any
+    /// of them left in the directory by an earlier write of the same kind
+    /// and not written this time is removed on commit, so old and new
+    /// outputs never mix. Other files are left alone.
+    pub fn replaces(&mut self, names: &[&str]) {
+        self.set = names.iter().map(|n| n.to_string()).collect();
+    }
+
+    /// Move every staged file into the target directory, then remove the
+    /// stale members of the output set (see [`StagedOutput::replaces`]).
     pub fn commit(mut self) -> Result<Vec<PathBuf>> {
         let mut out = Vec::with_capacity(self.names.len());
         for name in &self.names {
@@ -102,6 +156,15 @@ impl StagedOutput {
         }
         self.committed = true;
         let _ = fs::remove_dir_all(&self.staging);
+        for name in self.set.iter().filter(|n| !self.names.contains(n)) {
+            let stale = self.dir.join(name);
+            match fs::remove_file(&stale) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                    return Err(OutputError::io(&stale, e))
+                }
+                _ => {}
+            }
+        }
         Ok(out)
     }
 }

@@ -50,6 +50,22 @@ pub struct LineProblem<'a> {
     pub kinks: &'a [KinkLine],
     /// Absolute tolerance of the adaptive integral (same units as the result).
     pub abs_tol: f64,
+    /// Relative tolerance of the adaptive integral.
+    pub rel_tol: f64,
+}
+
+/// Breakpoints of a memory integral along the trail: `l, 4l, 16l` for each
+/// memory length `l`, and a geometric grid (ratio 4) from `smallest / 8` up
+/// to `s_hi`.
+pub(crate) fn memory_breaks(breaks: &mut Vec<f64>, lengths: &[f64], smallest: f64, s_hi: f64) {
+    for &l in lengths {
+        breaks.extend([l, 4.0 * l, 16.0 * l]);
+    }
+    let mut s = smallest / 8.0;
+    while s < s_hi {
+        breaks.push(s);
+        s *= 4.0;
+    }
 }
 
 /// `sum_k C_k int_0^inf dz e^{-z} F(d + l_k z e_v)` [F units / Pa].
@@ -92,15 +108,8 @@ pub fn memory_integral(p: &LineProblem, f: impl Fn(f64, f64) -> f64) -> f64 {
         }
     }
     breaks.push(-(dx * ex + dy * ey));
-    for &(_, inv_l) in &active {
-        let l = 1.0 / inv_l;
-        breaks.extend([l, 4.0 * l, 16.0 * l]);
-    }
-    let mut s = l_min.min(p.a_min) / 8.0;
-    while s < s_hi {
-        breaks.push(s);
-        s *= 4.0;
-    }
+    let lengths: Vec<f64> = active.iter().map(|t| 1.0 / t.1).collect();
+    memory_breaks(&mut breaks, &lengths, l_min.min(p.a_min), s_hi);
     let breaks = clean_breaks(breaks, 0.0, s_hi);
     let phi = |s: f64| -> f64 { active.iter().map(|&(w, il)| w * (-s * il).exp()).sum() };
     total += adaptive(
@@ -114,7 +123,7 @@ pub fn memory_integral(p: &LineProblem, f: impl Fn(f64, f64) -> f64) -> f64 {
         },
         &breaks,
         p.abs_tol,
-        1e-14,
+        p.rel_tol,
         6000,
     );
     total

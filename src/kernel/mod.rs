@@ -6,10 +6,12 @@
 //!
 //! `K(d) = (1-nu^2)/pi [ (1/E_inf) Theta(|d|/h) L(d) + int_0^inf ds phi(s) Theta(|d + s e_v|/h) L(d + s e_v) ]`
 //!
-//! with `L` Love's integral of `1/r` over the rectangle ([`love`]),
-//! `phi(s) = sum_k (C_k / (v tau_k)) exp(-s / (v tau_k))` ([`mod@line`]) and
-//! `Theta` the thickness correction of Eq. 5 ([`thickness`]; `Theta = 1` for
-//! a half-space), evaluated at the centre-to-point distance as in Eq. 6.
+//! for a half-space, with `L` Love's integral of `1/r` over the rectangle
+//! ([`love`]) and `phi(s) = sum_k (C_k / (v tau_k)) exp(-s / (v tau_k))`
+//! ([`mod@line`]). On a layer (Eq. 5), `L` becomes the cell integral `M` of
+//! `Theta(r/h) / r` ([`cell`]; [`thickness`] for `Theta`), at the target
+//! and along the sliding trail alike; [`ThetaRule::Collocation`] keeps the
+//! paper's Eq. 6 (`Theta` at the centre-to-point distance times `L`).
 //! The material remembers the pressure it met ahead (`+v`): at `v > 0` the
 //! trailing neighbour (`-e_v`) gets the larger coefficient.
 //!
@@ -19,18 +21,24 @@
 //! that `a^2 sum_i p_i sum_k D_x(i - k) p_k = int p du/dx dA` exactly for
 //! piecewise-constant pressure ([`SlidingKernel::derivative`]).
 
+mod average;
+pub mod cell;
 pub mod line;
 pub mod love;
+mod march;
+mod progress;
 pub mod quad;
 mod table;
 pub mod thickness;
 
 use std::sync::Arc;
 
+pub use cell::ThetaRule;
 pub use table::{CoefficientTable, VertexTable};
 pub use thickness::{Layer, LayerBase, LayerConfig, ThetaTable};
 
 use crate::material::Material;
+use cell::LayerCell;
 use line::{memory_integral, KinkLine, LineProblem};
 use love::LoveRect;
 
@@ -98,10 +106,22 @@ pub struct SlidingKernel {
     params: KernelParams,
     e: (f64, f64),
     theta: Option<Arc<ThetaTable>>,
+    rule: ThetaRule,
 }
 
-/// Relative tolerance asked of the adaptive line integrals.
+/// A source cell's precomputed pieces: Love's rectangle and, on a layer with
+/// [`ThetaRule::CellIntegral`], the cell rules of `psi`.
+#[derive(Debug, Clone)]
+pub(crate) struct Cell {
+    pub(crate) love: LoveRect,
+    pub(crate) layer: Option<LayerCell>,
+}
+
+/// Relative tolerance asked of the adaptive line integrals on a half-space.
 const TOL: f64 = 1e-14;
+/// The same on a layer: the cell rules of `psi` ([`cell`]) carry ~1e-13,
+/// so asking more only multiplies panels.
+const LAYER_TOL: f64 = 1e-12;
 
 impl SlidingKernel {
     /// Plan a kernel: validates the speed and layer and tabulates `Theta`.
@@ -146,7 +166,50 @@ impl SlidingKernel {
             params,
             e: (snap(c), snap(s)),
             theta,
+            rule: ThetaRule::default(),
         })
+    }
+
+    /// The same kernel with `Theta` entering by `rule` (default
+    /// [`ThetaRule::CellIntegral`]; no effect on a half-space).
+    pub fn with_theta_rule(mut self, rule: ThetaRule) -> Self {
+        self.rule = rule;
+        self
+    }
+
+    /// How `Theta` enters the coefficients.
+    pub fn theta_rule(&self) -> ThetaRule {
+        self.rule
+    }
+
+    /// The layer's `Theta`, if any.
+    pub fn theta(&self) -> Option<&ThetaTable> {
+        self.theta.as_deref()
+    }
+
+    /// A source cell `ax x ay` with its rules.
+    pub(crate) fn cell(&self, ax: f64, ay: f64) -> Cell {
+        let layer = match (&self.theta, self.rule) {
+            (Some(t), ThetaRule::CellIntegral) => Some(LayerCell::new(t, ax, ay)),
+            _ => None,
+        };
+        Cell {
+            love: LoveRect::new(ax, ay),
+            layer,
+        }
+    }
+
+    /// Thickness in units of `a` below which the row march of the tables
+    /// does not converge (`None`: it always does).
+    pub(crate) fn thin_limit(&self) -> Option<f64> {
+        match (&self.theta, self.rule) {
+            (None, _) => None,
+            // psi is analytic within 2h of a row: 8-point rules on one-cell
+            // panels keep ~1e-10 down to h = a/2.
+            (Some(_), ThetaRule::CellIntegral) => Some(0.5),
+            // Theta(|x|/h) has a branch point at distance |y| from the row.
+            (Some(_), ThetaRule::Collocation) => Some(4.0),
+        }
     }
 
     /// The parameters this kernel was planned for.
@@ -171,14 +234,33 @@ impl SlidingKernel {
         Ok(())
     }
 
-    fn spatial<'a>(&'a self, rect: &'a LoveRect) -> impl Fn(f64, f64) -> f64 + 'a {
-        move |x, y| {
-            let l = rect.eval(x, y);
-            match &self.theta {
-                Some(t) => t.at_distance(x.hypot(y)) * l,
-                None => l,
+    /// The spatial factor of Eq. 4-6 for the source `cell` at the point
+    /// `(x, y)` \[m\]: `L` on a half-space, the cell integral `M` of
+    /// `Theta L` on a layer, or `Theta(r/h) L` by collocation.
+    pub(crate) fn spatial<'a>(&'a self, cell: &'a Cell) -> impl Fn(f64, f64) -> f64 + 'a {
+        move |x, y| match (&cell.layer, &self.theta) {
+            (Some(lc), _) => {
+                if lc.beyond(x, y, 0.0, 0.0) {
+                    0.0
+                } else {
+                    cell.love.eval(x, y) + lc.psi_part(x, y)
+                }
             }
+            (None, Some(t)) => t.at_distance(x.hypot(y)) * cell.love.eval(x, y),
+            (None, None) => cell.love.eval(x, y),
         }
+    }
+
+    /// Whether the coefficient at `(dx, dy)` vanishes because neither the
+    /// target nor its sliding trail comes within the reach of `Theta`.
+    fn out_of_reach(&self, cell: &Cell, dx: f64, dy: f64, margin: f64) -> bool {
+        let Some(lc) = &cell.layer else { return false };
+        let (ex, ey) = self.e;
+        // Closest point of the trail d + s e_v (s >= 0) to the cell centre.
+        let s = (-(dx * ex + dy * ey)).max(0.0);
+        let (px, py) = (dx + s * ex, dy + s * ey);
+        let half_diag = 0.5 * cell.love.ax.hypot(cell.love.ay);
+        px.hypot(py) > lc.reach() + half_diag + margin
     }
 
     /// `K(d)` at point offset `(dx, dy)` \[m\] from the centre of a source
@@ -200,21 +282,19 @@ impl SlidingKernel {
         ay: f64,
     ) -> Result<Coefficient, KernelError> {
         Self::check_cell(ax, ay)?;
-        let rect = LoveRect::new(ax, ay);
-        Ok(self.coefficient_with(&rect, dx, dy))
+        Ok(self.coefficient_with(&self.cell(ax, ay), dx, dy))
     }
 
-    pub(crate) fn coefficient_with(&self, rect: &LoveRect, dx: f64, dy: f64) -> Coefficient {
-        let f = self.spatial(rect);
+    pub(crate) fn coefficient_with(&self, cell: &Cell, dx: f64, dy: f64) -> Coefficient {
+        if self.out_of_reach(cell, dx, dy, 0.0) {
+            return Coefficient::default();
+        }
+        let f = self.spatial(cell);
+        let rect = &cell.love;
         let (ax, ay) = (rect.ax, rect.ay);
         let f0 = f(dx, dy);
-        let kinks = [
-            KinkLine::X(-0.5 * ax),
-            KinkLine::X(0.5 * ax),
-            KinkLine::Y(-0.5 * ay),
-            KinkLine::Y(0.5 * ay),
-        ];
-        let scale = rect.eval(dx, dy) * (self.glassy + self.terms.iter().map(|t| t.0).sum::<f64>());
+        let kinks = cell_kinks(ax, ay);
+        let scale = rect.eval(dx, dy) * self.total_compliance();
         let problem = LineProblem {
             d: (dx, dy),
             e: self.e,
@@ -222,7 +302,8 @@ impl SlidingKernel {
             a_min: ax.min(ay),
             a_max: ax.max(ay),
             kinks: &kinks,
-            abs_tol: TOL * scale,
+            abs_tol: self.tol() * scale,
+            rel_tol: self.tol(),
         };
         let mem = memory_integral(&problem, &f);
         Coefficient {
@@ -238,43 +319,60 @@ impl SlidingKernel {
         if Self::check_cell(ax, ay).is_err() {
             return f64::NAN;
         }
-        let rect = LoveRect::new(ax, ay);
-        self.derivative_with(&rect, dx, dy, axis)
+        self.derivative_with(&self.cell(ax, ay), dx, dy, axis)
     }
 
-    pub(crate) fn derivative_with(&self, rect: &LoveRect, dx: f64, dy: f64, axis: Axis) -> f64 {
-        let (ax, ay) = (rect.ax, rect.ay);
+    pub(crate) fn derivative_with(&self, cell: &Cell, dx: f64, dy: f64, axis: Axis) -> f64 {
+        let (ax, ay) = (cell.love.ax, cell.love.ay);
         match axis {
             Axis::X => {
-                (self.kbar(rect, dx + 0.5 * ax, dy, Axis::X)
-                    - self.kbar(rect, dx - 0.5 * ax, dy, Axis::X))
+                (self.kbar(cell, dx + 0.5 * ax, dy, Axis::X)
+                    - self.kbar(cell, dx - 0.5 * ax, dy, Axis::X))
                     / ax
             }
             Axis::Y => {
-                (self.kbar(rect, dx, dy + 0.5 * ay, Axis::Y)
-                    - self.kbar(rect, dx, dy - 0.5 * ay, Axis::Y))
+                (self.kbar(cell, dx, dy + 0.5 * ay, Axis::Y)
+                    - self.kbar(cell, dx, dy - 0.5 * ay, Axis::Y))
                     / ay
             }
         }
     }
 
+    /// Relative tolerance of the adaptive integrals.
+    pub(crate) fn tol(&self) -> f64 {
+        if self.theta.is_some() {
+            LAYER_TOL
+        } else {
+            TOL
+        }
+    }
+
+    /// `(1/E_inf) + sum_k C_k` [1/Pa].
+    fn total_compliance(&self) -> f64 {
+        self.glassy + self.terms.iter().map(|t| t.0).sum::<f64>()
+    }
+
     /// `Kbar` [m/Pa]: `K` averaged across the target cell's width transverse
     /// to `axis`, at the point `(x, y)`.
-    fn kbar(&self, rect: &LoveRect, x: f64, y: f64, axis: Axis) -> f64 {
-        let (ax, ay) = (rect.ax, rect.ay);
-        let fbar = |px: f64, py: f64| self.transverse_average(rect, px, py, axis);
-        let mut kinks = vec![
-            KinkLine::X(-0.5 * ax),
-            KinkLine::X(0.5 * ax),
-            KinkLine::Y(-0.5 * ay),
-            KinkLine::Y(0.5 * ay),
-        ];
+    fn kbar(&self, cell: &Cell, x: f64, y: f64, axis: Axis) -> f64 {
+        let (ax, ay) = (cell.love.ax, cell.love.ay);
+        if self.out_of_reach(cell, x, y, ax.max(ay)) {
+            return 0.0;
+        }
+        let fbar = |px: f64, py: f64| self.transverse_average(cell, px, py, axis);
+        let mut kinks = cell_kinks(ax, ay).to_vec();
         match axis {
             Axis::X => kinks.extend([KinkLine::Y(-ay), KinkLine::Y(0.0), KinkLine::Y(ay)]),
             Axis::Y => kinks.extend([KinkLine::X(-ax), KinkLine::X(0.0), KinkLine::X(ax)]),
         }
         let f0 = fbar(x, y);
-        let scale = f0.abs() * (self.glassy + self.terms.iter().map(|t| t.0).sum::<f64>());
+        // On a layer the average may vanish where the trail still meets the
+        // source: take the half-space's scale there.
+        let local = match cell.layer {
+            Some(_) => f0.abs().max(cell.love.eval(x, y)),
+            None => f0.abs(),
+        };
+        let scale = local * self.total_compliance();
         let problem = LineProblem {
             d: (x, y),
             e: self.e,
@@ -282,70 +380,11 @@ impl SlidingKernel {
             a_min: ax.min(ay),
             a_max: ax.max(ay),
             kinks: &kinks,
-            abs_tol: TOL * scale,
+            abs_tol: self.tol() * scale,
+            rel_tol: self.tol(),
         };
         let mem = memory_integral(&problem, fbar);
         self.prefactor * (self.glassy * f0 + mem)
-    }
-
-    /// Average of `Theta L` over the segment through `(px, py)` of the source
-    /// cell's width, transverse to `axis`. Near the source (and always with a
-    /// thin layer) by the closed-form antiderivative or adaptive quadrature,
-    /// far away by 10-point (beyond 20 cells 4-point) Gauss-Legendre on the
-    /// multipole form.
-    pub(crate) fn transverse_average(&self, rect: &LoveRect, px: f64, py: f64, axis: Axis) -> f64 {
-        let (ax, ay) = (rect.ax, rect.ay);
-        // Work in coordinates where the averaging runs along the second axis.
-        let (u, w, width, along_w) = match axis {
-            Axis::X => (px, py, ay, ax),
-            Axis::Y => (py, px, ax, ay),
-        };
-        let f = self.spatial(rect);
-        let eval = |t: f64| match axis {
-            Axis::X => f(u, t),
-            Axis::Y => f(t, u),
-        };
-        let r2 = u * u + w * w;
-        let reach = rect.switch_radius_sq().sqrt() + width;
-        let thin = self
-            .theta
-            .as_ref()
-            .is_some_and(|t| t.layer.thickness < 4.0 * along_w.max(width));
-        if r2 > reach * reach && !thin {
-            // 10 nodes next to the switch radius; 4 beyond 20 cell sizes,
-            // where the Bernstein-ellipse parameter exceeds ~80.
-            let far = r2 > (20.0 * along_w.max(width) + width).powi(2);
-            let (gx, gw) = if far { gl4() } else { gl10() };
-            let mut s = 0.0;
-            for (t, wt) in gx.iter().zip(gw.iter()) {
-                s += wt * eval(w + 0.5 * width * t);
-            }
-            return 0.5 * s;
-        }
-        let closed = match axis {
-            Axis::X => rect.near_y_integral(u, w - 0.5 * width, w + 0.5 * width),
-            Axis::Y => {
-                let tr = LoveRect::new(ay, ax);
-                tr.near_y_integral(u, w - 0.5 * width, w + 0.5 * width)
-            }
-        } / width;
-        match &self.theta {
-            None => closed,
-            // Near the source `Theta` is taken at the distance of the segment's
-            // centre, as paper Eq. 6 takes it at the centre-to-centre distance
-            // for `K`: the closed form stays exact for `L`, and the relative
-            // error of the approximation is O((a / h)^2).
-            Some(t) if !thin => t.at_distance(r2.sqrt()) * closed,
-            Some(_) => {
-                let breaks = quad::clean_breaks(
-                    vec![-0.5 * width, 0.5 * width],
-                    w - 0.5 * width,
-                    w + 0.5 * width,
-                );
-                let scale = f(px, py).abs().max(1e-300);
-                quad::adaptive(eval, &breaks, 1e-15 * scale * width, 1e-15, 2000) / width
-            }
-        }
     }
 
     /// Table of `K` over all `(2nx-1) x (2ny-1)` offsets of an `nx x ny` grid
@@ -419,7 +458,7 @@ impl SlidingKernel {
         cell: f64,
         derivative: Option<Axis>,
     ) -> CoefficientTable {
-        table::per_offset(self, nx, ny, cell, derivative)
+        table::build_per_offset(self, nx, ny, cell, derivative)
     }
 }
 
@@ -432,12 +471,23 @@ fn check_grid(nx: usize, ny: usize) -> Result<(), KernelError> {
     Ok(())
 }
 
-fn gl4() -> &'static (Vec<f64>, Vec<f64>) {
+/// Lines on which the spatial factor of an `ax x ay` source cell has kinks:
+/// its edges.
+fn cell_kinks(ax: f64, ay: f64) -> [KinkLine; 4] {
+    [
+        KinkLine::X(-0.5 * ax),
+        KinkLine::X(0.5 * ax),
+        KinkLine::Y(-0.5 * ay),
+        KinkLine::Y(0.5 * ay),
+    ]
+}
+
+pub(crate) fn gl4() -> &'static (Vec<f64>, Vec<f64>) {
     static GL: std::sync::OnceLock<(Vec<f64>, Vec<f64>)> = std::sync::OnceLock::new();
     GL.get_or_init(|| quad::gauss_legendre(4))
 }
 
-fn gl10() -> &'static (Vec<f64>, Vec<f64>) {
+pub(crate) fn gl10() -> &'static (Vec<f64>, Vec<f64>) {
     static GL: std::sync::OnceLock<(Vec<f64>, Vec<f64>)> = std::sync::OnceLock::new();
     GL.get_or_init(|| quad::gauss_legendre(10))
 }

@@ -1,55 +1,18 @@
 //! Coefficient tables over all cell offsets of a uniform grid (physics.md
 //! section 3, "Discretisation": the operator is block-Toeplitz).
 //!
-//! Fast path (sliding direction along a grid axis, no layer thinner than
-//! four cells): along each row `y = j a` parallel to `e_v`, the memory part
-//! of Eq. 4 is a one-dimensional correlation. Per creep term,
-//! `G_k(x) = int_0^inf lambda_k e^{-lambda_k s} g(x + s) ds` (with `g = Theta L`,
-//! or its transverse cell average for the derivative table) obeys
-//!
-//! `G_k(x) = e^{-lambda_k a} G_k(x + a) + int_0^a lambda_k e^{-lambda_k s} g(x + s) ds`,
-//!
-//! so each row is marched backwards from its far `+e_v` end, where the start
-//! value is the tail integral. Terms are grouped by `lambda_k a`:
-//! * `l_k < 1e-13 a`: relaxed compliance, `C_k g(x)`;
-//! * `lambda_k a <= 2` (shared): panel integrals by 8-point Gauss-Legendre
-//!   on the cell, node values of `g` shared by all terms;
-//! * `2 < lambda_k a <= 200` (mid): per-term 8-point Gauss rule for the
-//!   weight `lambda_k e^{-lambda_k s}` on `[0, a]` (Stieltjes + Golub-Welsch);
-//! * `lambda_k a > 200` (peaked): no march; all such terms together through
-//!   one 10-point Gauss rule for `sum_k (C_k/l_k) e^{-s/l_k}` on `[0, a/4]`
-//!   (the mass beyond `a/4` is below `e^{-50}`);
-//! * `l_k = inf` or beyond `1e18` times the grid: glassy (no memory).
-//!
-//! Beyond 20 cells from the source every marched term (shared ones too when
-//! there are at most two) and the peaked group switch to 4-point Gauss rules
-//! for their own weights: `g` is then analytic in a Bernstein ellipse of
-//! parameter ~80 around the panel, and the weight's exponential is built
-//! into the rule, so 4 nodes leave ~1e-16.
-//!
-//! Panels closer than 2.5 cells to the source (where `g` has kinks or nearby
-//! singularities) are integrated per term by adaptive Gauss-Kronrod, the
-//! start values by a shared geometric-panel rule (ratio `sqrt 2`, 10 nodes)
-//! or, next to the source, adaptively; targets within three cells of the
-//! source are evaluated by the per-offset path. Elsewhere the nearest
-//! singularity of `g` is at least 2.5 cells from a one-cell panel, so the
-//! 8-point rules converge to round-off. Rows are independent (rayon) and the
-//! table is mirror-symmetric in the transverse offset by construction.
-//!
-//! Sliding along `-x`, `+y` or `-y` reuses the `+x` march by mirroring
-//! and/or transposing offsets (and flipping the sign of the derivative under
-//! a mirror). With a layer, `Theta` is a piecewise-cubic interpolant, so the
-//! fixed rules converge only algebraically across its nodes: measured
-//! agreement with the per-offset path ~1e-11 of the self-coefficient for
-//! `h = 5a`. Other directions, derivatives transverse to `e_v` and layers
-//! thinner than four cells use the per-offset path (correct, much slower:
-//! ~20-40 us per offset for `K`, ~0.2 ms for `D`).
+//! When `e_v` is along a grid axis and any layer is thicker than the
+//! kernel's thin limit, the tables come from the row march
+//! ([`super::march`]): the canonical `+x` problem, mirrored and/or
+//! transposed onto the grid's offsets (with the sign of the derivative
+//! flipped under a mirror). Other directions, derivatives transverse to
+//! `e_v` and thinner layers are evaluated per offset (correct, much slower:
+//! ~20-40 us per offset for `K` on a half-space, ~0.2 ms for `D`).
 
 use rayon::prelude::*;
 
-use super::line::{GLASSY, RELAXED};
-use super::love::LoveRect;
-use super::quad::{adaptive, clean_breaks, gauss_from_samples, gauss_legendre_unit};
+use super::march::canonical;
+use super::progress::Progress;
 use super::{Axis, SlidingKernel};
 
 /// Values for all offsets of an `nx x ny` grid.
@@ -67,15 +30,6 @@ pub struct CoefficientTable {
 }
 
 impl CoefficientTable {
-    fn zeros(nx: usize, ny: usize, cell: f64) -> Self {
-        Self {
-            nx,
-            ny,
-            cell_size: cell,
-            values: vec![0.0; (2 * nx - 1) * (2 * ny - 1)],
-        }
-    }
-
     /// Flat index of offset `(di, dj)`.
     #[inline]
     pub fn index(&self, di: isize, dj: isize) -> usize {
@@ -136,10 +90,10 @@ impl VertexTable {
     }
 }
 
-/// Whether the row march applies: the orientation of `e_v` (along x or y,
-/// sign +1/-1; `None` for other directions) and whether a layer is thinner
-/// than four cells (then the march's fixed rules would not converge).
-fn march_plan(k: &SlidingKernel, cell: f64) -> (Option<(Axis, f64)>, bool) {
+/// The orientation of `e_v` when the row march applies (along x or y, sign
+/// +1/-1), `None` for other directions and for layers thinner than the
+/// kernel's thin limit.
+fn march_plan(k: &SlidingKernel, cell: f64) -> Option<(Axis, f64)> {
     let (ex, ey) = k.e;
     let orient = match (ex, ey) {
         (x, y) if x == 1.0 && y == 0.0 => Some((Axis::X, 1.0)),
@@ -148,93 +102,130 @@ fn march_plan(k: &SlidingKernel, cell: f64) -> (Option<(Axis, f64)>, bool) {
         (x, y) if x == 0.0 && y == -1.0 => Some((Axis::Y, -1.0)),
         _ => None,
     };
-    let thin = k
-        .theta
-        .as_ref()
-        .is_some_and(|t| t.layer.thickness < 4.0 * cell);
-    (orient, thin)
+    let thin = match (k.theta(), k.thin_limit()) {
+        (Some(t), Some(limit)) => t.layer.thickness < limit * cell,
+        _ => false,
+    };
+    orient.filter(|_| !thin)
 }
 
-/// [`VertexTable`] by the row march along a grid-axis sliding direction
-/// without a thin layer, per offset otherwise.
-pub(super) fn build_vertex(k: &SlidingKernel, nx: usize, ny: usize, cell: f64) -> VertexTable {
-    let (orient, thin) = march_plan(k, cell);
-    let mut t = VertexTable {
-        nx,
-        ny,
-        cell_size: cell,
-        values: vec![0.0; 4 * nx * ny],
-    };
-    match orient {
-        Some((slide_axis, sign)) if !thin => {
-            let (na, nt) = match slide_axis {
-                Axis::X => (nx, ny),
-                Axis::Y => (ny, nx),
-            };
-            let canon = canonical(k, na, nt, cell, false, slide_axis, sign, true);
-            let wt = 2 * nt;
-            for i in -(nx as isize)..nx as isize {
-                for j in -(ny as isize)..ny as isize {
-                    let (along, across) = match slide_axis {
-                        Axis::X => (i, j),
-                        Axis::Y => (j, i),
-                    };
-                    // Mirroring the half-integer offset (along + 1/2) gives -along - 1.
-                    let along = if sign > 0.0 { along } else { -along - 1 };
-                    let ia = (along + na as isize) as usize;
-                    let it = (across + nt as isize) as usize;
-                    let idx = t.index(i, j);
-                    t.values[idx] = canon[ia * wt + it];
-                }
-            }
-        }
-        _ => {
-            let rect = LoveRect::new(cell, cell);
-            let w = 2 * ny;
-            t.values
-                .par_chunks_mut(w)
-                .enumerate()
-                .for_each(|(ii, row)| {
-                    let x = (ii as f64 - nx as f64 + 0.5) * cell;
-                    for (jj, v) in row.iter_mut().enumerate() {
-                        let y = (jj as f64 - ny as f64 + 0.5) * cell;
-                        *v = k.coefficient_with(&rect, x, y).total();
-                    }
-                });
+/// Offsets of a table: `(i + s) a, (j + s) a` with `s = 0` (cell centres,
+/// `i in -(nx-1)..=(nx-1)`) or `s = 1/2` (vertices, `i in -nx..nx`).
+#[derive(Clone, Copy)]
+struct Lattice {
+    nx: usize,
+    ny: usize,
+    vertex: bool,
+}
+
+impl Lattice {
+    /// First index along x and y.
+    fn first(&self) -> (isize, isize) {
+        let o = if self.vertex { 0 } else { 1 };
+        (o - self.nx as isize, o - self.ny as isize)
+    }
+
+    /// Values along x and y.
+    fn width(&self) -> (usize, usize) {
+        let o = if self.vertex { 0 } else { 1 };
+        (2 * self.nx - o, 2 * self.ny - o)
+    }
+
+    fn shift(&self) -> f64 {
+        if self.vertex {
+            0.5
+        } else {
+            0.0
         }
     }
-    t
+}
+
+/// Table values on `lat` (row-major in x), by the row march where it
+/// applies and per offset otherwise.
+fn values(
+    k: &SlidingKernel,
+    lat: Lattice,
+    a: f64,
+    derivative: Option<Axis>,
+    force_per_offset: bool,
+) -> Vec<f64> {
+    let orient = march_plan(k, a).filter(|_| !force_per_offset);
+    match orient {
+        Some((slide_axis, sign)) if derivative.is_none_or(|d| d == slide_axis) => {
+            marched(k, lat, a, derivative.is_some(), slide_axis, sign)
+        }
+        _ => per_offset(k, lat, a, derivative),
+    }
 }
 
 /// Per-offset evaluation of every entry (rayon over rows).
-pub(super) fn per_offset(
-    k: &SlidingKernel,
-    nx: usize,
-    ny: usize,
-    cell: f64,
-    derivative: Option<Axis>,
-) -> CoefficientTable {
-    let rect = LoveRect::new(cell, cell);
-    let mut t = CoefficientTable::zeros(nx, ny, cell);
-    let w = 2 * ny - 1;
-    t.values
-        .par_chunks_mut(w)
-        .enumerate()
-        .for_each(|(ii, row)| {
-            let di = ii as isize - (nx as isize - 1);
-            for (jj, v) in row.iter_mut().enumerate() {
-                let dj = jj as isize - (ny as isize - 1);
-                let (x, y) = (di as f64 * cell, dj as f64 * cell);
-                *v = match derivative {
-                    None => k.coefficient_with(&rect, x, y).total(),
-                    Some(axis) => k.derivative_with(&rect, x, y, axis),
-                };
-            }
-        });
-    t
+fn per_offset(k: &SlidingKernel, lat: Lattice, a: f64, derivative: Option<Axis>) -> Vec<f64> {
+    let cell = k.cell(a, a);
+    let (wx, wy) = lat.width();
+    let (fx, fy) = lat.first();
+    let s = lat.shift();
+    let progress = Progress::new("coefficient table (per offset)", wx as u64);
+    let mut out = vec![0.0; wx * wy];
+    out.par_chunks_mut(wy).enumerate().for_each(|(ii, row)| {
+        let x = ((ii as isize + fx) as f64 + s) * a;
+        for (jj, v) in row.iter_mut().enumerate() {
+            let y = ((jj as isize + fy) as f64 + s) * a;
+            *v = match derivative {
+                None => k.coefficient_with(&cell, x, y).total(),
+                Some(axis) => k.derivative_with(&cell, x, y, axis),
+            };
+        }
+        progress.inc();
+    });
+    progress.finish();
+    out
 }
 
-/// Build a table, by the row march where it applies.
+/// The canonical `+x` march mapped onto `lat`'s offsets.
+fn marched(
+    k: &SlidingKernel,
+    lat: Lattice,
+    a: f64,
+    derivative: bool,
+    slide_axis: Axis,
+    sign: f64,
+) -> Vec<f64> {
+    // Canonical problem: sliding along +x, `na` cells along, `nt` across.
+    let (na, nt) = match slide_axis {
+        Axis::X => (lat.nx, lat.ny),
+        Axis::Y => (lat.ny, lat.nx),
+    };
+    let canon = canonical(k, na, nt, a, derivative, slide_axis, sign, lat.vertex);
+    let canon_lat = Lattice {
+        nx: na,
+        ny: nt,
+        vertex: lat.vertex,
+    };
+    let (cfa, cft) = canon_lat.first();
+    let wt = canon_lat.width().1;
+    let (wx, wy) = lat.width();
+    let (fx, fy) = lat.first();
+    // Mirroring the offset `along + s` gives `-along - 2s`.
+    let mirror = if lat.vertex { 1 } else { 0 };
+    let flip = if derivative && sign < 0.0 { -1.0 } else { 1.0 };
+    let mut out = vec![0.0; wx * wy];
+    for ii in 0..wx {
+        for jj in 0..wy {
+            let (i, j) = (ii as isize + fx, jj as isize + fy);
+            let (along, across) = match slide_axis {
+                Axis::X => (i, j),
+                Axis::Y => (j, i),
+            };
+            let along = if sign > 0.0 { along } else { -along - mirror };
+            let ia = (along - cfa) as usize;
+            let it = (across - cft) as usize;
+            out[ii * wy + jj] = flip * canon[ia * wt + it];
+        }
+    }
+    out
+}
+
+/// [`CoefficientTable`] of `K` or of the derivative along `derivative`.
 pub(super) fn build(
     k: &SlidingKernel,
     nx: usize,
@@ -242,456 +233,51 @@ pub(super) fn build(
     cell: f64,
     derivative: Option<Axis>,
 ) -> CoefficientTable {
-    let (orient, thin) = march_plan(k, cell);
-    let Some((slide_axis, sign)) = orient else {
-        return per_offset(k, nx, ny, cell, derivative);
+    let lat = Lattice {
+        nx,
+        ny,
+        vertex: false,
     };
-    if thin || derivative.is_some_and(|a| a != slide_axis) {
-        return per_offset(k, nx, ny, cell, derivative);
+    CoefficientTable {
+        nx,
+        ny,
+        cell_size: cell,
+        values: values(k, lat, cell, derivative, false),
     }
-    // Canonical problem: sliding along +x, `na` cells along, `nt` across.
-    let (na, nt) = match slide_axis {
-        Axis::X => (nx, ny),
-        Axis::Y => (ny, nx),
+}
+
+/// [`VertexTable`] of `K`.
+pub(super) fn build_vertex(k: &SlidingKernel, nx: usize, ny: usize, cell: f64) -> VertexTable {
+    let lat = Lattice {
+        nx,
+        ny,
+        vertex: true,
     };
-    let canon = canonical(
-        k,
-        na,
-        nt,
-        cell,
-        derivative.is_some(),
-        slide_axis,
-        sign,
-        false,
-    );
-    let mut t = CoefficientTable::zeros(nx, ny, cell);
-    let wt = 2 * nt - 1;
-    for di in -(nx as isize - 1)..=(nx as isize - 1) {
-        for dj in -(ny as isize - 1)..=(ny as isize - 1) {
-            // Offset in canonical coordinates: along = component along e_v.
-            let (along, across) = match slide_axis {
-                Axis::X => (di, dj),
-                Axis::Y => (dj, di),
-            };
-            let along = if sign > 0.0 { along } else { -along };
-            let ia = (along + na as isize - 1) as usize;
-            let it = (across + nt as isize - 1) as usize;
-            let mut v = canon[ia * wt + it];
-            if derivative.is_some() && sign < 0.0 {
-                v = -v;
-            }
-            let idx = t.index(di, dj);
-            t.values[idx] = v;
-        }
-    }
-    t
-}
-
-/// Panels at least this many cells from the source use [`FAR_NODES`]-point
-/// rules: the nearest singularity of `g` is then beyond a Bernstein ellipse
-/// of parameter ~80 around a one-cell panel, so 4 nodes (exact for degree 7)
-/// leave ~80^-8 ~ 6e-16.
-const FAR_CELLS: f64 = 20.0;
-const FAR_NODES: usize = 4;
-
-/// Shared pieces of the row march for one kernel and cell size.
-struct Plan {
-    a: f64,
-    glassy_plus_relaxed: f64,
-    /// Shared class: `(C_k, E_k = e^{-lambda a})` and weights on the GL nodes.
-    shared: Vec<(f64, f64)>,
-    shared_w: Vec<Vec<f64>>,
-    gl_t: Vec<f64>,
-    /// Mid class: `(C_k, E_k)`, per-term Gauss nodes (fractions of `a`) and weights.
-    mid: Vec<(f64, f64)>,
-    mid_rule: Vec<(Vec<f64>, Vec<f64>)>,
-    /// All marched terms as `(C_k, lambda_k)` (shared then mid).
-    marched: Vec<(f64, f64)>,
-    /// Peaked class: combined rule, nodes in fractions of `a`, weights incl. `C_k`.
-    peaked: Option<(Vec<f64>, Vec<f64>)>,
-    /// Far from the source: 4-point Gauss rules per marched term (weight
-    /// `lambda_k e^{-lambda_k s}` on the cell, nodes in fractions of `a`) and
-    /// for the peaked group.
-    far_rule: Vec<(Vec<f64>, Vec<f64>)>,
-    peaked_far: Option<(Vec<f64>, Vec<f64>)>,
-    /// Tail rule: offsets `s` \[m\] and per-marched-term weights.
-    tail_s: Vec<f64>,
-    tail_w: Vec<Vec<f64>>,
-}
-
-fn fine_geometric(lo: f64, hi: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
-    // Fine GL rule on [0, hi] graded geometrically (ratio 2) down to `lo`.
-    let (gx, gw) = gauss_legendre_unit(n);
-    let mut edges = vec![0.0];
-    let mut e = lo;
-    while e < hi {
-        edges.push(e);
-        e *= 2.0;
-    }
-    edges.push(hi);
-    let mut xs = vec![];
-    let mut ws = vec![];
-    for p in edges.windows(2) {
-        for (t, w) in gx.iter().zip(&gw) {
-            xs.push(p[0] + (p[1] - p[0]) * t);
-            ws.push(w * (p[1] - p[0]));
-        }
-    }
-    (xs, ws)
-}
-
-impl Plan {
-    fn new(k: &SlidingKernel, a: f64, extent: f64) -> Self {
-        let (gl_t, gl_w) = gauss_legendre_unit(8);
-        let mut plan = Plan {
-            a,
-            glassy_plus_relaxed: k.glassy,
-            shared: vec![],
-            shared_w: vec![],
-            gl_t: gl_t.clone(),
-            mid: vec![],
-            mid_rule: vec![],
-            marched: vec![],
-            peaked: None,
-            far_rule: vec![],
-            peaked_far: None,
-            tail_s: vec![],
-            tail_w: vec![],
-        };
-        let mut peaked_terms = vec![];
-        let mut mid_marched = vec![];
-        for &(c, l) in &k.terms {
-            if c == 0.0 {
-                continue;
-            }
-            if l < RELAXED * a {
-                plan.glassy_plus_relaxed += c;
-                continue;
-            }
-            if !l.is_finite() || l > GLASSY * (extent + a) {
-                continue;
-            }
-            let la = a / l;
-            if la <= 2.0 {
-                plan.shared.push((c, (-la).exp()));
-                plan.shared_w.push(
-                    gl_t.iter()
-                        .zip(&gl_w)
-                        .map(|(t, w)| la * (-la * t).exp() * w)
-                        .collect(),
-                );
-                plan.marched.push((c, 1.0 / l));
-            } else if la <= 200.0 {
-                plan.mid.push((c, (-la).exp()));
-                mid_marched.push((c, 1.0 / l));
-                let (xs, ws) = fine_geometric(1.0 / (16.0 * la), 1.0, 20);
-                let wts: Vec<f64> = xs
-                    .iter()
-                    .zip(&ws)
-                    .map(|(t, w)| w * la * (-la * t).exp())
-                    .collect();
-                plan.mid_rule.push(gauss_from_samples(&xs, &wts, 8));
-            } else {
-                peaked_terms.push((c, l / a));
-            }
-        }
-        plan.marched.extend(mid_marched);
-        if !peaked_terms.is_empty() {
-            let lmin = peaked_terms
-                .iter()
-                .map(|t| t.1)
-                .fold(f64::INFINITY, f64::min);
-            let (xs, ws) = fine_geometric(lmin / 16.0, 0.25, 20);
-            let wts: Vec<f64> = xs
-                .iter()
-                .zip(&ws)
-                .map(|(t, w)| {
-                    w * peaked_terms
-                        .iter()
-                        .map(|&(c, l)| c / l * (-t / l).exp())
-                        .sum::<f64>()
-                })
-                .collect();
-            plan.peaked = Some(gauss_from_samples(&xs, &wts, 10));
-            plan.peaked_far = Some(gauss_from_samples(&xs, &wts, FAR_NODES));
-        }
-        plan.far_rule = plan
-            .marched
-            .iter()
-            .map(|&(_, lam)| {
-                let la = lam * a;
-                let (xs, ws) = fine_geometric((1.0 / (16.0 * la)).min(1.0 / 16.0), 1.0, 20);
-                let wts: Vec<f64> = xs
-                    .iter()
-                    .zip(&ws)
-                    .map(|(t, w)| w * la * (-la * t).exp())
-                    .collect();
-                gauss_from_samples(&xs, &wts, FAR_NODES)
-            })
-            .collect();
-        if !plan.marched.is_empty() {
-            let lmax = plan.marched.iter().map(|t| 1.0 / t.1).fold(0.0, f64::max);
-            let s_hi = 46.0 * lmax.max(a);
-            let (gx, gw) = gauss_legendre_unit(10);
-            let mut edges = vec![0.0];
-            let mut e = a / 1024.0;
-            let r = std::f64::consts::SQRT_2;
-            while e < s_hi {
-                edges.push(e);
-                e *= r;
-            }
-            edges.push(s_hi);
-            let mut ws = vec![];
-            for p in edges.windows(2) {
-                for (t, w) in gx.iter().zip(&gw) {
-                    plan.tail_s.push(p[0] + (p[1] - p[0]) * t);
-                    ws.push(w * (p[1] - p[0]));
-                }
-            }
-            plan.tail_w = plan
-                .marched
-                .iter()
-                .map(|&(_, lam)| {
-                    plan.tail_s
-                        .iter()
-                        .zip(&ws)
-                        .map(|(s, w)| w * lam * (-lam * s).exp())
-                        .collect()
-                })
-                .collect();
-        }
-        plan
+    VertexTable {
+        nx,
+        ny,
+        cell_size: cell,
+        values: values(k, lat, cell, None, false),
     }
 }
 
-/// Canonical table for sliding along `+x`: `(2na-1) x (2nt-1)` values of `K`
-/// (or of `D_x` when `derivative`), row-major in the along index.
-///
-/// With `shift`, the targets are the cell vertices instead: offsets
-/// `((i + 1/2) a, (j + 1/2) a)` for `i in -na..na`, `j in -nt..nt`, a
-/// `2na x 2nt` table (values of `K` only).
-#[allow(clippy::too_many_arguments)]
-fn canonical(
+/// The reference per-offset [`CoefficientTable`] (no row march).
+pub(super) fn build_per_offset(
     k: &SlidingKernel,
-    na: usize,
-    nt: usize,
-    a: f64,
-    derivative: bool,
-    slide_axis: Axis,
-    sign: f64,
-    shift: bool,
-) -> Vec<f64> {
-    debug_assert!(!(shift && derivative));
-    let rect = LoveRect::new(a, a);
-    let extent = (na.max(nt) as f64 + 1.0) * a * std::f64::consts::SQRT_2;
-    let plan = Plan::new(k, a, extent);
-    let h = if shift { 0.5 } else { 0.0 };
-    let (wt, wa) = if shift {
-        (2 * nt, 2 * na)
-    } else {
-        (2 * nt - 1, 2 * na - 1)
+    nx: usize,
+    ny: usize,
+    cell: f64,
+    derivative: Option<Axis>,
+) -> CoefficientTable {
+    let lat = Lattice {
+        nx,
+        ny,
+        vertex: false,
     };
-    // Across-row index of the offset `(j + h) a` and of its mirror image.
-    let row_index = |j: usize| -> (usize, usize) {
-        if shift {
-            (nt + j, nt - 1 - j)
-        } else {
-            (nt - 1 + j, nt - 1 - j)
-        }
-    };
-    // Rows j >= 0, mirrored afterwards.
-    let rows: Vec<Vec<f64>> = (0..nt)
-        .into_par_iter()
-        .map(|j| {
-            let y = (j as f64 + h) * a;
-            if derivative {
-                let g = |x: f64| k.transverse_average(&rect, x, y, Axis::X);
-                let x0 = -(na as f64 - 0.5) * a;
-                let kb = march_row(k, &plan, &g, x0, 2 * na, y, true);
-                (0..wa).map(|i| (kb[i + 1] - kb[i]) / a).collect()
-            } else {
-                let f = k.spatial(&rect);
-                let g = |x: f64| f(x, y);
-                let x0 = -(na as f64 - 1.0 + h) * a;
-                march_row(k, &plan, &g, x0, wa, y, false)
-            }
-        })
-        .collect();
-    let mut out = vec![0.0; wa * wt];
-    for (j, row) in rows.iter().enumerate() {
-        let (up, down) = row_index(j);
-        for (i, v) in row.iter().enumerate() {
-            out[i * wt + up] = *v;
-            out[i * wt + down] = *v;
-        }
+    CoefficientTable {
+        nx,
+        ny,
+        cell_size: cell,
+        values: values(k, lat, cell, derivative, true),
     }
-    // Near block: per-offset evaluation.
-    let m = 3isize;
-    let lo = if shift { -m - 1 } else { -m };
-    let first = if shift { na as isize } else { na as isize - 1 };
-    for di in lo..=m {
-        for dj in 0..=m {
-            if (di + first) < 0 || (di + first) as usize >= wa || dj as usize >= nt {
-                continue;
-            }
-            // Physical offset of the canonical (along, across) offset.
-            let (along, across) = (sign * (di as f64 + h) * a, (dj as f64 + h) * a);
-            let (x, y) = match slide_axis {
-                Axis::X => (along, across),
-                Axis::Y => (across, along),
-            };
-            let v = if derivative {
-                sign * k.derivative_with(&rect, x, y, slide_axis)
-            } else {
-                k.coefficient_with(&rect, x, y).total()
-            };
-            let i = (di + first) as usize;
-            let (up, down) = row_index(dj as usize);
-            out[i * wt + up] = v;
-            out[i * wt + down] = v;
-        }
-    }
-    out
-}
-
-/// Distance from the segment `[x0, x1] x {y}` to the rectangle
-/// `[-hx, hx] x [-hy, hy]`.
-fn seg_rect_dist(x0: f64, x1: f64, y: f64, hx: f64, hy: f64) -> f64 {
-    let gx = if x1 < -hx {
-        -hx - x1
-    } else if x0 > hx {
-        x0 - hx
-    } else {
-        0.0
-    };
-    let gy = (y.abs() - hy).max(0.0);
-    gx.hypot(gy)
-}
-
-/// Values of `Kbar` (or `K`) / prefactor at the targets `x0 + m a`,
-/// `m = 0..count`, on the row `y`, times the prefactor.
-fn march_row(
-    k: &SlidingKernel,
-    plan: &Plan,
-    g: &impl Fn(f64) -> f64,
-    x0: f64,
-    count: usize,
-    y: f64,
-    averaged: bool,
-) -> Vec<f64> {
-    let a = plan.a;
-    let hx = 0.5 * a;
-    let hy = if averaged { a } else { 0.5 * a };
-    let near = |xa: f64, xb: f64| seg_rect_dist(xa, xb, y, hx, hy) < 2.5 * a;
-    let far = |xa: f64, xb: f64| seg_rect_dist(xa, xb, y, hx, hy) >= FAR_CELLS * a;
-    let mut out = vec![0.0; count];
-    let nm = plan.marched.len();
-    let ns = plan.shared.len();
-    let mut state = vec![0.0; nm];
-    let adaptive_panel = |x: f64, lam: f64, len: f64| -> f64 {
-        let l = 1.0 / lam;
-        let mut br = vec![-hx - x, hx - x, -x, l, 4.0 * l, 16.0 * l];
-        if len.is_infinite() {
-            let mut s = l.min(a) / 8.0;
-            while s < 46.0 * l.max(a) {
-                br.push(s);
-                s *= 4.0;
-            }
-        }
-        let hi = if len.is_infinite() {
-            46.0 * l.max(a)
-        } else {
-            len
-        };
-        let br = clean_breaks(br, 0.0, hi);
-        let scale = g(x).abs() + g(x + a).abs();
-        adaptive(
-            |s| lam * (-lam * s).exp() * g(x + s),
-            &br,
-            1e-15 * scale,
-            1e-15,
-            2000,
-        )
-    };
-    let mut fv = vec![0.0; plan.gl_t.len()];
-    for m in (0..count).rev() {
-        let x = x0 + m as f64 * a;
-        let gx = g(x);
-        if nm > 0 {
-            if m == count - 1 {
-                if near(x, f64::INFINITY) {
-                    for (t, st) in state.iter_mut().enumerate() {
-                        *st = adaptive_panel(x, plan.marched[t].1, f64::INFINITY);
-                    }
-                } else {
-                    let tv: Vec<f64> = plan.tail_s.iter().map(|s| g(x + s)).collect();
-                    for (t, st) in state.iter_mut().enumerate() {
-                        *st = plan.tail_w[t].iter().zip(&tv).map(|(w, v)| w * v).sum();
-                    }
-                }
-            } else if near(x, x + a) {
-                for (t, st) in state.iter_mut().enumerate() {
-                    let e = if t < ns {
-                        plan.shared[t].1
-                    } else {
-                        plan.mid[t - ns].1
-                    };
-                    *st = e * *st + adaptive_panel(x, plan.marched[t].1, a);
-                }
-            } else if far(x, x + a) {
-                // Per-term 4-point rules (shared terms too when there are at
-                // most two of them: 4 ns <= 8 evaluations).
-                let per_term_shared = ns <= 2;
-                if !per_term_shared {
-                    for (q, v) in fv.iter_mut().enumerate() {
-                        *v = g(x + a * plan.gl_t[q]);
-                    }
-                }
-                for (t, st) in state.iter_mut().enumerate() {
-                    let p: f64 = if t < ns && !per_term_shared {
-                        plan.shared_w[t].iter().zip(&fv).map(|(w, v)| w * v).sum()
-                    } else {
-                        let (nodes, wts) = &plan.far_rule[t];
-                        nodes.iter().zip(wts).map(|(tq, w)| w * g(x + a * tq)).sum()
-                    };
-                    let e = if t < ns {
-                        plan.shared[t].1
-                    } else {
-                        plan.mid[t - ns].1
-                    };
-                    *st = e * *st + p;
-                }
-            } else {
-                for (q, v) in fv.iter_mut().enumerate() {
-                    *v = g(x + a * plan.gl_t[q]);
-                }
-                for (t, st) in state.iter_mut().take(ns).enumerate() {
-                    let p: f64 = plan.shared_w[t].iter().zip(&fv).map(|(w, v)| w * v).sum();
-                    *st = plan.shared[t].1 * *st + p;
-                }
-                for (t, (nodes, wts)) in plan.mid_rule.iter().enumerate() {
-                    let p: f64 = nodes.iter().zip(wts).map(|(tq, w)| w * g(x + a * tq)).sum();
-                    state[ns + t] = plan.mid[t].1 * state[ns + t] + p;
-                }
-            }
-        }
-        let mut v = plan.glassy_plus_relaxed * gx;
-        for (t, st) in state.iter().enumerate() {
-            v += plan.marched[t].0 * st;
-        }
-        let peaked = if far(x, x + 0.25 * a) {
-            &plan.peaked_far
-        } else {
-            &plan.peaked
-        };
-        if let Some((nodes, wts)) = peaked {
-            v += nodes
-                .iter()
-                .zip(wts)
-                .map(|(tq, w)| w * g(x + a * tq))
-                .sum::<f64>();
-        }
-        out[m] = k.prefactor * v;
-    }
-    out
 }

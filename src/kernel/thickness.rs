@@ -24,13 +24,15 @@
 //! with `c1 = int (S-1) du`, `c3 = -1/4 int u^2 (S-1) du`,
 //! `c5 = 1/64 int u^4 (S-1) du` (from the series of `J0`).
 //!
-//! `Theta` is tabulated on a log grid of `rho` (256 nodes per decade, from
-//! `1e-2` until `|Theta| < 1e-13` for a quarter decade, i.e. `rho ~ 30` for
-//! the bonded base) and interpolated with cubic Lagrange polynomials in
-//! `ln rho` (interpolation error ~1e-9 absolute, largest near `rho ~ 1-2`
-//! where `Theta` turns over); below the grid the series is used, above it
-//! `Theta = 0`. The curve depends only on the base and `nu`, so it is
-//! computed once per process and shared by all thicknesses.
+//! `Theta` is stored through the smooth function
+//! `psi(rho) = (Theta(rho) - 1) / rho = int_0^inf (S(u) - 1) J0(rho u) du`
+//! (even, analytic for `|Im rho| < 2`): Chebyshev pieces of length 1/2 in
+//! `rho` from 0 until `|Theta| < 1e-13` over a whole unit of `rho`
+//! (`rho ~ 20-30`), reproducing direct quadrature to ~1e-15; beyond,
+//! `Theta = 0`. The same `psi` carries the cell integrals of the layer's
+//! Green's function ([`super::cell`]). The curve depends only on the base
+//! and `nu`, so it is computed once per process and shared by all
+//! thicknesses.
 
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -61,6 +63,21 @@ impl LayerConfig {
 }
 
 impl Layer {
+    /// A warning when the layer is thinner than one cell of side `cell`
+    /// \[m\]: the grid does not resolve it (its coefficients stay the cell
+    /// integrals of Eq. 5, but the pressure varies on a scale the cells do
+    /// not follow).
+    pub fn resolution_warning(&self, cell: f64) -> Option<String> {
+        (self.thickness < cell).then(|| {
+            format!(
+                "[layer] thickness = {} m is thinner than one cell ({} m, {:.2} cells): the grid does not resolve the layer; refine the grid to at least one cell per thickness",
+                self.thickness,
+                cell,
+                self.thickness / cell
+            )
+        })
+    }
+
     /// Thickness must be positive and finite.
     pub fn validate(&self) -> Result<(), KernelError> {
         if !(self.thickness.is_finite() && self.thickness > 0.0) {
@@ -170,24 +187,35 @@ pub struct ThetaTable {
     curve: Arc<ThetaCurve>,
 }
 
-/// `Theta(rho)` samples for one (base, nu); independent of the thickness,
-/// so it is computed once per process and shared.
+/// `psi(rho) = (Theta(rho) - 1) / rho = int_0^inf (S(u) - 1) J0(rho u) du`
+/// for one (base, nu) as Chebyshev pieces; independent of the thickness, so
+/// it is computed once per process and shared.
+///
+/// `psi` is even and analytic in the strip `|Im rho| < 2` (`S - 1 ~ u^2
+/// e^{-2u}`), so pieces of length [`PIECE`] (Bernstein parameter
+/// `8 + sqrt 65 ~ 16` around each) of degree `CHEB - 1 = 13` reach
+/// `16^-14 ~ 1e-17` relative to `max |psi|` on the ellipse: the pieces
+/// reproduce direct quadrature to ~1e-15 (tests).
 #[derive(Debug)]
 struct ThetaCurve {
-    /// `ln rho` of the first node.
-    ln_rho0: f64,
-    /// Node spacing in `ln rho`.
-    step: f64,
-    values: Vec<f64>,
-    /// Series coefficients `c1, c3, c5` for `rho < RHO_MIN`.
-    series: [f64; 3],
+    /// Chebyshev coefficients of `psi` on `[k PIECE, (k+1) PIECE]`.
+    pieces: Vec<[f64; CHEB]>,
+    /// `rho` beyond which `|Theta| < THETA_FLOOR`: `Theta = 0` there.
+    rho_end: f64,
 }
 
-const RHO_MIN: f64 = 1e-2;
-const PER_DECADE: f64 = 256.0;
+/// Length of one Chebyshev piece in `rho`.
+const PIECE: f64 = 0.5;
+/// Chebyshev coefficients per piece.
+const CHEB: usize = 14;
 const U_MAX: f64 = 20.0;
-/// The table ends once `|Theta|` stays below this for a quarter decade.
+/// The curve ends once `|Theta|` stays below this over two pieces.
 const THETA_FLOOR: f64 = 1e-13;
+/// Pieces are computed this many at a time (rayon) until the floor.
+const PIECES_PER_CHUNK: usize = 8;
+/// Hard end of the curve (never reached for either base: `Theta` falls
+/// below the floor near `rho ~ 20-30`).
+const RHO_CAP: f64 = 200.0;
 
 /// `int_0^U_MAX g(u) du` by 16-point Gauss-Legendre panels of width `<= width`.
 fn integrate_u(mut g: impl FnMut(f64) -> f64, width: f64, gl: &(Vec<f64>, Vec<f64>)) -> f64 {
@@ -207,75 +235,111 @@ fn integrate_u(mut g: impl FnMut(f64) -> f64, width: f64, gl: &(Vec<f64>, Vec<f6
 /// Gauss-Legendre panels of at most half a period of `J0(rho u)` and at most
 /// 0.5 in `u`, up to `u = 20` (`|S - 1| < 1e-14` beyond).
 pub fn theta_direct(base: LayerBase, nu: f64, rho: f64) -> f64 {
-    let gl = gauss_legendre_unit(16);
-    theta_direct_with(base, nu, rho, &gl)
+    1.0 + rho * psi_direct(base, nu, rho)
 }
 
-fn theta_direct_with(base: LayerBase, nu: f64, rho: f64, gl: &(Vec<f64>, Vec<f64>)) -> f64 {
-    let width = (0.5f64).min(std::f64::consts::PI / rho);
-    1.0 + rho
-        * integrate_u(
-            |u| compliance_ratio_minus_one(base, nu, u) * bessel_j0(rho * u),
-            width,
-            gl,
-        )
+/// `psi(rho) = (Theta(rho) - 1) / rho = int_0^inf (S(u) - 1) J0(rho u) du`
+/// by the quadrature of [`theta_direct`].
+pub fn psi_direct(base: LayerBase, nu: f64, rho: f64) -> f64 {
+    let gl = gauss_legendre_unit(16);
+    psi_direct_with(base, nu, rho, &gl)
+}
+
+fn psi_direct_with(base: LayerBase, nu: f64, rho: f64, gl: &(Vec<f64>, Vec<f64>)) -> f64 {
+    let width = (0.5f64).min(std::f64::consts::PI / rho.max(1e-300));
+    integrate_u(
+        |u| compliance_ratio_minus_one(base, nu, u) * bessel_j0(rho * u),
+        width,
+        gl,
+    )
 }
 
 impl ThetaCurve {
     fn new(base: LayerBase, nu: f64) -> Self {
         use rayon::prelude::*;
         let gl = gauss_legendre_unit(16);
-        let m = |p: i32, c: f64| {
-            c * integrate_u(
-                |u| u.powi(p) * compliance_ratio_minus_one(base, nu, u),
-                0.25,
-                &gl,
-            )
-        };
-        let series = [m(0, 1.0), m(2, -0.25), m(4, 1.0 / 64.0)];
-        let step = std::f64::consts::LN_10 / PER_DECADE;
-        let ln_rho0 = RHO_MIN.ln() - step; // one node below for the cubic stencil
-        let mut values: Vec<f64> = Vec::new();
-        let chunk = (PER_DECADE / 4.0) as usize;
-        loop {
-            let start = values.len();
-            let new: Vec<f64> = (start..start + chunk)
+        // Chebyshev points of the first kind on [-1, 1].
+        let t: Vec<f64> = (0..CHEB)
+            .map(|i| (std::f64::consts::PI * (i as f64 + 0.5) / CHEB as f64).cos())
+            .collect();
+        let mut pieces: Vec<[f64; CHEB]> = Vec::new();
+        let mut below = 0usize;
+        let mut rho_end = RHO_CAP;
+        'outer: loop {
+            let start = pieces.len();
+            let chunk: Vec<([f64; CHEB], bool)> = (start..start + PIECES_PER_CHUNK)
                 .into_par_iter()
-                .map(|i| theta_direct_with(base, nu, (ln_rho0 + step * i as f64).exp(), &gl))
+                .map(|k| {
+                    let lo = k as f64 * PIECE;
+                    let f: Vec<f64> = t
+                        .iter()
+                        .map(|ti| psi_direct_with(base, nu, lo + 0.5 * PIECE * (ti + 1.0), &gl))
+                        .collect();
+                    let small = t.iter().zip(&f).all(|(ti, fi)| {
+                        let rho = lo + 0.5 * PIECE * (ti + 1.0);
+                        (1.0 + rho * fi).abs() < THETA_FLOOR
+                    });
+                    let mut c = [0.0; CHEB];
+                    for (j, cj) in c.iter_mut().enumerate() {
+                        let s: f64 = f
+                            .iter()
+                            .enumerate()
+                            .map(|(i, fi)| {
+                                fi * (std::f64::consts::PI * j as f64 * (i as f64 + 0.5)
+                                    / CHEB as f64)
+                                    .cos()
+                            })
+                            .sum();
+                        *cj = 2.0 * s / CHEB as f64;
+                    }
+                    c[0] *= 0.5;
+                    (c, small)
+                })
                 .collect();
-            values.extend(new);
-            let tail = &values[values.len().saturating_sub(chunk)..];
-            let rho_end = (ln_rho0 + step * values.len() as f64).exp();
-            if tail.iter().all(|v| v.abs() < THETA_FLOOR) || rho_end > 1e3 {
-                break;
+            for (c, small) in chunk {
+                pieces.push(c);
+                below = if small { below + 1 } else { 0 };
+                if below == 2 {
+                    rho_end = (pieces.len() - 2) as f64 * PIECE;
+                    pieces.truncate(pieces.len() - 2);
+                    break 'outer;
+                }
+                if pieces.len() as f64 * PIECE >= RHO_CAP {
+                    break 'outer;
+                }
             }
         }
-        Self {
-            ln_rho0,
-            step,
-            values,
-            series,
-        }
+        Self { pieces, rho_end }
     }
 
-    fn eval(&self, rho: f64) -> f64 {
-        if rho < RHO_MIN {
-            let r2 = rho * rho;
-            return 1.0 + rho * (self.series[0] + r2 * (self.series[1] + r2 * self.series[2]));
+    /// `psi(rho)`; `-1/rho` beyond the end of the curve.
+    #[inline]
+    fn psi(&self, rho: f64) -> f64 {
+        let rho = rho.abs();
+        if rho >= self.rho_end {
+            return -1.0 / rho;
         }
-        let t = (rho.ln() - self.ln_rho0) / self.step;
-        let i = t.floor() as isize;
-        let n = self.values.len() as isize;
-        if i + 2 >= n {
-            return 0.0;
+        let k = ((rho / PIECE) as usize).min(self.pieces.len() - 1);
+        let x = 2.0 * (rho / PIECE - k as f64) - 1.0;
+        let c = &self.pieces[k];
+        // Clenshaw.
+        let (mut b1, mut b2) = (0.0, 0.0);
+        for &cj in c[1..].iter().rev() {
+            let b0 = 2.0 * x * b1 - b2 + cj;
+            b2 = b1;
+            b1 = b0;
         }
-        let i0 = (i - 1).max(0) as usize;
-        let f = t - i0 as f64; // position relative to node i0, in [1, 2)
-        let v = &self.values[i0..i0 + 4];
-        // Cubic Lagrange through nodes 0..3 at f.
-        let (a, b, c, d) = (f, f - 1.0, f - 2.0, f - 3.0);
-        -v[0] * b * c * d / 6.0 + v[1] * a * c * d / 2.0 - v[2] * a * b * d / 2.0
-            + v[3] * a * b * c / 6.0
+        x * b1 - b2 + c[0]
+    }
+
+    /// `Theta(rho) = 1 + rho psi(rho)`; exactly 0 beyond the end.
+    #[inline]
+    fn theta(&self, rho: f64) -> f64 {
+        if rho >= self.rho_end {
+            0.0
+        } else {
+            1.0 + rho * self.psi(rho)
+        }
     }
 }
 
@@ -302,8 +366,9 @@ fn cached_curve(base: LayerBase, nu: f64) -> Arc<ThetaCurve> {
 }
 
 impl ThetaTable {
-    /// Tabulate `Theta` for `layer` and Poisson ratio `nu` (rayon over nodes;
-    /// the curve for a given base and `nu` is computed once per process).
+    /// Tabulate `Theta` for `layer` and Poisson ratio `nu` (rayon over
+    /// pieces; the curve for a given base and `nu` is computed once per
+    /// process).
     pub fn new(layer: Layer, nu: f64) -> Result<Self, KernelError> {
         layer.validate()?;
         Ok(Self {
@@ -316,12 +381,29 @@ impl ThetaTable {
     /// `Theta(r / h)` at distance `r` \[m\].
     #[inline]
     pub fn at_distance(&self, r: f64) -> f64 {
-        self.curve.eval(r / self.layer.thickness)
+        self.curve.theta(r / self.layer.thickness)
     }
 
     /// `Theta(rho)`.
     pub fn eval(&self, rho: f64) -> f64 {
-        self.curve.eval(rho)
+        self.curve.theta(rho)
+    }
+
+    /// `psi(rho) = (Theta(rho) - 1) / rho`, smooth (even and analytic in
+    /// `|Im rho| < 2`); `-1/rho` beyond [`Self::rho_end`].
+    #[inline]
+    pub fn psi(&self, rho: f64) -> f64 {
+        self.curve.psi(rho)
+    }
+
+    /// `rho = r/h` beyond which `Theta = 0` (`|Theta| < 1e-13` there).
+    pub fn rho_end(&self) -> f64 {
+        self.curve.rho_end
+    }
+
+    /// Distance \[m\] beyond which `Theta = 0`.
+    pub fn reach(&self) -> f64 {
+        self.curve.rho_end * self.layer.thickness
     }
 }
 

@@ -20,14 +20,16 @@ mod config;
 pub mod dma;
 pub mod eval;
 pub mod file;
+pub mod fit;
 pub mod nnls;
 mod prony;
 mod spectrum;
 
 pub use crate::config::{MaterialConfig, MaterialModel};
-pub use dma::{fit_spectrum, DmaData, DmaPoint, FitInfo, FitParams, SpectrumFit, Wlf};
+pub use dma::{DmaData, DmaPoint, Wlf};
 pub use eval::{ComplexModulus, DynamicModuli};
 pub use file::{load_material_file, material_toml, FitRecord};
+pub use fit::{fit_spectrum, FitInfo, FitParams, SpectrumFit};
 pub use prony::{PronySeries, PronyTerm};
 pub use spectrum::{CreepSpectrum, CreepTerm};
 

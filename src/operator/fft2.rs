@@ -91,11 +91,6 @@ impl SpectralEngine {
         (self.mx, self.my)
     }
 
-    /// Bins per row of the half spectrum, `my / 2 + 1`.
-    pub(crate) fn half_width(&self) -> usize {
-        self.myh
-    }
-
     /// The unnormalised half spectrum of a real `mx x my` array (row-major),
     /// column-major like the multiplier: e.g. a wrapped offset table.
     pub(crate) fn spectrum_of(&mut self, full: &[f64]) -> Vec<Complex64> {

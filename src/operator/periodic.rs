@@ -10,6 +10,17 @@
 //! `m(q) = 2 (1 - nu^2) J*(-q.v) / |q|` at the grid wavevector
 //! `q = 2 pi (k_i / (nx a), k_j / (ny a))`, `k` the signed FFT index.
 //!
+//! On a layer of thickness `h` (physics.md section 3, "Finite thickness")
+//! the multiplier is exact: the half-space's times the layer's compliance
+//! ratio, `m(q) = S(|q| h) 2 (1 - nu^2) J*(-q.v) / |q|`, for either base
+//! ([`crate::kernel::thickness::compliance_ratio`]). Unlike the
+//! non-periodic kernel (the paper's Eq. 5, `Theta` times the viscoelastic
+//! Green's function), this holds for the sliding viscoelastic layer.
+//!
+//! The multiplier of every mode is built once, by [`half_spectrum`], for
+//! the operator and for the Fourier dissipation sum of
+//! [`crate::analysis::friction_force_periodic`] alike.
+//!
 //! Choices (documented because they change results at the grid scale):
 //! - The continuous multiplier is sampled at the grid wavevectors (the usual
 //!   spectral formulation of Stanley & Kato, J. Tribol. 119, 481, 1997, and
@@ -37,6 +48,8 @@ use rayon::prelude::*;
 
 use super::fft2::SpectralEngine;
 use super::GridOperator;
+use crate::kernel::thickness::compliance_ratio;
+use crate::kernel::KernelParams;
 use crate::material::Material;
 
 /// Which field the operator returns for a pressure field.
@@ -72,14 +85,11 @@ fn signed_index(i: usize, n: usize) -> (f64, bool) {
 /// The continuous multiplier at wavevector `(qx, qy)` [m/Pa]: `m(q)` for
 /// [`PeriodicResponse::Displacement`], `i (q.e_v) m(q)` for the slope; zero at
 /// `q = 0`.
-#[allow(clippy::too_many_arguments)]
 fn continuous_multiplier(
     material: &Material,
-    speed: f64,
-    ex: f64,
-    ey: f64,
-    qx: f64,
-    qy: f64,
+    params: &KernelParams,
+    (ex, ey): (f64, f64),
+    (qx, qy): (f64, f64),
     response: PeriodicResponse,
 ) -> Complex64 {
     let q = qx.hypot(qy);
@@ -87,7 +97,11 @@ fn continuous_multiplier(
         return Complex64::default();
     }
     let qv = qx * ex + qy * ey;
-    let m = material.spectrum.compliance(-qv * speed) * (2.0 * material.composite_factor() / q);
+    let layer = params.layer.map_or(1.0, |l| {
+        compliance_ratio(l.base, material.poisson, q * l.thickness)
+    });
+    let m = material.spectrum.compliance(-qv * params.speed)
+        * (2.0 * material.composite_factor() * layer / q);
     match response {
         PeriodicResponse::Displacement => m,
         PeriodicResponse::SlidingSlope => Complex64::new(0.0, qv) * m,
@@ -100,8 +114,7 @@ fn continuous_multiplier(
 #[allow(clippy::too_many_arguments)]
 pub fn periodic_multiplier(
     material: &Material,
-    speed: f64,
-    direction_rad: f64,
+    params: &KernelParams,
     nx: usize,
     ny: usize,
     a: f64,
@@ -109,7 +122,7 @@ pub fn periodic_multiplier(
     j: usize,
     response: PeriodicResponse,
 ) -> Complex64 {
-    let (ex, ey) = (direction_rad.cos(), direction_rad.sin());
+    let e = (params.direction_rad.cos(), params.direction_rad.sin());
     let (kx, nyq_x) = signed_index(i, nx);
     let (ky, nyq_y) = signed_index(j, ny);
     let qx = std::f64::consts::TAU * kx / (nx as f64 * a);
@@ -119,7 +132,7 @@ pub fn periodic_multiplier(
     let mut acc = Complex64::default();
     for &s in sx {
         for &t in sy {
-            acc += continuous_multiplier(material, speed, ex, ey, s * qx, t * qy, response);
+            acc += continuous_multiplier(material, params, e, (s * qx, t * qy), response);
         }
     }
     acc / (sx.len() * sy.len()) as f64
@@ -170,7 +183,7 @@ impl SpectralPeriodic {
         )
     }
 
-    /// Plan the transforms and evaluate the multiplier once.
+    /// Plan the transforms and evaluate the multiplier once (half-space).
     pub fn with_response(
         nx: usize,
         ny: usize,
@@ -180,45 +193,39 @@ impl SpectralPeriodic {
         direction_rad: f64,
         response: PeriodicResponse,
     ) -> Self {
+        let params = KernelParams {
+            speed,
+            direction_rad,
+            layer: None,
+        };
+        Self::with_params(nx, ny, a, material, &params, response)
+    }
+
+    /// The operator for `params` (speed, direction and an optional layer,
+    /// exact in Fourier space): plan the transforms and evaluate the
+    /// multiplier once.
+    pub fn with_params(
+        nx: usize,
+        ny: usize,
+        a: f64,
+        material: &Material,
+        params: &KernelParams,
+        response: PeriodicResponse,
+    ) -> Self {
         assert!(nx > 0 && ny > 0, "grid must be non-empty");
         assert!(a > 0.0 && a.is_finite(), "cell side must be positive");
         let mut engine = SpectralEngine::new(nx, ny, nx, ny);
-        let nyh = engine.half_width();
-        let scale = 1.0 / (nx * ny) as f64;
-        let mut multiplier_t = vec![Complex64::default(); nyh * nx];
-        multiplier_t
-            .par_chunks_mut(nx)
+        let multiplier_t = half_spectrum(material, params, nx, ny, a, response);
+        // Diagonal: (1/N) sum over all modes.
+        let diag: f64 = multiplier_t
+            .chunks_exact(nx)
             .enumerate()
-            .for_each(|(j, col)| {
-                for (i, m) in col.iter_mut().enumerate() {
-                    *m = periodic_multiplier(
-                        material,
-                        speed,
-                        direction_rad,
-                        nx,
-                        ny,
-                        a,
-                        i,
-                        j,
-                        response,
-                    );
-                }
-            });
-        // Diagonal: (1/N) sum over all modes; a column of the half spectrum
-        // other than DC and Nyquist stands for two (Hermitian partner) columns.
-        let mut diag = 0.0;
-        for (j, col) in multiplier_t.chunks_exact(nx).enumerate() {
-            let w = if j == 0 || (ny % 2 == 0 && j == nyh - 1) {
-                1.0
-            } else {
-                2.0
-            };
-            diag += w * col.iter().map(|m| m.re).sum::<f64>();
-        }
+            .map(|(j, col)| column_weight(j, ny) * col.iter().map(|m| m.re).sum::<f64>())
+            .sum();
         engine.set_multiplier(multiplier_t);
         Self {
             engine,
-            diagonal: diag * scale,
+            diagonal: diag / (nx * ny) as f64,
         }
     }
 
@@ -228,6 +235,68 @@ impl SpectralPeriodic {
     pub fn self_coefficient(&self) -> f64 {
         self.diagonal
     }
+}
+
+/// The discrete multiplier of every mode of the half spectrum of an
+/// `nx x ny` grid of cells of side `a` (`ny / 2 + 1` columns of `nx` modes,
+/// column-major, as the transforms hold them).
+pub(crate) fn half_spectrum(
+    material: &Material,
+    params: &KernelParams,
+    nx: usize,
+    ny: usize,
+    a: f64,
+    response: PeriodicResponse,
+) -> Vec<Complex64> {
+    let nyh = ny / 2 + 1;
+    let mut multiplier_t = vec![Complex64::default(); nyh * nx];
+    multiplier_t
+        .par_chunks_mut(nx)
+        .enumerate()
+        .for_each(|(j, col)| {
+            for (i, m) in col.iter_mut().enumerate() {
+                *m = periodic_multiplier(material, params, nx, ny, a, i, j, response);
+            }
+        });
+    multiplier_t
+}
+
+/// Weight of column `j` of the half spectrum in a sum over all modes: the
+/// columns other than DC and Nyquist stand for their Hermitian partners too.
+pub(crate) fn column_weight(j: usize, ny: usize) -> f64 {
+    if j == 0 || (ny % 2 == 0 && j == ny / 2) {
+        1.0
+    } else {
+        2.0
+    }
+}
+
+/// For a sum over all modes of `|P(q)|^2 Re m(q)`: `|P|^2` of a real
+/// `nx x ny` field on the half spectrum (`P` the unnormalised forward
+/// transform) and `column_weight * Re m(q)` for the multiplier of `response`,
+/// both column-major as [`half_spectrum`].
+pub fn periodic_friction_weights(
+    field: &[f64],
+    nx: usize,
+    ny: usize,
+    a: f64,
+    material: &Material,
+    params: &KernelParams,
+    response: PeriodicResponse,
+) -> (Vec<f64>, Vec<f64>) {
+    let mut engine = SpectralEngine::new(nx, ny, nx, ny);
+    let power = engine
+        .spectrum_of(field)
+        .iter()
+        .map(|c| c.norm_sqr())
+        .collect();
+    let m = half_spectrum(material, params, nx, ny, a, response);
+    let weights = m
+        .chunks_exact(nx)
+        .enumerate()
+        .flat_map(|(j, col)| col.iter().map(move |v| column_weight(j, ny) * v.re))
+        .collect();
+    (power, weights)
 }
 
 impl GridOperator for SpectralPeriodic {
@@ -266,6 +335,11 @@ mod tests {
                 PeriodicResponse::Displacement,
                 PeriodicResponse::SlidingSlope,
             ] {
+                let params = KernelParams {
+                    speed,
+                    direction_rad: dir,
+                    layer: None,
+                };
                 let mut op = SpectralPeriodic::with_response(nx, ny, a, &mat, speed, dir, resp);
                 let n = nx * ny;
                 let p: Vec<f64> = (0..n).map(|k| ((k * 37 % 11) as f64) - 4.3).collect();
@@ -275,7 +349,7 @@ mod tests {
                 let mut dense = vec![0.0; n * n];
                 for kx in 0..nx {
                     for ky in 0..ny {
-                        let m = periodic_multiplier(&mat, speed, dir, nx, ny, a, kx, ky, resp);
+                        let m = periodic_multiplier(&mat, &params, nx, ny, a, kx, ky, resp);
                         for s in 0..n {
                             for t in 0..n {
                                 let (di, dj) = (

@@ -7,10 +7,12 @@
 //! line, sweeps, comparisons) goes through this module.
 //!
 //! - [`setup`]: reading and checking a problem from a configuration.
+//! - [`executor`]: CPU or GPU, and the choice for `--backend`.
 //! - [`solve`]: the one path through a solve: the operator chosen by
 //!   formulation x mesh, the executor by backend, one call of the iteration.
 //! - [`adaptive`]: the solve-certify-refine loop of the adaptive mesh.
 //! - [`solution`]: the result, its summary, analysis and files.
+//! - [`warnings`]: what a solution says about its own validity.
 //!
 //! Re-discretising: [`Problem::with_grid`] gives the same physical problem on
 //! another grid (a generated surface is generated again with the same seed
@@ -19,20 +21,23 @@
 //! one place.
 
 pub mod adaptive;
+pub mod executor;
 pub mod resolution;
 pub mod setup;
 pub mod solution;
 pub mod solve;
+pub mod warnings;
 
 use std::path::PathBuf;
 
 pub use adaptive::{AdaptiveParams, AdaptiveSolution, MeshReport};
+pub use executor::Executor;
 pub use resolution::{ShortestWavelength, MIN_CELLS_PER_WAVELENGTH};
 pub use setup::{check_memory, memory_estimate};
 pub use solution::{Solution, Timings};
-pub use solve::{Discretisation, Executor};
+pub use solve::Discretisation;
 
-use crate::config::{AnalysisConfig, Formulation, MeshKind, SphereConfig};
+use crate::config::{AnalysisConfig, Formulation, MeshKind, Sliding, SphereConfig, XiScale};
 use crate::error::{Error, Result};
 use crate::kernel::{KernelParams, Layer, SlidingKernel};
 use crate::material::Material;
@@ -80,7 +85,7 @@ pub struct Problem {
     pub analysis: Option<AnalysisConfig>,
 }
 
-fn invalid(msg: impl Into<String>) -> Error {
+pub(super) fn invalid(msg: impl Into<String>) -> Error {
     Error::Invalid(msg.into())
 }
 
@@ -207,25 +212,44 @@ impl Problem {
         })
     }
 
+    /// The conversion between speed and `xi = v tau / L` of this material
+    /// and map (single-relaxation materials only).
+    pub fn xi_scale(&self) -> Option<XiScale> {
+        xi_scale_of(&self.material, &self.surface).ok()
+    }
+
     /// `xi = v tau / L` for single-relaxation materials.
     pub fn xi(&self) -> Option<f64> {
-        match self.material.spectrum.terms.as_slice() {
-            [t] => Some(self.speed * t.time / self.surface.length_x()),
-            _ => None,
-        }
+        self.xi_scale().map(|s| s.xi(self.speed))
+    }
+
+    /// The same problem sliding at `sliding` (m/s, or `xi` for a
+    /// single-relaxation material).
+    pub fn with_sliding(mut self, sliding: Sliding) -> Result<Self> {
+        self.speed = speed_of(sliding, &self.material, &self.surface)?;
+        Ok(self)
+    }
+
+    /// The same problem pressed by the normal load `load` \[N\].
+    pub fn with_normal_load(mut self, load: f64) -> Self {
+        self.control = Control::Load(load);
+        self
     }
 
     /// The steady-sliding kernel of this material, speed, direction and
     /// layer (paper Eq. 4-5).
     pub fn sliding_kernel(&self) -> Result<SlidingKernel> {
-        Ok(SlidingKernel::new(
-            &self.material,
-            KernelParams {
-                speed: self.speed,
-                direction_rad: self.direction_rad,
-                layer: self.layer,
-            },
-        )?)
+        Ok(SlidingKernel::new(&self.material, self.kernel_params())?)
+    }
+
+    /// Speed, direction and layer, as the kernel and the periodic operator
+    /// take them.
+    pub fn kernel_params(&self) -> KernelParams {
+        KernelParams {
+            speed: self.speed,
+            direction_rad: self.direction_rad,
+            layer: self.layer,
+        }
     }
 
     /// Gap profile `g = max(z) - z` (physics.md section 1).
@@ -238,6 +262,28 @@ impl Problem {
             .fold(f64::NEG_INFINITY, f64::max);
         self.surface.heights.iter().map(|z| zmax - z).collect()
     }
+}
+
+/// The `xi` scale of `material` on `surface`, or why there is none.
+fn xi_scale_of(material: &Material, surface: &HeightMap) -> Result<XiScale> {
+    match material.spectrum.terms.as_slice() {
+        [t] => Ok(XiScale {
+            creep_time: t.time,
+            length: surface.length_x(),
+        }),
+        terms => Err(invalid(format!(
+            "[loading] xi = v tau / L needs a single-relaxation material (this one has {} creep terms); give speed (m/s)",
+            terms.len()
+        ))),
+    }
+}
+
+/// The speed \[m/s\] of `sliding` for `material` on `surface`.
+pub(super) fn speed_of(sliding: Sliding, material: &Material, surface: &HeightMap) -> Result<f64> {
+    Ok(match sliding {
+        Sliding::Speed(v) => v,
+        Sliding::Xi(xi) => xi_scale_of(material, surface)?.speed(xi),
+    })
 }
 
 /// Write the grid of a re-discretised surface into the recorded document.

@@ -3,14 +3,10 @@
 //! read and checked, and the memory a grid needs.
 
 use crate::config::{Formulation, LoadedConfig, MeshKind};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::solver::{Control, SolverParams};
 
-use super::{AdaptiveParams, Problem, SurfaceSource};
-
-fn invalid(msg: impl Into<String>) -> Error {
-    Error::Invalid(msg.into())
-}
+use super::{invalid, speed_of, AdaptiveParams, Problem, SurfaceSource};
 
 impl Problem {
     /// Read and check the `[material]`, `[surface]`, `[loading]`, `[solver]`
@@ -57,21 +53,8 @@ impl Problem {
                 "[loading] give only one of normal_load (N), mean_pressure (Pa) and approach (m)",
             )),
         };
-        let speed = match (loading.speed, loading.xi) {
-            (Some(v), None) => v,
-            (None, Some(xi)) => {
-                let terms = &material.spectrum.terms;
-                if terms.len() != 1 {
-                    return Err(invalid(format!(
-                        "[loading] xi = v tau / L needs a single-relaxation material (this one has {} creep terms); give speed (m/s)",
-                        terms.len()
-                    )));
-                }
-                xi * surface.length_x() / terms[0].time
-            }
-            (None, None) => return Err(invalid("[loading] needs speed (m/s) or xi (v tau / L)")),
-            _ => return Err(invalid("[loading] give only one of speed (m/s) and xi")),
-        };
+        let sliding = loading.sliding().map_err(invalid)?;
+        let speed = speed_of(sliding, &material, &surface)?;
         let direction_rad = loading.direction_deg.unwrap_or(0.0).to_radians();
         let defaults = SolverParams::default();
         let params = SolverParams {
@@ -81,6 +64,9 @@ impl Problem {
             restart: sc.restart.unwrap_or(defaults.restart),
         };
         let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
+        if let Some(w) = layer.and_then(|l| l.resolution_warning(surface.cell_size)) {
+            eprintln!("warning: {w}");
+        }
         let formulation = sc.formulation.unwrap_or_default();
         let mesh = sc.mesh.unwrap_or_default();
         let ad = AdaptiveParams::default();
@@ -150,11 +136,6 @@ impl Problem {
                 self.params.tolerance
             )));
         }
-        if self.layer.is_some() && self.formulation == Formulation::Periodic {
-            return Err(invalid(
-                "[layer] is not supported with [solver] formulation = \"periodic\" (use \"non_periodic\")",
-            ));
-        }
         if self.mesh == MeshKind::Adaptive && self.formulation == Formulation::Periodic {
             return Err(invalid(
                 "[solver] mesh = \"adaptive\" needs formulation = \"non_periodic\" (the periodic formulation is spectral)",
@@ -177,21 +158,6 @@ pub fn memory_estimate(nx: usize, ny: usize, restart: usize) -> u64 {
 /// available now (read from `/proc/meminfo`; no check where it is absent).
 pub fn check_memory(nx: usize, ny: usize, restart: usize) -> Result<()> {
     let need = memory_estimate(nx, ny, restart);
-    if let Some(avail) = available_memory() {
-        if need > avail {
-            return Err(invalid(format!(
-                "a {nx} x {ny} grid needs about {:.1} GiB of memory, but only {:.1} GiB is available",
-                need as f64 / (1u64 << 30) as f64,
-                avail as f64 / (1u64 << 30) as f64
-            )));
-        }
-    }
-    Ok(())
-}
-
-fn available_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
+    crate::io::memory::check_fits(|| format!("{nx} x {ny} grid"), need)
+        .map_err(|e| invalid(e.to_string()))
 }

@@ -86,6 +86,7 @@ impl Solution {
         timings: Timings,
         unknowns: usize,
         mesh: Option<MeshReport>,
+        warnings: Vec<String>,
     ) -> Self {
         Self {
             fields,
@@ -97,7 +98,7 @@ impl Solution {
             timings,
             unknowns,
             mesh,
-            warnings: problem.resolution_warning().into_iter().collect(),
+            warnings,
             record: Record {
                 nx: problem.surface.nx,
                 ny: problem.surface.ny,
@@ -273,6 +274,12 @@ impl Solution {
         let report = self.analyze_configured()?;
         let (nx, ny, a) = (self.record.nx, self.record.ny, self.record.cell_size);
         let mut staged = StagedOutput::new(dir)?;
+        let set: Vec<&str> = SOLVE_FILES
+            .iter()
+            .chain(analysis::ANALYSIS_FILES.iter())
+            .copied()
+            .collect();
+        staged.replaces(&set);
         let doc = self.summary_with(report.as_ref());
         staged.write(
             "summary.json",
@@ -329,6 +336,18 @@ impl Solution {
         Ok(staged.commit()?)
     }
 }
+
+/// The files a solve writes besides the analysis's
+/// ([`analysis::ANALYSIS_FILES`]); a new write replaces the whole set.
+const SOLVE_FILES: [&str; 7] = [
+    "summary.json",
+    "pressure.npy",
+    "displacement.npy",
+    "gap.npy",
+    "contact.npy",
+    "pressure.png",
+    "contact.png",
+];
 
 /// The headline numbers of an analysis, as recorded in `summary.json`.
 fn analysis_headline(r: &AnalysisReport) -> Value {

@@ -11,70 +11,17 @@ use std::time::Instant;
 use crate::analysis::{self, ContactStatistics};
 use crate::backend::gpu::engine::Engine;
 use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuLevelTables, GpuOptions};
-use crate::backend::{Backend, BackendChoice, CpuBackend};
+use crate::backend::{Backend, CpuBackend};
 use crate::config::{Formulation, MeshKind};
 use crate::error::{Error, Result};
 use crate::kernel::{Axis, SlidingKernel};
-use crate::operator::{AdaptiveOperator, LevelTables, OffsetTable, SpectralPeriodic, ToeplitzFft};
+use crate::operator::{
+    AdaptiveOperator, LevelTables, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
+};
 use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, WarmStart};
 
 use super::adaptive::{solve_adaptive, AdaptiveParams, MeshReport};
-use super::{Problem, Solution, Timings};
-
-fn invalid(msg: impl Into<String>) -> Error {
-    Error::Invalid(msg.into())
-}
-
-/// Who runs the iteration.
-#[derive(Clone)]
-pub enum Executor {
-    /// The CPU reference path (rayon, rustfft), f64.
-    Cpu,
-    /// A GPU device (wgpu), f32 vectors.
-    Gpu(GpuContext),
-}
-
-impl std::fmt::Debug for Executor {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Executor::Cpu => write!(f, "Executor::Cpu"),
-            Executor::Gpu(ctx) => write!(f, "Executor::Gpu({})", ctx.adapter),
-        }
-    }
-}
-
-impl Executor {
-    /// Resolve a backend choice for `problem`: `auto` takes a GPU when one
-    /// exists, the problem fits on it and it is not emulated on the CPU.
-    /// Returns the executor and a line saying which was picked and why.
-    pub fn select(choice: BackendChoice, problem: &Problem) -> Result<(Executor, String)> {
-        let (nx, ny) = (problem.surface.nx, problem.surface.ny);
-        Ok(match choice {
-            BackendChoice::Cpu => (Executor::Cpu, "backend: cpu".into()),
-            BackendChoice::Gpu => {
-                let ctx = GpuContext::open()?;
-                let line = format!("backend: gpu, adapter {}", ctx.adapter);
-                (Executor::Gpu(ctx), line)
-            }
-            BackendChoice::Auto => match GpuContext::open()
-                .and_then(|ctx| GpuBackend::check_fits(&ctx, nx, ny).map(|()| ctx))
-            {
-                Ok(ctx) if ctx.adapter.device_type == "Cpu" => (
-                    Executor::Cpu,
-                    format!(
-                        "backend: cpu (auto: the only adapter, {}, is emulated on the CPU and slower than the CPU backend; --backend gpu forces it)",
-                        ctx.adapter
-                    ),
-                ),
-                Ok(ctx) => {
-                    let line = format!("backend: gpu (auto), adapter {}", ctx.adapter);
-                    (Executor::Gpu(ctx), line)
-                }
-                Err(e) => (Executor::Cpu, format!("backend: cpu (auto: {e})")),
-            },
-        })
-    }
-}
+use super::{invalid, Executor, Problem, Solution, Timings};
 
 /// The operator a problem is solved with: formulation x mesh.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -291,7 +238,14 @@ impl Problem {
     fn periodic_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
         let t0 = Instant::now();
         let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
-        let op = SpectralPeriodic::new(nx, ny, a, &self.material, self.speed, self.direction_rad);
+        let op = SpectralPeriodic::with_params(
+            nx,
+            ny,
+            a,
+            &self.material,
+            &self.kernel_params(),
+            PeriodicResponse::Displacement,
+        );
         let l00 = op.self_coefficient();
         let mut backend = CpuBackend::new(op);
         let t_setup = t0.elapsed().as_secs_f64();
@@ -314,29 +268,22 @@ impl Problem {
         let t0 = Instant::now();
         let plan = AdaptivePlan::new(self)?;
         let t_coeff = t0.elapsed().as_secs_f64();
-        let mut t_iter = 0.0;
-        let result = solve_adaptive(
-            &self.gap_profile(),
-            plan.tables.clone(),
-            &plan.params,
-            self.params.tolerance,
-            |mesh, g_mesh, start, tol| {
-                let t = Instant::now();
-                let mut backend = CpuBackend::new(AdaptiveOperator::new(plan.tables.clone(), mesh));
-                let r = self.iterate(&mut backend, g_mesh, plan.l00, tol, start, observer);
-                t_iter += t.elapsed().as_secs_f64();
-                r
-            },
-        )
-        .map_err(|e| invalid(e.to_string()))?;
-        Ok(Raw {
-            solution: result.solution,
-            info: result.info,
-            backend: "cpu (adaptive mesh)".into(),
-            mesh: Some(result.report),
+        let raw = self.adaptive_rounds(
+            &plan,
             t_coeff,
-            t_setup: None,
-            t_iter,
+            |mesh| {
+                Ok(CpuBackend::new(AdaptiveOperator::new(
+                    plan.tables.clone(),
+                    mesh,
+                )))
+            },
+            drop,
+            observer,
+        )?;
+        // The uniform CPU path reports "cpu" too, without the thread count.
+        Ok(Raw {
+            backend: "cpu (adaptive mesh)".into(),
+            ..raw
         })
     }
 
@@ -365,10 +312,37 @@ impl Problem {
             plan.tables.max_level(),
         )?;
         let t_coeff = t0.elapsed().as_secs_f64();
-        let mut engine = Some(eng);
+        // The device's engine goes into each round's backend and back.
+        let engine = std::cell::RefCell::new(Some(eng));
+        self.adaptive_rounds(
+            &plan,
+            t_coeff,
+            |mesh| {
+                let eng = engine
+                    .borrow_mut()
+                    .take()
+                    .expect("engine returned after each round");
+                Ok(GpuBackend::with_level_tables(eng, &tables, mesh)?)
+            },
+            |backend: GpuBackend| *engine.borrow_mut() = Some(backend.into_engine()),
+            observer,
+        )
+    }
+
+    /// The solve-certify-refine rounds of [`solve_adaptive`] on backends made
+    /// by `backend_for` for each round's mesh (and handed to `give_back`
+    /// after it): the one adaptive path of both executors.
+    fn adaptive_rounds<B: Backend>(
+        &self,
+        plan: &AdaptivePlan,
+        t_coeff: f64,
+        mut backend_for: impl FnMut(&crate::mesh::QuadMesh) -> Result<B>,
+        mut give_back: impl FnMut(B),
+        observer: &mut dyn Observer,
+    ) -> Result<Raw> {
         let mut name = String::new();
         let mut t_iter = 0.0;
-        let mut gpu_error: Option<String> = None;
+        let mut failure: Option<Error> = None;
         let result = solve_adaptive(
             &self.gap_profile(),
             plan.tables.clone(),
@@ -376,22 +350,23 @@ impl Problem {
             self.params.tolerance,
             |mesh, g_mesh, start, tol| {
                 let t = Instant::now();
-                let eng = engine.take().expect("engine returned after each round");
-                let mut backend = match GpuBackend::with_level_tables(eng, &tables, mesh) {
-                    Ok(b) => b,
-                    Err(e) => {
-                        gpu_error = Some(e.to_string());
-                        return Err(SolverError::Invalid(e.to_string()));
-                    }
-                };
+                let mut backend = backend_for(mesh).map_err(|e| {
+                    let msg = e.to_string();
+                    failure = Some(e);
+                    SolverError::Invalid(msg)
+                })?;
                 name = backend.name();
                 let r = self.iterate(&mut backend, g_mesh, plan.l00, tol, start, observer);
-                engine = Some(backend.into_engine());
+                give_back(backend);
                 t_iter += t.elapsed().as_secs_f64();
                 r
             },
-        )
-        .map_err(|e| invalid(gpu_error.clone().unwrap_or_else(|| e.to_string())))?;
+        );
+        let result = match (result, failure) {
+            (Ok(r), _) => r,
+            (Err(_), Some(e)) => return Err(e),
+            (Err(e), None) => return Err(invalid(e.to_string())),
+        };
         Ok(Raw {
             solution: result.solution,
             info: result.info,
@@ -413,6 +388,7 @@ impl Problem {
             .mesh
             .as_ref()
             .map_or(self.surface.nx * self.surface.ny, |m| m.unknowns);
+        let warnings = self.warnings(&stats, mu, mu_d);
         let timings = Timings {
             coefficients_s: raw.t_coeff,
             operator_setup_s: raw
@@ -432,6 +408,7 @@ impl Problem {
             timings,
             unknowns,
             raw.mesh,
+            warnings,
         ))
     }
 
@@ -448,10 +425,18 @@ impl Problem {
         let load = stats.normal_load;
         let (m, v, dir) = (&self.material, self.speed, self.direction_rad);
         if self.formulation == Formulation::Periodic {
-            let mut slope = SpectralPeriodic::sliding_slope(nx, ny, a, m, v, dir);
+            let params = self.kernel_params();
+            let mut slope = SpectralPeriodic::with_params(
+                nx,
+                ny,
+                a,
+                m,
+                &params,
+                PeriodicResponse::SlidingSlope,
+            );
             let force = analysis::friction_force_stencil(&mut slope, &solution.pressure, a);
             let force_d =
-                analysis::friction_force_periodic(&solution.pressure, nx, ny, a, m, v, dir);
+                analysis::friction_force_periodic_with(&solution.pressure, nx, ny, a, m, &params);
             return Ok((-force / load, -force_d / load, stats));
         }
         if load.is_nan() || load <= 0.0 {

@@ -1,10 +1,10 @@
 //! Building a [`HeightMap`] from its `[surface]` section (the types live in
 //! [`crate::config::surface`]).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::generate::{Anisotropy, GenerateParams, Normalisation, UpperCutoff};
-use super::{HeightMap, SurfaceError};
+use super::{HeightMap, MissingData, ReadOptions, SurfaceError, SurfaceFormat, SynthParams};
 use crate::config::{GenerateConfig, SphereConfig, SurfaceConfig};
 
 impl SphereConfig {
@@ -33,6 +33,53 @@ impl SphereConfig {
 }
 
 impl GenerateConfig {
+    /// With `psd` set: the table's path and the grid and seed of the
+    /// synthesis ([`super::generate_from_table`]); `None` without `psd`.
+    /// The self-affine keys cannot be combined with `psd`.
+    pub fn synth_params(
+        &self,
+        fallback_length: Option<f64>,
+    ) -> Result<Option<(PathBuf, SynthParams)>, SurfaceError> {
+        let Some(psd) = &self.psd else {
+            return Ok(None);
+        };
+        let extra: Vec<&str> = [
+            (self.hurst.is_some(), "hurst"),
+            (self.scales.is_some(), "scales"),
+            (self.q1.is_some(), "q1"),
+            (self.ql.is_some(), "ql"),
+            (self.rolloff_q0.is_some(), "rolloff_q0"),
+            (self.rms_height.is_some(), "rms_height"),
+            (self.rms_slope.is_some(), "rms_slope"),
+            (self.anisotropy.is_some(), "anisotropy"),
+        ]
+        .into_iter()
+        .filter_map(|(g, k)| g.then_some(k))
+        .collect();
+        if !extra.is_empty() {
+            return Err(SurfaceError::Invalid(format!(
+                "[surface.generate] psd = {:?} follows the table; remove {}",
+                psd.display().to_string(),
+                extra.join(", ")
+            )));
+        }
+        let n = self.n.ok_or_else(|| {
+            SurfaceError::Invalid("[surface.generate] needs `n` (cells along x)".into())
+        })?;
+        let length = self.length.or(fallback_length).ok_or_else(|| {
+            SurfaceError::Invalid("[surface.generate] needs `length` (side along x, m)".into())
+        })?;
+        Ok(Some((
+            psd.clone(),
+            SynthParams {
+                nx: n,
+                ny: self.ny.unwrap_or(n),
+                length,
+                seed: self.seed.unwrap_or(0),
+            },
+        )))
+    }
+
     /// Generator parameters; `fallback_length` (`[surface] length`) is used
     /// when `length` is not given here. Errors name the missing or
     /// conflicting keys. The values themselves are checked by
@@ -118,15 +165,24 @@ impl SurfaceConfig {
         self.check_source()?;
         self.generate
             .as_ref()
+            .filter(|g| g.psd.is_none())
             .map(|g| g.params(self.length))
             .transpose()
     }
 
-    /// The height map: `file` (relative to `base_dir`, `length` required),
-    /// generated from `[surface.generate]`, or the `[surface.sphere]` paraboloid.
+    /// The height map: `file` (relative to `base_dir`; any format of
+    /// [`super::read_topography`], `length` required for `.npy`/text),
+    /// generated from `[surface.generate]` (self-affine, or following the
+    /// tabulated `psd`), or the `[surface.sphere]` paraboloid.
     pub fn load(&self, base_dir: &Path) -> Result<HeightMap, SurfaceError> {
         if let Some(params) = self.generate_params()? {
             return super::generate(&params);
+        }
+        if let Some(g) = &self.generate {
+            if let Some((table, sp)) = g.synth_params(self.length)? {
+                let table = super::TabulatedPsd::from_csv(&base_dir.join(table))?;
+                return super::generate_from_table(&table, &sp);
+            }
         }
         if let Some(sphere) = &self.sphere {
             return sphere.height_map();
@@ -134,11 +190,25 @@ impl SurfaceConfig {
         let file = self.file.as_ref().ok_or_else(|| {
             SurfaceError::Invalid("[surface] needs `file` or [surface.generate]".into())
         })?;
-        let length = self.length.ok_or_else(|| {
-            SurfaceError::Invalid(
-                "[surface] `file` needs `length` (side of the map along x, m)".into(),
-            )
-        })?;
-        super::read_height_map(&base_dir.join(file), length)
+        let format = self
+            .format
+            .as_deref()
+            .map(|f| {
+                f.parse::<SurfaceFormat>()
+                    .map_err(|e| SurfaceError::Invalid(format!("[surface] format: {e}")))
+            })
+            .transpose()?;
+        let path = base_dir.join(file);
+        let opts = ReadOptions {
+            format,
+            length: self.length,
+            length_y: self.length_y,
+            missing: if self.fill_missing.unwrap_or(false) {
+                MissingData::Fill
+            } else {
+                MissingData::Error
+            },
+        };
+        super::read_topography(&path, &opts)?.to_height_map(&path.display().to_string())
     }
 }

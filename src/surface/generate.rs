@@ -326,6 +326,10 @@ impl GenerateParams {
     }
 }
 
+/// Bytes per cell [`generate`] needs at its peak, roughly: the heights (8),
+/// the half spectrum (about 8) and the FFT's work space (about 32).
+pub const GENERATE_BYTES_PER_CELL: u64 = 48;
+
 /// Generate a self-affine random surface (physics.md section 8).
 ///
 /// Every Fourier mode `q = (2 pi kx / Lx, 2 pi ky / Ly)` gets the
@@ -348,6 +352,13 @@ pub fn generate_with_target(
 ) -> Result<(HeightMap, SelfAffinePsd), SurfaceError> {
     let mut target = params.resolve()?;
     let (nx, ny) = (params.nx, params.ny);
+    // Heights, half spectrum and FFT work space: refuse what cannot fit
+    // instead of aborting in an allocation.
+    let need = (nx as u64)
+        .saturating_mul(ny as u64)
+        .saturating_mul(GENERATE_BYTES_PER_CELL);
+    crate::io::memory::check_fits(|| format!("{nx} x {ny} surface"), need)
+        .map_err(|e| SurfaceError::Invalid(e.to_string()))?;
     let a = params.length / nx as f64;
     let dqx = 2.0 * PI / (nx as f64 * a);
     let dqy = 2.0 * PI / (ny as f64 * a);

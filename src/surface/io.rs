@@ -132,11 +132,21 @@ pub fn read_height_map(path: &Path, length: f64) -> Result<HeightMap, SurfaceErr
 
 /// The `.npy` bytes of a height map, shape `(nx, ny)`, C order.
 pub fn encode_npy(map: &HeightMap, precision: NpyPrecision) -> Vec<u8> {
-    let shape = [map.nx, map.ny];
+    npy_bytes_of(map.nx, map.ny, &map.heights, precision)
+}
+
+/// The `.npy` bytes of `nx x ny` heights in C order.
+pub(crate) fn npy_bytes_of(
+    nx: usize,
+    ny: usize,
+    heights: &[f64],
+    precision: NpyPrecision,
+) -> Vec<u8> {
+    let shape = [nx, ny];
     match precision {
-        NpyPrecision::F64 => npy::encode_f64(&shape, &map.heights),
+        NpyPrecision::F64 => npy::encode_f64(&shape, heights),
         NpyPrecision::F32 => {
-            let h: Vec<f32> = map.heights.iter().map(|&v| v as f32).collect();
+            let h: Vec<f32> = heights.iter().map(|&v| v as f32).collect();
             npy::encode_f32(&shape, &h)
         }
     }

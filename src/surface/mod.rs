@@ -1,30 +1,53 @@
 //! Rigid rough surfaces: height maps, self-affine generation, PSD and
-//! statistics, file input (physics.md section 8).
+//! statistics, file input (physics.md section 8); measured topographies:
+//! `.x3p`/`.gwy`/`.npy`/text files with physical sizes, missing data,
+//! detrended and windowed PSDs, PSD stitching and surfaces synthesised
+//! from a tabulated PSD (section 11).
 //!
 //! Heights are stored in C order with axis 0 = x, the sliding direction:
 //! `heights[i * ny + j]` is the height at the centre of cell `(i, j)`.
 
 mod config;
 mod fft2;
+mod format;
 mod generate;
+mod gwy;
 mod io;
+mod measured;
 mod psd;
 mod psd_table;
+mod stitch;
+mod synth;
+mod topography;
+mod x3p;
 
 pub use crate::config::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};
+pub use format::{
+    encode_topography, read_topography, write_topography, ReadOptions, SurfaceFormat, WriteOptions,
+};
 pub use generate::{
     generate, generate_with_target, Anisotropy, GenerateParams, Normalisation, SelfAffinePsd,
     UpperCutoff,
 };
+pub use gwy::{decode_gwy, read_gwy};
+pub(crate) use io::npy_bytes_of;
 pub use io::{
     encode_npy, load_npy, load_text, parse_text, read_height_map, save_npy, validate_heights,
     NpyPrecision,
 };
+pub use measured::{
+    analyse, detrend, line_psd, psd_topography, trusted_band, Analysis, Axis, Detrend, LinePsd,
+    MeasuredStats,
+};
 pub use psd::{
-    fit_hurst, psd_2d, radial_average, stats, stats_with_window, HurstFit, Psd2d, RadialPsd,
-    SurfaceStats, Window,
+    fit_hurst, psd_2d, psd_grid, radial_average, stats, stats_with_window, window_weights,
+    HurstFit, Psd2d, RadialPsd, SurfaceStats, Window,
 };
 pub use psd_table::TabulatedPsd;
+pub use stitch::{stitch, ScanPsd, StitchedPsd};
+pub use synth::{generate_from_table, SynthParams};
+pub use topography::{MissingData, Topography};
+pub use x3p::{decode_x3p, encode_x3p, read_x3p, X3pType};
 
 use crate::io::npy::NpyError;
 
@@ -70,6 +93,10 @@ pub enum SurfaceError {
         line: usize,
         token: String,
     },
+    /// A surface file (x3p, gwy) that cannot be decoded: corrupted,
+    /// truncated, or using a feature that is not supported.
+    #[error("{path}: {why}")]
+    File { path: String, why: String },
     /// A `.npy` file that cannot be decoded.
     #[error(transparent)]
     Npy(#[from] NpyError),

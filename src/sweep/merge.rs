@@ -7,7 +7,9 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use serde_json::Value;
+use serde::Deserialize;
+
+use super::Point;
 
 use crate::error::{Error, Result};
 use crate::io::StagedOutput;
@@ -56,8 +58,35 @@ fn mean_std(v: &[f64]) -> (f64, f64) {
     (mean, var.sqrt())
 }
 
+/// A point file as `sweep` writes it (the keys of `summary.json` it keeps).
+#[derive(Deserialize)]
+struct PointFile {
+    normal_load: f64,
+    speed: f64,
+    xi: Option<f64>,
+    seed: Option<i64>,
+    friction_coefficient: f64,
+    friction_coefficient_dissipation: f64,
+    contact_area_fraction: f64,
+    analysis: Option<Headline>,
+    point: Point,
+}
+
+/// The analysis numbers a merge aggregates.
+#[derive(Deserialize)]
+struct Headline {
+    gamma: Option<f64>,
+    lambda: Option<f64>,
+}
+
 fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
     let points_dir = dir.join("points");
+    if !points_dir.is_dir() {
+        return Err(Error::Invalid(format!(
+            "{}: not a sweep directory (it has no points/ folder; `viscoslide sweep CONFIG --out DIR` makes one)",
+            dir.display()
+        )));
+    }
     let entries = std::fs::read_dir(&points_dir).map_err(|e| Error::io(&points_dir, e))?;
     let mut names: Vec<_> = entries
         .filter_map(|e| e.ok())
@@ -68,39 +97,20 @@ fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
     let mut out = Vec::new();
     for path in names {
         let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-        let v: Value = serde_json::from_str(&text)
+        let v: PointFile = serde_json::from_str(&text)
             .map_err(|e| Error::Invalid(format!("{}: not a point result: {e}", path.display())))?;
-        let num = |key: &str| v.get(key).and_then(Value::as_f64);
-        let need = |key: &str| {
-            num(key).ok_or_else(|| Error::Invalid(format!("{}: no `{key}`", path.display())))
-        };
-        let analysis = |key: &str| {
-            v.get("analysis")
-                .and_then(|a| a.get(key))
-                .and_then(Value::as_f64)
-        };
-        let point = v.get("point");
-        let key_load = point
-            .and_then(|p| p.get("normal_load"))
-            .and_then(Value::as_f64)
-            .unwrap_or(f64::NAN);
-        let key_speed = point
-            .and_then(|p| p.get("speed"))
-            .and_then(|s| s.get("xi").or_else(|| s.get("speed")))
-            .and_then(Value::as_f64)
-            .ok_or_else(|| Error::Invalid(format!("{}: no planned point", path.display())))?;
         out.push(PointResult {
-            key_load,
-            key_speed,
-            load: need("normal_load")?,
-            speed: need("speed")?,
-            xi: num("xi"),
-            seed: v.get("seed").and_then(Value::as_i64).unwrap_or(-1),
-            mu: need("friction_coefficient")?,
-            mu_d: need("friction_coefficient_dissipation")?,
-            area: need("contact_area_fraction")?,
-            gamma: analysis("gamma"),
-            lambda: analysis("lambda"),
+            key_load: v.point.normal_load.unwrap_or(f64::NAN),
+            key_speed: v.point.speed.value(),
+            load: v.normal_load,
+            speed: v.speed,
+            xi: v.xi,
+            seed: v.seed.unwrap_or(-1),
+            mu: v.friction_coefficient,
+            mu_d: v.friction_coefficient_dissipation,
+            area: v.contact_area_fraction,
+            gamma: v.analysis.as_ref().and_then(|a| a.gamma),
+            lambda: v.analysis.as_ref().and_then(|a| a.lambda),
         });
     }
     if out.is_empty() {

@@ -11,14 +11,14 @@ mod plan;
 pub use crate::config::SweepConfig;
 pub use compare::{compare, read_measured, Measured};
 pub use merge::{aggregate, merge, MergedRow};
-pub use plan::{Point, Shard, SpeedAxis, SweepPlan};
+pub use plan::{Point, Shard, SweepPlan};
 
 use std::path::{Path, PathBuf};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::Value;
 
-use crate::config::{self, LoadedConfig};
+use crate::config::LoadedConfig;
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic;
 use crate::problem::{Executor, Problem};
@@ -80,6 +80,9 @@ pub fn run_sweep(
     for point in todo.into_iter().take(count) {
         bar.set_message(point.id.clone());
         let value = solve_point(cfg, point)?;
+        for w in value["warnings"].as_array().into_iter().flatten() {
+            bar.suspend(|| eprintln!("warning: point {}: {}", point.id, w.as_str().unwrap_or("")));
+        }
         let path = point_path(&points_dir, point);
         write_atomic(
             &path,
@@ -102,39 +105,33 @@ pub fn run_sweep(
 /// Solve one point: the base configuration with the point's speed, load and
 /// seed substituted.
 pub fn solve_point(cfg: &LoadedConfig, point: &Point) -> Result<Value> {
-    let mut doc = cfg.document.clone();
-    doc.remove("sweep");
-    let loading = doc
-        .entry("loading")
-        .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-    let toml::Value::Table(loading) = loading else {
-        return Err(Error::Invalid("[loading] must be a table".into()));
-    };
-    match point.speed {
-        SpeedAxis::Speed(v) => {
-            loading.remove("xi");
-            loading.insert("speed".into(), toml::Value::Float(v));
-        }
-        SpeedAxis::Xi(x) => {
-            loading.remove("speed");
-            loading.insert("xi".into(), toml::Value::Float(x));
-        }
-    }
+    let mut config = cfg.config.clone();
+    config.sweep = None;
+    let loading = config.loading.get_or_insert_with(Default::default);
+    loading.set_sliding(point.speed);
     if let Some(f) = point.normal_load {
-        loading.remove("mean_pressure");
-        loading.remove("approach");
-        loading.insert("normal_load".into(), toml::Value::Float(f));
+        loading.set_normal_load(f);
     }
     if let Some(seed) = point.seed {
-        config::apply_override(&mut doc, &format!("surface.generate.seed={seed}"))?;
+        let generate = config
+            .surface
+            .as_mut()
+            .and_then(|s| s.generate.as_mut())
+            .ok_or_else(|| {
+                Error::Invalid(format!(
+                    "{}: [sweep] seeds need a generated surface ([surface.generate])",
+                    cfg.path.display()
+                ))
+            })?;
+        generate.seed = Some(seed);
     }
-    let name = format!("{} (point {})", cfg.path.display(), point.id);
-    let config = config::parse_document(&doc, &name)?;
+    let document = toml::Table::try_from(&config)
+        .map_err(|e| Error::Invalid(format!("the configuration of point {}: {e}", point.id)))?;
     let point_cfg = LoadedConfig {
         config,
         path: cfg.path.clone(),
         base_dir: cfg.base_dir.clone(),
-        document: doc,
+        document,
     };
     let problem = Problem::from_config(&point_cfg)?;
     let solution = problem.solve(&Executor::Cpu, &mut Silent)?;

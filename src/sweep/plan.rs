@@ -1,28 +1,12 @@
-//! The points of a sweep: speeds (a list or a log range of `v` or `xi`) x
+//! The points of a sweep: speeds (a list or a log range of `v` or `xi`,
+//! each a typed [`Sliding`]) x
 //! normal loads x surface realisations (seeds), in a fixed order, and the
 //! deterministic split into shards.
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::SweepConfig;
+use crate::config::{Sliding, SweepConfig};
 use crate::error::{Error, Result};
-
-/// The speed of one point.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SpeedAxis {
-    Speed(f64),
-    Xi(f64),
-}
-
-impl SpeedAxis {
-    /// The numeric value (m/s or xi).
-    pub fn value(&self) -> f64 {
-        match *self {
-            SpeedAxis::Speed(v) | SpeedAxis::Xi(v) => v,
-        }
-    }
-}
 
 /// One solve of the sweep.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -31,7 +15,7 @@ pub struct Point {
     pub index: usize,
     /// File stem of its result, `p0000`, `p0001`, ...
     pub id: String,
-    pub speed: SpeedAxis,
+    pub speed: Sliding,
     pub normal_load: Option<f64>,
     pub seed: Option<u64>,
 }
@@ -76,6 +60,18 @@ impl SweepPlan {
         if axes.iter().filter(|&&a| a).count() != 1 {
             return Err(Error::Invalid(
                 "[sweep] give exactly one of speed, xi, speed_range and xi_range".into(),
+            ));
+        }
+        for (key, list) in [("speed", &cfg.speed), ("xi", &cfg.xi)] {
+            if list.as_ref().is_some_and(Vec::is_empty) {
+                return Err(Error::Invalid(format!(
+                    "[sweep] {key} is empty: give at least one value"
+                )));
+            }
+        }
+        if cfg.normal_load.as_ref().is_some_and(Vec::is_empty) {
+            return Err(Error::Invalid(
+                "[sweep] normal_load is empty: give at least one load (N) or leave it out".into(),
             ));
         }
         let (mut speeds, xi) = if let Some(v) = &cfg.speed {
@@ -123,9 +119,9 @@ impl SweepPlan {
                         index,
                         id: format!("p{index:04}"),
                         speed: if xi {
-                            SpeedAxis::Xi(v)
+                            Sliding::Xi(v)
                         } else {
-                            SpeedAxis::Speed(v)
+                            Sliding::Speed(v)
                         },
                         normal_load,
                         seed,
@@ -195,7 +191,7 @@ mod tests {
     fn axes_expand_in_a_fixed_order() {
         let p = plan();
         assert_eq!(p.points.len(), 2 * 8 * 3);
-        assert_eq!(p.points[0].speed, SpeedAxis::Xi(0.0));
+        assert_eq!(p.points[0].speed, Sliding::Xi(0.0));
         assert!((p.points[3].speed.value() - 1e-4).abs() < 1e-18);
         assert!((p.points[3 * 7].speed.value() - 1e-1).abs() < 1e-15);
         assert_eq!(p.points[47].normal_load, Some(0.3));

@@ -1,0 +1,99 @@
+//! What a user should know about the validity of a solution: results that
+//! are computed but lie outside the model's range or the grid's resolution.
+//! Each warning is one line that names the cause and what to change; they
+//! are printed on the console and recorded in `summary.json` (`warnings`).
+
+use crate::analysis::ContactStatistics;
+use crate::config::Formulation;
+
+use super::{Problem, ShortestWavelength};
+
+/// Relative difference of the two friction routes above which a solution
+/// warns.
+pub const FRICTION_ROUTES_TOLERANCE: f64 = 0.02;
+
+/// Cells per shortest surface wavelength below which a disagreement of
+/// the friction routes is blamed on the surface's resolution (every solve
+/// warns below [`super::MIN_CELLS_PER_WAVELENGTH`] in any case).
+const CELLS_PER_WAVELENGTH: f64 = 8.0;
+
+/// Cells across a layer's thickness below which the layer is
+/// under-resolved.
+const CELLS_PER_THICKNESS: f64 = 4.0;
+
+impl Problem {
+    /// The warnings of a solution of this problem with contact statistics
+    /// `stats` and the friction coefficients `mu` (Eq. 9) and `mu_d`
+    /// (dissipation).
+    pub(super) fn warnings(&self, stats: &ContactStatistics, mu: f64, mu_d: f64) -> Vec<String> {
+        let mut out: Vec<String> = self.resolution_warning().into_iter().collect();
+        let (lx, ly) = (self.surface.length_x(), self.surface.length_y());
+        let p0 = stats.normal_load / (lx * ly);
+        let e0 = self.material.spectrum.relaxed_modulus();
+        if p0 > e0 {
+            out.push(format!(
+                "the mean pressure {p0:.3e} Pa exceeds the relaxed modulus E0 = {e0:.3e} Pa: strains are not small and the linear small-strain model does not hold there; lower the load"
+            ));
+        }
+        let diff = if mu_d != 0.0 {
+            (mu - mu_d).abs() / mu_d.abs()
+        } else {
+            (mu - mu_d).abs()
+        };
+        if diff > FRICTION_ROUTES_TOLERANCE {
+            out.push(format!(
+                "the two friction routes differ by {:.1} % (Eq. 9: {mu:.4e}, dissipation: {mu_d:.4e}); likely cause: {}",
+                100.0 * diff,
+                self.likely_causes().join("; ")
+            ));
+        }
+        out
+    }
+
+    /// Why the friction routes may disagree, with what to change.
+    fn likely_causes(&self) -> Vec<String> {
+        let a = self.surface.cell_size;
+        let lx = self.surface.length_x();
+        let times = self.material.spectrum.terms.iter().map(|t| t.time);
+        let longest = times.clone().fold(0.0, f64::max) * self.speed;
+        let shortest = times.fold(f64::INFINITY, f64::min) * self.speed;
+        let mut causes = Vec::new();
+        if longest > lx {
+            let room = match self.formulation {
+                Formulation::NonPeriodic => "the pad",
+                Formulation::Periodic => "the periodic cell",
+            };
+            causes.push(format!(
+                "v tau = {longest:.3e} m is longer than {room} (L = {lx:.3e} m), so the solid under it never relaxes; lower the speed or use a longer map"
+            ));
+        }
+        if shortest > 0.0 && shortest < a {
+            causes.push(format!(
+                "v tau = {shortest:.3e} m is shorter than a cell (a = {a:.3e} m), so the memory of the solid is not resolved; use more cells"
+            ));
+        }
+        if let (Some(ShortestWavelength::UpperCutoff(_)), Some(cells)) = (
+            self.shortest_wavelength(),
+            self.cells_per_shortest_wavelength(),
+        ) {
+            if cells < CELLS_PER_WAVELENGTH {
+                causes.push(format!(
+                    "only {cells:.1} cells per shortest wavelength 2 pi / q1; use at least {CELLS_PER_WAVELENGTH} (more cells or fewer scales)"
+                ));
+            }
+        }
+        if let Some(layer) = &self.layer {
+            let cells = layer.thickness / a;
+            if cells < CELLS_PER_THICKNESS {
+                causes.push(format!(
+                    "the layer (h = {:.3e} m) is only {cells:.1} cells thick; use at least {CELLS_PER_THICKNESS} (more cells)",
+                    layer.thickness
+                ));
+            }
+        }
+        if causes.is_empty() {
+            causes.push("the grid may be too coarse for this speed; solve again with more cells and compare".into());
+        }
+        causes
+    }
+}
