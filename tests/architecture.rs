@@ -23,7 +23,7 @@ const LAYERS: &[&[&str]] = &[
     &["persson"],
     &["error"],
     &["problem"],
-    &["sweep"],
+    &["sweep", "refine"],
     &["cli"],
 ];
 

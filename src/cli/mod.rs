@@ -6,6 +6,7 @@ mod gpu;
 mod kernel;
 mod material;
 pub mod persson;
+mod refine;
 mod solve;
 mod surface;
 mod sweep;
@@ -38,6 +39,9 @@ pub enum Command {
     Kernel(kernel::KernelArgs),
     /// Solve one steady sliding contact and write its results.
     Solve(solve::SolveArgs),
+    /// Solve one problem on several grids, coarse to fine, and estimate the
+    /// grid-converged friction and area (Richardson).
+    Refine(refine::RefineArgs),
     /// Run (or resume) a sweep over speed, load and surface realisations.
     Sweep(sweep::SweepArgs),
     /// Aggregate a sweep directory into sweep.csv and plots.
@@ -76,6 +80,7 @@ pub fn run() -> Result<()> {
         Command::Surface(c) => surface::run(c),
         Command::Kernel(a) => kernel::run(a),
         Command::Solve(a) => solve::run(a),
+        Command::Refine(a) => refine::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => sweep::merge(a),
         Command::Compare(a) => sweep::compare(a),

@@ -84,6 +84,10 @@ pub fn run(args: SolveArgs) -> Result<()> {
         ),
         Err(why) => println!("Persson's theory not evaluated: {why}"),
     }
+    match solution.cells_per_shortest_wavelength() {
+        Some(c) => println!("cells per shortest wavelength {c:.3}"),
+        None => println!("cells per shortest wavelength: not defined (no roughness)"),
+    }
     println!("wrote {} files to {}", written.len(), args.out.display());
     Ok(())
 }

@@ -25,6 +25,7 @@
 pub mod adaptive;
 pub mod executor;
 pub mod persson;
+pub mod resolution;
 pub mod setup;
 pub mod solution;
 pub mod solve;
@@ -34,7 +35,8 @@ use std::path::PathBuf;
 
 pub use adaptive::{AdaptiveParams, AdaptiveSolution, MeshReport};
 pub use executor::Executor;
-pub use setup::memory_estimate;
+pub use resolution::{ShortestWavelength, MIN_CELLS_PER_WAVELENGTH};
+pub use setup::{check_memory, memory_estimate};
 pub use solution::{Solution, Timings};
 pub use solve::Discretisation;
 

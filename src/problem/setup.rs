@@ -170,7 +170,9 @@ pub fn memory_estimate(nx: usize, ny: usize, restart: usize, formulation: Formul
     n.saturating_mul(8 * vectors)
 }
 
-pub(super) fn check_memory(
+/// Refuse an `nx x ny` grid whose [`memory_estimate`] exceeds the memory
+/// available now (read from `/proc/meminfo`; no check where it is absent).
+pub fn check_memory(
     nx: usize,
     ny: usize,
     restart: usize,

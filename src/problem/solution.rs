@@ -39,6 +39,7 @@ struct Record {
     nx: usize,
     ny: usize,
     cell_size: f64,
+    cells_per_shortest_wavelength: Option<f64>,
     speed: f64,
     xi: Option<f64>,
     direction_rad: f64,
@@ -108,6 +109,7 @@ impl Solution {
                 nx: problem.surface.nx,
                 ny: problem.surface.ny,
                 cell_size: problem.surface.cell_size,
+                cells_per_shortest_wavelength: problem.cells_per_shortest_wavelength(),
                 speed: problem.speed,
                 xi: problem.xi(),
                 direction_rad: problem.direction_rad,
@@ -123,6 +125,12 @@ impl Solution {
     /// Grid `(nx, ny)`.
     pub fn grid(&self) -> (usize, usize) {
         (self.record.nx, self.record.ny)
+    }
+
+    /// Cells per shortest roughness wavelength of the grid solved on (see
+    /// [`Problem::cells_per_shortest_wavelength`]); `None` for a sphere.
+    pub fn cells_per_shortest_wavelength(&self) -> Option<f64> {
+        self.record.cells_per_shortest_wavelength
     }
 
     /// Sliding speed \[m/s\].
@@ -245,6 +253,7 @@ impl Solution {
             "direction_deg": r.direction_rad.to_degrees(),
             "grid": [r.nx, r.ny],
             "cell_size": r.cell_size,
+            "cells_per_shortest_wavelength": r.cells_per_shortest_wavelength,
             "length": [r.nx as f64 * r.cell_size, r.ny as f64 * r.cell_size],
             "unknowns": self.unknowns,
             "mesh": self.mesh,

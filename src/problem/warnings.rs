@@ -3,20 +3,18 @@
 //! Each warning is one line that names the cause and what to change; they
 //! are printed on the console and recorded in `summary.json` (`warnings`).
 
-use std::f64::consts::PI;
-
 use crate::analysis::ContactStatistics;
 use crate::config::Formulation;
-use crate::surface::UpperCutoff;
 
-use super::{Problem, SurfaceSource};
+use super::{Problem, ShortestWavelength};
 
 /// Relative difference of the two friction routes above which a solution
 /// warns.
 pub const FRICTION_ROUTES_TOLERANCE: f64 = 0.02;
 
-/// Cells per shortest surface wavelength below which the surface is
-/// under-resolved.
+/// Cells per shortest surface wavelength below which a disagreement of
+/// the friction routes is blamed on the surface's resolution (every solve
+/// warns below [`super::MIN_CELLS_PER_WAVELENGTH`] in any case).
 const CELLS_PER_WAVELENGTH: f64 = 8.0;
 
 /// Cells across a layer's thickness below which the layer is
@@ -28,7 +26,7 @@ impl Problem {
     /// `stats` and the friction coefficients `mu` (Eq. 9) and `mu_d`
     /// (dissipation).
     pub(super) fn warnings(&self, stats: &ContactStatistics, mu: f64, mu_d: f64) -> Vec<String> {
-        let mut out = Vec::new();
+        let mut out: Vec<String> = self.resolution_warning().into_iter().collect();
         let (lx, ly) = (self.surface.length_x(), self.surface.length_y());
         let p0 = stats.normal_load / (lx * ly);
         let e0 = self.material.spectrum.relaxed_modulus();
@@ -74,13 +72,10 @@ impl Problem {
                 "v tau = {shortest:.3e} m is shorter than a cell (a = {a:.3e} m), so the memory of the solid is not resolved; use more cells"
             ));
         }
-        if let SurfaceSource::Generated(p) = &self.source {
-            let ql = p.ql.unwrap_or(2.0 * PI / p.length);
-            let q1 = match p.upper {
-                UpperCutoff::Scales(n) => n * ql,
-                UpperCutoff::Q1(q) => q,
-            };
-            let cells = 2.0 * PI / q1 / a;
+        if let (Some(ShortestWavelength::UpperCutoff(_)), Some(cells)) = (
+            self.shortest_wavelength(),
+            self.cells_per_shortest_wavelength(),
+        ) {
             if cells < CELLS_PER_WAVELENGTH {
                 causes.push(format!(
                     "only {cells:.1} cells per shortest wavelength 2 pi / q1; use at least {CELLS_PER_WAVELENGTH} (more cells or fewer scales)"

@@ -1,0 +1,152 @@
+//! `viscoslide refine CONFIG --levels 512,1024,2048 --out DIR`
+
+use std::path::PathBuf;
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::backend::BackendChoice;
+use crate::error::{Error, Result};
+use crate::problem::{Executor, Problem};
+use crate::refine::{self, Level, RefineObserver, RefineParams, Richardson, Verdict};
+use crate::solver::Observer;
+
+#[derive(Debug, clap::Args)]
+pub struct RefineArgs {
+    #[command(flatten)]
+    pub config: super::ConfigArgs,
+    /// Grids (cells along x; y keeps the configured aspect ratio), coarse
+    /// to fine, comma-separated, at least two, e.g. 512,1024,2048.
+    #[arg(long, value_name = "N1,N2,...")]
+    pub levels: String,
+    /// Executor: auto (GPU when available), gpu or cpu; default from
+    /// VISCOSLIDE_BACKEND, else auto.
+    #[arg(long, value_enum)]
+    pub backend: Option<BackendChoice>,
+    /// Start every level from the solver's own guess instead of the
+    /// previous level's solution.
+    #[arg(long)]
+    pub no_warm_start: bool,
+    /// Output directory: refine.json and refine.png appear together when
+    /// every level has been solved.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Per-level lines on stderr and a spinner while a level solves.
+struct Progress {
+    bar: ProgressBar,
+}
+
+impl Observer for Progress {
+    fn iteration(&mut self, iteration: usize, matvecs: usize, residual: f64, contact_cells: usize) {
+        self.bar.set_message(format!(
+            "active-set iteration {iteration}: {contact_cells} cells in contact, residual {residual:.2e}, {matvecs} matvecs"
+        ));
+        self.bar.tick();
+    }
+}
+
+impl RefineObserver for Progress {
+    fn level_started(&mut self, index: usize, count: usize, problem: &Problem, warm: bool) {
+        let cells = problem
+            .cells_per_shortest_wavelength()
+            .map(|c| format!("{c:.2} cells per shortest wavelength"))
+            .unwrap_or_else(|| "no roughness wavelength".into());
+        let line = format!(
+            "level {}/{count}: {} x {} cells, {cells}, {}",
+            index + 1,
+            problem.surface.nx,
+            problem.surface.ny,
+            if warm {
+                "started from the previous level"
+            } else {
+                "cold start"
+            }
+        );
+        self.bar.suspend(|| eprintln!("{line}"));
+        self.bar.set_message("computing influence coefficients");
+    }
+
+    fn level_finished(&mut self, index: usize, count: usize, l: &Level) {
+        let line = format!(
+            "level {}/{count}: n = {}: friction {:.6e} (dissipation {:.6e}), contact area fraction {:.5}, {} matvecs, {:.2} s",
+            index + 1,
+            l.n,
+            l.friction_coefficient,
+            l.friction_coefficient_dissipation,
+            l.contact_area_fraction,
+            l.matvecs,
+            l.wall_time_s
+        );
+        self.bar.suspend(|| {
+            eprintln!("{line}");
+            for w in &l.warnings {
+                eprintln!("  warning: {w}");
+            }
+        });
+    }
+
+    fn solver(&mut self) -> &mut dyn Observer {
+        self
+    }
+}
+
+fn describe(name: &str, r: &Richardson) -> String {
+    match r.verdict {
+        Verdict::Asymptotic | Verdict::AssumedOrder => format!(
+            "{name}: Richardson limit {:.6e} +- {:.2e} ({:.2}%), finest {:.6e}; {}",
+            r.extrapolated.unwrap_or(f64::NAN),
+            r.error_estimate,
+            100.0 * r.relative_error_estimate,
+            r.finest,
+            r.message
+        ),
+        Verdict::Converged => format!("{name}: {:.6e}; {}", r.finest, r.message),
+        Verdict::NotAsymptotic => format!("{name}: finest {:.6e}; {}", r.finest, r.message),
+    }
+}
+
+pub fn run(args: RefineArgs) -> Result<()> {
+    let levels = refine::parse_levels(&args.levels)?;
+    refine::check_levels(&levels)?;
+    let cfg = args.config.load()?;
+    let problem = Problem::from_config(&cfg)?;
+    refine::check_level_memory(&problem, &levels)?;
+    let choice = BackendChoice::resolve(args.backend).map_err(Error::Invalid)?;
+    let (executor, line) = Executor::select(choice, &problem)?;
+    eprintln!("{line}");
+    let params = RefineParams {
+        warm_start: !args.no_warm_start,
+        ..RefineParams::new(levels)
+    };
+    let bar = ProgressBar::new_spinner();
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}")
+            .expect("valid template"),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    let mut progress = Progress { bar };
+    let report = refine::refine(&problem, &executor, &params, &mut progress);
+    progress.bar.finish_and_clear();
+    let report = report?;
+    let written = report.write(&args.out)?;
+    for (name, r) in [
+        ("friction coefficient", &report.friction),
+        ("contact area fraction", &report.area),
+    ] {
+        println!("{}", describe(name, r));
+    }
+    println!(
+        "{} matvecs over {} levels ({}), {:.2} s",
+        report.levels.iter().map(|l| l.matvecs).sum::<usize>(),
+        report.levels.len(),
+        if report.warm_start {
+            "warm-started"
+        } else {
+            "cold starts"
+        },
+        report.total_wall_time_s
+    );
+    println!("wrote {} files to {}", written.len(), args.out.display());
+    Ok(())
+}
