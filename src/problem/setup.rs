@@ -172,12 +172,7 @@ pub fn memory_estimate(nx: usize, ny: usize, restart: usize, formulation: Formul
 
 /// Refuse an `nx x ny` grid whose [`memory_estimate`] exceeds the memory
 /// available now (read from `/proc/meminfo`; no check where it is absent).
-pub fn check_memory(
-    nx: usize,
-    ny: usize,
-    restart: usize,
-    formulation: Formulation,
-) -> Result<()> {
+pub fn check_memory(nx: usize, ny: usize, restart: usize, formulation: Formulation) -> Result<()> {
     let need = memory_estimate(nx, ny, restart, formulation);
     crate::io::memory::check_fits(|| format!("{nx} x {ny} grid"), need)
         .map_err(|e| invalid(e.to_string()))
