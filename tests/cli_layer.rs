@@ -163,5 +163,7 @@ fn a_layer_thinner_than_a_cell_is_warned_about() {
     let tmp = tempfile::tempdir().unwrap();
     let (done, ok, stderr) = solve(tmp.path(), CONFIG, &[], Duration::from_secs(120));
     assert!(done && ok);
-    assert!(!stderr.contains("warning:"), "{stderr}");
+    // A layer of 3.8 cells is resolved: no thickness warning (the friction
+    // routes' warning about v tau below a cell is another matter).
+    assert!(!stderr.contains("thinner than one cell"), "{stderr}");
 }

@@ -5,8 +5,8 @@
 use super::gmres::{gmres, AugOperator, AugVec, GmresWork};
 use super::{
     check_problem, tolerances, ContactSolution, Control, Observer, SolveInfo, SolverError,
-    SolverParams, WarmStart, FLOOR_TOGGLES, INNER_FLOOR, ROUNDING_FLOOR, STAGNANT_ACCEPT,
-    STAGNANT_ITERATIONS, STAGNATION,
+    SolverParams, WarmStart, FLOOR_TOGGLES, INNER_FLOOR, PRECONDITIONED_BUDGET, ROUNDING_FLOOR,
+    STAGNANT_ACCEPT, STAGNANT_ITERATIONS, STAGNATION,
 };
 use crate::backend::Backend;
 
@@ -274,6 +274,11 @@ pub(crate) fn solve_owned<B: Backend>(
     let mut sharp = tight;
     let mut stagnant = 0usize;
     let mut best_residual = f64::INFINITY;
+    // A preconditioner that does not help (an approximate inverse far from
+    // the operator, e.g. the circulant of a layer much thinner than a cell)
+    // is dropped after one inner solve that misses its tolerance within
+    // PRECONDITIONED_BUDGET restarts; the iteration goes on without it.
+    let mut precondition = params.precondition;
     for iteration in 1..=params.max_iterations {
         let phase = Phase::choose(last_changes, contact_cells, stalled);
         let index = backend.index_of(&mask);
@@ -308,9 +313,13 @@ pub(crate) fn solve_owned<B: Backend>(
             delta_scale,
             load_scale,
             bordered,
-            params.precondition,
+            precondition,
         );
-        let budget = params.max_matvecs.saturating_sub(matvecs).max(1);
+        let preconditioned = op.preconditioned();
+        let mut budget = params.max_matvecs.saturating_sub(matvecs).max(1);
+        if preconditioned {
+            budget = budget.min(PRECONDITIONED_BUDGET * params.restart.max(1));
+        }
         let reduction =
             phase.reduction(stalled || last_changes <= (contact_cells / FLOOR_TOGGLES).max(1));
         let outcome = gmres(
@@ -318,6 +327,9 @@ pub(crate) fn solve_owned<B: Backend>(
         );
         matvecs += op.matvecs;
         preconditioner_applications += op.preconditioner_applications;
+        if preconditioned && !outcome.converged {
+            precondition = false;
+        }
         if bordered {
             delta = p.s * delta_scale;
         }

@@ -222,6 +222,10 @@ pub(crate) const STAGNANT_ITERATIONS: usize = 3;
 /// Largest residual accepted at the floor (measured f32 floors: 5.8e-5 at
 /// 512^2, 1.3e-4 at 1024^2); above it a stagnant solve is an error.
 pub(crate) const STAGNANT_ACCEPT: f64 = 1e-3;
+/// GMRES restart cycles one preconditioned inner solve may take before the
+/// preconditioner is judged useless and dropped (preconditioned inner solves
+/// on the experiment take one or two cycles).
+pub(crate) const PRECONDITIONED_BUDGET: usize = 10;
 
 /// `(outer, inner)` tolerances: the requested outer tolerance and
 /// `0.01` of it for the inner solves, each clamped to what the backend's
