@@ -4,8 +4,6 @@
 use std::f64::consts::PI;
 
 use num_complex::Complex64;
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -337,9 +335,11 @@ pub const GENERATE_BYTES_PER_CELL: u64 = 48;
 /// `dqy = 2 pi / Ly`) and a uniformly random phase; the spectrum is Hermitian
 /// (`H(-q) = conj H(q)`; the self-conjugate modes `kx in {0, nx/2}`,
 /// `ky in {0, ny/2}` are real with a random sign), so the heights are real.
-/// Phases of the row `ky` come from `ChaCha8Rng::seed_from_u64(seed)` on
-/// stream `ky`, so the result is bit-identical for a given seed regardless of
-/// the number of threads. The surface is then scaled so that the spectral
+/// The phase of every mode depends only on the seed and the mode's signed
+/// indices (the rule of [`super::synth`]'s table synthesis), not on the grid
+/// or the number of threads: the same seed gives the same Fourier modes at
+/// every resolution, so a refinement study compares discretisations of one
+/// surface, not different realisations. The surface is then scaled so that the spectral
 /// rms height `sqrt(sum C dq^2)` or rms slope `sqrt(sum |q|^2 C dq^2)` equals
 /// the target, and its mean (zero up to round-off, `C(0) = 0`) is removed.
 pub fn generate(params: &GenerateParams) -> Result<HeightMap, SurfaceError> {
@@ -375,14 +375,12 @@ pub fn generate_with_target(
 
     let mut spec = vec![Complex64::default(); nh * nx];
     spec.par_chunks_mut(nx).enumerate().for_each(|(ky, row)| {
-        let mut rng = ChaCha8Rng::seed_from_u64(params.seed);
-        rng.set_stream(ky as u64);
         let qy = ky as f64 * dqy;
         for (kx, v) in row.iter_mut().enumerate() {
-            let qx = signed(kx, nx) * dqx;
+            let sx = signed(kx, nx);
+            let qx = sx * dqx;
             let amp = target.sqrt_eval(qx, qy) * sqrt_dq2;
-            let u: f64 = rng.random();
-            *v = Complex64::from_polar(amp, 2.0 * PI * u);
+            *v = Complex64::from_polar(amp, super::synth::phase(params.seed, sx as i64, ky as u64));
         }
         if self_conj_row(ky) {
             // Hermitian along kx: H(-kx) = conj H(kx); self-conjugate modes real.

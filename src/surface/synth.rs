@@ -30,7 +30,7 @@ pub struct SynthParams {
 /// stream `ky` seeded by `seed`. It depends on the mode only, not on the
 /// grid, so the same seed gives the same Fourier modes at every
 /// resolution.
-fn phase(seed: u64, kx: i64, ky: u64) -> f64 {
+pub(super) fn phase(seed: u64, kx: i64, ky: u64) -> f64 {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     rng.set_stream(ky);
     let zigzag = if kx >= 0 {
