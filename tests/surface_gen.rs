@@ -312,8 +312,7 @@ fn same_seed_same_surface_at_every_resolution() {
     for seed in [1, 7] {
         let coarse = generate(&params(64, 0.8, 16.0, seed)).unwrap();
         let fine = generate(&params(128, 0.8, 16.0, seed)).unwrap();
-        let rms = (coarse.heights.iter().map(|h| h * h).sum::<f64>()
-            / coarse.heights.len() as f64)
+        let rms = (coarse.heights.iter().map(|h| h * h).sum::<f64>() / coarse.heights.len() as f64)
             .sqrt();
         let mut worst = 0.0f64;
         for i in 0..64 {

@@ -1,7 +1,8 @@
 //! Refinement studies: the same physical problem (surface seed, material,
 //! load, speed) solved on a sequence of grids, coarse to fine, each level
-//! started from the previous level's solution prolonged to its grid
-//! ([`Problem::prolong`]), with a Richardson estimate of the grid-converged
+//! by the solver's own coarse-to-fine cascade (default) or started from the
+//! previous level's solution prolonged to its grid ([`Problem::prolong`];
+//! the cascade needs about half the matvecs on the experiment), with a Richardson estimate of the grid-converged
 //! friction and contact area and a verdict on whether the sequence is in its
 //! asymptotic range ([`richardson()`]). [`RefineReport::write`] puts
 //! `refine.json` and `refine.png` into a directory, both or neither.
@@ -32,18 +33,19 @@ pub struct RefineParams {
     /// Cells along x of each level, strictly increasing (see
     /// [`check_levels`]).
     pub levels: Vec<usize>,
-    /// Start each level from the previous one's solution (default); off,
-    /// each level starts from the solver's own guess.
+    /// Start each level from the previous one's solution; off (default),
+    /// each level runs the solver's own coarse-to-fine cascade.
     pub warm_start: bool,
     pub richardson: RichardsonParams,
 }
 
 impl RefineParams {
-    /// `levels`, warm-started, default Richardson controls.
+    /// `levels`, cold-started (the solver's cascade), default Richardson
+    /// controls.
     pub fn new(levels: Vec<usize>) -> Self {
         Self {
             levels,
-            warm_start: true,
+            warm_start: false,
             richardson: RichardsonParams::default(),
         }
     }
