@@ -51,6 +51,10 @@
 //! to the major semi-axis; `ellipse_angle_deg` the direction of the major
 //! axis from `+q_x`, in (-90, 90]. Spots elongated along `e` give contours
 //! elongated along the perpendicular of `e` (reciprocal lengths).
+//!
+//! Length: about 500 lines, one algorithm (PSD of chi, contour tracing, the
+//! ellipse fit) whose steps share their grid and contour types; splitting it
+//! would spread one method over files.
 
 use std::f64::consts::PI;
 

@@ -23,7 +23,9 @@
 //! one place.
 
 pub mod adaptive;
+mod cascade;
 pub mod executor;
+mod friction;
 pub mod persson;
 pub mod resolution;
 pub mod setup;

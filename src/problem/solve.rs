@@ -8,13 +8,12 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::analysis::{self, ContactStatistics};
 use crate::backend::gpu::engine::Engine;
 use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuLevelTables, GpuOptions};
 use crate::backend::{Backend, CpuBackend};
 use crate::config::{Formulation, MeshKind};
 use crate::error::{Error, Result};
-use crate::kernel::{Axis, SlidingKernel};
+use crate::kernel::SlidingKernel;
 use crate::operator::{
     AdaptiveOperator, LevelTables, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
 };
@@ -25,7 +24,6 @@ use super::{invalid, Executor, Problem, Solution, Timings};
 
 /// Grids of the coarse-to-fine cascade: the fine grid halved while even,
 /// down to this many cells a side at least.
-const CASCADE_COARSEST: usize = 64;
 
 /// The operator a problem is solved with: formulation x mesh.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -161,66 +159,6 @@ impl Problem {
         let g = self.gap_profile();
         let (solution, info) =
             self.iterate(backend, &g, l00, self.params.tolerance, start, observer)?;
-        Ok((solution, info, t.elapsed().as_secs_f64()))
-    }
-
-    /// Whether a solve without an outside start runs as a coarse-to-fine
-    /// cascade (uniform CPU grids, `cascade_levels > 1`, a grid side that
-    /// halves at least once to 64 cells or more). An outside start (a
-    /// neighbouring speed, or a coarser grid's solution prolonged with
-    /// [`WarmStart::prolonged`]) replaces the coarse grids.
-    fn cascades(&self, start: Option<&WarmStart>) -> bool {
-        let (nx, ny) = (self.surface.nx, self.surface.ny);
-        start.is_none()
-            && solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.params.cascade_levels)
-                .len()
-                > 1
-    }
-
-    /// The constrained iteration as a coarse-to-fine cascade
-    /// ([`solver::solve_cascade`]) on CPU backends built by
-    /// `build(nx, ny, cell_size)` (the backend and its self coefficient);
-    /// the coarse grids' gap profiles are the fine one's 2 x 2 block means
-    /// (any surface, files included, and no band limit to meet). Returns
-    /// the solution, its report (fine-grid-equivalent matvecs) and the
-    /// iteration's wall time \[s\], the coarse grids' set-up included.
-    fn iterate_cascade<Op, F>(
-        &self,
-        observer: &mut dyn Observer,
-        mut build: F,
-    ) -> Result<(ContactSolution, SolveInfo, f64)>
-    where
-        Op: crate::operator::GridOperator,
-        F: FnMut(usize, usize, f64) -> (CpuBackend<Op>, f64),
-    {
-        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
-        let t = Instant::now();
-        let shapes =
-            solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.params.cascade_levels);
-        let mut gaps = vec![self.gap_profile()];
-        for w in shapes.windows(2).rev() {
-            let (fx, fy) = w[1];
-            let coarse = solver::cascade::restrict_mean(gaps.last().expect("fine gap"), fx, fy);
-            gaps.push(coarse);
-        }
-        gaps.reverse();
-        let (solution, info) = solver::solve_cascade(
-            &shapes,
-            |k, (lx, ly)| {
-                let cell = a * (nx / lx) as f64;
-                let (backend, l00) = build(lx, ly, cell);
-                Ok(solver::CascadeLevel {
-                    backend,
-                    gap: std::mem::take(&mut gaps[k]),
-                    cell_area: cell * cell,
-                    self_coefficient: l00,
-                })
-            },
-            self.control,
-            &self.params,
-            None,
-            observer,
-        )?;
         Ok((solution, info, t.elapsed().as_secs_f64()))
     }
 
@@ -500,67 +438,6 @@ impl Problem {
             raw.mesh,
             warnings,
         ))
-    }
-
-    /// `mu = -F_T / F_N` by the exact-work stencil (paper Eq. 9) and by the
-    /// dissipated power (Appendix A3-A4), and the contact statistics. The
-    /// periodic formulation uses the spectral slope and the Fourier
-    /// dissipation sum.
-    pub fn friction_and_stats(
-        &self,
-        solution: &ContactSolution,
-    ) -> Result<(f64, f64, ContactStatistics)> {
-        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
-        let stats = analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, a);
-        let load = stats.normal_load;
-        let (m, v, dir) = (&self.material, self.speed, self.direction_rad);
-        if self.formulation == Formulation::Periodic {
-            let params = self.kernel_params();
-            let mut slope = SpectralPeriodic::with_params(
-                nx,
-                ny,
-                a,
-                m,
-                &params,
-                PeriodicResponse::SlidingSlope,
-            );
-            let force = analysis::friction_force_stencil(&mut slope, &solution.pressure, a);
-            let force_d =
-                analysis::friction_force_periodic_with(&solution.pressure, nx, ny, a, m, &params);
-            return Ok((-force / load, -force_d / load, stats));
-        }
-        if load.is_nan() || load <= 0.0 {
-            return Err(invalid(
-                "the solution carries no load: the surfaces do not touch",
-            ));
-        }
-        let kernel = self.sliding_kernel()?;
-        let (c, s) = (dir.cos(), dir.sin());
-        let mut force = 0.0;
-        for (axis, w) in [(Axis::X, c), (Axis::Y, s)] {
-            if w.abs() < 1e-15 {
-                continue;
-            }
-            let d = kernel.derivative_table(nx, ny, a, axis);
-            let mut op = ToeplitzFft::new(OffsetTable {
-                nx,
-                ny,
-                values: &d.values,
-            });
-            force += w * analysis::friction_force_stencil(&mut op, &solution.pressure, a);
-        }
-        let force_d = analysis::friction::friction_force_dissipation_layered(
-            &solution.pressure,
-            nx,
-            ny,
-            a,
-            &m.spectrum,
-            m.poisson,
-            v,
-            dir,
-            self.layer.as_ref(),
-        );
-        Ok((-force / load, -force_d / load, stats))
     }
 }
 

@@ -15,6 +15,10 @@
 //! Precision: vectors and the matvec are f32 (relative matvec error about
 //! 1e-6); [`Backend::epsilon`] reports `f32::EPSILON`, and the solver clamps
 //! its tolerances to it.
+//!
+//! Length: about 500 lines because it implements the whole [`Backend`] trait
+//! (one short method per kernel) for the device; each method only records
+//! dispatches, the kernels live in `shaders/`.
 
 use super::adaptive::{AdaptiveMatvec, MeshCells};
 use super::context::{GpuContext, GpuError};

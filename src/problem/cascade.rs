@@ -1,0 +1,76 @@
+//! The coarse-to-fine cascade of the uniform CPU paths: the problem's gap
+//! restricted to grids halved down to [`CASCADE_COARSEST`] cells a side, each
+//! solved from the coarser one ([`solver::solve_cascade`]).
+
+use std::time::Instant;
+
+use crate::backend::CpuBackend;
+use crate::error::Result;
+use crate::solver::{self, ContactSolution, Observer, SolveInfo, WarmStart};
+
+use super::Problem;
+
+/// The coarsest grid side of a cascade.
+pub(super) const CASCADE_COARSEST: usize = 64;
+
+impl Problem {
+    /// Whether a solve without an outside start runs as a coarse-to-fine
+    /// cascade (uniform CPU grids, `cascade_levels > 1`, a grid side that
+    /// halves at least once to 64 cells or more). An outside start (a
+    /// neighbouring speed, or a coarser grid's solution prolonged with
+    /// [`WarmStart::prolonged`]) replaces the coarse grids.
+    pub(super) fn cascades(&self, start: Option<&WarmStart>) -> bool {
+        let (nx, ny) = (self.surface.nx, self.surface.ny);
+        start.is_none()
+            && solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.params.cascade_levels)
+                .len()
+                > 1
+    }
+
+    /// The constrained iteration as a coarse-to-fine cascade
+    /// ([`solver::solve_cascade`]) on CPU backends built by
+    /// `build(nx, ny, cell_size)` (the backend and its self coefficient);
+    /// the coarse grids' gap profiles are the fine one's 2 x 2 block means
+    /// (any surface, files included, and no band limit to meet). Returns
+    /// the solution, its report (fine-grid-equivalent matvecs) and the
+    /// iteration's wall time \[s\], the coarse grids' set-up included.
+    pub(super) fn iterate_cascade<Op, F>(
+        &self,
+        observer: &mut dyn Observer,
+        mut build: F,
+    ) -> Result<(ContactSolution, SolveInfo, f64)>
+    where
+        Op: crate::operator::GridOperator,
+        F: FnMut(usize, usize, f64) -> (CpuBackend<Op>, f64),
+    {
+        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
+        let t = Instant::now();
+        let shapes =
+            solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.params.cascade_levels);
+        let mut gaps = vec![self.gap_profile()];
+        for w in shapes.windows(2).rev() {
+            let (fx, fy) = w[1];
+            let coarse = solver::cascade::restrict_mean(gaps.last().expect("fine gap"), fx, fy);
+            gaps.push(coarse);
+        }
+        gaps.reverse();
+        let (solution, info) = solver::solve_cascade(
+            &shapes,
+            |k, (lx, ly)| {
+                let cell = a * (nx / lx) as f64;
+                let (backend, l00) = build(lx, ly, cell);
+                Ok(solver::CascadeLevel {
+                    backend,
+                    gap: std::mem::take(&mut gaps[k]),
+                    cell_area: cell * cell,
+                    self_coefficient: l00,
+                })
+            },
+            self.control,
+            &self.params,
+            None,
+            observer,
+        )?;
+        Ok((solution, info, t.elapsed().as_secs_f64()))
+    }
+}

@@ -1,0 +1,75 @@
+//! Friction of a solved problem by both routes (paper Eq. 9 and the
+//! dissipated power of Appendix A3-A4) and its contact statistics, for every
+//! discretisation.
+
+use crate::analysis::{self, ContactStatistics};
+use crate::config::Formulation;
+use crate::error::Result;
+use crate::kernel::Axis;
+use crate::operator::{OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft};
+use crate::solver::ContactSolution;
+
+use super::{invalid, Problem};
+
+impl Problem {
+    /// `mu = -F_T / F_N` by the exact-work stencil (paper Eq. 9) and by the
+    /// dissipated power (Appendix A3-A4), and the contact statistics. The
+    /// periodic formulation uses the spectral slope and the Fourier
+    /// dissipation sum.
+    pub fn friction_and_stats(
+        &self,
+        solution: &ContactSolution,
+    ) -> Result<(f64, f64, ContactStatistics)> {
+        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
+        let stats = analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, a);
+        let load = stats.normal_load;
+        let (m, v, dir) = (&self.material, self.speed, self.direction_rad);
+        if self.formulation == Formulation::Periodic {
+            let params = self.kernel_params();
+            let mut slope = SpectralPeriodic::with_params(
+                nx,
+                ny,
+                a,
+                m,
+                &params,
+                PeriodicResponse::SlidingSlope,
+            );
+            let force = analysis::friction_force_stencil(&mut slope, &solution.pressure, a);
+            let force_d =
+                analysis::friction_force_periodic_with(&solution.pressure, nx, ny, a, m, &params);
+            return Ok((-force / load, -force_d / load, stats));
+        }
+        if load.is_nan() || load <= 0.0 {
+            return Err(invalid(
+                "the solution carries no load: the surfaces do not touch",
+            ));
+        }
+        let kernel = self.sliding_kernel()?;
+        let (c, s) = (dir.cos(), dir.sin());
+        let mut force = 0.0;
+        for (axis, w) in [(Axis::X, c), (Axis::Y, s)] {
+            if w.abs() < 1e-15 {
+                continue;
+            }
+            let d = kernel.derivative_table(nx, ny, a, axis);
+            let mut op = ToeplitzFft::new(OffsetTable {
+                nx,
+                ny,
+                values: &d.values,
+            });
+            force += w * analysis::friction_force_stencil(&mut op, &solution.pressure, a);
+        }
+        let force_d = analysis::friction::friction_force_dissipation_layered(
+            &solution.pressure,
+            nx,
+            ny,
+            a,
+            &m.spectrum,
+            m.poisson,
+            v,
+            dir,
+            self.layer.as_ref(),
+        );
+        Ok((-force / load, -force_d / load, stats))
+    }
+}
