@@ -10,7 +10,8 @@ use crate::solver::{self, ContactSolution, Observer, SolveInfo, WarmStart};
 
 use super::Problem;
 
-/// The coarsest grid side of a cascade.
+/// Grids of the coarse-to-fine cascade: the fine grid halved while even,
+/// down to this many cells a side at least.
 pub(super) const CASCADE_COARSEST: usize = 64;
 
 impl Problem {

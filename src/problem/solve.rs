@@ -22,9 +22,6 @@ use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, War
 use super::adaptive::{solve_adaptive, AdaptiveParams, MeshReport};
 use super::{invalid, Executor, Problem, Solution, Timings};
 
-/// Grids of the coarse-to-fine cascade: the fine grid halved while even,
-/// down to this many cells a side at least.
-
 /// The operator a problem is solved with: formulation x mesh.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Discretisation {

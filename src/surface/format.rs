@@ -83,43 +83,6 @@ pub struct ReadOptions {
     pub missing: MissingData,
 }
 
-fn raw_text(text: &str, name: &str) -> Result<(Vec<usize>, Vec<f64>), SurfaceError> {
-    let mut heights = Vec::new();
-    let mut ncols: Option<usize> = None;
-    let mut nrows = 0;
-    for (lineno, raw) in text.lines().enumerate() {
-        let line = raw.split('#').next().unwrap_or("");
-        let tokens: Vec<&str> = line
-            .split(|c: char| c == ',' || c.is_whitespace())
-            .filter(|t| !t.is_empty())
-            .collect();
-        if tokens.is_empty() {
-            continue;
-        }
-        match ncols {
-            None => ncols = Some(tokens.len()),
-            Some(n) if n != tokens.len() => {
-                return Err(SurfaceError::Ragged {
-                    path: name.to_string(),
-                    line: lineno + 1,
-                    expected: n,
-                    found: tokens.len(),
-                })
-            }
-            _ => {}
-        }
-        for t in tokens {
-            heights.push(t.parse::<f64>().map_err(|_| SurfaceError::TextNumber {
-                path: name.to_string(),
-                line: lineno + 1,
-                token: t.to_string(),
-            })?);
-        }
-        nrows += 1;
-    }
-    Ok((vec![nrows, ncols.unwrap_or(0)], heights))
-}
-
 /// Read a surface file into a [`Topography`] (heights in metres, sizes,
 /// missing points handled by `opts.missing`). Errors are one line and
 /// name the file.
@@ -140,7 +103,7 @@ pub fn read_topography(path: &Path, opts: &ReadOptions) -> Result<Topography, Su
                     path: name.clone(),
                     source,
                 })?;
-                raw_text(&text, &name)?
+                super::io::text_matrix(&text, &name)?
             };
             if shape.len() != 2 || shape[0] < 2 || shape[1] < 2 {
                 return Err(SurfaceError::Shape { path: name, shape });

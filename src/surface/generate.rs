@@ -336,7 +336,7 @@ pub const GENERATE_BYTES_PER_CELL: u64 = 48;
 /// (`H(-q) = conj H(q)`; the self-conjugate modes `kx in {0, nx/2}`,
 /// `ky in {0, ny/2}` are real with a random sign), so the heights are real.
 /// The phase of every mode depends only on the seed and the mode's signed
-/// indices (the rule of [`super::synth`]'s table synthesis), not on the grid
+/// indices (the rule of the table synthesis, `surface::synth`), not on the grid
 /// or the number of threads: the same seed gives the same Fourier modes at
 /// every resolution, so a refinement study compares discretisations of one
 /// surface, not different realisations. The surface is then scaled so that the spectral

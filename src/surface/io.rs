@@ -72,6 +72,13 @@ pub fn load_npy(path: &Path, length: f64) -> Result<HeightMap, SurfaceError> {
 /// commas; `#` starts a comment; blank lines are skipped. Row `i` is the x
 /// index. `name` is used in error messages.
 pub fn parse_text(text: &str, name: &str, length: f64) -> Result<HeightMap, SurfaceError> {
+    let (shape, heights) = text_matrix(text, name)?;
+    build(name, shape, heights, length)
+}
+
+/// The rows of numbers of a plain-text matrix (see [`parse_text`]): its
+/// shape `[rows, columns]` and the values in row order, not yet validated.
+pub(super) fn text_matrix(text: &str, name: &str) -> Result<(Vec<usize>, Vec<f64>), SurfaceError> {
     let mut heights = Vec::new();
     let mut ncols: Option<usize> = None;
     let mut nrows = 0;
@@ -106,7 +113,7 @@ pub fn parse_text(text: &str, name: &str, length: f64) -> Result<HeightMap, Surf
         }
         nrows += 1;
     }
-    build(name, vec![nrows, ncols.unwrap_or(0)], heights, length)
+    Ok((vec![nrows, ncols.unwrap_or(0)], heights))
 }
 
 /// Read a plain-text height map (see [`parse_text`]).
