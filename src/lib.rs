@@ -59,6 +59,7 @@ pub mod backend;
 pub mod cli;
 pub mod config;
 pub mod error;
+pub mod gauss;
 pub mod io;
 pub mod kernel;
 pub mod material;

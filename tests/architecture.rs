@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 /// Top-level modules from the bottom up; a module may import its own
 /// layer's module and anything in a lower layer, nothing above.
 const LAYERS: &[&[&str]] = &[
-    &["io", "plot"],
+    &["io", "plot", "gauss"],
     &["config"],
     &["material"],
     &["surface"],

@@ -1,11 +1,12 @@
 //! Quadrature rules of Persson's theory: Gauss-Legendre rules with their
 //! running-integral matrices, and piecewise Chebyshev interpolation.
-//!
-//! The module keeps its own small Gauss-Legendre generator (the same Newton
-//! iteration as `kernel::quad`) so that `persson` depends on nothing but the
-//! material and surface modules.
+//! The Gauss-Legendre nodes come from [`crate::gauss`], the crate's one
+//! generator, which imports nothing: `persson` still needs no grid, kernel
+//! or solver.
 
 use std::f64::consts::PI;
+
+use crate::gauss::gauss_legendre;
 
 /// An `n`-point Gauss-Legendre rule on `[-1, 1]` with the matrix of running
 /// integrals `S[i][j] = Int_{-1}^{t_i} l_j(t) dt` (`l_j` the Lagrange basis of
@@ -57,44 +58,6 @@ fn lagrange(nodes: &[f64], j: usize, t: f64) -> f64 {
         }
     }
     p
-}
-
-/// An `n`-point Gauss-Legendre rule on `[-1, 1]`: `(nodes, weights)`, nodes
-/// ascending; Newton iteration on `P_n` from Tricomi's initial guesses.
-pub(crate) fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
-    assert!(n >= 1);
-    let mut x = vec![0.0; n];
-    let mut w = vec![0.0; n];
-    let nf = n as f64;
-    for i in 0..n.div_ceil(2) {
-        let mut z = (PI * (i as f64 + 0.75) / (nf + 0.5)).cos();
-        let mut dp = 1.0;
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, z);
-            for k in 2..=n {
-                let kf = k as f64;
-                let p2 = ((2.0 * kf - 1.0) * z * p1 - (kf - 1.0) * p0) / kf;
-                p0 = p1;
-                p1 = p2;
-            }
-            let (pn, pnm1) = if n == 1 { (z, 1.0) } else { (p1, p0) };
-            dp = nf * (z * pn - pnm1) / (z * z - 1.0);
-            let dz = pn / dp;
-            z -= dz;
-            if dz.abs() <= 1e-16 * z.abs().max(1e-300) {
-                break;
-            }
-        }
-        x[i] = -z;
-        x[n - 1 - i] = z;
-        let wi = 2.0 / ((1.0 - z * z) * dp * dp);
-        w[i] = wi;
-        w[n - 1 - i] = wi;
-    }
-    if n % 2 == 1 {
-        x[n / 2] = 0.0;
-    }
-    (x, w)
 }
 
 /// Piecewise Chebyshev interpolation of several functions of one variable on
