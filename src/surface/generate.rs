@@ -3,7 +3,6 @@
 
 use std::f64::consts::PI;
 
-use num_complex::Complex64;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -362,7 +361,6 @@ pub fn generate_with_target(
     let a = params.length / nx as f64;
     let dqx = 2.0 * PI / (nx as f64 * a);
     let dqy = 2.0 * PI / (ny as f64 * a);
-    let nh = fft2::half_len(ny);
     let sqrt_dq2 = (dqx * dqy).sqrt();
     let signed = |k: usize, n: usize| {
         if k <= n / 2 {
@@ -372,34 +370,8 @@ pub fn generate_with_target(
         }
     };
     let self_conj_row = |ky: usize| ky == 0 || (ny % 2 == 0 && ky == ny / 2);
-
-    let mut spec = vec![Complex64::default(); nh * nx];
-    spec.par_chunks_mut(nx).enumerate().for_each(|(ky, row)| {
-        let qy = ky as f64 * dqy;
-        for (kx, v) in row.iter_mut().enumerate() {
-            let sx = signed(kx, nx);
-            let qx = sx * dqx;
-            let amp = target.sqrt_eval(qx, qy) * sqrt_dq2;
-            *v = Complex64::from_polar(amp, super::synth::phase(params.seed, sx as i64, ky as u64));
-        }
-        if self_conj_row(ky) {
-            // Hermitian along kx: H(-kx) = conj H(kx); self-conjugate modes real.
-            for kx in 1..nx {
-                let mirror = nx - kx;
-                if kx < mirror {
-                    row[mirror] = row[kx].conj();
-                }
-            }
-            let mut real_mode = |kx: usize| {
-                let v = row[kx];
-                let sign = if v.re >= 0.0 { 1.0 } else { -1.0 };
-                row[kx] = Complex64::new(sign * v.norm(), 0.0);
-            };
-            real_mode(0);
-            if nx % 2 == 0 {
-                real_mode(nx / 2);
-            }
-        }
+    let spec = super::synth::random_phase_spectrum(nx, ny, dqx, dqy, params.seed, |qx, qy| {
+        target.sqrt_eval(qx, qy) * sqrt_dq2
     });
 
     // Spectral moments of the unscaled surface: sum C dq^2 and sum |q|^2 C dq^2

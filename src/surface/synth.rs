@@ -43,6 +43,62 @@ pub(super) fn phase(seed: u64, kx: i64, ky: u64) -> f64 {
     2.0 * PI * u
 }
 
+/// The half spectrum (`ny / 2 + 1` rows of `nx` modes, as
+/// [`fft2::inverse`] takes it) of a random-phase surface: the mode with
+/// signed indices `(kx, ky)` gets `amplitude(qx, qy)` (already times
+/// `sqrt(dqx dqy)`) and the phase of [`phase`]; on the self-conjugate rows
+/// (`ky = 0`, `ky = ny / 2`) the modes `-kx` are the conjugates of `kx`
+/// and the self-conjugate modes are real with the sign of their cosine, so
+/// the heights are real. `amplitude` must be even: `a(-q) = a(q)`.
+pub(super) fn random_phase_spectrum(
+    nx: usize,
+    ny: usize,
+    dqx: f64,
+    dqy: f64,
+    seed: u64,
+    amplitude: impl Fn(f64, f64) -> f64 + Sync,
+) -> Vec<Complex64> {
+    let nh = fft2::half_len(ny);
+    let signed = |k: usize| -> i64 {
+        if k <= nx / 2 {
+            k as i64
+        } else {
+            k as i64 - nx as i64
+        }
+    };
+    let self_conj_row = |ky: usize| ky == 0 || (ny % 2 == 0 && ky == ny / 2);
+    let mut spec = vec![Complex64::default(); nh * nx];
+    spec.par_chunks_mut(nx).enumerate().for_each(|(ky, row)| {
+        let qy = ky as f64 * dqy;
+        for (kx, v) in row.iter_mut().enumerate() {
+            let sx = signed(kx);
+            let amp = amplitude(sx as f64 * dqx, qy);
+            if amp != 0.0 {
+                *v = Complex64::from_polar(amp, phase(seed, sx, ky as u64));
+            }
+        }
+        if self_conj_row(ky) {
+            // Hermitian along kx: H(-kx) = conj H(kx); self-conjugate modes real.
+            for kx in 1..nx {
+                let mirror = nx - kx;
+                if kx < mirror {
+                    row[mirror] = row[kx].conj();
+                }
+            }
+            let mut real_mode = |kx: usize| {
+                let v = row[kx];
+                let sign = if v.re >= 0.0 { 1.0 } else { -1.0 };
+                row[kx] = Complex64::new(sign * v.norm(), 0.0);
+            };
+            real_mode(0);
+            if nx % 2 == 0 {
+                real_mode(nx / 2);
+            }
+        }
+    });
+    spec
+}
+
 /// A random-phase periodic surface whose radial PSD follows `table`
 /// (log-log interpolated, zero outside its range): every mode
 /// `q = (2 pi kx / Lx, 2 pi ky / Ly)` gets the amplitude
@@ -75,46 +131,9 @@ pub fn generate_from_table(
     let a = p.length / nx as f64;
     let dqx = 2.0 * PI / (nx as f64 * a);
     let dqy = 2.0 * PI / (ny as f64 * a);
-    let nh = fft2::half_len(ny);
     let sqrt_dq2 = (dqx * dqy).sqrt();
-    let signed = |k: usize, n: usize| -> i64 {
-        if k <= n / 2 {
-            k as i64
-        } else {
-            k as i64 - n as i64
-        }
-    };
-    let self_conj_row = |ky: usize| ky == 0 || (ny % 2 == 0 && ky == ny / 2);
-    let mut spec = vec![Complex64::default(); nh * nx];
-    spec.par_chunks_mut(nx).enumerate().for_each(|(ky, row)| {
-        let qy = ky as f64 * dqy;
-        for (kx, v) in row.iter_mut().enumerate() {
-            let sx = signed(kx, nx);
-            let qx = sx as f64 * dqx;
-            let amp = table.eval((qx * qx + qy * qy).sqrt()).sqrt() * sqrt_dq2;
-            if amp == 0.0 {
-                continue;
-            }
-            // On a self-conjugate row the mode -kx is the conjugate of kx:
-            // draw for kx >= 0 only.
-            let ph = if self_conj_row(ky) && sx < 0 {
-                -phase(p.seed, -sx, ky as u64)
-            } else {
-                phase(p.seed, sx, ky as u64)
-            };
-            *v = Complex64::from_polar(amp, ph);
-        }
-        if self_conj_row(ky) {
-            let mut real_mode = |kx: usize| {
-                let v = row[kx];
-                let sign = if v.re >= 0.0 { 1.0 } else { -1.0 };
-                row[kx] = Complex64::new(sign * v.norm(), 0.0);
-            };
-            real_mode(0);
-            if nx % 2 == 0 {
-                real_mode(nx / 2);
-            }
-        }
+    let spec = random_phase_spectrum(nx, ny, dqx, dqy, p.seed, |qx, qy| {
+        table.eval((qx * qx + qy * qy).sqrt()).sqrt() * sqrt_dq2
     });
     if spec.iter().all(|v| v.norm_sqr() == 0.0) {
         return Err(SurfaceError::Invalid(format!(
