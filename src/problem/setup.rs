@@ -2,7 +2,7 @@
 //! `[loading]`, `[solver]` and optional `[layer]` and `[analysis]` sections,
 //! read and checked, and the memory a grid needs.
 
-use crate::config::{Formulation, LoadedConfig, MeshKind};
+use crate::config::{Formulation, LoadedConfig, LoadingConfig, MeshKind, SolverConfig};
 use crate::error::Result;
 use crate::solver::{Control, SolverParams};
 
@@ -40,8 +40,30 @@ impl Problem {
                 cfg.path.display()
             ))
         })?;
-        let area0 = surface.length_x() * surface.length_y();
-        let control = match (loading.normal_load, loading.mean_pressure, loading.approach) {
+        let mut problem = Self::new(material, surface, Control::Load(0.0), 0.0)
+            .with_loading(&loading)?
+            .with_solver_config(&sc)?;
+        let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
+        if let Some(w) = layer.and_then(|l| l.resolution_warning(problem.surface.cell_size)) {
+            eprintln!("warning: {w}");
+        }
+        problem.source = source;
+        problem.layer = layer;
+        problem.seed = seed;
+        problem.document = cfg.document.clone();
+        problem.analysis = cfg.config.analysis.clone();
+        problem.check()?;
+        Ok(problem)
+    }
+
+    /// The `[loading]` section on this problem: the normal load
+    /// (`normal_load`, or `mean_pressure` times the map's area) or the
+    /// approach, the speed (`speed`, or `xi` for a single-relaxation
+    /// material) and the direction. Exactly one of the three controls and
+    /// one of the two speeds must be given.
+    pub fn with_loading(mut self, loading: &LoadingConfig) -> Result<Self> {
+        let area0 = self.surface.length_x() * self.surface.length_y();
+        self.control = match (loading.normal_load, loading.mean_pressure, loading.approach) {
             (Some(f), None, None) => Control::Load(f),
             (None, Some(p), None) => Control::Load(p * area0),
             (None, None, Some(d)) => Control::Approach(d),
@@ -55,10 +77,17 @@ impl Problem {
             )),
         };
         let sliding = loading.sliding().map_err(invalid)?;
-        let speed = speed_of(sliding, &material, &surface)?;
-        let direction_rad = loading.direction_deg.unwrap_or(0.0).to_radians();
+        self.speed = speed_of(sliding, &self.material, &self.surface)?;
+        self.direction_rad = loading.direction_deg.unwrap_or(0.0).to_radians();
+        Ok(self)
+    }
+
+    /// The `[solver]` section on this problem: iteration controls (missing
+    /// keys take [`SolverParams::default`]), formulation, mesh and the
+    /// adaptive mesh's controls.
+    pub fn with_solver_config(mut self, sc: &SolverConfig) -> Result<Self> {
         let defaults = SolverParams::default();
-        let params = SolverParams {
+        self.params = SolverParams {
             tolerance: sc.tolerance.unwrap_or(defaults.tolerance),
             max_iterations: sc.max_iterations.unwrap_or(defaults.max_iterations),
             max_matvecs: sc.max_matvecs.unwrap_or(defaults.max_matvecs),
@@ -66,19 +95,15 @@ impl Problem {
             precondition: sc.precondition.unwrap_or(defaults.precondition),
             cascade_levels: sc.cascade_levels.unwrap_or(defaults.cascade_levels),
         };
-        if params.cascade_levels == 0 {
+        if self.params.cascade_levels == 0 {
             return Err(invalid(
                 "[solver] cascade_levels must be at least 1 (1: the fine grid only)",
             ));
         }
-        let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
-        if let Some(w) = layer.and_then(|l| l.resolution_warning(surface.cell_size)) {
-            eprintln!("warning: {w}");
-        }
-        let formulation = sc.formulation.unwrap_or_default();
-        let mesh = sc.mesh.unwrap_or_default();
+        self.formulation = sc.formulation.unwrap_or_default();
+        self.mesh = sc.mesh.unwrap_or_default();
         let ad = AdaptiveParams::default();
-        let adaptive = match &sc.adaptive {
+        self.adaptive = match &sc.adaptive {
             Some(c) => AdaptiveParams {
                 max_level: c.max_level.unwrap_or(ad.max_level),
                 initial_fraction: c.initial_fraction.unwrap_or(ad.initial_fraction),
@@ -87,29 +112,12 @@ impl Problem {
             },
             None => ad,
         };
-        if sc.adaptive.is_some() && mesh != MeshKind::Adaptive {
+        if sc.adaptive.is_some() && self.mesh != MeshKind::Adaptive {
             return Err(invalid(
                 "[solver.adaptive] is given but [solver] mesh is not \"adaptive\"",
             ));
         }
-        let problem = Self {
-            material,
-            surface,
-            source,
-            control,
-            speed,
-            direction_rad,
-            layer,
-            params,
-            formulation,
-            mesh,
-            adaptive,
-            seed,
-            document: cfg.document.clone(),
-            analysis: cfg.config.analysis.clone(),
-        };
-        problem.check()?;
-        Ok(problem)
+        Ok(self)
     }
 
     /// Check the values: a positive load or approach, a speed `>= 0`, a

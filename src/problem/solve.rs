@@ -19,7 +19,7 @@ use crate::operator::{
 };
 use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, WarmStart};
 
-use super::adaptive::{solve_adaptive, AdaptiveParams, MeshReport};
+use super::adaptive::{solve_adaptive, AdaptiveError, AdaptiveParams, MeshReport};
 use super::{invalid, Executor, Problem, Solution, Timings};
 
 /// The operator a problem is solved with: formulation x mesh.
@@ -390,6 +390,9 @@ impl Problem {
         let result = match (result, failure) {
             (Ok(r), _) => r,
             (Err(_), Some(e)) => return Err(e),
+            (Err(AdaptiveError::Solver(SolverError::Cancelled)), None) => {
+                return Err(SolverError::Cancelled.into())
+            }
             (Err(e), None) => return Err(invalid(e.to_string())),
         };
         Ok(Raw {

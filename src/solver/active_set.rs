@@ -280,6 +280,9 @@ pub(crate) fn solve_owned<B: Backend>(
     // PRECONDITIONED_BUDGET restarts; the iteration goes on without it.
     let mut precondition = params.precondition;
     for iteration in 1..=params.max_iterations {
+        if observer.cancelled() {
+            return Err(SolverError::Cancelled);
+        }
         let phase = Phase::choose(last_changes, contact_cells, stalled);
         let index = backend.index_of(&mask);
         let m = backend.index_len(&index);
@@ -323,8 +326,11 @@ pub(crate) fn solve_owned<B: Backend>(
         let reduction =
             phase.reduction(stalled || last_changes <= (contact_cells / FLOOR_TOGGLES).max(1));
         let outcome = gmres(
-            backend, &mut op, &rhs, &mut p, &mut work, sharp, reduction, budget,
+            backend, &mut op, &rhs, &mut p, &mut work, sharp, reduction, budget, observer,
         );
+        if outcome.cancelled {
+            return Err(SolverError::Cancelled);
+        }
         matvecs += op.matvecs;
         preconditioner_applications += op.preconditioner_applications;
         if preconditioned && !outcome.converged {

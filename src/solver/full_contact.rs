@@ -65,6 +65,7 @@ pub fn solve_full_contact<B: Backend>(
         tolerances(params.tolerance, backend.epsilon()).1,
         0.0,
         params.max_matvecs,
+        &mut super::Silent,
     );
     let mut matvecs = op.matvecs;
     if !outcome.converged {

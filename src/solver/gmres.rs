@@ -6,6 +6,7 @@
 //! may supply a right preconditioner `M` (GMRES then runs on `A M` and
 //! minimises the true residual).
 
+use super::Observer;
 use crate::backend::Backend;
 
 /// A grid vector plus an optional bordering scalar.
@@ -40,6 +41,9 @@ pub trait AugOperator<B: Backend> {
 pub struct GmresOutcome {
     /// Whether `|b - A x| <= tol |b|` was reached.
     pub converged: bool,
+    /// Whether the observer stopped the solve ([`Observer::cancelled`]);
+    /// `x` is then a partial update.
+    pub cancelled: bool,
 }
 
 /// Work space for [`gmres`]: `restart + 1` basis vectors and scratch.
@@ -85,6 +89,8 @@ impl<V> GmresWork<V> {
 /// `max_matvecs` applications of `A`; stop early once the residual is
 /// `reduction` times the starting one (`0`: never), as an inexact Newton
 /// step asks (the outcome is then not `converged` unless `tol` holds too).
+/// `observer` is polled before every application of `A`
+/// ([`Observer::cancelled`]).
 #[allow(clippy::too_many_arguments)]
 pub fn gmres<B: Backend, A: AugOperator<B>>(
     backend: &mut B,
@@ -95,6 +101,7 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
     tol: f64,
     reduction: f64,
     max_matvecs: usize,
+    observer: &mut dyn Observer,
 ) -> GmresOutcome {
     let bordered = op.bordered();
     let m = work.basis.len() - 1;
@@ -104,7 +111,10 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
     if bnorm == 0.0 {
         backend.scale(0.0, &mut x.v);
         x.s = 0.0;
-        return GmresOutcome { converged: true };
+        return GmresOutcome {
+            converged: true,
+            cancelled: false,
+        };
     }
     let mut cs = vec![0.0; m];
     let mut sn = vec![0.0; m];
@@ -114,7 +124,14 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
     let mut dots = vec![0.0; m + 1];
     let mut neg = vec![0.0; m + 1];
     let mut beta0 = f64::NAN;
+    let stopped = GmresOutcome {
+        converged: false,
+        cancelled: true,
+    };
     loop {
+        if observer.cancelled() {
+            return stopped;
+        }
         // r0 = rhs - A x, stored in basis[0] (the operator writes into w).
         op.apply(backend, &x.v, x.s, &mut work.w);
         matvecs += 1;
@@ -129,6 +146,7 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
         if rel <= tol || beta <= reduction * beta0 || matvecs >= max_matvecs {
             return GmresOutcome {
                 converged: rel <= tol,
+                cancelled: false,
             };
         }
         backend.scale(1.0 / beta, &mut work.basis[0]);
@@ -138,6 +156,9 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
         let mut k_done = 0;
         let preconditioned = op.preconditioned();
         for j in 0..m {
+            if observer.cancelled() {
+                return stopped;
+            }
             if preconditioned {
                 op.precondition(backend, &work.basis[j], work.basis_s[j], &mut work.z);
                 op.apply(backend, &work.z.v, work.z.s, &mut work.w);

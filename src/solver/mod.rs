@@ -127,6 +127,10 @@ pub enum SolverError {
     },
     #[error("invalid problem: {0}")]
     Invalid(String),
+    /// The observer asked to stop ([`Observer::cancelled`]); nothing of the
+    /// solve is kept.
+    #[error("the solve was cancelled")]
+    Cancelled,
 }
 
 /// The solution fields, on the host.
@@ -144,8 +148,9 @@ pub struct ContactSolution {
     pub approach: f64,
 }
 
-/// Something that wants to hear about progress.
+/// Something that wants to hear about progress, and may stop a solve.
 pub trait Observer {
+    /// After every outer (active-set) iteration.
     fn iteration(
         &mut self,
         _iteration: usize,
@@ -153,6 +158,15 @@ pub trait Observer {
         _residual: f64,
         _contact_cells: usize,
     ) {
+    }
+
+    /// Polled before every application of the operator (each inner Krylov
+    /// step) and every outer iteration: `true` stops the solve with
+    /// [`SolverError::Cancelled`]. Called often (milliseconds apart on large
+    /// grids), so it must be cheap: look at a flag or a clock. Default:
+    /// never.
+    fn cancelled(&mut self) -> bool {
+        false
     }
 }
 

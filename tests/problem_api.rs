@@ -1,0 +1,130 @@
+//! The library API as a front end without configuration files uses it (the
+//! Python package): a problem built from values and config sections equals
+//! the one read from the same configuration, and an observer can stop a
+//! solve.
+
+use viscoslide::config::{self, LoadingConfig, SolverConfig};
+use viscoslide::problem::{Executor, Problem};
+use viscoslide::solver::{Control, Observer, Silent, SolverError};
+use viscoslide::Error;
+
+const CONFIG: &str = r#"
+[material]
+model = "sls"
+relaxed_modulus = 3.3333333333333335e6
+glassy_modulus = 1.0e7
+creep_time = 0.01
+poisson = 0.5
+
+[surface.generate]
+n = 32
+length = 0.01
+hurst = 0.8
+scales = 4
+rms_slope = 0.02
+seed = 3
+
+[loading]
+mean_pressure = 3000.0
+xi = 1.17e-2
+direction_deg = 10.0
+
+[solver]
+tolerance = 1e-9
+cascade_levels = 2
+formulation = "periodic"
+"#;
+
+fn from_config() -> Problem {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.toml");
+    std::fs::write(&path, CONFIG).unwrap();
+    Problem::from_config(&config::load(&path, &[]).unwrap()).unwrap()
+}
+
+#[test]
+fn loading_and_solver_sections_build_the_configured_problem() {
+    let reference = from_config();
+    let loading = LoadingConfig {
+        mean_pressure: Some(3000.0),
+        xi: Some(1.17e-2),
+        direction_deg: Some(10.0),
+        ..Default::default()
+    };
+    let solver: SolverConfig =
+        toml::from_str("tolerance = 1e-9\ncascade_levels = 2\nformulation = \"periodic\"").unwrap();
+    let built = Problem::new(
+        reference.material.clone(),
+        reference.surface.clone(),
+        Control::Load(1.0),
+        0.0,
+    )
+    .with_loading(&loading)
+    .unwrap()
+    .with_solver_config(&solver)
+    .unwrap();
+    assert_eq!(built.control, reference.control);
+    assert_eq!(built.speed, reference.speed);
+    assert_eq!(built.direction_rad, reference.direction_rad);
+    assert_eq!(built.params, reference.params);
+    assert_eq!(built.formulation, reference.formulation);
+    assert_eq!(built.mesh, reference.mesh);
+
+    // Both or neither of the controls, and no speed, are refused by name.
+    let both = LoadingConfig {
+        normal_load: Some(1.0),
+        ..loading.clone()
+    };
+    let e = built.clone().with_loading(&both).unwrap_err().to_string();
+    assert!(e.contains("only one of normal_load"), "{e}");
+    let still = LoadingConfig {
+        xi: None,
+        ..loading
+    };
+    let e = built.with_loading(&still).unwrap_err().to_string();
+    assert!(e.contains("needs speed"), "{e}");
+}
+
+/// Counts polls and asks to stop after `stop_after` of them.
+struct StopAfter {
+    polls: usize,
+    stop_after: usize,
+}
+
+impl Observer for StopAfter {
+    fn cancelled(&mut self) -> bool {
+        self.polls += 1;
+        self.polls > self.stop_after
+    }
+}
+
+#[test]
+fn an_observer_stops_a_solve_between_operator_applications() {
+    let problem = from_config();
+    // Never stopping: polled at least once per operator application.
+    let mut count = StopAfter {
+        polls: 0,
+        stop_after: usize::MAX,
+    };
+    let solution = problem.solve(&Executor::Cpu, &mut count).unwrap();
+    let reference = problem.solve(&Executor::Cpu, &mut Silent).unwrap();
+    assert_eq!(solution.fields.pressure, reference.fields.pressure);
+    assert!(count.polls >= solution.info.iterations, "{}", count.polls);
+
+    // Stopping part-way, on every discretisation: an error, no solution.
+    for formulation in ["periodic", "non_periodic"] {
+        let sc: SolverConfig = toml::from_str(&format!("formulation = \"{formulation}\"")).unwrap();
+        let problem = problem.clone().with_solver_config(&sc).unwrap();
+        for stop_after in [0, 3, 20] {
+            let mut stop = StopAfter {
+                polls: 0,
+                stop_after,
+            };
+            match problem.solve(&Executor::Cpu, &mut stop) {
+                Err(Error::Solver(SolverError::Cancelled)) => {}
+                other => panic!("{formulation}, stop after {stop_after}: {other:?}"),
+            }
+            assert_eq!(stop.polls, stop_after + 1);
+        }
+    }
+}
