@@ -1,0 +1,67 @@
+//! The observer of a solve run with the GIL released: it reports each
+//! outer iteration to an optional Python callable and polls Python's signal
+//! handlers (Ctrl-C) every [`POLL`], stopping the solve through
+//! [`Observer::cancelled`] when a handler raised or the callable failed.
+//! The exception is kept and raised once the solve has returned.
+
+use std::time::{Duration, Instant};
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use viscoslide::solver::Observer;
+
+/// How often the signal handlers run during a solve.
+pub const POLL: Duration = Duration::from_millis(50);
+
+/// Progress to a Python callable, Ctrl-C from Python's signal handlers.
+pub struct PyObserver {
+    /// Called as `progress({"iteration", "matvecs", "residual",
+    /// "contact_cells"})` after every outer iteration.
+    progress: Option<Py<PyAny>>,
+    last_poll: Instant,
+    /// The exception that stopped the solve.
+    pub error: Option<PyErr>,
+}
+
+impl PyObserver {
+    pub fn new(progress: Option<Py<PyAny>>) -> Self {
+        Self {
+            progress,
+            last_poll: Instant::now(),
+            error: None,
+        }
+    }
+}
+
+impl Observer for PyObserver {
+    fn iteration(&mut self, iteration: usize, matvecs: usize, residual: f64, contact_cells: usize) {
+        let Some(progress) = &self.progress else {
+            return;
+        };
+        if self.error.is_some() {
+            return;
+        }
+        let outcome = Python::attach(|py| -> PyResult<()> {
+            let info = PyDict::new(py);
+            info.set_item("iteration", iteration)?;
+            info.set_item("matvecs", matvecs)?;
+            info.set_item("residual", residual)?;
+            info.set_item("contact_cells", contact_cells)?;
+            progress.call1(py, (info,))?;
+            Ok(())
+        });
+        if let Err(e) = outcome {
+            self.error = Some(e);
+        }
+    }
+
+    fn cancelled(&mut self) -> bool {
+        if self.error.is_none() && self.last_poll.elapsed() >= POLL {
+            self.last_poll = Instant::now();
+            if let Err(e) = Python::attach(|py| py.check_signals()) {
+                self.error = Some(e);
+            }
+        }
+        self.error.is_some()
+    }
+}

@@ -1,0 +1,98 @@
+//! Solves with the GIL released: `solve` (a surface, a material and config
+//! sections) and `solve_config` (a configuration file with `--set`
+//! overrides, exactly as `viscoslide solve`). The executor is chosen as the
+//! command line chooses it; the solve and the configured analysis run
+//! detached from the interpreter, the observer polls Ctrl-C and reports
+//! progress.
+
+use std::path::PathBuf;
+
+use pyo3::exceptions::PyKeyboardInterrupt;
+use pyo3::prelude::*;
+use viscoslide::backend::BackendChoice;
+use viscoslide::config;
+use viscoslide::problem::{Executor, Problem};
+use viscoslide::solver::SolverError;
+use viscoslide::Error;
+
+use crate::errors::{to_py, value_error};
+use crate::material::NativeMaterial;
+use crate::observer::PyObserver;
+use crate::problem;
+use crate::results::NativeResult;
+use crate::surface::NativeSurface;
+
+/// `auto`, `cpu` or `gpu`.
+fn backend_choice(name: &str) -> PyResult<BackendChoice> {
+    match name {
+        "auto" => Ok(BackendChoice::Auto),
+        "cpu" => Ok(BackendChoice::Cpu),
+        "gpu" => Ok(BackendChoice::Gpu),
+        other => Err(value_error(format!(
+            "backend '{other}': expected 'auto', 'cpu' or 'gpu'"
+        ))),
+    }
+}
+
+/// Solve `problem` and run its configured analysis with the GIL released.
+fn run(
+    py: Python<'_>,
+    problem: &Problem,
+    backend: &str,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<NativeResult> {
+    let choice = backend_choice(backend)?;
+    let mut observer = PyObserver::new(progress);
+    let outcome = py.detach(|| -> Result<NativeResult, Error> {
+        let (executor, backend_line) = Executor::select(choice, problem)?;
+        let solution = problem.solve(&executor, &mut observer)?;
+        let analysis = solution.analyze_configured()?;
+        Ok(NativeResult {
+            solution,
+            analysis,
+            backend_line,
+        })
+    });
+    match outcome {
+        Ok(result) => Ok(result),
+        Err(Error::Solver(SolverError::Cancelled)) => Err(observer
+            .error
+            .take()
+            .unwrap_or_else(|| PyKeyboardInterrupt::new_err("solve cancelled"))),
+        Err(e) => Err(to_py(py, e)),
+    }
+}
+
+/// Solve `surface` under `material` with the `[loading]`, `[solver]` and
+/// optional `[layer]` sections (JSON).
+#[pyfunction]
+#[pyo3(signature = (surface, material, loading_json, solver_json, layer_json, backend, progress=None))]
+pub fn solve(
+    py: Python<'_>,
+    surface: PyRef<'_, NativeSurface>,
+    material: PyRef<'_, NativeMaterial>,
+    loading_json: &str,
+    solver_json: &str,
+    layer_json: Option<&str>,
+    backend: &str,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<NativeResult> {
+    let problem = problem::build(&surface, &material, loading_json, solver_json, layer_json)?;
+    run(py, &problem, backend, progress)
+}
+
+/// Solve the configuration at `path` with `overrides` (`section.key=value`,
+/// TOML values), as `viscoslide solve` does.
+#[pyfunction]
+#[pyo3(signature = (path, overrides, backend, progress=None))]
+pub fn solve_config(
+    py: Python<'_>,
+    path: PathBuf,
+    overrides: Vec<String>,
+    backend: &str,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<NativeResult> {
+    let cfg = config::load(&path, &overrides).map_err(value_error)?;
+    let problem = Problem::from_config(&cfg).map_err(|e| to_py(py, e))?;
+    run(py, &problem, backend, progress)
+}

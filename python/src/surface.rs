@@ -1,0 +1,186 @@
+//! `viscoslide.Surface`'s native half: a height map generated, read from a
+//! file (every format the library reads) or given as values, built through
+//! the library's `[surface]` section (`SurfaceConfig::load`) where one
+//! describes it, so that a generated surface keeps its parameters and seed
+//! (a problem can re-generate it on another grid) and the section is
+//! recorded in a solve's `summary.json`.
+
+use std::path::{Path, PathBuf};
+
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
+use pyo3::prelude::*;
+use viscoslide::problem::SurfaceSource;
+use viscoslide::surface::{
+    psd_2d, radial_average, stats_with_window, GenerateConfig, HeightMap, SurfaceConfig, Window,
+};
+
+use crate::errors::value_error;
+
+/// A height map on a grid of square cells (axis 0 = x = sliding direction).
+#[pyclass(name = "Surface", module = "viscoslide._native", frozen)]
+#[derive(Clone)]
+pub struct NativeSurface {
+    pub map: HeightMap,
+    /// What it was made from.
+    pub source: SurfaceSource,
+    /// Seed of a generated surface.
+    pub seed: Option<u64>,
+    /// The `[surface]` section that makes it (`None` for values).
+    pub section: Option<SurfaceConfig>,
+}
+
+impl NativeSurface {
+    /// The surface of a `[surface]` section, relative paths resolved
+    /// against `base_dir`.
+    fn from_config(section: SurfaceConfig, base_dir: &Path) -> PyResult<Self> {
+        let map = section.load(base_dir).map_err(value_error)?;
+        let generated = section.generate_params().map_err(value_error)?;
+        let seed = section.generate.as_ref().map(|g| g.seed.unwrap_or(0));
+        let source = match (generated, &section.file) {
+            (Some(p), _) => SurfaceSource::Generated(p),
+            (None, Some(f)) => SurfaceSource::File(base_dir.join(f)),
+            (None, None) => SurfaceSource::Given,
+        };
+        Ok(Self {
+            map,
+            source,
+            seed,
+            section: Some(section),
+        })
+    }
+}
+
+/// A window by its config name (`none`, `hann`, `blackman_harris`).
+pub fn window(name: &str) -> PyResult<Window> {
+    serde_json::from_value(serde_json::Value::String(name.to_string())).map_err(|_| {
+        value_error(format!(
+            "window '{name}': expected 'none', 'hann' or 'blackman_harris'"
+        ))
+    })
+}
+
+#[pymethods]
+impl NativeSurface {
+    /// A surface from the keys of `[surface.generate]` given as JSON
+    /// (a self-affine surface, or one following a tabulated `psd` file
+    /// relative to `base_dir`).
+    #[staticmethod]
+    fn generate(generate_json: &str, base_dir: PathBuf) -> PyResult<Self> {
+        let generate: GenerateConfig = serde_json::from_str(generate_json)
+            .map_err(|e| value_error(format!("[surface.generate] {e}")))?;
+        let mut section = SurfaceConfig {
+            generate: Some(generate),
+            ..Default::default()
+        };
+        if let Some(g) = section.generate.as_mut() {
+            g.psd = g.psd.as_ref().map(|p| base_dir.join(p));
+        }
+        Self::from_config(section, &base_dir)
+    }
+
+    /// A surface read from `path` in any format the library reads (`.x3p`,
+    /// `.gwy`, `.npy`, text); `length` (m) is needed for `.npy` and text.
+    #[staticmethod]
+    #[pyo3(signature = (path, length=None, length_y=None, format=None, fill_missing=false))]
+    fn from_file(
+        path: PathBuf,
+        length: Option<f64>,
+        length_y: Option<f64>,
+        format: Option<String>,
+        fill_missing: bool,
+    ) -> PyResult<Self> {
+        let path = std::path::absolute(&path).unwrap_or(path);
+        let section = SurfaceConfig {
+            file: Some(path),
+            length,
+            length_y,
+            format,
+            fill_missing: fill_missing.then_some(true),
+            ..Default::default()
+        };
+        Self::from_config(section, Path::new("."))
+    }
+
+    /// A surface from heights \[m\] (C-contiguous float64, axis 0 = x) on
+    /// square cells, `length` \[m\] the side along x.
+    #[staticmethod]
+    fn from_array(heights: PyReadonlyArray2<'_, f64>, length: f64) -> PyResult<Self> {
+        let view = heights.as_array();
+        let (nx, ny) = view.dim();
+        let values = view.iter().copied().collect();
+        let map = HeightMap::new(nx, ny, length, values).map_err(value_error)?;
+        Ok(Self {
+            map,
+            source: SurfaceSource::Given,
+            seed: None,
+            section: None,
+        })
+    }
+
+    /// Heights \[m\], shape `(nx, ny)`.
+    #[getter]
+    fn heights<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.map
+            .heights
+            .clone()
+            .into_pyarray(py)
+            .reshape([self.map.nx, self.map.ny])
+    }
+
+    /// `(nx, ny)`.
+    #[getter]
+    fn shape(&self) -> (usize, usize) {
+        (self.map.nx, self.map.ny)
+    }
+
+    /// Side of a square cell \[m\].
+    #[getter]
+    fn cell_size(&self) -> f64 {
+        self.map.cell_size
+    }
+
+    /// `(Lx, Ly)` \[m\].
+    #[getter]
+    fn lengths(&self) -> (f64, f64) {
+        (self.map.length_x(), self.map.length_y())
+    }
+
+    /// Seed of a generated surface.
+    #[getter]
+    fn seed(&self) -> Option<u64> {
+        self.seed
+    }
+
+    /// The `[surface]` section that makes this surface, as JSON (`None`
+    /// for heights given as values).
+    fn section_json(&self) -> Option<String> {
+        self.section
+            .as_ref()
+            .map(|s| serde_json::to_string(s).unwrap_or_default())
+    }
+
+    /// Radial PSD: `(q [1/m], C [m^4], modes per bin)`.
+    fn psd<'py>(
+        &self,
+        py: Python<'py>,
+        window_name: &str,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<usize>>,
+    )> {
+        let psd = psd_2d(&self.map, window(window_name)?).map_err(value_error)?;
+        let r = radial_average(&psd);
+        Ok((
+            r.q.into_pyarray(py),
+            r.c.into_pyarray(py),
+            r.count.into_pyarray(py),
+        ))
+    }
+
+    /// Statistics (rms height, slope, curvature, ...) as JSON.
+    fn stats_json(&self, window_name: &str) -> PyResult<String> {
+        let s = stats_with_window(&self.map, window(window_name)?).map_err(value_error)?;
+        serde_json::to_string(&s).map_err(value_error)
+    }
+}

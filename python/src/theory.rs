@@ -1,0 +1,118 @@
+//! Persson's theory for a Python surface and material (the library's
+//! `Problem::persson_psd` and `persson::Persson`), and the influence
+//! coefficient tables of the sliding kernel (`SlidingKernel`).
+
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
+use pyo3::prelude::*;
+use viscoslide::config::LayerConfig;
+use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
+use viscoslide::persson::{Persson, PerssonParams};
+use viscoslide::solver::Control;
+
+use crate::errors::{to_py, value_error};
+use crate::material::NativeMaterial;
+use crate::problem;
+use crate::surface::NativeSurface;
+
+/// Persson's friction coefficient, contact area fraction and `G(q1)` at
+/// `speeds` \[m/s\] for `surface` under `material` at the nominal pressure
+/// of the `[loading]` section (JSON; `speed`/`xi` ignored). Returns
+/// `(mu, A/A0, G(q1), psd kind, nominal pressure)`.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+pub fn persson<'py>(
+    py: Python<'py>,
+    surface: PyRef<'py, NativeSurface>,
+    material: PyRef<'py, NativeMaterial>,
+    loading_json: &str,
+    speeds: Vec<f64>,
+) -> PyResult<(
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    &'static str,
+    f64,
+)> {
+    let problem = problem::build(&surface, &material, loading_json, "{}", None)?;
+    let (psd, kind) = problem.persson_psd().map_err(value_error)?;
+    let sigma0 = match problem.control {
+        Control::Load(f) => f / (problem.surface.length_x() * problem.surface.length_y()),
+        Control::Approach(_) => {
+            return Err(value_error(
+                "Persson's theory needs a nominal pressure: give normal_load or mean_pressure, not approach",
+            ))
+        }
+    };
+    let points = py
+        .detach(|| {
+            Persson::new(&problem.material, &psd, sigma0, PerssonParams::default())
+                .and_then(|t| t.curve(&speeds))
+        })
+        .map_err(|e| to_py(py, e.into()))?;
+    let column = |f: fn(&viscoslide::persson::PerssonPoint) -> f64| {
+        points.iter().map(f).collect::<Vec<f64>>().into_pyarray(py)
+    };
+    Ok((
+        column(|p| p.friction_coefficient),
+        column(|p| p.contact_area_fraction),
+        column(|p| p.g_q1),
+        kind,
+        sigma0,
+    ))
+}
+
+/// The influence coefficients `K(i, j)` \[m/Pa\] (or, with `derivative`,
+/// the cell-averaged `dK/dx` \[1/Pa\]) of `material` sliding at `speed`
+/// \[m/s\] along `direction_deg`, for square cells of side `cell_size`
+/// \[m\], over all offsets of an `nx x ny` grid: shape `(2 nx - 1,
+/// 2 ny - 1)`, offset `(i, j)` at index `(i + nx - 1, j + ny - 1)`.
+#[pyfunction]
+#[pyo3(signature = (material, nx, ny, cell_size, speed, direction_deg, layer_json, derivative))]
+#[allow(clippy::too_many_arguments)]
+pub fn kernel_table<'py>(
+    py: Python<'py>,
+    material: PyRef<'py, NativeMaterial>,
+    nx: usize,
+    ny: usize,
+    cell_size: f64,
+    speed: f64,
+    direction_deg: f64,
+    layer_json: Option<&str>,
+    derivative: bool,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let layer = layer_json
+        .map(|j| {
+            serde_json::from_str::<LayerConfig>(j)
+                .map_err(|e| value_error(format!("[layer] {e}")))
+                .and_then(|l| l.build().map_err(value_error))
+        })
+        .transpose()?;
+    if !direction_deg.is_finite() {
+        return Err(value_error(format!(
+            "direction_deg must be finite, got {direction_deg}"
+        )));
+    }
+    let kernel = SlidingKernel::new(
+        &material.material,
+        KernelParams {
+            speed,
+            direction_rad: direction_deg.to_radians(),
+            layer,
+        },
+    )
+    .map_err(value_error)?;
+    SlidingKernel::check_cell(cell_size, cell_size).map_err(value_error)?;
+    let table = py
+        .detach(|| {
+            if derivative {
+                kernel.try_derivative_table(nx, ny, cell_size, Axis::X)
+            } else {
+                kernel.try_table(nx, ny, cell_size)
+            }
+        })
+        .map_err(value_error)?;
+    table
+        .values
+        .into_pyarray(py)
+        .reshape([2 * table.nx - 1, 2 * table.ny - 1])
+}

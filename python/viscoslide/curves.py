@@ -1,0 +1,209 @@
+"""Many solves and the analytic references: :func:`sweep` and
+:func:`friction_curve` (friction and contact area against speed and load),
+:func:`persson` (Persson's theory for the same surface, material and
+pressure) and :func:`kernel_table` (the influence coefficients)."""
+
+from __future__ import annotations
+
+import itertools
+import json
+from typing import Any, Dict, Optional, Sequence
+
+import numpy as np
+
+from . import _checks, _native, _progress
+from .material import Material
+from .solve import _layer, _loading, solve
+from .surface import Surface
+
+#: Columns of :func:`sweep`, in order.
+COLUMNS = (
+    "speed",
+    "xi",
+    "normal_load",
+    "friction_coefficient",
+    "friction_coefficient_dissipation",
+    "contact_area_fraction",
+    "approach",
+    "max_pressure",
+    "iterations",
+    "matvecs",
+    "residual",
+    "persson_friction_coefficient",
+    "persson_contact_area_fraction",
+)
+
+
+def _frame(columns: Dict[str, np.ndarray], as_frame: bool) -> Any:
+    if not as_frame:
+        return columns
+    try:
+        import pandas
+    except ImportError:
+        raise ImportError("as_frame=True needs pandas (pip install pandas)") from None
+    return pandas.DataFrame(columns)
+
+
+def _axis(name: str, values: Any) -> Optional[np.ndarray]:
+    if values is None:
+        return None
+    arr = _checks.real_array(name, np.atleast_1d(np.asarray(values)), 1)
+    if arr.size == 0:
+        raise ValueError(f"{name} is empty: give at least one value")
+    return arr
+
+
+def sweep(
+    surface: Any,
+    material: Material,
+    *,
+    speed: Any = None,
+    xi: Any = None,
+    normal_load: Any = None,
+    mean_pressure: Any = None,
+    progress: Any = None,
+    as_frame: bool = False,
+    **options: Any,
+) -> Any:
+    """Solve every combination of the given speeds (or ``xi``) and loads
+    (``normal_load`` [N] or ``mean_pressure`` [Pa]), one independent solve
+    per point, loads outer, speeds inner.
+
+    Each of ``speed``, ``xi``, ``normal_load``, ``mean_pressure`` may be a
+    number or a 1-D array; ``options`` are those of :func:`solve`
+    (``formulation``, ``thickness``, ``backend``, ``tolerance``, ...).
+    ``progress=True`` shows a tqdm bar over points; a callable gets a dict
+    per finished point (``point``, ``points`` and the point's columns).
+
+    Returns a dict of 1-D arrays (:data:`COLUMNS`), or a pandas DataFrame
+    with ``as_frame=True``.
+    """
+    surf = Surface.coerce(surface)
+    speeds = _axis("speed", speed)
+    xis = _axis("xi", xi)
+    loads = _axis("normal_load", normal_load)
+    pressures = _axis("mean_pressure", mean_pressure)
+    if (speeds is None) == (xis is None):
+        raise ValueError("give exactly one of speed (m/s) and xi (v tau / L)")
+    if (loads is None) == (pressures is None):
+        raise ValueError("give exactly one of normal_load (N) and mean_pressure (Pa)")
+    if "progress" in options or "speed" in options:
+        raise ValueError("progress and speed are arguments of sweep itself")
+    sliding_key, sliding = ("speed", speeds) if speeds is not None else ("xi", xis)
+    load_key, load = ("normal_load", loads) if loads is not None else ("mean_pressure", pressures)
+    grid = list(itertools.product(load, sliding))
+    rows: Dict[str, list] = {c: [] for c in COLUMNS}
+    with _progress.points(progress, len(grid)) as callback:
+        for k, (f, v) in enumerate(grid):
+            result = solve(surf, material, **{sliding_key: float(v), load_key: float(f)}, **options)
+            s = result.summary
+            row = {c: s.get(c) for c in COLUMNS}
+            row["normal_load"] = s["normal_load"]
+            for c in COLUMNS:
+                rows[c].append(np.nan if row[c] is None else row[c])
+            if callback is not None:
+                callback({"point": k + 1, "points": len(grid), **row})
+    columns = {c: np.asarray(v, dtype=float) for c, v in rows.items()}
+    for c in ("iterations", "matvecs"):
+        columns[c] = columns[c].astype(np.int64)
+    return _frame(columns, as_frame)
+
+
+def friction_curve(
+    surface: Any,
+    material: Material,
+    speeds: Any = None,
+    *,
+    xi: Any = None,
+    normal_load: Optional[float] = None,
+    mean_pressure: Optional[float] = None,
+    progress: Any = None,
+    as_frame: bool = False,
+    **options: Any,
+) -> Any:
+    """Friction and contact area against speed at one load: :func:`sweep`
+    over ``speeds`` [m/s] (or ``xi``) at ``normal_load`` [N] or
+    ``mean_pressure`` [Pa]."""
+    return sweep(
+        surface,
+        material,
+        speed=speeds,
+        xi=xi,
+        normal_load=normal_load,
+        mean_pressure=mean_pressure,
+        progress=progress,
+        as_frame=as_frame,
+        **options,
+    )
+
+
+def persson(
+    surface: Any,
+    material: Material,
+    speeds: Any,
+    *,
+    normal_load: Optional[float] = None,
+    mean_pressure: Optional[float] = None,
+    as_frame: bool = False,
+) -> Any:
+    """Persson's theory of friction and contact area (physics.md section
+    10) for ``surface``, ``material`` and the nominal pressure
+    (``mean_pressure`` [Pa], or ``normal_load`` [N] over the map's area) at
+    ``speeds`` [m/s]: the analytic reference beside the simulations.
+
+    The PSD is the continuum self-affine PSD of a generated surface, else
+    the radial average of the map. Returns a dict of arrays ``speed``,
+    ``friction_coefficient``, ``contact_area_fraction``, ``g_q1`` and the
+    scalars ``psd`` (which PSD) and ``nominal_pressure`` [Pa].
+    """
+    surf = Surface.coerce(surface)
+    v = _axis("speeds", speeds)
+    loading = _loading(0.0, None, normal_load, mean_pressure, None, None)
+    mu, area, g, kind, sigma0 = _native.persson(surf._native, material._native, json.dumps(loading), v.tolist())
+    columns: Dict[str, Any] = {
+        "speed": v,
+        "friction_coefficient": mu,
+        "contact_area_fraction": area,
+        "g_q1": g,
+    }
+    if as_frame:
+        frame = _frame(columns, True)
+        frame.attrs.update(psd=kind, nominal_pressure=sigma0)
+        return frame
+    columns.update(psd=kind, nominal_pressure=sigma0)
+    return columns
+
+
+def kernel_table(
+    material: Material,
+    *,
+    nx: int,
+    cell_size: float,
+    speed: float,
+    ny: Optional[int] = None,
+    direction_deg: float = 0.0,
+    thickness: Optional[float] = None,
+    layer_base: str = "bonded",
+    derivative: bool = False,
+) -> np.ndarray:
+    """Influence coefficients of the sliding kernel (paper Eq. 4-6): the
+    surface displacement [m] of cell ``(i, j)`` under unit pressure [Pa] on
+    cell ``(0, 0)``, for square cells of side ``cell_size`` [m] and every
+    offset of an ``nx x ny`` grid; with ``derivative=True`` the
+    cell-averaged ``dK/dx`` [1/Pa] of the friction stencil.
+
+    Returns an array of shape ``(2 nx - 1, 2 ny - 1)``; offset ``(i, j)``
+    is at index ``(i + nx - 1, j + ny - 1)``.
+    """
+    n = _checks.count("nx", nx)
+    m = n if ny is None else _checks.count("ny", ny)
+    return _native.kernel_table(
+        material._native,
+        n,
+        m,
+        _checks.positive("cell_size", cell_size, "m"),
+        _checks.number("speed", speed),
+        _checks.number("direction_deg", direction_deg),
+        _layer(thickness, layer_base),
+        bool(derivative),
+    )

@@ -1,0 +1,250 @@
+"""Materials: linear viscoelastic solids described by a creep spectrum
+(paper Eq. 2), built by the engine from the keys of a ``[material]``
+configuration section, from a TOML file, or fitted to DMA data."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from typing import Any, Dict, Optional, Sequence, Tuple
+
+import numpy as np
+
+from . import _checks
+from . import _native
+
+
+class Material:
+    """A linear viscoelastic solid (creep spectrum and Poisson ratio).
+
+    Build one with :meth:`sls`, :meth:`creep_spectrum`, :meth:`prony`,
+    :meth:`from_toml` or :meth:`fit_dma`; keyword arguments are named as the
+    keys of the ``[material]`` section of a configuration file (SI units).
+    """
+
+    def __init__(self, native: "_native.Material", fit_info: Optional[Dict[str, Any]] = None):
+        """Wrap a native material; use the class methods instead."""
+        self._native = native
+        #: Quality of a DMA fit (:meth:`fit_dma`), else ``None``.
+        self.fit_info = fit_info
+
+    @classmethod
+    def _from_section(cls, section: Dict[str, Any], base_dir: str = ".") -> "Material":
+        return cls(_native.Material.from_section(json.dumps(_checks.drop_none(section)), base_dir))
+
+    @classmethod
+    def sls(
+        cls,
+        *,
+        relaxed_modulus: float,
+        glassy_modulus: float,
+        creep_time: Optional[float] = None,
+        relaxation_time: Optional[float] = None,
+        poisson: float = 0.5,
+    ) -> "Material":
+        """A standard linear solid (one creep time; the paper's material).
+
+        Parameters
+        ----------
+        relaxed_modulus : float
+            Zero-frequency modulus ``E0`` [Pa].
+        glassy_modulus : float
+            High-frequency modulus ``E_inf`` [Pa], larger than ``E0``.
+        creep_time : float, optional
+            Creep (retardation) time ``tau`` [s] of paper Eq. 2.
+        relaxation_time : float, optional
+            Stress-relaxation time ``tau E0 / E_inf`` [s]; give exactly one
+            of ``creep_time`` and ``relaxation_time``.
+        poisson : float
+            Poisson ratio (default 0.5, incompressible).
+        """
+        return cls._from_section(
+            {
+                "model": "sls",
+                "relaxed_modulus": _checks.number("relaxed_modulus", relaxed_modulus),
+                "glassy_modulus": _checks.number("glassy_modulus", glassy_modulus),
+                "creep_time": _checks.optional("creep_time", creep_time),
+                "relaxation_time": _checks.optional("relaxation_time", relaxation_time),
+                "poisson": _checks.number("poisson", poisson),
+            }
+        )
+
+    @classmethod
+    def creep_spectrum(
+        cls,
+        times: Sequence[float],
+        weights: Sequence[float],
+        *,
+        glassy_modulus: float,
+        poisson: float = 0.5,
+    ) -> "Material":
+        """A creep spectrum ``J(t) = 1/E_inf + sum_k C_k (1 - exp(-t/tau_k))``.
+
+        Parameters
+        ----------
+        times : array of float
+            Creep times ``tau_k`` [s].
+        weights : array of float
+            Compliances ``C_k`` [1/Pa], one per time.
+        glassy_modulus : float
+            ``E_inf`` [Pa].
+        poisson : float
+            Poisson ratio (default 0.5).
+        """
+        t = _checks.real_array("times", times, 1)
+        w = _checks.real_array("weights", weights, 1)
+        if t.shape != w.shape:
+            raise ValueError(f"times and weights need one value each per term, got {t.size} and {w.size}")
+        return cls._from_section(
+            {
+                "model": "creep_spectrum",
+                "glassy_modulus": _checks.number("glassy_modulus", glassy_modulus),
+                "creep_spectrum": [[float(c), float(tau)] for c, tau in zip(w, t)],
+                "poisson": _checks.number("poisson", poisson),
+            }
+        )
+
+    @classmethod
+    def prony(
+        cls,
+        moduli: Sequence[float],
+        times: Sequence[float],
+        *,
+        relaxed_modulus: float,
+        poisson: float = 0.5,
+    ) -> "Material":
+        """A generalized Maxwell (Prony) series
+        ``E(t) = E0 + sum_j E_j exp(-t/theta_j)``, converted exactly to a
+        creep spectrum.
+
+        Parameters
+        ----------
+        moduli : array of float
+            ``E_j`` [Pa].
+        times : array of float
+            Relaxation times ``theta_j`` [s], one per modulus.
+        relaxed_modulus : float
+            ``E0`` [Pa].
+        poisson : float
+            Poisson ratio (default 0.5).
+        """
+        e = _checks.real_array("moduli", moduli, 1)
+        t = _checks.real_array("times", times, 1)
+        if t.shape != e.shape:
+            raise ValueError(f"moduli and times need one value each per term, got {e.size} and {t.size}")
+        return cls._from_section(
+            {
+                "model": "prony",
+                "relaxed_modulus": _checks.number("relaxed_modulus", relaxed_modulus),
+                "prony": [[float(m), float(theta)] for m, theta in zip(e, t)],
+                "poisson": _checks.number("poisson", poisson),
+            }
+        )
+
+    @classmethod
+    def from_toml(cls, path: "os.PathLike[str] | str") -> "Material":
+        """The material of a TOML file: a configuration with a ``[material]``
+        section (its relative paths resolved against the file's directory),
+        or a ``material.toml`` written by ``viscoslide material fit``."""
+        path = os.fspath(path)
+        if not os.path.exists(path):
+            raise FileNotFoundError(f"{path}: no such file")
+        return cls(_native.Material.from_toml(path))
+
+    @classmethod
+    def fit_dma(
+        cls,
+        frequency: Sequence[float],
+        storage: Sequence[float],
+        loss: Sequence[float],
+        wlf: Optional[Tuple[float, float, float]] = None,
+        temperature: Optional[float] = None,
+        *,
+        temperatures: Optional[Sequence[float]] = None,
+        angular: bool = False,
+        terms: int = 34,
+        ratio: float = math.e,
+        poisson: float = 0.5,
+    ) -> "Material":
+        """Fit a creep spectrum to DMA data (as ``viscoslide material fit``).
+
+        Parameters
+        ----------
+        frequency : array of float
+            Test frequencies, in Hz (or rad/s with ``angular=True``).
+        storage, loss : array of float
+            Storage and loss moduli ``E1``, ``E2`` [Pa].
+        wlf : (C1, C2, T_ref), optional
+            WLF constants that shift data at several ``temperatures`` [C]
+            onto one master curve at ``temperature`` [C].
+        temperature : float, optional
+            Temperature of the master curve [C].
+        temperatures : array of float, optional
+            Test temperature of each point [C].
+        terms, ratio : int, float
+            Number of creep times and the ratio of consecutive ones
+            (default 34 times in ratio e, as the paper).
+        poisson : float
+            Poisson ratio (default 0.5).
+
+        The fit's quality (relative rms and maximum errors of E1 and E2) is
+        in the returned material's ``fit_info``.
+        """
+        f = _checks.real_array("frequency", frequency, 1)
+        omega = f if angular else 2.0 * math.pi * f
+        temps = None if temperatures is None else _checks.real_array("temperatures", temperatures, 1).tolist()
+        w = None if wlf is None else tuple(_checks.number(f"wlf[{i}]", v) for i, v in enumerate(wlf))
+        if w is not None and len(w) != 3:
+            raise ValueError(f"wlf must be (C1, C2, T_ref), got {wlf!r}")
+        native, info = _native.Material.fit_dma(
+            omega.tolist(),
+            _checks.real_array("storage", storage, 1).tolist(),
+            _checks.real_array("loss", loss, 1).tolist(),
+            temps,
+            w,
+            _checks.optional("temperature", temperature),
+            _checks.count("terms", terms),
+            _checks.number("ratio", ratio),
+            _checks.number("poisson", poisson),
+        )
+        return cls(native, dict(info))
+
+    def complex_modulus(self, omega: Any) -> np.ndarray:
+        """``E(w) = E1 + i E2`` [Pa] at angular frequencies ``omega`` [rad/s]
+        (a scalar or an array of any shape; the result has its shape)."""
+        w = np.asarray(omega)
+        flat = _checks.real_array("omega", w.reshape(-1), 1)
+        return _native.Material.complex_modulus(self._native, flat).reshape(w.shape)
+
+    @property
+    def relaxed_modulus(self) -> float:
+        """Zero-frequency modulus ``E0`` [Pa]."""
+        return self._native.relaxed_modulus
+
+    @property
+    def glassy_modulus(self) -> float:
+        """High-frequency modulus ``E_inf`` [Pa]."""
+        return self._native.glassy_modulus
+
+    @property
+    def poisson(self) -> float:
+        """Poisson ratio."""
+        return self._native.poisson
+
+    @property
+    def creep_spectrum_terms(self) -> np.ndarray:
+        """Creep spectrum as rows ``(C_k [1/Pa], tau_k [s])``."""
+        return np.array(self._native.creep_spectrum, dtype=float).reshape(-1, 2)
+
+    @property
+    def section(self) -> Dict[str, Any]:
+        """The ``[material]`` configuration section that builds this material."""
+        return json.loads(self._native.section_json())
+
+    def __repr__(self) -> str:
+        terms = len(self._native.creep_spectrum)
+        return (
+            f"Material(E0={self.relaxed_modulus:.4g} Pa, E_inf={self.glassy_modulus:.4g} Pa, "
+            f"{terms} creep term{'s' if terms != 1 else ''}, poisson={self.poisson:g})"
+        )

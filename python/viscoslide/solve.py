@@ -1,0 +1,306 @@
+"""Solves: :func:`solve` (a surface and a material built in Python) and
+:func:`solve_config` (a configuration file, exactly as ``viscoslide
+solve``), both returning a :class:`Result`. The GIL is released during the
+solve; Ctrl-C stops it within a fraction of a second (``KeyboardInterrupt``,
+nothing is written)."""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, Dict, Mapping, Optional
+
+import numpy as np
+
+from . import _checks, _native, _progress
+from .material import Material
+from .surface import Surface
+
+FORMULATIONS = {"periodic": "periodic", "nonperiodic": "non_periodic", "non_periodic": "non_periodic"}
+
+
+class Result:
+    """The result of one solve.
+
+    Fields are ``(nx, ny)`` float64 arrays with axis 0 = x = the sliding
+    direction (as the ``.npy`` outputs of ``viscoslide solve``).
+    """
+
+    def __init__(self, native: "_native.Result"):
+        """Wrap a native result; returned by :func:`solve`."""
+        self._native = native
+        self._summary: Optional[Dict[str, Any]] = None
+
+    @property
+    def friction_coefficient(self) -> float:
+        """``mu = F_T / F_N`` from the work of the contact pressure (paper Eq. 9)."""
+        return self._native.friction_coefficient
+
+    @property
+    def friction_coefficient_dissipation(self) -> float:
+        """``mu`` from the dissipated power (paper Appendix A3-A4), an
+        independent check of :attr:`friction_coefficient`."""
+        return self._native.friction_coefficient_dissipation
+
+    @property
+    def contact_area_fraction(self) -> float:
+        """Real contact area over the nominal area ``A / A0``."""
+        return self._native.contact_area_fraction
+
+    @property
+    def approach(self) -> float:
+        """Rigid approach (penetration) ``delta`` [m]."""
+        return self._native.approach
+
+    @property
+    def pressure(self) -> np.ndarray:
+        """Contact pressure [Pa], shape ``(nx, ny)``."""
+        return self._native.pressure
+
+    @property
+    def gap(self) -> np.ndarray:
+        """Gap between the surfaces [m], shape ``(nx, ny)``."""
+        return self._native.gap
+
+    @property
+    def displacement(self) -> np.ndarray:
+        """Normal surface displacement of the solid [m], shape ``(nx, ny)``."""
+        return self._native.displacement
+
+    @property
+    def contact(self) -> np.ndarray:
+        """1.0 where in contact, 0.0 elsewhere, shape ``(nx, ny)``."""
+        return self._native.contact
+
+    @property
+    def summary(self) -> Dict[str, Any]:
+        """Every scalar result, the convergence history, timings, seed, the
+        configuration, version and backend: the ``summary.json`` document."""
+        if self._summary is None:
+            self._summary = json.loads(self._native.summary_json())
+        return self._summary
+
+    @property
+    def convergence(self) -> Dict[str, Any]:
+        """Iterations, matvecs, residual, load error and the residual and
+        contact-set histories of the solve."""
+        return json.loads(self._native.convergence_json())
+
+    @property
+    def backend(self) -> str:
+        """Which executor ran the solve, and why."""
+        return self._native.backend_line
+
+    def analysis(self) -> Optional[Dict[str, Any]]:
+        """The anisotropy analysis of the deformed surface and of the
+        contact area (paper Section IV: ``gamma``, ``theta_p_deg``, ``m20``,
+        ``m02``, ``m11``, ``lambda``, ellipse fits of ``C_chi``, contact
+        spots): the ``analysis.json`` document; ``None`` if disabled."""
+        text = self._native.analysis_json()
+        return None if text is None else json.loads(text)
+
+    def write(self, directory: "os.PathLike[str] | str") -> list:
+        """Write summary.json, the maps (.npy, .png) and the analysis into
+        ``directory``, as ``viscoslide solve --out``: all files or none.
+        Returns the written paths."""
+        return [str(p) for p in self._native.write(os.fspath(directory))]
+
+    def __repr__(self) -> str:
+        nx, ny = self._native.grid
+        c = self.summary
+        return (
+            f"Result({nx} x {ny}, friction_coefficient={self.friction_coefficient:.6g} "
+            f"(dissipation {self.friction_coefficient_dissipation:.6g}), "
+            f"contact_area_fraction={self.contact_area_fraction:.5g}, "
+            f"{c['iterations']} iterations, residual {c['residual']:.2e}, backend {c['backend']})"
+        )
+
+
+def _layer(thickness: Optional[float], layer_base: str) -> Optional[str]:
+    if thickness is None:
+        return None
+    return json.dumps({"thickness": _checks.positive("thickness", thickness, "m"), "base": layer_base})
+
+
+def _loading(
+    speed: Any, xi: Any, normal_load: Any, mean_pressure: Any, approach: Any, direction_deg: Any
+) -> Dict[str, Any]:
+    return _checks.drop_none(
+        {
+            "speed": _checks.optional("speed", speed),
+            "xi": _checks.optional("xi", xi),
+            "normal_load": _checks.optional("normal_load", normal_load),
+            "mean_pressure": _checks.optional("mean_pressure", mean_pressure),
+            "approach": _checks.optional("approach", approach),
+            "direction_deg": _checks.optional("direction_deg", direction_deg),
+        }
+    )
+
+
+def _solver(
+    surface: Surface,
+    formulation: str,
+    tolerance: Any,
+    max_iterations: Any,
+    max_matvecs: Any,
+    cascade_levels: Any,
+    mesh: Optional[str],
+) -> Dict[str, Any]:
+    if formulation == "auto":
+        form = "periodic" if surface.periodic else "non_periodic"
+    elif formulation in FORMULATIONS:
+        form = FORMULATIONS[formulation]
+    else:
+        raise ValueError(f"formulation {formulation!r}: expected 'auto', 'periodic' or 'nonperiodic'")
+    return _checks.drop_none(
+        {
+            "formulation": form,
+            "tolerance": _checks.number("tolerance", tolerance),
+            "max_iterations": None if max_iterations is None else _checks.count("max_iterations", max_iterations),
+            "max_matvecs": None if max_matvecs is None else _checks.count("max_matvecs", max_matvecs),
+            "cascade_levels": None if cascade_levels is None else _checks.count("cascade_levels", cascade_levels),
+            "mesh": mesh,
+        }
+    )
+
+
+def solve(
+    surface: Any,
+    material: Material,
+    *,
+    speed: Optional[float] = None,
+    xi: Optional[float] = None,
+    normal_load: Optional[float] = None,
+    mean_pressure: Optional[float] = None,
+    approach: Optional[float] = None,
+    direction_deg: Optional[float] = None,
+    formulation: str = "auto",
+    thickness: Optional[float] = None,
+    layer_base: str = "bonded",
+    backend: str = "auto",
+    tolerance: float = 1e-8,
+    max_iterations: Optional[int] = None,
+    max_matvecs: Optional[int] = None,
+    cascade_levels: Optional[int] = None,
+    mesh: Optional[str] = None,
+    progress: Any = None,
+) -> Result:
+    """Solve the steady sliding contact of ``surface`` on ``material``.
+
+    Parameters
+    ----------
+    surface : Surface or topography-like
+        The rigid rough surface (a :class:`Surface`, or any object with
+        ``heights()`` and ``physical_sizes`` such as a SurfaceTopography
+        ``Topography``).
+    material : Material
+        The viscoelastic solid.
+    speed, xi : float
+        Sliding speed [m/s], or ``xi = v tau / L`` for a single-relaxation
+        material; exactly one.
+    normal_load, mean_pressure, approach : float
+        Normal load [N], nominal pressure [Pa] (times the map's area), or a
+        prescribed rigid approach [m]; exactly one.
+    direction_deg : float, optional
+        Sliding direction, degrees from +x (default 0).
+    formulation : str
+        ``"nonperiodic"`` (a finite pad, the paper's), ``"periodic"`` (one
+        period of a periodic surface), or ``"auto"``: periodic for a
+        surface marked periodic (a periodic SurfaceTopography topography,
+        ``Surface.from_array(..., periodic=True)``), else non-periodic.
+    thickness : float, optional
+        Thickness [m] of a viscoelastic layer on a rigid base
+        (``layer_base`` ``"bonded"`` or ``"frictionless"``); default a half-space.
+    backend : str
+        ``"auto"`` (a hardware GPU when one exists, else the CPU), ``"cpu"``
+        or ``"gpu"``.
+    tolerance : float
+        Relative complementarity residual to reach (default 1e-8).
+    max_iterations, max_matvecs, cascade_levels : int, optional
+        Solver controls (``[solver]`` keys).
+    mesh : str, optional
+        ``"uniform"`` (default) or ``"adaptive"``.
+    progress : None, True or callable
+        ``True`` shows a tqdm bar; a callable is called after every outer
+        iteration with a dict (``iteration``, ``matvecs``, ``residual``,
+        ``contact_cells``).
+
+    Returns
+    -------
+    Result
+
+    Raises
+    ------
+    ValueError
+        Bad input, named.
+    ConvergenceError
+        The iteration did not converge; it carries the residual history.
+    KeyboardInterrupt
+        Ctrl-C during the solve.
+    """
+    surf = Surface.coerce(surface)
+    if not isinstance(material, Material):
+        raise TypeError(f"material must be a viscoslide.Material, got {type(material).__name__}")
+    loading = _loading(speed, xi, normal_load, mean_pressure, approach, direction_deg)
+    solver = _solver(surf, formulation, tolerance, max_iterations, max_matvecs, cascade_levels, mesh)
+    with _progress.iterations(progress) as callback:
+        native = _native.solve(
+            surf._native,
+            material._native,
+            json.dumps(loading),
+            json.dumps(solver),
+            _layer(thickness, layer_base),
+            backend,
+            callback,
+        )
+    return Result(native)
+
+
+def _toml_value(value: Any) -> str:
+    """A Python value as a TOML value for a ``--set`` override."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, (float, np.floating)):
+        x = _checks.number("set value", value)
+        return repr(x)
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, Mapping):
+        return "{" + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items()) + "}"
+    raise ValueError(f"cannot write {value!r} as a TOML value")
+
+
+def solve_config(
+    path: "os.PathLike[str] | str",
+    set: Optional[Mapping[str, Any]] = None,
+    backend: str = "auto",
+    progress: Any = None,
+) -> Result:
+    """Solve a configuration file as ``viscoslide solve`` does: the same
+    problem, the same numbers (``summary`` equals the command's
+    ``summary.json`` but for timings), relative paths in the file resolved
+    against its directory.
+
+    Parameters
+    ----------
+    path : path-like
+        TOML configuration.
+    set : mapping, optional
+        Overrides by ``"section.key"``, e.g. ``{"loading.xi": 1e-3,
+        "surface.generate.n": 512}`` (the command's ``--set``).
+    backend : str
+        ``"auto"``, ``"cpu"`` or ``"gpu"``.
+    progress : None, True or callable
+        As for :func:`solve`.
+    """
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"{path}: no such file")
+    overrides = [f"{key}={_toml_value(value)}" for key, value in (set or {}).items()]
+    with _progress.iterations(progress) as callback:
+        native = _native.solve_config(path, overrides, backend, callback)
+    return Result(native)

@@ -1,0 +1,245 @@
+"""Surfaces: height maps on grids of square cells (axis 0 = x = the
+sliding direction), generated, read from a file in any format the engine
+reads, given as an array, or taken from any object with ``heights()`` and
+``physical_sizes`` (a SurfaceTopography ``Topography``)."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from typing import Any, Dict, Optional, Tuple
+
+import numpy as np
+
+from . import _checks
+from . import _native
+
+
+class Surface:
+    """A rigid rough surface: heights [m] at cell centres on square cells.
+
+    Build one with :meth:`self_affine`, :meth:`generate`, :meth:`from_file`,
+    :meth:`from_array` or :meth:`from_topography`; anywhere a surface is
+    expected, a SurfaceTopography ``Topography`` (any object with
+    ``heights()`` and ``physical_sizes``) is accepted as well.
+    """
+
+    def __init__(self, native: "_native.Surface", periodic: bool = False):
+        """Wrap a native surface; use the class methods instead."""
+        self._native = native
+        #: Whether the map is one period of a periodic surface
+        #: (``formulation="auto"`` then solves the periodic problem).
+        self.periodic = periodic
+
+    @classmethod
+    def self_affine(
+        cls,
+        n: int,
+        length: float,
+        hurst: float,
+        *,
+        scales: Optional[float] = None,
+        q1: Optional[float] = None,
+        rms_height: Optional[float] = None,
+        rms_slope: Optional[float] = None,
+        seed: int = 0,
+        ny: Optional[int] = None,
+        ql: Optional[float] = None,
+        rolloff_q0: Optional[float] = None,
+        anisotropy: Optional[Tuple[float, float]] = None,
+    ) -> "Surface":
+        """A self-affine random surface (physics.md section 8), the same as
+        a ``[surface.generate]`` section with these keys gives.
+
+        Parameters
+        ----------
+        n : int
+            Cells along x (and along y unless ``ny`` is given).
+        length : float
+            Side along x [m].
+        hurst : float
+            Hurst exponent ``0 < H <= 1``.
+        scales, q1 : float
+            Upper cut-off: ``q1 = scales * q_L``, or ``q1`` [1/m]; one of the two.
+        rms_height, rms_slope : float
+            Amplitude: rms height [m] or rms slope; one of the two.
+        seed : int
+            Seed of the random phases (the same seed gives the same Fourier
+            modes at every resolution).
+        ql, rolloff_q0 : float, optional
+            Lower cut-off and roll-off wavenumbers [1/m].
+        anisotropy : (ratio, angle_deg), optional
+            Stretch factor and its direction.
+        """
+        keys: Dict[str, Any] = {
+            "n": _checks.count("n", n, 2),
+            "ny": None if ny is None else _checks.count("ny", ny, 2),
+            "length": _checks.number("length", length),
+            "hurst": _checks.number("hurst", hurst),
+            "scales": _checks.optional("scales", scales),
+            "q1": _checks.optional("q1", q1),
+            "rms_height": _checks.optional("rms_height", rms_height),
+            "rms_slope": _checks.optional("rms_slope", rms_slope),
+            "seed": _checks.count("seed", seed, 0),
+            "ql": _checks.optional("ql", ql),
+            "rolloff_q0": _checks.optional("rolloff_q0", rolloff_q0),
+        }
+        if anisotropy is not None:
+            ratio, angle = anisotropy
+            keys["anisotropy"] = {
+                "ratio": _checks.number("anisotropy ratio", ratio),
+                "angle_deg": _checks.number("anisotropy angle_deg", angle),
+            }
+        return cls.generate(**keys)
+
+    @classmethod
+    def generate(cls, **keys: Any) -> "Surface":
+        """A surface from the keys of a ``[surface.generate]`` section
+        (``n``, ``length``, ``hurst``, ``scales``, ``rms_slope``, ``seed``,
+        ..., or ``psd`` with a ``q, C`` CSV path for a surface following a
+        tabulated PSD). Unknown keys are refused by name."""
+        section = _checks.drop_none(keys)
+        if "psd" in section:
+            section["psd"] = os.path.abspath(os.fspath(section["psd"]))
+        return cls(_native.Surface.generate(json.dumps(section), os.getcwd()))
+
+    @classmethod
+    def from_file(
+        cls,
+        path: "os.PathLike[str] | str",
+        length: Optional[float] = None,
+        *,
+        length_y: Optional[float] = None,
+        format: Optional[str] = None,
+        fill_missing: bool = False,
+    ) -> "Surface":
+        """A surface read from ``path``: ``.x3p``, ``.gwy`` (sizes from the
+        file), ``.npy`` or a text matrix (``length`` [m] along x needed).
+
+        ``format`` (``"x3p"``, ``"gwy"``, ``"npy"``, ``"text"``) overrides the
+        extension; ``fill_missing`` fills missing points by harmonic
+        interpolation (otherwise they are an error).
+        """
+        path = os.fspath(path)
+        if not os.path.exists(path):
+            raise FileNotFoundError(f"{path}: no such file")
+        native = _native.Surface.from_file(
+            path,
+            None if length is None else _checks.positive("length", length, "m"),
+            None if length_y is None else _checks.positive("length_y", length_y, "m"),
+            format,
+            bool(fill_missing),
+        )
+        return cls(native)
+
+    @classmethod
+    def from_array(
+        cls,
+        heights: Any,
+        length: float,
+        *,
+        length_y: Optional[float] = None,
+        periodic: bool = False,
+    ) -> "Surface":
+        """A surface from a 2-D array of heights [m] (axis 0 = x), any real
+        dtype and memory order; ``length`` [m] is the side along x. Cells are
+        square: a ``length_y`` must equal ``length * ny / nx``."""
+        h = _checks.real_array("heights", heights, 2)
+        lx = _checks.positive("length", length, "m")
+        nx, ny = h.shape
+        if nx < 2 or ny < 2:
+            raise ValueError(f"heights needs at least 2 x 2 cells, got shape {h.shape}")
+        if length_y is not None:
+            ly = _checks.positive("length_y", length_y, "m")
+            if not math.isclose(lx / nx, ly / ny, rel_tol=1e-9):
+                raise ValueError(
+                    f"cells must be square: {lx} m / {nx} cells along x is not {ly} m / {ny} cells along y"
+                )
+        return cls(_native.Surface.from_array(h, lx), periodic=periodic)
+
+    @classmethod
+    def from_topography(cls, topography: Any) -> "Surface":
+        """A surface from any object with ``heights()`` (a 2-D array, axis 0
+        = x) and ``physical_sizes`` (``(Lx, Ly)`` in m), such as a
+        SurfaceTopography ``Topography``; its ``is_periodic`` flag, if it has
+        one, is kept. Heights must be in metres (SurfaceTopography:
+        ``topography.to_unit("m")``); missing points must be filled first."""
+        heights = topography.heights()
+        sizes = topography.physical_sizes
+        h = np.asarray(heights)
+        if h.ndim != 2:
+            raise ValueError(f"the topography's heights() must be 2-dimensional (a map, not a line scan), got shape {h.shape}")
+        try:
+            lx, ly = (float(s) for s in sizes)
+        except (TypeError, ValueError):
+            raise ValueError(f"physical_sizes must be (Lx, Ly) in m, got {sizes!r}") from None
+        unit = getattr(topography, "unit", None)
+        if unit is not None and unit not in ("m",):
+            raise ValueError(
+                f"the topography's unit is {unit!r}; heights and sizes must be in m (use topography.to_unit('m'))"
+            )
+        periodic = bool(getattr(topography, "is_periodic", False))
+        return cls.from_array(h, lx, length_y=ly, periodic=periodic)
+
+    @classmethod
+    def coerce(cls, value: Any) -> "Surface":
+        """``value`` if it is a :class:`Surface`, else a surface from a
+        topography-like object (:meth:`from_topography`)."""
+        if isinstance(value, Surface):
+            return value
+        if callable(getattr(value, "heights", None)) and hasattr(value, "physical_sizes"):
+            return cls.from_topography(value)
+        raise TypeError(
+            f"expected a viscoslide.Surface or an object with heights() and physical_sizes, got {type(value).__name__}"
+        )
+
+    @property
+    def heights(self) -> np.ndarray:
+        """Heights [m], shape ``(nx, ny)``."""
+        return self._native.heights
+
+    @property
+    def shape(self) -> Tuple[int, int]:
+        """``(nx, ny)``."""
+        return self._native.shape
+
+    @property
+    def cell_size(self) -> float:
+        """Side of a square cell [m]."""
+        return self._native.cell_size
+
+    @property
+    def physical_sizes(self) -> Tuple[float, float]:
+        """``(Lx, Ly)`` [m]."""
+        return self._native.lengths
+
+    @property
+    def seed(self) -> Optional[int]:
+        """Seed of a generated surface, else ``None``."""
+        return self._native.seed
+
+    @property
+    def section(self) -> Optional[Dict[str, Any]]:
+        """The ``[surface]`` configuration section that makes this surface
+        (``None`` for heights given as an array)."""
+        text = self._native.section_json()
+        return None if text is None else json.loads(text)
+
+    def psd(self, window: str = "none") -> Tuple[np.ndarray, np.ndarray]:
+        """Radially averaged PSD ``(q [1/m], C [m^4])`` with
+        ``<h^2> = 2 pi Int q C dq``; ``window`` is ``"none"`` (periodic maps),
+        ``"hann"`` or ``"blackman_harris"`` (measured, non-periodic maps)."""
+        q, c, _ = self._native.psd(window)
+        return q, c
+
+    def stats(self, window: str = "none") -> Dict[str, Any]:
+        """Statistics of the map (rms height, slope and curvature from the
+        PSD and from the map, ...), as ``viscoslide surface stats``."""
+        return json.loads(self._native.stats_json(window))
+
+    def __repr__(self) -> str:
+        nx, ny = self.shape
+        lx, ly = self.physical_sizes
+        rms = float(np.std(self.heights))
+        return f"Surface({nx} x {ny} cells, {lx:.4g} m x {ly:.4g} m, rms height {rms:.4g} m)"
