@@ -67,6 +67,7 @@ fn run(
 /// optional `[layer]` sections (JSON).
 #[pyfunction]
 #[pyo3(signature = (surface, material, loading_json, solver_json, layer_json, backend, progress=None))]
+#[allow(clippy::too_many_arguments)]
 pub fn solve(
     py: Python<'_>,
     surface: PyRef<'_, NativeSurface>,

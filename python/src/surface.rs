@@ -160,6 +160,7 @@ impl NativeSurface {
     }
 
     /// Radial PSD: `(q [1/m], C [m^4], modes per bin)`.
+    #[allow(clippy::type_complexity)]
     fn psd<'py>(
         &self,
         py: Python<'py>,

@@ -1,0 +1,94 @@
+"""numpy in and out: any real dtype and memory order is converted; bad
+arrays and values are a ValueError that names the problem."""
+
+import numpy as np
+import pytest
+
+import viscoslide as vs
+
+
+def solve(heights, rubber):
+    surface = vs.Surface.from_array(heights, 0.01)
+    return vs.solve(surface, rubber, xi=1.17e-2, mean_pressure=3000.0, backend="cpu")
+
+
+def test_fortran_order_and_float32_give_the_c_float64_result(pad, rubber):
+    h32 = pad.heights.astype(np.float32)
+    reference = solve(h32.astype(np.float64), rubber)
+    for variant in (np.asfortranarray(h32), h32, np.asfortranarray(h32.astype(np.float64))):
+        r = solve(variant, rubber)
+        assert np.array_equal(r.pressure, reference.pressure)
+        assert r.friction_coefficient == reference.friction_coefficient
+    assert reference.pressure.shape == pad.shape
+    assert reference.pressure.dtype == np.float64 and reference.pressure.flags.c_contiguous
+
+
+def test_heights_round_trip_with_axis_0_along_x(pad):
+    h = pad.heights
+    s = vs.Surface.from_array(h[:, :40], 0.01)
+    assert s.shape == (64, 40)
+    assert np.array_equal(s.heights, h[:, :40])
+    assert s.physical_sizes == pytest.approx((0.01, 0.01 * 40 / 64))
+
+
+@pytest.mark.parametrize(
+    "heights, length, message",
+    [
+        (np.full((8, 8), np.nan), 0.01, "NaN"),
+        (np.zeros((8, 8)) + 1j, 0.01, "complex"),
+        (np.zeros(8), 0.01, "2-dimensional"),
+        (np.zeros((2, 8, 8)), 0.01, "2-dimensional"),
+        (np.array([["a", "b"], ["c", "d"]]), 0.01, "real numbers"),
+        (np.zeros((8, 8), dtype=object), 0.01, "real numbers"),
+        (np.zeros((8, 8)), -0.01, "length must be > 0"),
+        (np.zeros((8, 8)), float("nan"), "length must be finite"),
+        (np.zeros((1, 8)), 0.01, "at least 2 x 2"),
+    ],
+)
+def test_bad_heights_are_named(heights, length, message):
+    with pytest.raises(ValueError, match=message):
+        vs.Surface.from_array(heights, length)
+
+
+def test_one_nan_is_located():
+    h = np.zeros((8, 8))
+    h[3, 5] = np.nan
+    with pytest.raises(ValueError, match=r"1 non-finite value.*\(3, 5\)"):
+        vs.Surface.from_array(h, 0.01)
+
+
+def test_non_square_cells_are_refused():
+    with pytest.raises(ValueError, match="square"):
+        vs.Surface.from_array(np.zeros((8, 4)), 0.01, length_y=0.01)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"xi": 1e-2, "normal_load": -1.0}, "normal load must be positive"),
+        ({"xi": 1e-2, "speed": 1.0, "normal_load": 1.0}, "only one of speed"),
+        ({"normal_load": 1.0}, "needs speed"),
+        ({"xi": 1e-2}, "needs one of normal_load"),
+        ({"xi": float("nan"), "normal_load": 1.0}, "xi must be finite"),
+        ({"xi": 1j, "normal_load": 1.0}, "xi must be real"),
+        ({"speed": -1.0, "normal_load": 1.0}, "speed must be >= 0"),
+        ({"xi": 1e-2, "normal_load": 1.0, "formulation": "spherical"}, "formulation"),
+        ({"xi": 1e-2, "normal_load": 1.0, "backend": "tpu"}, "backend"),
+        ({"xi": 1e-2, "normal_load": 1.0, "tolerance": 2.0}, "tolerance"),
+        ({"xi": 1e-2, "normal_load": 1.0, "thickness": -1e-3}, "thickness must be > 0"),
+    ],
+)
+def test_bad_loading_is_named(pad, rubber, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        vs.solve(pad, rubber, **kwargs)
+
+
+def test_bad_generator_and_material_keys_are_named():
+    with pytest.raises(ValueError, match="hurst"):
+        vs.Surface.self_affine(16, 0.01, 1.5, scales=4, rms_slope=0.02)
+    with pytest.raises(ValueError, match="unknown field `colour`"):
+        vs.Surface.generate(n=16, length=0.01, hurst=0.8, scales=4, rms_slope=0.02, colour="red")
+    with pytest.raises(ValueError, match="glassy_modulus"):
+        vs.Material.sls(relaxed_modulus=1e7, glassy_modulus=-1.0, creep_time=0.01)
+    with pytest.raises(ValueError, match="times and weights"):
+        vs.Material.creep_spectrum([0.1, 1.0], [1e-7], glassy_modulus=1e7)

@@ -1,0 +1,67 @@
+"""Sweeps, Persson's theory and the kernel table from Python agree with
+single solves and with the command line."""
+
+import json
+
+import numpy as np
+import pytest
+
+import viscoslide as vs
+
+
+@pytest.fixture(scope="module")
+def small():
+    return vs.Surface.self_affine(32, 0.01, 0.8, scales=4, rms_slope=0.02, seed=3)
+
+
+def test_friction_curve_equals_single_solves(small, rubber):
+    speeds = [1e-3, 1e-2]
+    seen = []
+    curve = vs.friction_curve(small, rubber, speeds, normal_load=0.3, backend="cpu", progress=seen.append)
+    assert set(curve) == set(vs.COLUMNS)
+    assert [p["point"] for p in seen] == [1, 2]
+    for k, v in enumerate(speeds):
+        one = vs.solve(small, rubber, speed=v, normal_load=0.3, backend="cpu")
+        assert curve["friction_coefficient"][k] == one.friction_coefficient
+        assert curve["contact_area_fraction"][k] == one.contact_area_fraction
+    assert curve["speed"].tolist() == speeds
+    assert curve["iterations"].dtype == np.int64
+
+
+def test_sweep_over_loads_and_xi(small, rubber):
+    table = vs.sweep(small, rubber, xi=[0.0, 1e-2], mean_pressure=[2000.0, 4000.0], backend="cpu")
+    assert len(table["xi"]) == 4
+    assert abs(table["friction_coefficient"][0]) < 1e-12  # at rest: no friction but round-off
+    assert table["normal_load"][2] == pytest.approx(4000.0 * 1e-4)
+    with pytest.raises(ValueError, match="exactly one of speed"):
+        vs.sweep(small, rubber, normal_load=1.0)
+
+
+def test_sweep_as_frame(small, rubber):
+    pandas = pytest.importorskip("pandas")
+    frame = vs.friction_curve(small, rubber, [1e-2], normal_load=0.3, backend="cpu", as_frame=True)
+    assert isinstance(frame, pandas.DataFrame) and list(frame.columns) == list(vs.COLUMNS)
+
+
+def test_persson_matches_the_solve_record(small, rubber):
+    r = vs.solve(small, rubber, speed=1e-2, normal_load=0.3, backend="cpu")
+    theory = vs.persson(small, rubber, [1e-2], normal_load=0.3)
+    assert theory["psd"] == "self_affine"
+    assert theory["friction_coefficient"][0] == r.summary["persson_friction_coefficient"]
+    assert theory["contact_area_fraction"][0] == r.summary["persson_contact_area_fraction"]
+
+
+def test_kernel_table_matches_the_kernel_command(cli, repo):
+    out = cli(
+        "kernel", "--config", str(repo / "configs" / "default.toml"), "--cell-size", "3.9e-5",
+        "--speed", "0.0117", "--offset", "0,0", "--offset", "-1,0", "--offset", "2,1", "--json",
+    )
+    rows = json.loads(out)
+    m = vs.Material.from_toml(repo / "configs" / "default.toml")
+    k = vs.kernel_table(m, nx=3, ny=3, cell_size=3.9e-5, speed=0.0117)
+    d = vs.kernel_table(m, nx=3, ny=3, cell_size=3.9e-5, speed=0.0117, derivative=True)
+    assert k.shape == (5, 5)
+    for row in rows:
+        i, j = row["i"] + 2, row["j"] + 2
+        assert k[i, j] == pytest.approx(row["K"], rel=1e-12)
+        assert d[i, j] == pytest.approx(row["dK_dx"], rel=1e-12)

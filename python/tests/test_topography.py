@@ -1,0 +1,53 @@
+"""SurfaceTopography interop by duck typing: a Topography gives the same
+result as its heights passed as an array."""
+
+import numpy as np
+import pytest
+
+import viscoslide as vs
+
+SurfaceTopography = pytest.importorskip("SurfaceTopography")
+
+
+def test_a_topography_solves_like_its_heights(pad, rubber):
+    h = pad.heights
+    topo = SurfaceTopography.Topography(h, physical_sizes=(0.01, 0.01), periodic=False)
+    from_topo = vs.solve(topo, rubber, xi=1.17e-2, normal_load=0.3, backend="cpu")
+    from_array = vs.solve(vs.Surface.from_array(h, 0.01), rubber, xi=1.17e-2, normal_load=0.3, backend="cpu")
+    assert np.array_equal(from_topo.pressure, from_array.pressure)
+    assert from_topo.friction_coefficient == from_array.friction_coefficient
+    assert from_topo.summary["config"]["solver"]["formulation"] == "non_periodic"
+
+
+def test_a_periodic_topography_is_solved_periodic_under_auto(pad, rubber):
+    topo = SurfaceTopography.Topography(pad.heights, physical_sizes=(0.01, 0.01), periodic=True)
+    r = vs.solve(topo, rubber, xi=1.17e-2, normal_load=0.3, backend="cpu")
+    assert r.summary["formulation"] == "periodic"
+    same = vs.solve(pad, rubber, xi=1.17e-2, normal_load=0.3, backend="cpu", formulation="periodic")
+    assert np.array_equal(r.pressure, same.pressure)
+
+
+def test_a_rectangular_topography_keeps_its_axes(pad):
+    h = pad.heights[:, :32]
+    topo = SurfaceTopography.Topography(h, physical_sizes=(0.01, 0.005))
+    s = vs.Surface.coerce(topo)
+    assert s.shape == (64, 32)
+    assert np.array_equal(s.heights, h)
+    bad = SurfaceTopography.Topography(h, physical_sizes=(0.01, 0.01))
+    with pytest.raises(ValueError, match="square"):
+        vs.Surface.coerce(bad)
+
+
+def test_a_topography_read_from_a_file(tmp_path, pad, rubber):
+    """A measured file read by SurfaceTopography and by viscoslide: the same heights."""
+    path = tmp_path / "scan.npy"
+    np.save(path, pad.heights)
+    ours = vs.Surface.from_file(path, 0.01)
+    reader = SurfaceTopography.open_topography(str(path))
+    theirs = reader.topography(physical_sizes=(0.01, 0.01))
+    assert np.array_equal(vs.Surface.coerce(theirs).heights, ours.heights)
+
+
+def test_other_objects_are_refused(rubber):
+    with pytest.raises(TypeError, match="heights"):
+        vs.solve(np.zeros((8, 8)), rubber, xi=1e-2, normal_load=1.0)
