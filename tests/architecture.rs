@@ -368,3 +368,97 @@ fn the_checker_sees_circles_and_upward_imports() {
         ])
     );
 }
+
+/// What the Python extension (`python/src/`) may name of the library: the
+/// API modules whole, and of the lower layers only the types the API
+/// names (docs/ARCHITECTURE.md, "The Python package").
+const PYTHON_MAY_USE: &[(&str, &[&str])] = &[
+    ("problem", &[]),
+    ("config", &[]),
+    ("material", &[]),
+    ("surface", &[]),
+    ("kernel", &[]),
+    ("persson", &[]),
+    ("analysis", &["AnalysisReport"]),
+    (
+        "solver",
+        &["Observer", "Control", "SolverError", "SolverParams"],
+    ),
+    ("backend", &["BackendChoice"]),
+    ("Error", &[]),
+    ("Result", &[]),
+    ("VERSION", &[]),
+];
+
+/// Every `viscoslide::` path a file of the extension names: its `use`
+/// trees expanded, and the paths in its other statements.
+fn library_paths(code: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for statement in code.split(';') {
+        let s = statement.trim();
+        let tree = s
+            .strip_prefix("pub use ")
+            .or_else(|| s.strip_prefix("use "));
+        if let Some(tree) = tree {
+            out.extend(
+                expand(tree)
+                    .into_iter()
+                    .filter(|p| p.starts_with("viscoslide::")),
+            );
+            continue;
+        }
+        let mut rest = s;
+        while let Some(k) = rest.find("viscoslide::") {
+            let tail = &rest[k..];
+            let end = tail
+                .find(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
+                .unwrap_or(tail.len());
+            out.push(tail[..end].trim_end_matches(':').to_string());
+            rest = &rest[k + "viscoslide::".len()..];
+        }
+    }
+    out
+}
+
+#[test]
+fn the_python_extension_uses_only_the_library_api() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("python")
+        .join("src");
+    let mut files = Vec::new();
+    rust_files(&dir, &mut files);
+    assert!(!files.is_empty(), "no files under {}", dir.display());
+    let mut bad = Vec::new();
+    for file in &files {
+        let code = code_of(&std::fs::read_to_string(file).unwrap());
+        for path in library_paths(&code) {
+            let parts: Vec<&str> = path.split("::").collect();
+            let allowed = PYTHON_MAY_USE.iter().find(|(m, _)| parts.get(1) == Some(m));
+            let ok = match allowed {
+                Some((_, [])) => true,
+                Some((_, items)) => parts.get(2).is_some_and(|i| items.contains(i)),
+                None => false,
+            };
+            if !ok {
+                bad.push(format!("{}: {path}", file.display()));
+            }
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "the extension reaches below the library API:\n{}",
+        bad.join("\n")
+    );
+    // The checker itself.
+    let code = code_of(
+        "use viscoslide::solver::{Observer, solve};\nfn f() { viscoslide::operator::x(); }",
+    );
+    assert_eq!(
+        library_paths(&code),
+        vec![
+            "viscoslide::solver::Observer",
+            "viscoslide::solver::solve",
+            "viscoslide::operator::x"
+        ]
+    );
+}

@@ -22,23 +22,28 @@ use crate::problem;
 use crate::results::NativeResult;
 use crate::surface::NativeSurface;
 
-/// `auto`, `cpu` or `gpu`.
-fn backend_choice(name: &str) -> PyResult<BackendChoice> {
-    match name {
-        "auto" => Ok(BackendChoice::Auto),
-        "cpu" => Ok(BackendChoice::Cpu),
-        "gpu" => Ok(BackendChoice::Gpu),
-        other => Err(value_error(format!(
-            "backend '{other}': expected 'auto', 'cpu' or 'gpu'"
-        ))),
-    }
+/// `auto`, `cpu` or `gpu`; `None`: `VISCOSLIDE_BACKEND`, else `auto` (as
+/// the command line without `--backend`).
+fn backend_choice(name: Option<&str>) -> PyResult<BackendChoice> {
+    let flag = match name {
+        None => None,
+        Some("auto") => Some(BackendChoice::Auto),
+        Some("cpu") => Some(BackendChoice::Cpu),
+        Some("gpu") => Some(BackendChoice::Gpu),
+        Some(other) => {
+            return Err(value_error(format!(
+                "backend '{other}': expected 'auto', 'cpu' or 'gpu'"
+            )))
+        }
+    };
+    BackendChoice::resolve(flag).map_err(value_error)
 }
 
 /// Solve `problem` and run its configured analysis with the GIL released.
 fn run(
     py: Python<'_>,
     problem: &Problem,
-    backend: &str,
+    backend: Option<&str>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<NativeResult> {
     let choice = backend_choice(backend)?;
@@ -75,7 +80,7 @@ pub fn solve(
     loading_json: &str,
     solver_json: &str,
     layer_json: Option<&str>,
-    backend: &str,
+    backend: Option<&str>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<NativeResult> {
     let problem = problem::build(&surface, &material, loading_json, solver_json, layer_json)?;
@@ -90,7 +95,7 @@ pub fn solve_config(
     py: Python<'_>,
     path: PathBuf,
     overrides: Vec<String>,
-    backend: &str,
+    backend: Option<&str>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<NativeResult> {
     let cfg = config::load(&path, &overrides).map_err(value_error)?;

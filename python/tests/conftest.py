@@ -12,6 +12,10 @@ import viscoslide as vs
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 
+# Solves whose test names no backend run on the CPU (a GPU adapter emulated
+# on the CPU would only be slower), as in the Rust test suite.
+os.environ.setdefault("VISCOSLIDE_BACKEND", "cpu")
+
 
 @pytest.fixture(scope="session")
 def repo() -> pathlib.Path:

@@ -38,14 +38,20 @@ def test_a_rectangular_topography_keeps_its_axes(pad):
         vs.Surface.coerce(bad)
 
 
-def test_a_topography_read_from_a_file(tmp_path, pad, rubber):
-    """A measured file read by SurfaceTopography and by viscoslide: the same heights."""
-    path = tmp_path / "scan.npy"
-    np.save(path, pad.heights)
-    ours = vs.Surface.from_file(path, 0.01)
-    reader = SurfaceTopography.open_topography(str(path))
-    theirs = reader.topography(physical_sizes=(0.01, 0.01))
-    assert np.array_equal(vs.Surface.coerce(theirs).heights, ours.heights)
+def test_a_measured_file_read_by_surface_topography(cli, tmp_path, pad, rubber):
+    """An .x3p scan (written by `viscoslide surface convert`) read through
+    SurfaceTopography solves like the same file read by viscoslide."""
+    np.save(tmp_path / "scan.npy", pad.heights[:, :48])
+    cli("surface", "convert", str(tmp_path / "scan.npy"), str(tmp_path / "scan.x3p"), "--length", "0.01")
+    ours = vs.Surface.from_file(tmp_path / "scan.x3p")
+    topo = SurfaceTopography.open_topography(str(tmp_path / "scan.x3p")).topography().to_unit("m")
+    assert topo.nb_grid_pts == (64, 48)
+    theirs = vs.Surface.coerce(topo)
+    assert np.array_equal(theirs.heights, ours.heights)
+    assert theirs.physical_sizes == pytest.approx(ours.physical_sizes, rel=1e-12)
+    a = vs.solve(topo, rubber, xi=1.17e-2, mean_pressure=3000.0, backend="cpu")
+    b = vs.solve(ours, rubber, xi=1.17e-2, mean_pressure=3000.0, backend="cpu")
+    assert np.array_equal(a.pressure, b.pressure)
 
 
 def test_other_objects_are_refused(rubber):

@@ -177,7 +177,7 @@ def solve(
     formulation: str = "auto",
     thickness: Optional[float] = None,
     layer_base: str = "bonded",
-    backend: str = "auto",
+    backend: Optional[str] = None,
     tolerance: float = 1e-8,
     max_iterations: Optional[int] = None,
     max_matvecs: Optional[int] = None,
@@ -211,9 +211,9 @@ def solve(
     thickness : float, optional
         Thickness [m] of a viscoelastic layer on a rigid base
         (``layer_base`` ``"bonded"`` or ``"frictionless"``); default a half-space.
-    backend : str
+    backend : str, optional
         ``"auto"`` (a hardware GPU when one exists, else the CPU), ``"cpu"``
-        or ``"gpu"``.
+        or ``"gpu"``; default ``VISCOSLIDE_BACKEND``, else ``"auto"``.
     tolerance : float
         Relative complementarity residual to reach (default 1e-8).
     max_iterations, max_matvecs, cascade_levels : int, optional
@@ -277,7 +277,7 @@ def _toml_value(value: Any) -> str:
 def solve_config(
     path: "os.PathLike[str] | str",
     set: Optional[Mapping[str, Any]] = None,
-    backend: str = "auto",
+    backend: Optional[str] = None,
     progress: Any = None,
 ) -> Result:
     """Solve a configuration file as ``viscoslide solve`` does: the same
@@ -292,8 +292,9 @@ def solve_config(
     set : mapping, optional
         Overrides by ``"section.key"``, e.g. ``{"loading.xi": 1e-3,
         "surface.generate.n": 512}`` (the command's ``--set``).
-    backend : str
-        ``"auto"``, ``"cpu"`` or ``"gpu"``.
+    backend : str, optional
+        ``"auto"``, ``"cpu"`` or ``"gpu"``; default ``VISCOSLIDE_BACKEND``,
+        else ``"auto"`` (as the command line without ``--backend``).
     progress : None, True or callable
         As for :func:`solve`.
     """
