@@ -17,25 +17,17 @@ pub fn value_error(e: impl std::fmt::Display) -> PyErr {
 
 /// The Python exception for a library error.
 pub fn to_py(py: Python<'_>, e: Error) -> PyErr {
+    let message = e.to_string();
     match e {
         Error::Solver(SolverError::NoConvergence {
             iterations,
             matvecs,
             residual,
             history,
-        }) => {
-            let message = Error::Solver(SolverError::NoConvergence {
-                iterations,
-                matvecs,
-                residual,
-                history: history.clone(),
-            })
-            .to_string();
-            convergence_error(py, message, history, iterations, matvecs, residual)
-        }
-        Error::Solver(SolverError::Cancelled) => PyKeyboardInterrupt::new_err("solve cancelled"),
-        Error::Io { .. } | Error::Output(_) => PyOSError::new_err(e.to_string()),
-        Error::Gpu(_) | Error::Plot(_) => PyRuntimeError::new_err(e.to_string()),
+        }) => convergence_error(py, message, history, iterations, matvecs, residual),
+        Error::Solver(SolverError::Cancelled) => PyKeyboardInterrupt::new_err(message),
+        Error::Io { .. } | Error::Output(_) => PyOSError::new_err(message),
+        Error::Gpu(_) | Error::Plot(_) => PyRuntimeError::new_err(message),
         Error::Config(_)
         | Error::Material(_)
         | Error::Surface(_)
@@ -44,7 +36,7 @@ pub fn to_py(py: Python<'_>, e: Error) -> PyErr {
         | Error::Solver(_)
         | Error::Analysis(_)
         | Error::Persson(_)
-        | Error::Invalid(_) => PyValueError::new_err(e.to_string()),
+        | Error::Invalid(_) => PyValueError::new_err(message),
     }
 }
 

@@ -50,8 +50,9 @@ impl NativeMaterial {
         Self::build(section, &base_dir)
     }
 
-    /// A material from a TOML file: a configuration with a `[material]`
-    /// section, or a `material.toml` written by `viscoslide material fit`.
+    /// The `[material]` section of a TOML file (a configuration, or a
+    /// `material.toml` written by `viscoslide material fit`), relative
+    /// files resolved against the file's directory.
     #[staticmethod]
     fn from_toml(path: PathBuf) -> PyResult<Self> {
         let text = std::fs::read_to_string(&path).map_err(|e| {
@@ -64,22 +65,17 @@ impl NativeMaterial {
             .filter(|p| !p.as_os_str().is_empty())
             .map(Path::to_path_buf)
             .unwrap_or_else(|| PathBuf::from("."));
-        let section = match doc.get("material") {
-            Some(toml::Value::Table(t)) if t.contains_key("model") => t
+        let section: MaterialConfig = match doc.get("material") {
+            Some(toml::Value::Table(t)) => t
                 .clone()
-                .try_into::<MaterialConfig>()
+                .try_into()
                 .map_err(|e| value_error(format!("{}: [material] {e}", path.display())))?,
-            _ => MaterialConfig {
-                model: MaterialModel::File,
-                relaxed_modulus: None,
-                glassy_modulus: None,
-                creep_time: None,
-                relaxation_time: None,
-                creep_spectrum: None,
-                prony: None,
-                poisson: None,
-                file: Some(path.file_name().map(PathBuf::from).unwrap_or(path.clone())),
-            },
+            _ => {
+                return Err(value_error(format!(
+                    "{}: no [material] section (a configuration or a material.toml from `viscoslide material fit`)",
+                    path.display()
+                )))
+            }
         };
         Self::build(section, &base_dir)
     }

@@ -28,6 +28,16 @@ def test_configuration_errors(repo):
         vs.Surface.from_file(repo / "missing.x3p")
 
 
+def test_a_toml_file_without_material_is_named(tmp_path):
+    path = tmp_path / "loading.toml"
+    path.write_text("[loading]\nspeed = 1.0\n")
+    with pytest.raises(ValueError, match=r"no \[material\] section"):
+        vs.Material.from_toml(path)
+    path.write_text('[material]\nmodel = "sls"\nrelaxed_modulus = 1e6\n')
+    with pytest.raises(ValueError, match="glassy_modulus"):
+        vs.Material.from_toml(path)
+
+
 def test_public_api_is_documented():
     for name in vs.__all__:
         obj = getattr(vs, name)

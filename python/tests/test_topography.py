@@ -57,3 +57,16 @@ def test_a_measured_file_read_by_surface_topography(cli, tmp_path, pad, rubber):
 def test_other_objects_are_refused(rubber):
     with pytest.raises(TypeError, match="heights"):
         vs.solve(np.zeros((8, 8)), rubber, xi=1e-2, normal_load=1.0)
+
+
+def test_units_are_converted_and_missing_points_refused(pad):
+    h = pad.heights
+    in_um = SurfaceTopography.Topography(h * 1e6, physical_sizes=(1e4, 1e4), unit="um")
+    s = vs.Surface.coerce(in_um)
+    np.testing.assert_allclose(s.heights, h, rtol=1e-12)
+    assert s.physical_sizes == pytest.approx((0.01, 0.01))
+    holes = np.ma.masked_array(h, mask=np.zeros_like(h, dtype=bool))
+    holes.mask[3, 4] = True
+    missing = SurfaceTopography.Topography(holes, physical_sizes=(0.01, 0.01))
+    with pytest.raises(ValueError, match="missing"):
+        vs.Surface.coerce(missing)

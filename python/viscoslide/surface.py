@@ -163,22 +163,29 @@ class Surface:
         """A surface from any object with ``heights()`` (a 2-D array, axis 0
         = x) and ``physical_sizes`` (``(Lx, Ly)`` in m), such as a
         SurfaceTopography ``Topography``; its ``is_periodic`` flag, if it has
-        one, is kept. Heights must be in metres (SurfaceTopography:
-        ``topography.to_unit("m")``); missing points must be filled first."""
+        one, is kept. A topography in other units is converted with its
+        ``to_unit("m")``; missing points must be filled first."""
+        unit = getattr(topography, "unit", None)
+        if unit is not None and unit != "m":
+            if not callable(getattr(topography, "to_unit", None)):
+                raise ValueError(f"the topography's unit is {unit!r}; heights and sizes must be in m")
+            topography = topography.to_unit("m")
+        if getattr(topography, "has_undefined_data", False):
+            raise ValueError(
+                "the topography has undefined (missing) points; fill them first "
+                "(SurfaceTopography: topography.interpolate_undefined_data())"
+            )
         heights = topography.heights()
-        sizes = topography.physical_sizes
+        if isinstance(heights, np.ma.MaskedArray) and np.ma.count_masked(heights):
+            raise ValueError(f"the topography's heights have {np.ma.count_masked(heights)} masked (missing) points; fill them first")
         h = np.asarray(heights)
         if h.ndim != 2:
             raise ValueError(f"the topography's heights() must be 2-dimensional (a map, not a line scan), got shape {h.shape}")
+        sizes = topography.physical_sizes
         try:
             lx, ly = (float(s) for s in sizes)
         except (TypeError, ValueError):
             raise ValueError(f"physical_sizes must be (Lx, Ly) in m, got {sizes!r}") from None
-        unit = getattr(topography, "unit", None)
-        if unit is not None and unit not in ("m",):
-            raise ValueError(
-                f"the topography's unit is {unit!r}; heights and sizes must be in m (use topography.to_unit('m'))"
-            )
         periodic = bool(getattr(topography, "is_periodic", False))
         return cls.from_array(h, lx, length_y=ly, periodic=periodic)
 
