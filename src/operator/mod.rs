@@ -10,7 +10,7 @@
 
 mod adaptive;
 mod dense;
-mod fft2;
+mod fft_convolution;
 mod periodic;
 mod toeplitz;
 

@@ -46,7 +46,7 @@
 use num_complex::Complex64;
 use rayon::prelude::*;
 
-use super::fft2::SpectralEngine;
+use super::fft_convolution::SpectralEngine;
 use super::GridOperator;
 use crate::kernel::thickness::compliance_ratio;
 use crate::kernel::KernelParams;
