@@ -126,14 +126,7 @@ pub fn friction_force_dissipation_layered(
     };
     let along_x = ey.abs() < 1e-15;
     // For sliding along x, Im J* depends on q_x only: cache it per (i, alias).
-    let mut imj_cache = vec![
-        0.0;
-        if along_x {
-            mx * (2 * ALIASES as usize + 1)
-        } else {
-            0
-        }
-    ];
+    let mut imj_cache = vec![0.0; if along_x { mx * NA } else { 0 }];
     let qx_of = |i: usize| {
         let k = if i <= mx / 2 {
             i as f64
@@ -151,15 +144,8 @@ pub fn friction_force_dissipation_layered(
             let s = sinc(0.5 * qx * a);
             qxs[i * NA + k] = qx;
             sx2s[i * NA + k] = s * s;
-        }
-    }
-    if along_x {
-        for i in 0..mx {
-            for (m, slot) in
-                (-ALIASES..=ALIASES).zip(imj_cache[i * (2 * ALIASES as usize + 1)..].iter_mut())
-            {
-                let qx = qx_of(i) + m as f64 * gx;
-                *slot = spectrum.compliance(-qx * ex * speed).im;
+            if along_x {
+                imj_cache[i * NA + k] = spectrum.compliance(-qx * ex * speed).im;
             }
         }
     }
@@ -176,11 +162,7 @@ pub fn friction_force_dissipation_layered(
                     };
                 }
                 fft.process(col);
-                let weight = if j == 0 || (my % 2 == 0 && j == myh - 1) {
-                    1.0
-                } else {
-                    2.0
-                };
+                let weight = column_weight(j, my);
                 let qy0 = qy_of(j);
                 let mut qys = [0.0; NA];
                 let mut sy2 = [0.0; NA];
