@@ -41,6 +41,10 @@ pub trait AugOperator<B: Backend> {
 pub struct GmresOutcome {
     /// Whether `|b - A x| <= tol |b|` was reached.
     pub converged: bool,
+    /// Whether the solve stopped on its own terms: converged, or reduced
+    /// its starting residual by the requested `reduction` (an inexact
+    /// Newton step), rather than running out of matvecs.
+    pub reached: bool,
     /// Whether the observer stopped the solve ([`Observer::cancelled`]);
     /// `x` is then a partial update.
     pub cancelled: bool,
@@ -113,6 +117,7 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
         x.s = 0.0;
         return GmresOutcome {
             converged: true,
+            reached: true,
             cancelled: false,
         };
     }
@@ -126,6 +131,7 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
     let mut beta0 = f64::NAN;
     let stopped = GmresOutcome {
         converged: false,
+        reached: false,
         cancelled: true,
     };
     loop {
@@ -143,9 +149,11 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
         if beta0.is_nan() {
             beta0 = beta;
         }
-        if rel <= tol || beta <= reduction * beta0 || matvecs >= max_matvecs {
+        let reduced = beta <= reduction * beta0;
+        if rel <= tol || reduced || matvecs >= max_matvecs {
             return GmresOutcome {
                 converged: rel <= tol,
+                reached: rel <= tol || reduced,
                 cancelled: false,
             };
         }
