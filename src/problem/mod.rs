@@ -47,7 +47,7 @@ use crate::error::{Error, Result};
 use crate::kernel::{KernelParams, Layer, SlidingKernel};
 use crate::material::Material;
 use crate::solver::{Control, SolverParams};
-use crate::surface::{GenerateParams, HeightMap};
+use crate::surface::{GenerateParams, HeightMap, SynthParams, TabulatedPsd};
 
 /// Where the surface of a problem came from: what [`Problem::with_grid`]
 /// needs to sample it again at another resolution.
@@ -57,6 +57,14 @@ pub enum SurfaceSource {
     Generated(GenerateParams),
     /// The paraboloid of a sphere.
     Sphere(SphereConfig),
+    /// Synthesised from the tabulated PSD read from `path` with random
+    /// phases per Fourier mode (`[surface.generate] psd`): resolution
+    /// consistent like [`SurfaceSource::Generated`].
+    Synthesised {
+        path: PathBuf,
+        table: TabulatedPsd,
+        params: SynthParams,
+    },
     /// Read from this file: one resolution only.
     File(PathBuf),
     /// Given as a height map by the caller: one resolution only.
@@ -200,6 +208,25 @@ impl Problem {
                 let s = SphereConfig { n, ..*s };
                 (s.height_map()?, SurfaceSource::Sphere(s))
             }
+            SurfaceSource::Synthesised {
+                path,
+                table,
+                params,
+            } => {
+                let params = SynthParams {
+                    nx: n,
+                    ny: ny_new,
+                    ..*params
+                };
+                (
+                    crate::surface::generate_from_table(table, &params)?,
+                    SurfaceSource::Synthesised {
+                        path: path.clone(),
+                        table: table.clone(),
+                        params,
+                    },
+                )
+            }
             SurfaceSource::File(path) => {
                 return Err(invalid(format!(
                     "the surface read from {} has one resolution ({nx} x {ny}); re-discretising needs a generated surface or a sphere",
@@ -214,10 +241,22 @@ impl Problem {
         };
         let mut document = self.document.clone();
         record_grid(&mut document, &source);
+        // Under approach control the indenter keeps its place: the approach
+        // is measured from the highest summit, which rises as finer scales
+        // are resolved.
+        let control = match self.control {
+            Control::Approach(d) => {
+                let d = d + highest(&surface) - highest(&self.surface);
+                record_approach(&mut document, d);
+                Control::Approach(d)
+            }
+            load => load,
+        };
         Ok(Self {
             surface,
             source,
             document,
+            control,
             ..self.clone()
         })
     }
@@ -264,13 +303,26 @@ impl Problem {
 
     /// Gap profile `g = max(z) - z` (physics.md section 1).
     pub fn gap_profile(&self) -> Vec<f64> {
-        let zmax = self
-            .surface
-            .heights
-            .iter()
-            .cloned()
-            .fold(f64::NEG_INFINITY, f64::max);
+        let zmax = highest(&self.surface);
         self.surface.heights.iter().map(|z| zmax - z).collect()
+    }
+}
+
+/// The highest summit of a height map \[m\].
+pub(crate) fn highest(surface: &HeightMap) -> f64 {
+    surface
+        .heights
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// `[loading] approach` of the recorded config set to `d` where it has one.
+fn record_approach(document: &mut toml::Table, d: f64) {
+    if let Some(toml::Value::Table(loading)) = document.get_mut("loading") {
+        if loading.contains_key("approach") {
+            loading.insert("approach".into(), toml::Value::Float(d));
+        }
     }
 }
 
@@ -310,6 +362,7 @@ fn record_grid(document: &mut toml::Table, source: &SurfaceSource) {
     let (key, n, ny) = match source {
         SurfaceSource::Generated(p) => ("generate", p.nx, Some(p.ny)),
         SurfaceSource::Sphere(s) => ("sphere", s.n, None),
+        SurfaceSource::Synthesised { params, .. } => ("generate", params.nx, Some(params.ny)),
         _ => return,
     };
     if let Some(toml::Value::Table(t)) = surface.get_mut(key) {

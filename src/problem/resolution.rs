@@ -6,7 +6,7 @@ use crate::config::Formulation;
 use crate::error::{Error, Result};
 use crate::solver::{Control, WarmStart};
 
-use super::{Problem, Solution, SurfaceSource};
+use super::{highest, Problem, Solution, SurfaceSource};
 
 /// Below this many cells per shortest roughness wavelength a solve warns
 /// (console and `summary.json`): the finest scales of the surface are not
@@ -45,7 +45,14 @@ impl Problem {
                 .resolve()
                 .ok()
                 .map(|psd| ShortestWavelength::UpperCutoff(std::f64::consts::TAU / psd.q1)),
-            SurfaceSource::File(_) | SurfaceSource::Given => {
+            SurfaceSource::Synthesised { table, .. }
+                if table.q_max() < std::f64::consts::PI / a =>
+            {
+                Some(ShortestWavelength::UpperCutoff(
+                    std::f64::consts::TAU / table.q_max(),
+                ))
+            }
+            SurfaceSource::File(_) | SurfaceSource::Given | SurfaceSource::Synthesised { .. } => {
                 Some(ShortestWavelength::Nyquist(2.0 * a))
             }
             SurfaceSource::Sphere(_) => None,
@@ -120,14 +127,7 @@ impl Problem {
                 "prolongation needs the same domain: {lxc:.6e} x {lyc:.6e} m against {lx:.6e} x {ly:.6e} m"
             )));
         }
-        let zmax = |p: &Problem| {
-            p.surface
-                .heights
-                .iter()
-                .copied()
-                .fold(f64::NEG_INFINITY, f64::max)
-        };
-        let approach = solution.fields.approach + zmax(self) - zmax(coarse);
+        let approach = solution.fields.approach + highest(&self.surface) - highest(&coarse.surface);
         let periodic = self.formulation == Formulation::Periodic;
         let u = bilinear(
             &solution.fields.displacement,
