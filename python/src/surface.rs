@@ -34,13 +34,8 @@ impl NativeSurface {
     /// against `base_dir`.
     fn from_config(section: SurfaceConfig, base_dir: &Path) -> PyResult<Self> {
         let map = section.load(base_dir).map_err(value_error)?;
-        let generated = section.generate_params().map_err(value_error)?;
+        let source = SurfaceSource::of(&section, base_dir).map_err(value_error)?;
         let seed = section.generate.as_ref().map(|g| g.seed.unwrap_or(0));
-        let source = match (generated, &section.file) {
-            (Some(p), _) => SurfaceSource::Generated(p),
-            (None, Some(f)) => SurfaceSource::File(base_dir.join(f)),
-            (None, None) => SurfaceSource::Given,
-        };
         Ok(Self {
             map,
             source,

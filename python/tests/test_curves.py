@@ -65,3 +65,18 @@ def test_kernel_table_matches_the_kernel_command(cli, repo):
         i, j = row["i"] + 2, row["j"] + 2
         assert k[i, j] == pytest.approx(row["K"], rel=1e-12)
         assert d[i, j] == pytest.approx(row["dK_dx"], rel=1e-12)
+
+
+def test_a_surface_from_a_psd_table_keeps_its_table(tmp_path, rubber):
+    """A surface synthesised from a q, C table: Persson's theory uses the
+    table (as for the same [surface.generate] psd in a config), not the
+    radial average of one realisation."""
+    q = np.logspace(np.log10(2 * np.pi / 0.01), np.log10(2 * np.pi / 0.01 * 64), 30)
+    c = 1e-18 * (q / q[0]) ** (-2 * (1 + 0.8))
+    path = tmp_path / "psd.csv"
+    path.write_text("q_per_m,c_m4\n" + "".join(f"{a!r},{b!r}\n" for a, b in zip(q, c)))
+    surface = vs.Surface.generate(n=64, length=0.01, seed=2, psd=path)
+    assert surface.shape == (64, 64)
+    theory = vs.persson(surface, rubber, [1e-2], normal_load=0.3)
+    given = vs.persson(vs.Surface.from_array(surface.heights, 0.01), rubber, [1e-2], normal_load=0.3)
+    assert theory["psd"] != given["psd"] == "radial_average"

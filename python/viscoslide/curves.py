@@ -151,8 +151,9 @@ def persson(
     (``mean_pressure`` [Pa], or ``normal_load`` [N] over the map's area) at
     ``speeds`` [m/s]: the analytic reference beside the simulations.
 
-    The PSD is the continuum self-affine PSD of a generated surface, else
-    the radial average of the map. Returns a dict of arrays ``speed``,
+    The PSD is the continuum self-affine PSD of a generated surface, the
+    table of a surface synthesised from a PSD table (``psd`` key of
+    :meth:`Surface.generate`), else the radial average of the map. Returns a dict of arrays ``speed``,
     ``friction_coefficient``, ``contact_area_fraction``, ``g_q1`` and the
     scalars ``psd`` (which PSD) and ``nominal_pressure`` [Pa].
     """

@@ -2,7 +2,11 @@
 //! `[loading]`, `[solver]` and optional `[layer]` and `[analysis]` sections,
 //! read and checked, and the memory a grid needs.
 
-use crate::config::{Formulation, LoadedConfig, LoadingConfig, MeshKind, SolverConfig};
+use std::path::Path;
+
+use crate::config::{
+    Formulation, LoadedConfig, LoadingConfig, MeshKind, SolverConfig, SurfaceConfig,
+};
 use crate::error::Result;
 use crate::solver::{Control, SolverParams};
 
@@ -24,30 +28,7 @@ impl Problem {
         let surface = surface_cfg.load(&cfg.base_dir)?;
         check_memory(surface.nx, surface.ny, restart, formulation)?;
         let seed = surface_cfg.generate.as_ref().map(|g| g.seed.unwrap_or(0));
-        let source = match (
-            surface_cfg.generate_params()?,
-            &surface_cfg.sphere,
-            &surface_cfg.file,
-        ) {
-            (Some(p), _, _) => SurfaceSource::Generated(p),
-            (None, None, None) if surface_cfg.generate.is_some() => {
-                let g = surface_cfg.generate.as_ref().expect("generate");
-                match g.synth_params(surface_cfg.length)? {
-                    Some((table, params)) => {
-                        let path = cfg.base_dir.join(table);
-                        SurfaceSource::Synthesised {
-                            table: crate::surface::TabulatedPsd::from_csv(&path)?,
-                            path,
-                            params,
-                        }
-                    }
-                    None => SurfaceSource::Given,
-                }
-            }
-            (None, Some(s), _) => SurfaceSource::Sphere(*s),
-            (None, None, Some(f)) => SurfaceSource::File(cfg.base_dir.join(f)),
-            (None, None, None) => SurfaceSource::Given,
-        };
+        let source = SurfaceSource::of(surface_cfg, &cfg.base_dir)?;
         let loading = cfg.config.loading.clone().ok_or_else(|| {
             invalid(format!(
                 "{}: section [loading] is required (normal_load or mean_pressure, and speed or xi)",
@@ -173,6 +154,36 @@ impl Problem {
         }
         self.adaptive.check().map_err(invalid)?;
         Ok(())
+    }
+}
+
+impl SurfaceSource {
+    /// What the `[surface]` section `section` makes its surface from,
+    /// relative paths resolved against `base_dir`: generated parameters, a
+    /// PSD table with its synthesis parameters, a sphere or a file.
+    pub fn of(section: &SurfaceConfig, base_dir: &Path) -> Result<Self> {
+        Ok(
+            match (section.generate_params()?, &section.sphere, &section.file) {
+                (Some(p), _, _) => SurfaceSource::Generated(p),
+                (None, None, None) if section.generate.is_some() => {
+                    let g = section.generate.as_ref().expect("generate");
+                    match g.synth_params(section.length)? {
+                        Some((table, params)) => {
+                            let path = base_dir.join(table);
+                            SurfaceSource::Synthesised {
+                                table: crate::surface::TabulatedPsd::from_csv(&path)?,
+                                path,
+                                params,
+                            }
+                        }
+                        None => SurfaceSource::Given,
+                    }
+                }
+                (None, Some(s), _) => SurfaceSource::Sphere(*s),
+                (None, None, Some(f)) => SurfaceSource::File(base_dir.join(f)),
+                (None, None, None) => SurfaceSource::Given,
+            },
+        )
     }
 }
 
