@@ -74,7 +74,7 @@ def test_a_surface_from_a_psd_table_keeps_its_table(tmp_path, rubber):
     q = np.logspace(np.log10(2 * np.pi / 0.01), np.log10(2 * np.pi / 0.01 * 64), 30)
     c = 1e-18 * (q / q[0]) ** (-2 * (1 + 0.8))
     path = tmp_path / "psd.csv"
-    path.write_text("q_per_m,c_m4\n" + "".join(f"{a!r},{b!r}\n" for a, b in zip(q, c)))
+    path.write_text("q_per_m,c_m4\n" + "".join(f"{a:.17g},{b:.17g}\n" for a, b in zip(q, c)))
     surface = vs.Surface.generate(n=64, length=0.01, seed=2, psd=path)
     assert surface.shape == (64, 64)
     theory = vs.persson(surface, rubber, [1e-2], normal_load=0.3)
