@@ -7,12 +7,12 @@
 @compute @workgroup_size(WG)
 fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let p = fft_pass();
-    let wg = linear_group(wid, nwg);
-    fft_load(p, wg, lid);
+    let k = fft_block(p, linear_group(wid, nwg));
+    fft_load(p, k, lid);
     fft_dif(p, lid, (p.flags & FFT_INVERSE) != 0u);
     if ((p.flags & FFT_SPLIT) != 0u) {
-        fft_store_split(p, wg, lid);
+        fft_store_split(p, k, lid);
     } else {
-        fft_store(p, wg, lid);
+        fft_store(p, k, lid);
     }
 }

@@ -14,18 +14,17 @@
 @compute @workgroup_size(WG)
 fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let p = fft_pass();
-    let wg = linear_group(wid, nwg);
-    fft_load(p, wg, lid);
+    let blk = fft_block(p, linear_group(wid, nwg));
+    fft_load(p, blk, lid);
     fft_dif(p, lid, false);
     let sb = p.input.bsf / 2u;
     let se = p.input.esf / 2u;
     for (var e = lid; e < FFT_SHARED; e += WG) {
-        let t = e >> p.log2r;
-        let g = fft_group(p, wg, t);
+        let g = fft_group(p, blk, e >> p.log2r);
         if (g.valid) {
             let k = g.j & (p.ns - 1u);
             let q = fft_bitrev(e & (p.r - 1u), p.log2r);
-            let pos = (g.j - k) * p.r + k + q * p.ns;
+            let pos = ((g.j - k) << p.log2r) + k + (q << p.log2ns);
             fft_buf[e] = fft_mul(fft_buf[e], spectrum[g.b * sb + pos * se]);
         }
     }
@@ -34,9 +33,9 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     let along = (p.flags & FFT_BATCH_FAST) == 0u;
     for (var e = lid; e < FFT_SHARED; e += WG) {
         let tr = fft_entry(p, e, along);
-        let g = fft_group(p, wg, tr.x);
+        let g = fft_group(p, blk, tr.x);
         if (g.valid) {
-            fft_write(p.output, g.b, g.j * p.r + tr.y, fft_buf[tr.x * p.r + tr.y]);
+            fft_write(p.output, g.b, (g.j << p.log2r) + tr.y, fft_buf[(tr.x << p.log2r) + tr.y]);
         }
     }
 }

@@ -8,8 +8,8 @@
 // exp(-2 pi i r k / (Ns R)) with k = j mod Ns, and its R-point DFT V[q]
 // goes to (j - k) R + k + q Ns. One workgroup holds FFT_SHARED / R groups
 // in workgroup memory and runs the R-point DFTs as log2r radix-2 stages
-// there (decimation in frequency: natural order in, bit-reversed out), so
-// each pass reads and writes global memory once.
+// there, two per barrier (decimation in frequency: natural order in,
+// bit-reversed out), so each pass reads and writes global memory once.
 //
 // Operands are f32 arrays: element pos of transform b is at
 // b bsf + pos esf (real, then imaginary part); component c exists when
@@ -18,9 +18,11 @@
 // array beyond lim are zero on load and dropped on store.
 //
 // P.i: (N, Ns, log2r, batches); P.j: (flags, input bsf, esf, lim);
-// P.f (bit patterns of u32): (output bsf, esf, lim, -).
+// P.f (bit patterns of u32): (output bsf, esf, lim, log2 L).
 // Twiddles: w[t] = exp(-2 pi i t / L), t < L, of the axis length L (computed
-// on the host in f64); every denominator used divides L.
+// on the host in f64); every denominator used divides L. All sizes but the
+// batch count are powers of two, so the index arithmetic is shifts and
+// masks.
 
 // Complex elements of the workgroup block; the engine sets this line to
 // the adapter's workgroup storage (backend::gpu::fft_plan::shared_elements).
@@ -47,13 +49,18 @@ struct FftLayout {
 struct FftPass {
     n: u32,
     ns: u32,
+    log2ns: u32,
     log2r: u32,
     r: u32,
     batches: u32,
     flags: u32,
-    // Groups per workgroup and per transform.
+    // Groups per workgroup (t) and per transform (groups), powers of two.
     t: u32,
+    log2t: u32,
     groups: u32,
+    log2groups: u32,
+    // Workgroups per group index of a batch-fast pass.
+    tiles: u32,
     input: FftLayout,
     output: FftLayout,
 }
@@ -62,14 +69,18 @@ fn fft_pass() -> FftPass {
     var p: FftPass;
     p.n = P.i.x;
     p.ns = P.i.y;
+    p.log2ns = countTrailingZeros(P.i.y);
     p.log2r = P.i.z;
     p.r = 1u << P.i.z;
     p.batches = P.i.w;
     p.flags = P.j.x;
     p.input = FftLayout(P.j.y, P.j.z, P.j.w);
     p.output = FftLayout(bitcast<u32>(P.f.x), bitcast<u32>(P.f.y), bitcast<u32>(P.f.z));
-    p.t = FFT_SHARED >> p.log2r;
-    p.groups = p.n >> p.log2r;
+    p.log2t = countTrailingZeros(FFT_SHARED) - p.log2r;
+    p.t = 1u << p.log2t;
+    p.log2groups = countTrailingZeros(p.n) - p.log2r;
+    p.groups = 1u << p.log2groups;
+    p.tiles = (p.batches + p.t - 1u) >> p.log2t;
     return p;
 }
 
@@ -77,13 +88,22 @@ fn fft_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     return vec2<f32>(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x);
 }
 
-// exp(-2 pi i num / den), conjugated when `inverse`.
-fn fft_twiddle(num: u32, den: u32, inverse: bool) -> vec2<f32> {
-    var w = twiddle[num * (arrayLength(&twiddle) / den)];
+// exp(-2 pi i num / 2^log2den), conjugated when `inverse`; P.f.w holds the
+// bit pattern of log2 of the table length.
+fn fft_twiddle(num: u32, log2den: u32, inverse: bool) -> vec2<f32> {
+    var w = twiddle[num << (bitcast<u32>(P.f.w) - log2den)];
     if (inverse) {
         w.y = -w.y;
     }
     return w;
+}
+
+// -i z (forward) or +i z (inverse): the twiddle of a quarter turn.
+fn fft_quarter(z: vec2<f32>, inverse: bool) -> vec2<f32> {
+    if (inverse) {
+        return vec2<f32>(-z.y, z.x);
+    }
+    return vec2<f32>(z.y, -z.x);
 }
 
 fn fft_bitrev(s: u32, log2r: u32) -> u32 {
@@ -115,6 +135,27 @@ fn fft_write(l: FftLayout, b: u32, pos: u32, v: vec2<f32>) {
     }
 }
 
+// The workgroup's place in the pass: a batch-fast pass gives each
+// workgroup t consecutive transforms b0 .. b0 + t of one group index j
+// (one division per workgroup); otherwise t consecutive groups from q0
+// (j fastest).
+struct FftBlock {
+    j: u32,
+    b0: u32,
+    q0: u32,
+}
+
+fn fft_block(p: FftPass, wg: u32) -> FftBlock {
+    var k: FftBlock;
+    if ((p.flags & FFT_BATCH_FAST) != 0u) {
+        k.j = wg / p.tiles;
+        k.b0 = (wg - k.j * p.tiles) << p.log2t;
+    } else {
+        k.q0 = wg << p.log2t;
+    }
+    return k;
+}
+
 // Transform b and group j of the block's group t; valid = inside the pass.
 struct FftGroup {
     b: u32,
@@ -122,17 +163,17 @@ struct FftGroup {
     valid: bool,
 }
 
-fn fft_group(p: FftPass, wg: u32, t: u32) -> FftGroup {
-    let q = wg * p.t + t;
+fn fft_group(p: FftPass, k: FftBlock, t: u32) -> FftGroup {
     var g: FftGroup;
     if ((p.flags & FFT_BATCH_FAST) != 0u) {
-        g.b = q % p.batches;
-        g.j = q / p.batches;
+        g.b = k.b0 + t;
+        g.j = k.j;
     } else {
-        g.j = q % p.groups;
-        g.b = q / p.groups;
+        let q = k.q0 + t;
+        g.j = q & (p.groups - 1u);
+        g.b = q >> p.log2groups;
     }
-    g.valid = q < p.batches * p.groups;
+    g.valid = g.b < p.batches && g.j < p.groups;
     return g;
 }
 
@@ -143,7 +184,7 @@ fn fft_entry(p: FftPass, e: u32, along: bool) -> vec2<u32> {
     if (along) {
         return vec2<u32>(e >> p.log2r, e & (p.r - 1u));
     }
-    return vec2<u32>(e % p.t, e / p.t);
+    return vec2<u32>(e & (p.t - 1u), e >> p.log2t);
 }
 
 // Bin r of the complex row behind the real-row bins X[0..N] of transform
@@ -153,78 +194,127 @@ fn fft_merged(p: FftPass, b: u32, r: u32) -> vec2<f32> {
     let x = fft_read(p.input, b, r);
     let c0 = fft_read(p.input, b, p.n - r);
     let c = vec2<f32>(c0.x, -c0.y);
-    let d = fft_mul(x - c, fft_twiddle(r, 2u * p.n, true));
+    let d = fft_mul(x - c, fft_twiddle(r, p.log2r + 1u, true));
     return x + c + vec2<f32>(-d.y, d.x);
 }
 
 // Load the block's groups, pre-multiplied by the pass twiddles.
-fn fft_load(p: FftPass, wg: u32, lid: u32) {
+fn fft_load(p: FftPass, k: FftBlock, lid: u32) {
     let inverse = (p.flags & FFT_INVERSE) != 0u;
     let along = (p.flags & FFT_BATCH_FAST) == 0u && p.groups < p.t;
     for (var e = lid; e < FFT_SHARED; e += WG) {
         let tr = fft_entry(p, e, along);
-        let g = fft_group(p, wg, tr.x);
+        let g = fft_group(p, k, tr.x);
         var v = vec2<f32>(0.0, 0.0);
         if (g.valid) {
             if ((p.flags & FFT_MERGE) != 0u) {
                 v = fft_merged(p, g.b, tr.y);
             } else {
-                let k = g.j & (p.ns - 1u);
-                v = fft_read(p.input, g.b, g.j + tr.y * p.groups);
-                if (k != 0u) {
-                    v = fft_mul(v, fft_twiddle(tr.y * k, p.ns * p.r, inverse));
+                let kk = g.j & (p.ns - 1u);
+                v = fft_read(p.input, g.b, g.j + (tr.y << p.log2groups));
+                if (kk != 0u) {
+                    v = fft_mul(v, fft_twiddle(tr.y * kk, p.log2ns + p.log2r, inverse));
                 }
             }
         }
-        fft_buf[tr.x * p.r + tr.y] = v;
+        fft_buf[(tr.x << p.log2r) + tr.y] = v;
     }
     workgroupBarrier();
 }
 
-// The R-point DFTs of the block, natural order in, bit-reversed out.
+// The R-point DFTs of the block, natural order in, bit-reversed out:
+// radix-2 decimation-in-frequency stages of half-span h = R/2, R/4, .., 1,
+// two at a time (one radix-4 step per invocation and barrier), the last
+// one alone when log2r is odd.
 fn fft_dif(p: FftPass, lid: u32, inverse: bool) {
-    let half_r = p.r >> 1u;
-    for (var h = half_r; h >= 1u; h = h >> 1u) {
+    var s = p.log2r;
+    for (; s >= 2u; s -= 2u) {
+        // Stages h = 2^(s-1) and h / 2.
+        let h = 1u << (s - 1u);
+        let q = h >> 1u;
+        for (var u = lid; u < FFT_SHARED / 4u; u += WG) {
+            let i = u & (q - 1u);
+            let at = ((u >> (s - 2u)) << s) + i;
+            let w1 = fft_twiddle(i, s, inverse);
+            let w2 = fft_twiddle(i, s - 1u, inverse);
+            let x0 = fft_buf[at];
+            let x1 = fft_buf[at + q];
+            let x2 = fft_buf[at + h];
+            let x3 = fft_buf[at + h + q];
+            let a0 = x0 + x2;
+            let a2 = fft_mul(x0 - x2, w1);
+            let a1 = x1 + x3;
+            let a3 = fft_quarter(fft_mul(x1 - x3, w1), inverse);
+            fft_buf[at] = a0 + a1;
+            fft_buf[at + q] = fft_mul(a0 - a1, w2);
+            fft_buf[at + h] = a2 + a3;
+            fft_buf[at + h + q] = fft_mul(a2 - a3, w2);
+        }
+        workgroupBarrier();
+    }
+    if (s == 1u) {
         for (var u = lid; u < FFT_SHARED / 2u; u += WG) {
-            let uu = u & (half_r - 1u);
-            let i = uu & (h - 1u);
-            let at = (u >> (p.log2r - 1u)) * p.r + 2u * (uu - i) + i;
+            let at = 2u * u;
             let a = fft_buf[at];
-            let b = fft_buf[at + h];
+            let b = fft_buf[at + 1u];
             fft_buf[at] = a + b;
-            fft_buf[at + h] = fft_mul(a - b, fft_twiddle(i, 2u * h, inverse));
+            fft_buf[at + 1u] = a - b;
         }
         workgroupBarrier();
     }
 }
 
-// The R-point DFTs of the block, bit-reversed order in, natural out.
+// The R-point DFTs of the block, bit-reversed order in, natural out:
+// radix-2 decimation-in-time stages of half-span h = 1, 2, .., R/2, the
+// first alone when log2r is odd, then two at a time.
 fn fft_dit(p: FftPass, lid: u32, inverse: bool) {
-    let half_r = p.r >> 1u;
-    for (var h = 1u; h <= half_r; h = h << 1u) {
+    var s = 0u;
+    if ((p.log2r & 1u) == 1u) {
         for (var u = lid; u < FFT_SHARED / 2u; u += WG) {
-            let uu = u & (half_r - 1u);
-            let i = uu & (h - 1u);
-            let at = (u >> (p.log2r - 1u)) * p.r + 2u * (uu - i) + i;
+            let at = 2u * u;
             let a = fft_buf[at];
-            let b = fft_mul(fft_buf[at + h], fft_twiddle(i, 2u * h, inverse));
+            let b = fft_buf[at + 1u];
             fft_buf[at] = a + b;
-            fft_buf[at + h] = a - b;
+            fft_buf[at + 1u] = a - b;
+        }
+        workgroupBarrier();
+        s = 1u;
+    }
+    for (; s + 2u <= p.log2r; s += 2u) {
+        // Stages h = 2^s and 2h.
+        let h = 1u << s;
+        for (var u = lid; u < FFT_SHARED / 4u; u += WG) {
+            let i = u & (h - 1u);
+            let at = ((u >> s) << (s + 2u)) + i;
+            let w1 = fft_twiddle(i, s + 1u, inverse);
+            let w2 = fft_twiddle(i, s + 2u, inverse);
+            let x0 = fft_buf[at];
+            let x1 = fft_mul(fft_buf[at + h], w1);
+            let x2 = fft_buf[at + 2u * h];
+            let x3 = fft_mul(fft_buf[at + 3u * h], w1);
+            let a0 = x0 + x1;
+            let a1 = x0 - x1;
+            let a2 = fft_mul(x2 + x3, w2);
+            let a3 = fft_quarter(fft_mul(x2 - x3, w2), inverse);
+            fft_buf[at] = a0 + a2;
+            fft_buf[at + 2u * h] = a0 - a2;
+            fft_buf[at + h] = a1 + a3;
+            fft_buf[at + 3u * h] = a1 - a3;
         }
         workgroupBarrier();
     }
 }
 
 // Store the (bit-reversed) DFTs of the block at their Stockham positions.
-fn fft_store(p: FftPass, wg: u32, lid: u32) {
+fn fft_store(p: FftPass, k: FftBlock, lid: u32) {
     let along = (p.flags & FFT_BATCH_FAST) == 0u && p.ns < p.t;
     for (var e = lid; e < FFT_SHARED; e += WG) {
         let tq = fft_entry(p, e, along);
-        let g = fft_group(p, wg, tq.x);
+        let g = fft_group(p, k, tq.x);
         if (g.valid) {
-            let k = g.j & (p.ns - 1u);
-            let v = fft_buf[tq.x * p.r + fft_bitrev(tq.y, p.log2r)];
-            fft_write(p.output, g.b, (g.j - k) * p.r + k + tq.y * p.ns, v);
+            let kk = g.j & (p.ns - 1u);
+            let v = fft_buf[(tq.x << p.log2r) + fft_bitrev(tq.y, p.log2r)];
+            fft_write(p.output, g.b, ((g.j - kk) << p.log2r) + kk + (tq.y << p.log2ns), v);
         }
     }
 }
@@ -232,20 +322,20 @@ fn fft_store(p: FftPass, wg: u32, lid: u32) {
 // Store the N + 1 bins of the real rows behind whole complex rows (the r2c
 // split): with Z the row's DFT, X[k] = E + exp(-2 pi i k / (2N)) O,
 // E = (Z[k] + conj Z[N-k]) / 2, O = (Z[k] - conj Z[N-k]) / (2i).
-fn fft_store_split(p: FftPass, wg: u32, lid: u32) {
+fn fft_store_split(p: FftPass, k: FftBlock, lid: u32) {
     let w = p.r + 1u;
     for (var e = lid; e < p.t * w; e += WG) {
         let t = e / w;
-        let k = e % w;
-        let g = fft_group(p, wg, t);
+        let kk = e - t * w;
+        let g = fft_group(p, k, t);
         if (g.valid) {
-            let z = fft_buf[t * p.r + fft_bitrev(k & (p.r - 1u), p.log2r)];
-            let c0 = fft_buf[t * p.r + fft_bitrev((p.r - k) & (p.r - 1u), p.log2r)];
+            let z = fft_buf[(t << p.log2r) + fft_bitrev(kk & (p.r - 1u), p.log2r)];
+            let c0 = fft_buf[(t << p.log2r) + fft_bitrev((p.r - kk) & (p.r - 1u), p.log2r)];
             let c = vec2<f32>(c0.x, -c0.y);
             let even = 0.5 * (z + c);
             let d = 0.5 * (z - c);
             let odd = vec2<f32>(d.y, -d.x);
-            fft_write(p.output, g.b, k, even + fft_mul(fft_twiddle(k, 2u * p.r, false), odd));
+            fft_write(p.output, g.b, kk, even + fft_mul(fft_twiddle(kk, p.log2r + 1u, false), odd));
         }
     }
 }

@@ -197,9 +197,24 @@ struct Radix {
     flags: u32,
     input: Layout,
     output: Layout,
+    /// Length of the twiddle table (a power of two).
+    table: usize,
 }
 
 impl Radix {
+    /// Workgroups of the pass with `shared` elements per block: batch-fast
+    /// passes give each workgroup `shared / r` transforms of one group
+    /// index, the others `shared / r` consecutive groups.
+    fn workgroups(&self, shared: usize) -> u64 {
+        let per = (shared / self.r) as u64;
+        let groups = (self.n / self.r) as u64;
+        if self.flags & FFT_BATCH_FAST != 0 {
+            groups * (self.batches as u64).div_ceil(per)
+        } else {
+            (groups * self.batches as u64).div_ceil(per)
+        }
+    }
+
     fn params(&self) -> Params {
         let u = |v: usize| u32::try_from(v).expect("FFT plan sizes fit in u32");
         Params {
@@ -219,7 +234,7 @@ impl Radix {
                 f32::from_bits(u(self.output.bsf)),
                 f32::from_bits(u(self.output.esf)),
                 f32::from_bits(u(self.output.lim)),
-                0.0,
+                f32::from_bits(self.table.trailing_zeros()),
             ],
         }
     }
@@ -236,7 +251,8 @@ struct Builder {
 }
 
 impl Builder {
-    fn radix(&mut self, kernel: Kernel, bufs: [Role; 2], twiddle: (Role, usize), p: Radix) {
+    fn radix(&mut self, kernel: Kernel, bufs: [Role; 2], twiddle: (Role, usize), mut p: Radix) {
+        p.table = twiddle.1;
         let per = |l: Layout, n: usize| l.lim.min(2 * n) as u64;
         let read_n = p.n + usize::from(p.flags & FFT_MERGE != 0);
         let write_n = p.n + usize::from(p.flags & FFT_SPLIT != 0);
@@ -246,8 +262,6 @@ impl Builder {
             read += 8 * (p.batches * p.n) as u64;
             roles.push(Role::Spectrum);
         }
-        let transforms = (p.batches * (p.n / p.r)) as u64;
-        let per_group = (self.shared / p.r) as u64;
         let kind = if p.flags & FFT_INVERSE != 0 {
             "inverse"
         } else {
@@ -257,7 +271,7 @@ impl Builder {
             kernel,
             bufs: roles,
             params: p.params(),
-            groups: transforms.div_ceil(per_group),
+            groups: p.workgroups(self.shared),
             read,
             written: 4 * p.batches as u64 * per(p.output, write_n),
             label: format!(
@@ -478,6 +492,7 @@ fn shared_steps(
                 flags: FFT_SPLIT,
                 input: real,
                 output: bins,
+                table: 0,
             },
         );
     } else {
@@ -498,6 +513,7 @@ fn shared_steps(
                     flags: 0,
                     input: if k == 0 { real } else { packed },
                     output: packed,
+                    table: 0,
                 },
             );
             ns *= r;
@@ -532,6 +548,7 @@ fn shared_steps(
                 flags: FFT_BATCH_FAST,
                 input: column(if k == 0 { nx } else { mx }),
                 output: column(if fused && last == 0 { nx } else { mx }),
+                table: 0,
             },
         );
         ns *= r;
@@ -553,6 +570,7 @@ fn shared_steps(
                 flags: FFT_BATCH_FAST | FFT_INVERSE,
                 input: column(mx),
                 output: column(if k == 0 { nx } else { mx }),
+                table: 0,
             },
         );
         ns *= rs[k];
@@ -573,6 +591,7 @@ fn shared_steps(
                 flags: FFT_MERGE | FFT_INVERSE,
                 input: bins,
                 output: real,
+                table: 0,
             },
         );
     } else {
@@ -596,6 +615,7 @@ fn shared_steps(
                     flags: FFT_INVERSE,
                     input: packed,
                     output: if last { real } else { packed },
+                    table: 0,
                 },
             );
             ns *= r;

@@ -3,7 +3,8 @@
 //! `shaders/fft_merge.wgsl` and their blocks in `shared/fft_block.wgsl`):
 //! it runs a [`MatvecPlan`] step by step on host arrays in f64 with the
 //! shaders' index arithmetic (group and element mapping, zero limits,
-//! twiddle indices, DIF and DIT stage order, bit reversal, split and merge),
+//! twiddle indices, bit reversal, split and merge; the radix-2 stages one
+//! by one where the shaders run them two per barrier, the same arithmetic),
 //! one group at a time instead of one workgroup at a time (the groups of a
 //! pass are independent). Its tests hold every plan shape against the CPU
 //! Toeplitz FFT without a device; `tests/gpu_conformance.rs` holds the
