@@ -336,14 +336,15 @@ impl MatvecPlan {
     /// (half) spectrum, write `y`, and one write and one read of the `nx`
     /// transformed rows (`my / 2 + 1` bins each) in each direction: a
     /// padded 2-D transform that does not fit on chip must store its rows
-    /// once between the row and the column transforms, forward and back.
+    /// once between the row and the column transforms, forward and back
+    /// (three dispatches: rows, columns with the product, rows back).
     pub fn floor(&self) -> Traffic {
         let (nx, ny, mx) = (self.nx as u64, self.ny as u64, self.mx as u64);
         let w = (self.my / 2 + 1) as u64;
         let grid = 4 * nx * ny;
         let rows = 8 * nx * w;
         Traffic {
-            dispatches: 2,
+            dispatches: 3,
             read: grid + 8 * mx * w + 2 * rows,
             written: grid + 2 * rows,
         }
@@ -653,4 +654,100 @@ fn split_merge(
     let s = b.last();
     s.read = 8 * (rows * n_in + my) as u64;
     s.written = 8 * (rows * n_out) as u64;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shared(kib: u64) -> Path {
+        Path::for_limits(kib * 1024)
+    }
+
+    #[test]
+    fn radices_multiply_to_the_length_and_respect_the_bound() {
+        for bits in 0..=14 {
+            let n = 1usize << bits;
+            for max in [2, 8, 64, 1024, 4096] {
+                let rs = radices(n, max);
+                assert_eq!(rs.iter().product::<usize>(), n, "{n} {max}");
+                assert!(rs.iter().all(|&r| r <= max.max(1)), "{n} {max}: {rs:?}");
+                assert!(rs.windows(2).all(|w| w[0] >= w[1] && w[0] <= 2 * w[1]));
+            }
+        }
+    }
+
+    #[test]
+    fn workgroup_storage_sizes_the_block() {
+        assert_eq!(shared_elements(16 * 1024), 2048);
+        assert_eq!(shared_elements(48 * 1024), 4096);
+        assert_eq!(shared_elements(1 << 20), MAX_SHARED);
+        assert_eq!(Path::for_limits(2048), Path::Radix2);
+    }
+
+    /// A grid whose rows and columns each fit one block: three dispatches
+    /// (rows, columns with the product, rows back) that move exactly the
+    /// floor.
+    #[test]
+    fn small_grid_moves_the_floor() {
+        let plan = MatvecPlan::new(512, 512, shared(32));
+        let t = plan.traffic();
+        assert_eq!(t.dispatches, 3);
+        let twiddles = 8 * (2 * 1024 + 1024) as u64;
+        assert_eq!(t.read, plan.floor().read + twiddles);
+        assert_eq!(t.written, plan.floor().written);
+    }
+
+    /// Issue #20's targets at 4096^2 on adapters with 32 KiB and more of
+    /// workgroup memory: at most 1/4 of the radix-2 bytes and at most 3x
+    /// the floor.
+    #[test]
+    fn traffic_targets_at_4096() {
+        for kib in [32, 48, 64] {
+            let plan = MatvecPlan::new(4096, 4096, shared(kib));
+            let old = MatvecPlan::new(4096, 4096, Path::Radix2).traffic();
+            let (b, f) = (plan.traffic().bytes(), plan.floor().bytes());
+            assert!(4 * b <= old.bytes(), "{kib} KiB: {b} vs {}", old.bytes());
+            assert!(b <= 3 * f, "{kib} KiB: {b} vs floor {f}");
+        }
+    }
+
+    /// Every radix step reads and writes inside its operands: the largest
+    /// element touched lies within the buffer of its role.
+    #[test]
+    fn steps_stay_inside_their_buffers() {
+        for (nx, ny) in [(33, 17), (1, 9), (9, 1), (64, 48)] {
+            for path in [
+                shared(32),
+                Path::Shared {
+                    shared: 64,
+                    max_radix: 8,
+                },
+            ] {
+                let plan = MatvecPlan::new(nx, ny, path);
+                let work = 2 * work_elements(nx, ny, path);
+                let size = |role: Role| match role {
+                    Role::Input | Role::Output => nx * ny,
+                    _ => work,
+                };
+                for s in plan.steps.iter().filter(|s| s.kernel == Kernel::FftRadix) {
+                    let p = s.params;
+                    let (n, batches) = (p.i[0] as usize, p.i[3] as usize);
+                    let extra = usize::from(p.j[0] & (FFT_SPLIT | FFT_MERGE) != 0);
+                    let reach = |bsf: usize, esf: usize, lim: usize| {
+                        let last = (n + extra - 1).min((lim - 1) / 2);
+                        (batches - 1) * bsf + last * esf + (lim.min(2 * last + 2) - 2 * last)
+                    };
+                    let (a, b, c) = (p.j[1] as usize, p.j[2] as usize, p.j[3] as usize);
+                    assert!(reach(a, b, c) <= size(s.bufs[0]), "{nx}x{ny} {}", s.label);
+                    let (a, b, c) = (
+                        p.f[0].to_bits() as usize,
+                        p.f[1].to_bits() as usize,
+                        p.f[2].to_bits() as usize,
+                    );
+                    assert!(reach(a, b, c) <= size(s.bufs[1]), "{nx}x{ny} {}", s.label);
+                }
+            }
+        }
+    }
 }
