@@ -276,8 +276,9 @@ pub(crate) fn solve_owned<B: Backend>(
     let mut best_residual = f64::INFINITY;
     // A preconditioner that does not help (an approximate inverse far from
     // the operator, e.g. the circulant of a layer much thinner than a cell)
-    // is dropped after one inner solve that misses its tolerance within
-    // PRECONDITIONED_BUDGET restarts; the iteration goes on without it.
+    // is dropped after one inner solve that reaches neither its tolerance
+    // nor its inexact-Newton reduction within PRECONDITIONED_BUDGET
+    // restarts; the iteration goes on without it.
     let mut precondition = params.precondition;
     for iteration in 1..=params.max_iterations {
         let phase = Phase::choose(last_changes, contact_cells, stalled);
@@ -327,7 +328,7 @@ pub(crate) fn solve_owned<B: Backend>(
         );
         matvecs += op.matvecs;
         preconditioner_applications += op.preconditioner_applications;
-        if preconditioned && !outcome.converged {
+        if preconditioned && !outcome.reached {
             precondition = false;
         }
         if bordered {

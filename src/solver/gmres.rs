@@ -40,6 +40,10 @@ pub trait AugOperator<B: Backend> {
 pub struct GmresOutcome {
     /// Whether `|b - A x| <= tol |b|` was reached.
     pub converged: bool,
+    /// Whether the solve stopped on its own terms: converged, or reduced
+    /// its starting residual by the requested `reduction` (an inexact
+    /// Newton step), rather than running out of matvecs.
+    pub reached: bool,
 }
 
 /// Work space for [`gmres`]: `restart + 1` basis vectors and scratch.
@@ -104,7 +108,10 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
     if bnorm == 0.0 {
         backend.scale(0.0, &mut x.v);
         x.s = 0.0;
-        return GmresOutcome { converged: true };
+        return GmresOutcome {
+            converged: true,
+            reached: true,
+        };
     }
     let mut cs = vec![0.0; m];
     let mut sn = vec![0.0; m];
@@ -126,9 +133,11 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
         if beta0.is_nan() {
             beta0 = beta;
         }
-        if rel <= tol || beta <= reduction * beta0 || matvecs >= max_matvecs {
+        let reduced = beta <= reduction * beta0;
+        if rel <= tol || reduced || matvecs >= max_matvecs {
             return GmresOutcome {
                 converged: rel <= tol,
+                reached: rel <= tol || reduced,
             };
         }
         backend.scale(1.0 / beta, &mut work.basis[0]);
