@@ -206,9 +206,8 @@ impl Engine {
             id: 0,
             buffer: ctx.device.create_buffer(&ring),
         };
-        let fft_shared = super::fft_plan::shared_elements(
-            ctx.device.limits().max_compute_workgroup_storage_size as u64,
-        );
+        let fft_shared =
+            shaders::shared_elements(ctx.device.limits().max_compute_workgroup_storage_size as u64);
         Self {
             fft_shared,
             ctx,

@@ -26,9 +26,8 @@
 //! padding) and writes it drops (discarded rows) are not counted.
 
 use super::engine::{Kernel, Params, WORKGROUP};
+pub use super::shaders::{shared_elements, MAX_SHARED};
 
-/// Largest workgroup block in complex f32 elements (64 KiB).
-pub const MAX_SHARED: usize = 8192;
 /// Smallest block worth a shared-memory pass; below it the plan falls back
 /// to [`Path::Radix2`].
 pub const MIN_SHARED: usize = 2 * WORKGROUP as usize;
@@ -86,18 +85,6 @@ impl Path {
                 max_radix: shared,
             }
         }
-    }
-}
-
-/// Complex f32 elements of the workgroup array for `storage_bytes` of
-/// workgroup memory: the largest power of two that fits, at most
-/// [`MAX_SHARED`].
-pub fn shared_elements(storage_bytes: u64) -> usize {
-    let n = (storage_bytes / 8).min(MAX_SHARED as u64);
-    if n == 0 {
-        0
-    } else {
-        1usize << (63 - n.leading_zeros())
     }
 }
 

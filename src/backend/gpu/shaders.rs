@@ -40,6 +40,21 @@ pub const FFT_BLOCK: (&str, &str) = (
     include_str!("../../../shaders/shared/fft_block.wgsl"),
 );
 
+/// Largest workgroup block in complex f32 elements (64 KiB).
+pub const MAX_SHARED: usize = 8192;
+
+/// Complex f32 elements of the workgroup array of [`FFT_BLOCK`] for `storage_bytes` of
+/// workgroup memory: the largest power of two that fits, at most
+/// [`MAX_SHARED`].
+pub fn shared_elements(storage_bytes: u64) -> usize {
+    let n = (storage_bytes / 8).min(MAX_SHARED as u64);
+    if n == 0 {
+        0
+    } else {
+        1usize << (63 - n.leading_zeros())
+    }
+}
+
 /// The line of [`FFT_BLOCK`] that sizes its workgroup array.
 const FFT_SHARED_LINE: &str = "const FFT_SHARED: u32 = 2048u;";
 
