@@ -503,9 +503,7 @@ fn oversized_grid_is_refused_clearly() {
         return;
     };
     let limit = ctx.adapter.max_storage_binding.min(ctx.adapter.max_buffer);
-    let path = gpu::fft_plan::Path::for_limits(
-        ctx.device.limits().max_compute_workgroup_storage_size as u64,
-    );
+    let path = gpu::fft_plan::Path::for_device(&ctx.device.limits());
     let side = |bytes: u64| {
         // Largest n whose work buffer (8 bytes per element) fits.
         let mut n = 1usize;

@@ -190,9 +190,7 @@ impl GpuBackend {
     /// (my / 2 + 1)` bytes on the workgroup-memory path, `8 mx my` on the
     /// radix-2 fallback).
     pub fn check_fits(ctx: &GpuContext, nx: usize, ny: usize) -> Result<(), GpuError> {
-        let path = super::fft_plan::Path::for_limits(
-            ctx.device.limits().max_compute_workgroup_storage_size as u64,
-        );
+        let path = super::fft_plan::Path::for_device(&ctx.device.limits());
         let need = 8 * super::fft_plan::work_elements(nx.max(1), ny.max(1), path) as u64;
         let limit = ctx.adapter.max_storage_binding.min(ctx.adapter.max_buffer);
         if need > limit {

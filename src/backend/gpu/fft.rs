@@ -34,7 +34,7 @@ pub enum SpectrumPrecision {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum FftChoice {
     /// The workgroup-memory FFT sized from the adapter's limits
-    /// ([`Path::for_limits`]); the radix-2 passes where those forbid it or
+    /// ([`Path::for_device`]); the radix-2 passes where those forbid it or
     /// with the f16 spectrum.
     #[default]
     Auto,
@@ -133,15 +133,15 @@ pub fn half_spectrum(full: &[Complex64], mx: usize, my: usize) -> Vec<Complex64>
         .collect()
 }
 
-/// The path a [`FftMatvec`] takes on a device with `storage_bytes` of
-/// workgroup memory and `shared` elements in its FFT block.
+/// The path a [`FftMatvec`] takes on a device that allows `device` (its
+/// [`Path::for_device`]) with `shared` elements in its FFT block.
 pub fn choose_path(
     choice: FftChoice,
     precision: SpectrumPrecision,
-    storage_bytes: u64,
+    device: Path,
     shared: usize,
 ) -> Path {
-    match (choice, Path::for_limits(storage_bytes)) {
+    match (choice, device) {
         (FftChoice::Radix2, _) | (_, Path::Radix2) => Path::Radix2,
         _ if precision == SpectrumPrecision::F16 => Path::Radix2,
         (FftChoice::Auto, path) => path,
@@ -169,12 +169,8 @@ impl FftMatvec {
                 table.len()
             )));
         }
-        let limit = engine
-            .ctx
-            .device
-            .limits()
-            .max_compute_workgroup_storage_size as u64;
-        let path = choose_path(choice, precision, limit, engine.fft_shared);
+        let device = Path::for_device(&engine.ctx.device.limits());
+        let path = choose_path(choice, precision, device, engine.fft_shared);
         let plan = MatvecPlan::new(nx, ny, path);
         let (mx, my) = (plan.mx, plan.my);
         let bytes = 8 * work_elements(nx, ny, path) as u64;

@@ -72,6 +72,18 @@ pub enum Path {
 }
 
 impl Path {
+    /// The path a device allows: [`Path::for_limits`] of its workgroup
+    /// storage, or [`Path::Radix2`] when it runs fewer than [`WORKGROUP`]
+    /// invocations per workgroup (the block kernels' workgroup size).
+    pub fn for_device(limits: &wgpu::Limits) -> Path {
+        if limits.max_compute_invocations_per_workgroup < WORKGROUP
+            || limits.max_compute_workgroup_size_x < WORKGROUP
+        {
+            return Path::Radix2;
+        }
+        Path::for_limits(limits.max_compute_workgroup_storage_size as u64)
+    }
+
     /// The shared-memory path for an adapter allowing `storage_bytes` of
     /// workgroup memory, or [`Path::Radix2`] when that is below
     /// [`MIN_SHARED`] elements.
