@@ -19,23 +19,23 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     fft_dif(p, lid, false);
     let sb = p.input.bsf / 2u;
     let se = p.input.esf / 2u;
-    for (var e = lid; e < FFT_SHARED; e += WG) {
+    for (var e = lid; e < p.size; e += WG) {
         let g = fft_group(p, blk, e >> p.log2r);
         if (g.valid) {
             let k = g.j & (p.ns - 1u);
             let q = fft_bitrev(e & (p.r - 1u), p.log2r);
             let pos = ((g.j - k) << p.log2r) + k + (q << p.log2ns);
-            fft_buf[e] = fft_mul(fft_buf[e], spectrum[g.b * sb + pos * se]);
+            fft_buf[fft_at(p, e)] = fft_mul(fft_buf[fft_at(p, e)], spectrum[g.b * sb + pos * se]);
         }
     }
     workgroupBarrier();
     fft_dit(p, lid, true);
     let along = (p.flags & FFT_BATCH_FAST) == 0u;
-    for (var e = lid; e < FFT_SHARED; e += WG) {
+    for (var e = lid; e < p.size; e += WG) {
         let tr = fft_entry(p, e, along);
         let g = fft_group(p, blk, tr.x);
         if (g.valid) {
-            fft_write(p.output, g.b, (g.j << p.log2r) + tr.y, fft_buf[(tr.x << p.log2r) + tr.y]);
+            fft_write(p.output, g.b, (g.j << p.log2r) + tr.y, fft_buf[fft_at(p, (tr.x << p.log2r) + tr.y)]);
         }
     }
 }

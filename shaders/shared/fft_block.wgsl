@@ -6,10 +6,11 @@
 // done so far) and radix R = 2^log2r splits each transform into N / R
 // groups j; group j holds the R elements j + r N / R, pre-multiplied by
 // exp(-2 pi i r k / (Ns R)) with k = j mod Ns, and its R-point DFT V[q]
-// goes to (j - k) R + k + q Ns. One workgroup holds FFT_SHARED / R groups
-// in workgroup memory and runs the R-point DFTs as log2r radix-2 stages
-// there, two per barrier (decimation in frequency: natural order in,
-// bit-reversed out), so each pass reads and writes global memory once.
+// goes to (j - k) R + k + q Ns. One workgroup holds t groups (at most
+// FFT_SHARED / R) in workgroup memory and runs the R-point DFTs as log2r
+// radix-2 stages there, two per barrier (decimation in frequency: natural
+// order in, bit-reversed out), so each pass reads and writes global memory
+// once.
 //
 // Operands are f32 arrays: element pos of transform b is at
 // b bsf + pos esf (real, then imaginary part); component c exists when
@@ -17,7 +18,8 @@
 // ceil(ny / 2) (even and odd entries), and rows or columns of a padded
 // array beyond lim are zero on load and dropped on store.
 //
-// P.i: (N, Ns, log2r, batches); P.j: (flags, input bsf, esf, lim);
+// P.i: (N, Ns, log2r, batches); P.j: (flags | log2 t << 8, input bsf, esf,
+// lim), t the groups per workgroup (at most FFT_SHARED / R);
 // P.f (bit patterns of u32): (output bsf, esf, lim, log2 L).
 // Twiddles: w[t] = exp(-2 pi i t / L), t < L, of the axis length L (computed
 // on the host in f64); every denominator used divides L. All sizes but the
@@ -54,9 +56,11 @@ struct FftPass {
     r: u32,
     batches: u32,
     flags: u32,
-    // Groups per workgroup (t) and per transform (groups), powers of two.
+    // Groups per workgroup (t) and per transform (groups), powers of two;
+    // size = t R entries of the block are in use.
     t: u32,
     log2t: u32,
+    size: u32,
     groups: u32,
     log2groups: u32,
     // Workgroups per group index of a batch-fast pass.
@@ -76,8 +80,9 @@ fn fft_pass() -> FftPass {
     p.flags = P.j.x;
     p.input = FftLayout(P.j.y, P.j.z, P.j.w);
     p.output = FftLayout(bitcast<u32>(P.f.x), bitcast<u32>(P.f.y), bitcast<u32>(P.f.z));
-    p.log2t = countTrailingZeros(FFT_SHARED) - p.log2r;
+    p.log2t = (P.j.x >> 8u) & 0xffu;
     p.t = 1u << p.log2t;
+    p.size = p.t << p.log2r;
     p.log2groups = countTrailingZeros(p.n) - p.log2r;
     p.groups = 1u << p.log2groups;
     p.tiles = (p.batches + p.t - 1u) >> p.log2t;
@@ -104,6 +109,23 @@ fn fft_quarter(z: vec2<f32>, inverse: bool) -> vec2<f32> {
         return vec2<f32>(-z.y, z.x);
     }
     return vec2<f32>(z.y, -z.x);
+}
+
+// Workgroup slot of flat block index i = t R + r (element r of group t):
+// r is rotated by t within the group, so that when consecutive invocations
+// take consecutive groups at the same r (strided passes) they hit different
+// memory banks; the radix stages, which take consecutive r, are unaffected.
+fn fft_at(p: FftPass, i: u32) -> u32 {
+    let mask = p.r - 1u;
+    return (i & ~mask) | ((i + (i >> p.log2r)) & mask);
+}
+
+// The slots of the four block indices at + (0, d1, d2, d3) of one group.
+fn fft_slots(p: FftPass, at: u32, d1: u32, d2: u32, d3: u32) -> vec4<u32> {
+    let mask = p.r - 1u;
+    let g = at & ~mask;
+    let r = at + (at >> p.log2r);
+    return vec4<u32>(g | (r & mask), g | ((r + d1) & mask), g | ((r + d2) & mask), g | ((r + d3) & mask));
 }
 
 fn fft_bitrev(s: u32, log2r: u32) -> u32 {
@@ -202,7 +224,7 @@ fn fft_merged(p: FftPass, b: u32, r: u32) -> vec2<f32> {
 fn fft_load(p: FftPass, k: FftBlock, lid: u32) {
     let inverse = (p.flags & FFT_INVERSE) != 0u;
     let along = (p.flags & FFT_BATCH_FAST) == 0u && p.groups < p.t;
-    for (var e = lid; e < FFT_SHARED; e += WG) {
+    for (var e = lid; e < p.size; e += WG) {
         let tr = fft_entry(p, e, along);
         let g = fft_group(p, k, tr.x);
         var v = vec2<f32>(0.0, 0.0);
@@ -217,7 +239,7 @@ fn fft_load(p: FftPass, k: FftBlock, lid: u32) {
                 }
             }
         }
-        fft_buf[(tr.x << p.log2r) + tr.y] = v;
+        fft_buf[fft_at(p, (tr.x << p.log2r) + tr.y)] = v;
     }
     workgroupBarrier();
 }
@@ -232,33 +254,34 @@ fn fft_dif(p: FftPass, lid: u32, inverse: bool) {
         // Stages h = 2^(s-1) and h / 2.
         let h = 1u << (s - 1u);
         let q = h >> 1u;
-        for (var u = lid; u < FFT_SHARED / 4u; u += WG) {
+        for (var u = lid; u < (p.size >> 2u); u += WG) {
             let i = u & (q - 1u);
             let at = ((u >> (s - 2u)) << s) + i;
             let w1 = fft_twiddle(i, s, inverse);
             let w2 = fft_twiddle(i, s - 1u, inverse);
-            let x0 = fft_buf[at];
-            let x1 = fft_buf[at + q];
-            let x2 = fft_buf[at + h];
-            let x3 = fft_buf[at + h + q];
+            let sl = fft_slots(p, at, q, h, h + q);
+            let x0 = fft_buf[sl.x];
+            let x1 = fft_buf[sl.y];
+            let x2 = fft_buf[sl.z];
+            let x3 = fft_buf[sl.w];
             let a0 = x0 + x2;
             let a2 = fft_mul(x0 - x2, w1);
             let a1 = x1 + x3;
             let a3 = fft_quarter(fft_mul(x1 - x3, w1), inverse);
-            fft_buf[at] = a0 + a1;
-            fft_buf[at + q] = fft_mul(a0 - a1, w2);
-            fft_buf[at + h] = a2 + a3;
-            fft_buf[at + h + q] = fft_mul(a2 - a3, w2);
+            fft_buf[sl.x] = a0 + a1;
+            fft_buf[sl.y] = fft_mul(a0 - a1, w2);
+            fft_buf[sl.z] = a2 + a3;
+            fft_buf[sl.w] = fft_mul(a2 - a3, w2);
         }
         workgroupBarrier();
     }
     if (s == 1u) {
-        for (var u = lid; u < FFT_SHARED / 2u; u += WG) {
-            let at = 2u * u;
-            let a = fft_buf[at];
-            let b = fft_buf[at + 1u];
-            fft_buf[at] = a + b;
-            fft_buf[at + 1u] = a - b;
+        for (var u = lid; u < (p.size >> 1u); u += WG) {
+            let sl = fft_slots(p, 2u * u, 1u, 1u, 1u);
+            let a = fft_buf[sl.x];
+            let b = fft_buf[sl.y];
+            fft_buf[sl.x] = a + b;
+            fft_buf[sl.y] = a - b;
         }
         workgroupBarrier();
     }
@@ -270,12 +293,12 @@ fn fft_dif(p: FftPass, lid: u32, inverse: bool) {
 fn fft_dit(p: FftPass, lid: u32, inverse: bool) {
     var s = 0u;
     if ((p.log2r & 1u) == 1u) {
-        for (var u = lid; u < FFT_SHARED / 2u; u += WG) {
-            let at = 2u * u;
-            let a = fft_buf[at];
-            let b = fft_buf[at + 1u];
-            fft_buf[at] = a + b;
-            fft_buf[at + 1u] = a - b;
+        for (var u = lid; u < (p.size >> 1u); u += WG) {
+            let sl = fft_slots(p, 2u * u, 1u, 1u, 1u);
+            let a = fft_buf[sl.x];
+            let b = fft_buf[sl.y];
+            fft_buf[sl.x] = a + b;
+            fft_buf[sl.y] = a - b;
         }
         workgroupBarrier();
         s = 1u;
@@ -283,23 +306,24 @@ fn fft_dit(p: FftPass, lid: u32, inverse: bool) {
     for (; s + 2u <= p.log2r; s += 2u) {
         // Stages h = 2^s and 2h.
         let h = 1u << s;
-        for (var u = lid; u < FFT_SHARED / 4u; u += WG) {
+        for (var u = lid; u < (p.size >> 2u); u += WG) {
             let i = u & (h - 1u);
             let at = ((u >> s) << (s + 2u)) + i;
             let w1 = fft_twiddle(i, s + 1u, inverse);
             let w2 = fft_twiddle(i, s + 2u, inverse);
-            let x0 = fft_buf[at];
-            let x1 = fft_mul(fft_buf[at + h], w1);
-            let x2 = fft_buf[at + 2u * h];
-            let x3 = fft_mul(fft_buf[at + 3u * h], w1);
+            let sl = fft_slots(p, at, h, 2u * h, 3u * h);
+            let x0 = fft_buf[sl.x];
+            let x1 = fft_mul(fft_buf[sl.y], w1);
+            let x2 = fft_buf[sl.z];
+            let x3 = fft_mul(fft_buf[sl.w], w1);
             let a0 = x0 + x1;
             let a1 = x0 - x1;
             let a2 = fft_mul(x2 + x3, w2);
             let a3 = fft_quarter(fft_mul(x2 - x3, w2), inverse);
-            fft_buf[at] = a0 + a2;
-            fft_buf[at + 2u * h] = a0 - a2;
-            fft_buf[at + h] = a1 + a3;
-            fft_buf[at + 3u * h] = a1 - a3;
+            fft_buf[sl.x] = a0 + a2;
+            fft_buf[sl.z] = a0 - a2;
+            fft_buf[sl.y] = a1 + a3;
+            fft_buf[sl.w] = a1 - a3;
         }
         workgroupBarrier();
     }
@@ -308,12 +332,12 @@ fn fft_dit(p: FftPass, lid: u32, inverse: bool) {
 // Store the (bit-reversed) DFTs of the block at their Stockham positions.
 fn fft_store(p: FftPass, k: FftBlock, lid: u32) {
     let along = (p.flags & FFT_BATCH_FAST) == 0u && p.ns < p.t;
-    for (var e = lid; e < FFT_SHARED; e += WG) {
+    for (var e = lid; e < p.size; e += WG) {
         let tq = fft_entry(p, e, along);
         let g = fft_group(p, k, tq.x);
         if (g.valid) {
             let kk = g.j & (p.ns - 1u);
-            let v = fft_buf[(tq.x << p.log2r) + fft_bitrev(tq.y, p.log2r)];
+            let v = fft_buf[fft_at(p, (tq.x << p.log2r) + fft_bitrev(tq.y, p.log2r))];
             fft_write(p.output, g.b, ((g.j - kk) << p.log2r) + kk + (tq.y << p.log2ns), v);
         }
     }
@@ -329,8 +353,8 @@ fn fft_store_split(p: FftPass, k: FftBlock, lid: u32) {
         let kk = e - t * w;
         let g = fft_group(p, k, t);
         if (g.valid) {
-            let z = fft_buf[(t << p.log2r) + fft_bitrev(kk & (p.r - 1u), p.log2r)];
-            let c0 = fft_buf[(t << p.log2r) + fft_bitrev((p.r - kk) & (p.r - 1u), p.log2r)];
+            let z = fft_buf[fft_at(p, (t << p.log2r) + fft_bitrev(kk & (p.r - 1u), p.log2r))];
+            let c0 = fft_buf[fft_at(p, (t << p.log2r) + fft_bitrev((p.r - kk) & (p.r - 1u), p.log2r))];
             let c = vec2<f32>(c0.x, -c0.y);
             let even = 0.5 * (z + c);
             let d = 0.5 * (z - c);

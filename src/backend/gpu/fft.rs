@@ -17,7 +17,7 @@ use rustfft::FftPlanner;
 use super::context::GpuError;
 use super::engine::{Buf, Engine, Kernel};
 pub use super::fft_plan::padded;
-use super::fft_plan::{grid, work_elements, MatvecPlan, Path, Role};
+use super::fft_plan::{grid, work_elements, MatvecPlan, Path, Role, MIN_WORKGROUPS};
 
 /// Storage precision of the kernel spectrum.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -148,6 +148,7 @@ pub fn choose_path(
         (FftChoice::SharedMaxRadix(r), _) => Path::Shared {
             shared,
             max_radix: r.clamp(2, shared),
+            min_workgroups: MIN_WORKGROUPS,
         },
     }
 }
@@ -170,7 +171,15 @@ impl FftMatvec {
             )));
         }
         let device = Path::for_device(&engine.ctx.device.limits());
-        let path = choose_path(choice, precision, device, engine.fft_shared);
+        let mut path = choose_path(choice, precision, device, engine.fft_shared);
+        if let Path::Shared { min_workgroups, .. } = &mut path {
+            if engine.ctx.adapter.device_type == "Cpu" {
+                // A CPU adapter runs a workgroup per thread: big blocks, and
+                // enough of them for the host's threads.
+                let threads = std::thread::available_parallelism().map_or(4, |n| n.get());
+                *min_workgroups = 2 * threads as u64;
+            }
+        }
         let plan = MatvecPlan::new(nx, ny, path);
         let (mx, my) = (plan.mx, plan.my);
         let bytes = 8 * work_elements(nx, ny, path) as u64;

@@ -35,6 +35,13 @@ pub const MIN_SHARED: usize = 2 * WORKGROUP as usize;
 /// load and store touches runs of at least 32 bytes.
 pub const MIN_BATCH: usize = 4;
 
+/// A pass whose full blocks would give fewer workgroups than this takes
+/// fewer groups per block (down to one), so that small grids still spread
+/// over a GPU (twice the 132 SMs of an H100). CPU adapters (lavapipe run
+/// each workgroup on one thread, and pay per workgroup) use twice their
+/// threads instead ([`Path::Shared::min_workgroups`]).
+pub const MIN_WORKGROUPS: u64 = 256;
+
 /// `flags` bit: transforms of consecutive batches are adjacent (columns).
 pub const FFT_BATCH_FAST: u32 = 1;
 /// `flags` bit: conjugate twiddles (unscaled inverse transform).
@@ -67,8 +74,14 @@ pub enum Path {
     /// Complex radix-2 passes, one dispatch each.
     Radix2,
     /// Workgroup-memory Stockham passes: `shared` complex elements per
-    /// workgroup (the shader's array), radices at most `max_radix`.
-    Shared { shared: usize, max_radix: usize },
+    /// workgroup (the shader's array), radices at most `max_radix`, blocks
+    /// shrunk until a pass has `min_workgroups` workgroups (or one group
+    /// each).
+    Shared {
+        shared: usize,
+        max_radix: usize,
+        min_workgroups: u64,
+    },
 }
 
 impl Path {
@@ -95,6 +108,7 @@ impl Path {
             Path::Shared {
                 shared,
                 max_radix: shared,
+                min_workgroups: MIN_WORKGROUPS,
             }
         }
     }
@@ -198,14 +212,15 @@ struct Radix {
     output: Layout,
     /// Length of the twiddle table (a power of two).
     table: usize,
+    /// Groups per workgroup (a power of two).
+    t: usize,
 }
 
 impl Radix {
-    /// Workgroups of the pass with `shared` elements per block: batch-fast
-    /// passes give each workgroup `shared / r` transforms of one group
-    /// index, the others `shared / r` consecutive groups.
-    fn workgroups(&self, shared: usize) -> u64 {
-        let per = (shared / self.r) as u64;
+    /// Workgroups of the pass: batch-fast passes give each workgroup `t`
+    /// transforms of one group index, the others `t` consecutive groups.
+    fn workgroups(&self) -> u64 {
+        let per = self.t as u64;
         let groups = (self.n / self.r) as u64;
         if self.flags & FFT_BATCH_FAST != 0 {
             groups * (self.batches as u64).div_ceil(per)
@@ -224,7 +239,7 @@ impl Radix {
                 u(self.batches),
             ],
             j: [
-                self.flags,
+                self.flags | (self.t.trailing_zeros() << 8),
                 u(self.input.bsf),
                 u(self.input.esf),
                 u(self.input.lim),
@@ -247,11 +262,16 @@ pub fn grid(groups: u64) -> (u32, u32) {
 struct Builder {
     steps: Vec<Step>,
     shared: usize,
+    min_workgroups: u64,
 }
 
 impl Builder {
     fn radix(&mut self, kernel: Kernel, bufs: [Role; 2], twiddle: (Role, usize), mut p: Radix) {
         p.table = twiddle.1;
+        p.t = self.shared / p.r;
+        while p.t > 1 && p.workgroups() < self.min_workgroups {
+            p.t /= 2;
+        }
         let per = |l: Layout, n: usize| l.lim.min(2 * n) as u64;
         let read_n = p.n + usize::from(p.flags & FFT_MERGE != 0);
         let write_n = p.n + usize::from(p.flags & FFT_SPLIT != 0);
@@ -270,7 +290,7 @@ impl Builder {
             kernel,
             bufs: roles,
             params: p.params(),
-            groups: p.workgroups(self.shared),
+            groups: p.workgroups(),
             read,
             written: 4 * p.batches as u64 * per(p.output, write_n),
             label: format!(
@@ -308,9 +328,19 @@ impl MatvecPlan {
         let (mx, my) = padded_shape(nx, ny, path);
         let steps = match path {
             Path::Radix2 => radix2_steps(nx, ny, mx, my),
-            Path::Shared { shared, max_radix } => {
-                shared_steps(nx, ny, mx, my, shared, max_radix.min(shared))
-            }
+            Path::Shared {
+                shared,
+                max_radix,
+                min_workgroups,
+            } => shared_steps(
+                nx,
+                ny,
+                mx,
+                my,
+                shared,
+                max_radix.min(shared),
+                min_workgroups,
+            ),
         };
         Self {
             nx,
@@ -355,6 +385,7 @@ fn radix2_steps(nx: usize, ny: usize, mx: usize, my: usize) -> Vec<Step> {
     let mut b = Builder {
         steps: Vec::new(),
         shared: 0,
+        min_workgroups: 1,
     };
     let shape = [nx as u32, ny as u32, mx as u32, my as u32];
     let (nx64, ny64, mx64, my64) = (nx as u64, ny as u64, mx as u64, my as u64);
@@ -444,10 +475,12 @@ fn shared_steps(
     my: usize,
     shared: usize,
     max_radix: usize,
+    min_workgroups: u64,
 ) -> Vec<Step> {
     let mut b = Builder {
         steps: Vec::new(),
         shared,
+        min_workgroups,
     };
     let h = my / 2;
     let w = h + 1;
@@ -493,6 +526,7 @@ fn shared_steps(
                 input: real,
                 output: bins,
                 table: 0,
+                t: 0,
             },
         );
     } else {
@@ -514,6 +548,7 @@ fn shared_steps(
                     input: if k == 0 { real } else { packed },
                     output: packed,
                     table: 0,
+                    t: 0,
                 },
             );
             ns *= r;
@@ -549,6 +584,7 @@ fn shared_steps(
                 input: column(if k == 0 { nx } else { mx }),
                 output: column(if fused && last == 0 { nx } else { mx }),
                 table: 0,
+                t: 0,
             },
         );
         ns *= r;
@@ -571,6 +607,7 @@ fn shared_steps(
                 input: column(mx),
                 output: column(if k == 0 { nx } else { mx }),
                 table: 0,
+                t: 0,
             },
         );
         ns *= rs[k];
@@ -592,6 +629,7 @@ fn shared_steps(
                 input: bins,
                 output: real,
                 table: 0,
+                t: 0,
             },
         );
     } else {
@@ -616,6 +654,7 @@ fn shared_steps(
                     input: packed,
                     output: if last { real } else { packed },
                     table: 0,
+                    t: 0,
                 },
             );
             ns *= r;
@@ -721,6 +760,7 @@ mod tests {
                 Path::Shared {
                     shared: 64,
                     max_radix: 8,
+                    min_workgroups: 1,
                 },
             ] {
                 let plan = MatvecPlan::new(nx, ny, path);

@@ -290,14 +290,17 @@ mod tests {
                 Path::Shared {
                     shared: 4096,
                     max_radix: 4096,
+                    min_workgroups: 256,
                 },
                 Path::Shared {
                     shared: 64,
                     max_radix: 8,
+                    min_workgroups: 1,
                 },
                 Path::Shared {
                     shared: 16,
                     max_radix: 2,
+                    min_workgroups: 1,
                 },
             ] {
                 let e = error(nx, ny, path);
