@@ -11,7 +11,6 @@ pub mod fields;
 pub mod figures;
 pub mod files;
 pub mod friction;
-pub mod periodic;
 pub mod report;
 pub mod spots;
 
@@ -22,10 +21,9 @@ pub use chi::{
 pub use contact::{contact_statistics, ContactStatistics};
 pub use fields::analyze;
 pub use files::{analyze_dir, read_summary, scales_from_config, write_analysis, SolveSummary};
-pub use friction::{friction_force_dissipation, friction_force_stencil};
-pub use periodic::{
-    friction_force_periodic, friction_force_periodic_with, full_contact_friction_stress,
-    full_contact_friction_stress_layered,
+pub use friction::{
+    friction_force_dissipation, friction_force_periodic, friction_force_periodic_with,
+    friction_force_stencil, full_contact_friction_stress, full_contact_friction_stress_layered,
 };
 pub use report::{
     AnalysisError, AnalysisInputs, AnalysisParams, AnalysisReport, ChiReport, ANALYSIS_FILES,

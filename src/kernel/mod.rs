@@ -405,7 +405,7 @@ impl SlidingKernel {
     ) -> Result<CoefficientTable, KernelError> {
         Self::check_cell(cell, cell)?;
         check_grid(nx, ny)?;
-        Ok(table::build(self, nx, ny, cell, None))
+        Ok(table::build(self, nx, ny, cell, None, false))
     }
 
     /// Table of the cell-averaged derivative `D_x` or `D_y` [1/Pa] over all
@@ -432,7 +432,7 @@ impl SlidingKernel {
     ) -> Result<CoefficientTable, KernelError> {
         Self::check_cell(cell, cell)?;
         check_grid(nx, ny)?;
-        Ok(table::build(self, nx, ny, cell, Some(axis)))
+        Ok(table::build(self, nx, ny, cell, Some(axis), false))
     }
 
     /// [`VertexTable`]: `K` at the corner offsets `((i + 1/2) a, (j + 1/2) a)`
@@ -458,7 +458,7 @@ impl SlidingKernel {
         cell: f64,
         derivative: Option<Axis>,
     ) -> CoefficientTable {
-        table::build_per_offset(self, nx, ny, cell, derivative)
+        table::build(self, nx, ny, cell, derivative, true)
     }
 }
 

@@ -225,13 +225,16 @@ fn marched(
     out
 }
 
-/// [`CoefficientTable`] of `K` or of the derivative along `derivative`.
+/// [`CoefficientTable`] of `K` or of the derivative along `derivative`: by
+/// the row march where it applies, or per offset everywhere when
+/// `force_per_offset` (the reference).
 pub(super) fn build(
     k: &SlidingKernel,
     nx: usize,
     ny: usize,
     cell: f64,
     derivative: Option<Axis>,
+    force_per_offset: bool,
 ) -> CoefficientTable {
     let lat = Lattice {
         nx,
@@ -242,7 +245,7 @@ pub(super) fn build(
         nx,
         ny,
         cell_size: cell,
-        values: values(k, lat, cell, derivative, false),
+        values: values(k, lat, cell, derivative, force_per_offset),
     }
 }
 
@@ -258,26 +261,5 @@ pub(super) fn build_vertex(k: &SlidingKernel, nx: usize, ny: usize, cell: f64) -
         ny,
         cell_size: cell,
         values: values(k, lat, cell, None, false),
-    }
-}
-
-/// The reference per-offset [`CoefficientTable`] (no row march).
-pub(super) fn build_per_offset(
-    k: &SlidingKernel,
-    nx: usize,
-    ny: usize,
-    cell: f64,
-    derivative: Option<Axis>,
-) -> CoefficientTable {
-    let lat = Lattice {
-        nx,
-        ny,
-        vertex: false,
-    };
-    CoefficientTable {
-        nx,
-        ny,
-        cell_size: cell,
-        values: values(k, lat, cell, derivative, true),
     }
 }

@@ -10,15 +10,15 @@
 
 mod adaptive;
 mod dense;
-mod fft2;
+mod fft_convolution;
 mod periodic;
 mod toeplitz;
 
 pub use adaptive::{AdaptiveOperator, LevelTables};
 pub use dense::DenseOperator;
-pub use periodic::{
-    periodic_friction_weights, periodic_multiplier, PeriodicResponse, SpectralPeriodic,
-};
+pub(crate) use fft_convolution::SpectralEngine;
+pub(crate) use periodic::{column_weight, multiplier_half_spectrum};
+pub use periodic::{periodic_multiplier, PeriodicResponse, SpectralPeriodic};
 pub use toeplitz::{fast_size, ToeplitzFft};
 
 /// A square linear map on grid vectors (C order, axis 0 = x).

@@ -17,7 +17,7 @@
 //! non-periodic kernel (the paper's Eq. 5, `Theta` times the viscoelastic
 //! Green's function), this holds for the sliding viscoelastic layer.
 //!
-//! The multiplier of every mode is built once, by [`half_spectrum`], for
+//! The multiplier of every mode is built once, by [`multiplier_half_spectrum`], for
 //! the operator and for the Fourier dissipation sum of
 //! [`crate::analysis::friction_force_periodic`] alike.
 //!
@@ -46,7 +46,7 @@
 use num_complex::Complex64;
 use rayon::prelude::*;
 
-use super::fft2::SpectralEngine;
+use super::fft_convolution::SpectralEngine;
 use super::GridOperator;
 use crate::kernel::thickness::compliance_ratio;
 use crate::kernel::KernelParams;
@@ -215,7 +215,7 @@ impl SpectralPeriodic {
         assert!(nx > 0 && ny > 0, "grid must be non-empty");
         assert!(a > 0.0 && a.is_finite(), "cell side must be positive");
         let mut engine = SpectralEngine::new(nx, ny, nx, ny);
-        let multiplier_t = half_spectrum(material, params, nx, ny, a, response);
+        let multiplier_t = multiplier_half_spectrum(material, params, nx, ny, a, response);
         // Diagonal: (1/N) sum over all modes.
         let diag: f64 = multiplier_t
             .chunks_exact(nx)
@@ -251,7 +251,7 @@ impl SpectralPeriodic {
 /// The discrete multiplier of every mode of the half spectrum of an
 /// `nx x ny` grid of cells of side `a` (`ny / 2 + 1` columns of `nx` modes,
 /// column-major, as the transforms hold them).
-pub(crate) fn half_spectrum(
+pub(crate) fn multiplier_half_spectrum(
     material: &Material,
     params: &KernelParams,
     nx: usize,
@@ -280,34 +280,6 @@ pub(crate) fn column_weight(j: usize, ny: usize) -> f64 {
     } else {
         2.0
     }
-}
-
-/// For a sum over all modes of `|P(q)|^2 Re m(q)`: `|P|^2` of a real
-/// `nx x ny` field on the half spectrum (`P` the unnormalised forward
-/// transform) and `column_weight * Re m(q)` for the multiplier of `response`,
-/// both column-major (`ny / 2 + 1` columns of `nx` modes).
-pub fn periodic_friction_weights(
-    field: &[f64],
-    nx: usize,
-    ny: usize,
-    a: f64,
-    material: &Material,
-    params: &KernelParams,
-    response: PeriodicResponse,
-) -> (Vec<f64>, Vec<f64>) {
-    let mut engine = SpectralEngine::new(nx, ny, nx, ny);
-    let power = engine
-        .spectrum_of(field)
-        .iter()
-        .map(|c| c.norm_sqr())
-        .collect();
-    let m = half_spectrum(material, params, nx, ny, a, response);
-    let weights = m
-        .chunks_exact(nx)
-        .enumerate()
-        .flat_map(|(j, col)| col.iter().map(move |v| column_weight(j, ny) * v.re))
-        .collect();
-    (power, weights)
 }
 
 impl GridOperator for SpectralPeriodic {

@@ -9,7 +9,7 @@
 //! the kernel spectrum and all work buffers are built once; `apply`
 //! allocates nothing.
 
-use super::fft2::SpectralEngine;
+use super::fft_convolution::SpectralEngine;
 use super::{GridOperator, OffsetTable};
 
 /// `u = L p` by padded FFT convolution.

@@ -47,7 +47,7 @@ use crate::error::{Error, Result};
 use crate::kernel::{KernelParams, Layer, SlidingKernel};
 use crate::material::Material;
 use crate::solver::{Control, SolverParams};
-use crate::surface::{GenerateParams, HeightMap};
+use crate::surface::{GenerateParams, HeightMap, SynthParams, TabulatedPsd};
 
 /// Where the surface of a problem came from: what [`Problem::with_grid`]
 /// needs to sample it again at another resolution.
@@ -57,6 +57,14 @@ pub enum SurfaceSource {
     Generated(GenerateParams),
     /// The paraboloid of a sphere.
     Sphere(SphereConfig),
+    /// Synthesised from the tabulated PSD read from `path` with random
+    /// phases per Fourier mode (`[surface.generate] psd`): resolution
+    /// consistent like [`SurfaceSource::Generated`].
+    Synthesised {
+        path: PathBuf,
+        table: TabulatedPsd,
+        params: SynthParams,
+    },
     /// Read from this file: one resolution only.
     File(PathBuf),
     /// Given as a height map by the caller: one resolution only.
@@ -200,6 +208,25 @@ impl Problem {
                 let s = SphereConfig { n, ..*s };
                 (s.height_map()?, SurfaceSource::Sphere(s))
             }
+            SurfaceSource::Synthesised {
+                path,
+                table,
+                params,
+            } => {
+                let params = SynthParams {
+                    nx: n,
+                    ny: ny_new,
+                    ..*params
+                };
+                (
+                    crate::surface::generate_from_table(table, &params)?,
+                    SurfaceSource::Synthesised {
+                        path: path.clone(),
+                        table: table.clone(),
+                        params,
+                    },
+                )
+            }
             SurfaceSource::File(path) => {
                 return Err(invalid(format!(
                     "the surface read from {} has one resolution ({nx} x {ny}); re-discretising needs a generated surface or a sphere",
@@ -310,6 +337,7 @@ fn record_grid(document: &mut toml::Table, source: &SurfaceSource) {
     let (key, n, ny) = match source {
         SurfaceSource::Generated(p) => ("generate", p.nx, Some(p.ny)),
         SurfaceSource::Sphere(s) => ("sphere", s.n, None),
+        SurfaceSource::Synthesised { params, .. } => ("generate", params.nx, Some(params.ny)),
         _ => return,
     };
     if let Some(toml::Value::Table(t)) = surface.get_mut(key) {

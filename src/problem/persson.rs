@@ -10,6 +10,7 @@
 //! else the normal load over the map's area (for a problem under
 //! displacement control, the solved mean pressure).
 
+use std::f64::consts::{PI, TAU};
 use std::path::Path;
 
 use serde::Serialize;
@@ -43,6 +44,15 @@ pub enum PsdSource {
     },
     /// A `q, C` table.
     Table { path: String, rows: usize },
+    /// The table `[surface.generate] psd` follows, over the band the grid
+    /// synthesises in every direction: `2 pi / L` to the Nyquist
+    /// wavenumber `pi / a`.
+    GeneratedTable {
+        path: String,
+        rows: usize,
+        q_min_per_m: f64,
+        q_max_per_m: f64,
+    },
 }
 
 /// The inputs of the theory built from a config: a thin adapter, the
@@ -139,6 +149,25 @@ pub fn theory_inputs(
                     },
                 )
             }
+            (Some(s), None) if s.generate.as_ref().is_some_and(|g| g.psd.is_some()) => {
+                let g = s.generate.as_ref().expect("generate");
+                let (table, sp) = g.synth_params(s.length)?.expect("a psd table");
+                let path = cfg.base_dir.join(table);
+                let full = TabulatedPsd::from_csv(&path)?;
+                let cell = sp.length / sp.nx as f64;
+                let (lo, hi) = (TAU / sp.length, PI / cell);
+                let t = full.within(lo, hi, &path.display().to_string())?;
+                let (q_min_per_m, q_max_per_m) = (t.q_min(), t.q_max());
+                (
+                    t,
+                    PsdSource::GeneratedTable {
+                        path: path.display().to_string(),
+                        rows: full.q().len(),
+                        q_min_per_m,
+                        q_max_per_m,
+                    },
+                )
+            }
             (Some(s), None) if s.sphere.is_some() => {
                 return Err(Error::Invalid(
                     "Persson's theory is for randomly rough surfaces, not [surface.sphere]; give [surface.generate], a surface file or --psd CSV".into(),
@@ -212,14 +241,18 @@ pub struct PerssonEstimate {
     pub contact_area_fraction: f64,
     /// `sigma0` \[Pa\] the theory was evaluated at.
     pub nominal_pressure: f64,
-    /// Which PSD: `self_affine` (continuum) or `radial_average` (of the map).
+    /// Which PSD: `self_affine` (continuum), `generated_table` (the table a
+    /// synthesised surface follows, over the grid's band) or
+    /// `radial_average` (of the map).
     pub psd: &'static str,
 }
 
 impl Problem {
     /// The isotropic PSD Persson's theory sees for this problem's surface:
-    /// the continuum self-affine PSD of a generated surface, the radial
-    /// average of a surface read from a file or given as values. `Err`
+    /// the continuum self-affine PSD of a generated surface, the table a
+    /// synthesised surface follows (over the band `2 pi / L` to `pi / a`
+    /// the grid carries), the radial average of a surface read from a file
+    /// or given as values. `Err`
     /// says why the theory does not apply (a sphere, an anisotropic
     /// surface).
     pub fn persson_psd(&self) -> std::result::Result<(TabulatedPsd, &'static str), String> {
@@ -229,6 +262,17 @@ impl Problem {
                 .map_err(|e| e.to_string()),
             SurfaceSource::Sphere(_) => {
                 Err("Persson's theory is for randomly rough surfaces, not a sphere".to_string())
+            }
+            SurfaceSource::Synthesised { table, path, .. } => {
+                let a = self.surface.cell_size;
+                table
+                    .within(
+                        TAU / self.surface.length_x(),
+                        PI / a,
+                        &path.display().to_string(),
+                    )
+                    .map(|t| (t, "generated_table"))
+                    .map_err(|e| e.to_string())
             }
             SurfaceSource::File(_) | SurfaceSource::Given => {
                 persson::psd::radial(&self.surface, Window::None)

@@ -45,7 +45,14 @@ impl Problem {
                 .resolve()
                 .ok()
                 .map(|psd| ShortestWavelength::UpperCutoff(std::f64::consts::TAU / psd.q1)),
-            SurfaceSource::File(_) | SurfaceSource::Given => {
+            SurfaceSource::Synthesised { table, .. }
+                if table.q_max() < std::f64::consts::PI / a =>
+            {
+                Some(ShortestWavelength::UpperCutoff(
+                    std::f64::consts::TAU / table.q_max(),
+                ))
+            }
+            SurfaceSource::File(_) | SurfaceSource::Given | SurfaceSource::Synthesised { .. } => {
                 Some(ShortestWavelength::Nyquist(2.0 * a))
             }
             SurfaceSource::Sphere(_) => None,

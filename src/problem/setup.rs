@@ -30,6 +30,20 @@ impl Problem {
             &surface_cfg.file,
         ) {
             (Some(p), _, _) => SurfaceSource::Generated(p),
+            (None, None, None) if surface_cfg.generate.is_some() => {
+                let g = surface_cfg.generate.as_ref().expect("generate");
+                match g.synth_params(surface_cfg.length)? {
+                    Some((table, params)) => {
+                        let path = cfg.base_dir.join(table);
+                        SurfaceSource::Synthesised {
+                            table: crate::surface::TabulatedPsd::from_csv(&path)?,
+                            path,
+                            params,
+                        }
+                    }
+                    None => SurfaceSource::Given,
+                }
+            }
             (None, Some(s), _) => SurfaceSource::Sphere(*s),
             (None, None, Some(f)) => SurfaceSource::File(cfg.base_dir.join(f)),
             (None, None, None) => SurfaceSource::Given,

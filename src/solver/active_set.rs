@@ -5,8 +5,8 @@
 use super::gmres::{gmres, AugOperator, AugVec, GmresWork};
 use super::{
     check_problem, tolerances, ContactSolution, Control, Observer, SolveInfo, SolverError,
-    SolverParams, WarmStart, FLOOR_TOGGLES, INNER_FLOOR, PRECONDITIONED_BUDGET, ROUNDING_FLOOR,
-    STAGNANT_ACCEPT, STAGNANT_ITERATIONS, STAGNATION,
+    SolverParams, WarmStart, FAST_FALL, FLOOR_TOGGLES, INNER_FLOOR, PRECONDITIONED_BUDGET,
+    ROUNDING_FLOOR, STAGNANT_ACCEPT, STAGNANT_ITERATIONS, STAGNATION,
 };
 use crate::backend::Backend;
 
@@ -44,9 +44,10 @@ impl Phase {
     }
 
     /// Reduction of the starting residual at which the solve stops (0: only
-    /// the sharp tolerance); `settle` for a set that changed by at most one
-    /// cell in [`FLOOR_TOGGLES`] in the last iteration (or a stalled
-    /// residual): solve to the end.
+    /// the sharp tolerance); `settle` for a set that has settled (unchanged
+    /// in the last iteration, or toggling at most one cell in
+    /// [`FLOOR_TOGGLES`] while the residual fell by [`FAST_FALL`], or a
+    /// stalled residual): solve to the end.
     fn reduction(self, settle: bool) -> f64 {
         match self {
             Self::Rough => 1e-2,
@@ -266,6 +267,7 @@ pub(crate) fn solve_owned<B: Backend>(
     let mut contact_history = Vec::new();
     let mut last_changes = usize::MAX;
     let mut residual = f64::INFINITY;
+    let mut previous = f64::INFINITY;
     let mut stalled = false;
     // The inner tolerance is relative to |g_I|; where the complementarity
     // residual (relative to |p|) stalls above the target on an unchanged
@@ -321,8 +323,14 @@ pub(crate) fn solve_owned<B: Backend>(
         if preconditioned {
             budget = budget.min(PRECONDITIONED_BUDGET * params.restart.max(1));
         }
-        let reduction =
-            phase.reduction(stalled || last_changes <= (contact_cells / FLOOR_TOGGLES).max(1));
+        // Solve to the end once the set has settled: unchanged, or toggling
+        // a few cells while the residual falls fast (the next set is likely
+        // the last), or a stalled residual. A few cells still moving on a
+        // slowly falling residual get the sharp phase's reduction only.
+        let few_toggles = last_changes <= (contact_cells / FLOOR_TOGGLES).max(1);
+        let settle =
+            stalled || last_changes == 0 || (few_toggles && residual <= FAST_FALL * previous);
+        let reduction = phase.reduction(settle);
         let outcome = gmres(
             backend, &mut op, &rhs, &mut p, &mut work, sharp, reduction, budget,
         );
@@ -354,11 +362,18 @@ pub(crate) fn solve_owned<B: Backend>(
             0.0
         };
         let previous_residual = history.last().copied().unwrap_or(f64::INFINITY);
+        previous = previous_residual;
         stalled = residual >= previous_residual;
-        if stalled && phase == Phase::Sharp && reduction == 0.0 && sharp > floor_inner {
+        let (changes, size) = backend.update_active_set(&p_full, &gap, &mut mask);
+        // A full inner solve that left the residual above the target while
+        // the set held (unchanged, or no better than the best so far, or
+        // stalled) is limited by the inner tolerance: sharpen it at once.
+        let full_solve = phase == Phase::Sharp && reduction == 0.0;
+        let short = residual > tolerance.max(floor);
+        let no_gain = residual >= STAGNATION * best_residual;
+        if full_solve && short && sharp > floor_inner && (stalled || changes == 0 || no_gain) {
             sharp = (0.01 * sharp).max(floor_inner);
         }
-        let (changes, size) = backend.update_active_set(&p_full, &gap, &mut mask);
         history.push(residual);
         contact_history.push(size);
         observer.iteration(iteration, matvecs, residual, size);
@@ -376,9 +391,12 @@ pub(crate) fn solve_owned<B: Backend>(
             stagnant = 0;
         } else if at_inner_floor && few_changes {
             stagnant += 1;
-        } else {
+        } else if !few_changes {
             stagnant = 0;
         }
+        // (A few toggling cells after an inexact step that did not beat the
+        // best residual neither count nor reset: at the floor such steps
+        // alternate with the settled ones, which count.)
         let at_floor = stagnant >= STAGNANT_ITERATIONS && residual <= STAGNANT_ACCEPT;
         if (settled && residual <= tolerance.max(floor)) || at_floor {
             let load_error = match control {

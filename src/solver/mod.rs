@@ -215,6 +215,10 @@ pub(crate) const STAGNATION: f64 = 0.99;
 /// At the floor, the set may toggle at most one cell in this many (at least
 /// one cell) per iteration.
 pub(crate) const FLOOR_TOGGLES: usize = 1000;
+/// A residual that fell by this factor or more in one outer iteration
+/// while only a few cells moved: the set has (nearly) settled and the next
+/// inner solve runs to the sharp tolerance.
+pub(crate) const FAST_FALL: f64 = 0.1;
 /// Stagnant outer iterations (inner solves at the floor, the set unchanged
 /// or toggling a few cells) after which the residual is the arithmetic's
 /// floor.

@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::{fft2, HeightMap, SurfaceError};
+use super::{height_fft, HeightMap, SurfaceError};
 
 /// How the generated surface is scaled: exactly one of a prescribed rms
 /// height or rms slope.
@@ -377,7 +377,7 @@ pub fn generate_with_target(
     // Spectral moments of the unscaled surface: sum C dq^2 and sum |q|^2 C dq^2
     // over the full plane (rows 0 < ky < ny/2 stand for themselves and -ky).
     let moment = |power: i32| {
-        fft2::ordered_sum(&spec, nx, |ky, row| {
+        height_fft::ordered_sum(&spec, nx, |ky, row| {
             let w = if self_conj_row(ky) { 1.0 } else { 2.0 };
             let qy = ky as f64 * dqy;
             row.iter()
@@ -402,8 +402,8 @@ pub fn generate_with_target(
     };
     target.c0 = scale * scale;
 
-    let mut heights = fft2::inverse(spec, nx, ny)?;
-    let mean = fft2::ordered_sum(&heights, ny, |_, r| r.iter().sum()) / heights.len() as f64;
+    let mut heights = height_fft::inverse(spec, nx, ny)?;
+    let mean = height_fft::ordered_sum(&heights, ny, |_, r| r.iter().sum()) / heights.len() as f64;
     heights
         .par_iter_mut()
         .for_each(|h| *h = (*h - mean) * scale);

@@ -8,10 +8,10 @@
 //! `heights[i * ny + j]` is the height at the centre of cell `(i, j)`.
 
 mod config;
-mod fft2;
 mod format;
 mod generate;
 mod gwy;
+mod height_fft;
 mod io;
 mod measured;
 mod psd;

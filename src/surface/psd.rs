@@ -13,7 +13,7 @@ use std::f64::consts::PI;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::{fft2, HeightMap, SurfaceError};
+use super::{height_fft, HeightMap, SurfaceError};
 
 /// Taper applied before the FFT.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -71,7 +71,7 @@ impl Psd2d {
     /// `sum_q f(qx, qy) C(q) dqx dqy`, parallel over rows.
     pub fn integrate(&self, f: impl Fn(f64, f64) -> f64 + Sync) -> f64 {
         let dq2 = self.dqx * self.dqy;
-        fft2::ordered_sum(&self.values, self.ny, |kx, row| {
+        height_fft::ordered_sum(&self.values, self.ny, |kx, row| {
             let qx = signed(kx, self.nx) * self.dqx;
             row.iter()
                 .enumerate()
@@ -144,20 +144,21 @@ pub fn psd_grid(
         (Some(wx), Some(wy)) => {
             let msq = |w: &[f64]| w.iter().map(|v| v * v).sum::<f64>() / w.len() as f64;
             let norm = 1.0 / (msq(&wx) * msq(&wy)).sqrt();
-            let mean = fft2::ordered_sum(heights, ny, |_, r| r.iter().sum()) / heights.len() as f64;
+            let mean =
+                height_fft::ordered_sum(heights, ny, |_, r| r.iter().sum()) / heights.len() as f64;
             let mut h = heights.to_vec();
             h.par_chunks_mut(ny).enumerate().for_each(|(i, row)| {
                 for (j, v) in row.iter_mut().enumerate() {
                     *v = (*v - mean) * wx[i] * wy[j] * norm;
                 }
             });
-            fft2::forward(&h, nx, ny)?
+            height_fft::forward(&h, nx, ny)?
         }
-        _ => fft2::forward(heights, nx, ny)?,
+        _ => height_fft::forward(heights, nx, ny)?,
     };
     let (lx, ly) = (nx as f64 * dx, ny as f64 * dy);
     let factor = (dx * dy).powi(2) / ((2.0 * PI).powi(2) * lx * ly);
-    let nh = fft2::half_len(ny);
+    let nh = height_fft::half_len(ny);
     let mut values = vec![0.0; nx * ny];
     values.par_chunks_mut(ny).enumerate().for_each(|(kx, row)| {
         for (ky, v) in row.iter_mut().enumerate() {

@@ -142,6 +142,37 @@ impl TabulatedPsd {
         &self.c
     }
 
+    /// The table over `[lo, hi]` only (its rows inside, and the
+    /// interpolated values at `lo` and `hi` where the table reaches them):
+    /// the PSD of a surface synthesised from the table on a grid that
+    /// resolves that band. An error when fewer than two rows remain.
+    pub fn within(&self, lo: f64, hi: f64, name: &str) -> Result<Self, SurfaceError> {
+        let lo = lo.max(self.q_min());
+        let hi = hi.min(self.q_max());
+        let mut q = vec![];
+        let mut c = vec![];
+        if lo < hi {
+            q.push(lo);
+            c.push(self.eval(lo));
+            for (&qi, &ci) in self.q.iter().zip(&self.c) {
+                if qi > lo && qi < hi {
+                    q.push(qi);
+                    c.push(ci);
+                }
+            }
+            q.push(hi);
+            c.push(self.eval(hi));
+        }
+        if q.len() < 2 {
+            return Err(SurfaceError::Invalid(format!(
+                "{name}: the table ({:.4e} to {:.4e} 1/m) does not overlap the band {lo:.4e} to {hi:.4e} 1/m",
+                self.q_min(),
+                self.q_max()
+            )));
+        }
+        Self::new(q, c, name)
+    }
+
     /// `C(q)` by log-log interpolation; 0 outside `[q_min, q_max]`.
     pub fn eval(&self, q: f64) -> f64 {
         if !(q >= self.q_min() && q <= self.q_max()) {

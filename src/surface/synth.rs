@@ -10,7 +10,7 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::{fft2, HeightMap, SurfaceError, TabulatedPsd};
+use super::{height_fft, HeightMap, SurfaceError, TabulatedPsd};
 
 /// Grid and seed of [`generate_from_table`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -44,7 +44,7 @@ pub(super) fn phase(seed: u64, kx: i64, ky: u64) -> f64 {
 }
 
 /// The half spectrum (`ny / 2 + 1` rows of `nx` modes, as
-/// [`fft2::inverse`] takes it) of a random-phase surface: the mode with
+/// [`height_fft::inverse`] takes it) of a random-phase surface: the mode with
 /// signed indices `(kx, ky)` gets `amplitude(qx, qy)` (already times
 /// `sqrt(dqx dqy)`) and the phase of [`phase`]; on the self-conjugate rows
 /// (`ky = 0`, `ky = ny / 2`) the modes `-kx` are the conjugates of `kx`
@@ -58,7 +58,7 @@ pub(super) fn random_phase_spectrum(
     seed: u64,
     amplitude: impl Fn(f64, f64) -> f64 + Sync,
 ) -> Vec<Complex64> {
-    let nh = fft2::half_len(ny);
+    let nh = height_fft::half_len(ny);
     let signed = |k: usize| -> i64 {
         if k <= nx / 2 {
             k as i64
@@ -145,7 +145,7 @@ pub fn generate_from_table(
             PI / a
         )));
     }
-    let heights = fft2::inverse(spec, nx, ny)?;
+    let heights = height_fft::inverse(spec, nx, ny)?;
     Ok(HeightMap {
         nx,
         ny,
@@ -184,8 +184,8 @@ mod tests {
             },
         )
         .unwrap();
-        let fc = fft2::forward(&coarse.heights, 32, 24).unwrap();
-        let ff = fft2::forward(&fine.heights, 64, 48).unwrap();
+        let fc = height_fft::forward(&coarse.heights, 32, 24).unwrap();
+        let ff = height_fft::forward(&fine.heights, 64, 48).unwrap();
         // Spectra of sums of modes: H_k = N * mode amplitude; compare
         // modes strictly inside the coarse band (|kx| < 16, ky < 12).
         let scale = |n: usize| 1.0 / n as f64;

@@ -1,5 +1,13 @@
-//! 2-D real <-> half-complex transforms for arbitrary grid sizes (rustfft /
-//! realfft plan any length, not only powers of two), parallel over rows.
+//! The 2-D FFT of height maps: the one-shot real <-> half-complex
+//! transforms behind the spectral synthesis of surfaces (`inverse`: the
+//! self-affine generator, the tabulated-PSD synthesis) and their spectral
+//! analysis (`forward`: PSDs), for arbitrary grid sizes (rustfft / realfft
+//! plan any length, not only powers of two), parallel over rows.
+//!
+//! Not the operators' transform: `operator/fft_convolution.rs` keeps plans,
+//! a multiplier and work buffers alive for thousands of products on one
+//! grid, which a one-shot transform of a map that may fill most of memory
+//! must not hold.
 //!
 //! Layout of a half spectrum: `spec[ky * nx + kx]` for `ky = 0..=ny/2` and
 //! `kx = 0..nx` (FFT order), i.e. transposed with respect to the heights so

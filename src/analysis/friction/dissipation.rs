@@ -1,21 +1,30 @@
-//! Viscoelastic friction of a piecewise-constant pressure field, two ways.
+//! The dissipation route (paper Appendix, Eq. A3-A4; physics.md section 6):
+//! the friction integral in Fourier space, for both formulations.
 //!
-//! 1. Stencil (paper Eq. 9): `F_T = int p (e_v . grad u) dA`, evaluated
-//!    exactly for the piecewise-constant traction with the cell-averaged
-//!    derivative coefficients `D` of [`crate::kernel`]:
-//!    `F_T = a^2 sum_i p_i (D p)_i`. The elastic (`1/E_inf`) part of `D` is
-//!    antisymmetric, so it contributes exactly nothing.
-//! 2. Dissipation (Appendix A3-A4): the same integral in Fourier space,
-//!    `F_T = (2 pi)^-2 int d^2q |p^(q)|^2 Re[i q_v G^(q)]` with
-//!    `G^(q) = 2 (1 - nu^2) J*(-q.v) / |q|` (physics.md section 6), where
-//!    `p^(q) = S(q) P(q)`: `P` is the discrete transform of the cell
-//!    pressures and `S` the transform of one cell (a product of sincs). The
-//!    integral over the plane folds onto one Brillouin zone, sampled on the
-//!    zero-padded FFT grid, with the alias images summed explicitly.
+//! Non-periodic grid ([`friction_force_dissipation`]):
+//! `F_T = (2 pi)^-2 int d^2q |p^(q)|^2 Re[i q_v G^(q)]` with
+//! `G^(q) = 2 (1 - nu^2) J*(-q.v) / |q|`, where `p^(q) = S(q) P(q)`: `P` is
+//! the discrete transform of the cell pressures and `S` the transform of
+//! one cell (a product of sincs). The integral over the plane folds onto
+//! one Brillouin zone, sampled on the zero-padded FFT grid, with the alias
+//! images summed explicitly.
 //!
-//! Both give the x-force of the solid on the indenter, which opposes the
-//! motion: `F_T < 0` and the reported friction coefficient is
-//! `mu = -F_T / F_N` (physics.md section 5).
+//! Periodic cell ([`friction_force_periodic`]): for a periodic pressure
+//! field on `nx x ny` cells of side `a`, discrete Parseval turns the
+//! friction stencil `F_T = a^2 sum_n p_n (D p)_n` (paper Eq. 9 with the
+//! spectral slope operator of
+//! [`crate::operator::SpectralPeriodic::sliding_slope`]) into the mode sum
+//!
+//! `F_T = (a^2 / N) sum_q |P(q)|^2 Re[i q_v m(q)]
+//!      = (a^2 / N) sum_q |P(q)|^2 (-q_v) 2 (1 - nu^2) S(|q| h) Im J*(-q.v) / |q|`,
+//!
+//! with `P(q) = sum_n p_n exp(-i q.x_n)` the discrete transform, `N = nx ny`,
+//! `q_v = q.e_v` and `m(q)` the periodic multiplier (Nyquist modes averaged
+//! over their signs, as in the operator). This is Eq. A4 with the integral
+//! over `q` replaced by the sum over the periodic cell's modes (`S = 1` on a
+//! half-space). The multiplier is the operator's own
+//! ([`crate::operator::SpectralPeriodic`]). The `q = 0`
+//! mode and the elastic (`1/E_inf`) part contribute nothing.
 
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -23,17 +32,9 @@ use realfft::RealFftPlanner;
 use rustfft::FftPlanner;
 
 use crate::kernel::thickness::compliance_ratio;
-use crate::kernel::Layer;
-use crate::material::CreepSpectrum;
-use crate::operator::GridOperator;
-
-/// `F_T = a^2 p . (D p)` \[N\] with `D` the cell-averaged derivative operator
-/// along the sliding direction.
-pub fn friction_force_stencil(derivative: &mut dyn GridOperator, pressure: &[f64], a: f64) -> f64 {
-    let mut dp = vec![0.0; pressure.len()];
-    derivative.apply(pressure, &mut dp);
-    a * a * pressure.iter().zip(&dp).map(|(p, d)| p * d).sum::<f64>()
-}
+use crate::kernel::{KernelParams, Layer};
+use crate::material::{CreepSpectrum, Material};
+use crate::operator::{column_weight, multiplier_half_spectrum, PeriodicResponse, SpectralEngine};
 
 /// Alias images summed on each side in each direction.
 const ALIASES: i32 = 3;
@@ -125,14 +126,7 @@ pub fn friction_force_dissipation_layered(
     };
     let along_x = ey.abs() < 1e-15;
     // For sliding along x, Im J* depends on q_x only: cache it per (i, alias).
-    let mut imj_cache = vec![
-        0.0;
-        if along_x {
-            mx * (2 * ALIASES as usize + 1)
-        } else {
-            0
-        }
-    ];
+    let mut imj_cache = vec![0.0; if along_x { mx * NA } else { 0 }];
     let qx_of = |i: usize| {
         let k = if i <= mx / 2 {
             i as f64
@@ -150,15 +144,8 @@ pub fn friction_force_dissipation_layered(
             let s = sinc(0.5 * qx * a);
             qxs[i * NA + k] = qx;
             sx2s[i * NA + k] = s * s;
-        }
-    }
-    if along_x {
-        for i in 0..mx {
-            for (m, slot) in
-                (-ALIASES..=ALIASES).zip(imj_cache[i * (2 * ALIASES as usize + 1)..].iter_mut())
-            {
-                let qx = qx_of(i) + m as f64 * gx;
-                *slot = spectrum.compliance(-qx * ex * speed).im;
+            if along_x {
+                imj_cache[i * NA + k] = spectrum.compliance(-qx * ex * speed).im;
             }
         }
     }
@@ -175,11 +162,7 @@ pub fn friction_force_dissipation_layered(
                     };
                 }
                 fft.process(col);
-                let weight = if j == 0 || (my % 2 == 0 && j == myh - 1) {
-                    1.0
-                } else {
-                    2.0
-                };
+                let weight = column_weight(j, my);
                 let qy0 = qy_of(j);
                 let mut qys = [0.0; NA];
                 let mut sy2 = [0.0; NA];
@@ -226,4 +209,56 @@ pub fn friction_force_dissipation_layered(
     // P(q) = a^2 sum p e^{-iqx}: |P|^2 = a^4 |FFT|^2; the zone integral is
     // sum dq^2 / (2 pi)^2 with dq^2 = (2 pi)^2 / (mx my a^2).
     total * a.powi(4) / (mx as f64 * my as f64 * a * a)
+}
+
+/// `F_T` \[N\] of a periodic pressure field (C order, axis 0 = x) from the
+/// Fourier dissipation sum (Appendix Eq. A3-A4), on a half-space.
+pub fn friction_force_periodic(
+    pressure: &[f64],
+    nx: usize,
+    ny: usize,
+    a: f64,
+    material: &Material,
+    speed: f64,
+    direction_rad: f64,
+) -> f64 {
+    let params = KernelParams {
+        speed,
+        direction_rad,
+        layer: None,
+    };
+    friction_force_periodic_with(pressure, nx, ny, a, material, &params)
+}
+
+/// [`friction_force_periodic`] for `params`: speed, direction and an
+/// optional layer (its compliance ratio `S(|q| h)` multiplies every mode,
+/// exactly as in [`crate::operator::SpectralPeriodic::with_params`]).
+pub fn friction_force_periodic_with(
+    pressure: &[f64],
+    nx: usize,
+    ny: usize,
+    a: f64,
+    material: &Material,
+    params: &KernelParams,
+) -> f64 {
+    assert_eq!(pressure.len(), nx * ny, "pressure must hold nx * ny cells");
+    if params.speed == 0.0 || !params.speed.is_finite() {
+        return 0.0;
+    }
+    // |P|^2 and column_weight * Re[i q_v m(q)] on the half spectrum, both
+    // column-major (`ny / 2 + 1` columns of `nx` modes).
+    let power: Vec<f64> = SpectralEngine::new(nx, ny, nx, ny)
+        .spectrum_of(pressure)
+        .iter()
+        .map(|c| c.norm_sqr())
+        .collect();
+    let slope =
+        multiplier_half_spectrum(material, params, nx, ny, a, PeriodicResponse::SlidingSlope);
+    let weights: Vec<f64> = slope
+        .chunks_exact(nx)
+        .enumerate()
+        .flat_map(|(j, col)| col.iter().map(move |v| column_weight(j, ny) * v.re))
+        .collect();
+    let total: f64 = power.iter().zip(&weights).map(|(p, w)| p * w).sum();
+    total * a * a / (nx * ny) as f64
 }

@@ -8,7 +8,8 @@
 //! column FFTs in the same pass, then c2r on the first `nx` rows only. Rows
 //! of the padding are zero and are neither transformed nor read back. Plans,
 //! the multiplier and every work buffer are built once; `apply` allocates
-//! nothing and runs its transforms with rayon.
+//! nothing and runs its transforms with rayon. (The one-shot transforms of
+//! height maps are the surface layer's, `surface/height_fft.rs`.)
 
 use std::sync::Arc;
 
