@@ -344,3 +344,44 @@ fn bad_levels_fail_in_one_line_and_write_nothing() {
         assert!(!tmp.path().join("out").exists(), "{levels}: output written");
     }
 }
+
+/// Under approach control the indenter keeps its place on another grid:
+/// the approach (measured from the highest summit) grows by the rise of
+/// the summit, and a well-resolved surface carries nearly the same load.
+#[test]
+fn with_grid_keeps_the_indenter_in_place_under_approach_control() {
+    let surface = |n: usize| GenerateParams {
+        nx: n,
+        ny: n,
+        upper: UpperCutoff::Scales(8.0),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 5,
+        ..Default::default()
+    };
+    let d = 2e-6;
+    let coarse = Problem::generated(
+        common::paper_material(),
+        surface(64),
+        Control::Approach(d),
+        0.0117,
+    )
+    .unwrap();
+    let fine = coarse.with_grid(128).unwrap();
+    let top = |p: &Problem| p.surface.heights.iter().cloned().fold(f64::MIN, f64::max);
+    let rise = top(&fine) - top(&coarse);
+    assert!(
+        rise > 0.0,
+        "sampling the same modes at more points finds a higher summit"
+    );
+    match fine.control {
+        Control::Approach(df) => assert!((df - (d + rise)).abs() <= 1e-15, "{df} vs {d} + {rise}"),
+        other => panic!("{other:?}"),
+    }
+    let load = |p: &Problem| {
+        let s = p.solve(&Executor::Cpu, &mut Silent).unwrap();
+        s.fields.pressure.iter().sum::<f64>() * p.surface.cell_size.powi(2)
+    };
+    let (fc, ff) = (load(&coarse), load(&fine));
+    println!("load on 64^2 {fc:.4e} N, on 128^2 {ff:.4e} N, summit rise {rise:.3e} m");
+    assert!((ff / fc - 1.0).abs() < 0.05, "{fc} vs {ff}");
+}

@@ -241,10 +241,22 @@ impl Problem {
         };
         let mut document = self.document.clone();
         record_grid(&mut document, &source);
+        // Under approach control the indenter keeps its place: the approach
+        // is measured from the highest summit, which rises as finer scales
+        // are resolved.
+        let control = match self.control {
+            Control::Approach(d) => {
+                let d = d + highest(&surface) - highest(&self.surface);
+                record_approach(&mut document, d);
+                Control::Approach(d)
+            }
+            load => load,
+        };
         Ok(Self {
             surface,
             source,
             document,
+            control,
             ..self.clone()
         })
     }
@@ -291,13 +303,26 @@ impl Problem {
 
     /// Gap profile `g = max(z) - z` (physics.md section 1).
     pub fn gap_profile(&self) -> Vec<f64> {
-        let zmax = self
-            .surface
-            .heights
-            .iter()
-            .cloned()
-            .fold(f64::NEG_INFINITY, f64::max);
+        let zmax = highest(&self.surface);
         self.surface.heights.iter().map(|z| zmax - z).collect()
+    }
+}
+
+/// The highest summit of a height map \[m\].
+pub(crate) fn highest(surface: &HeightMap) -> f64 {
+    surface
+        .heights
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// `[loading] approach` of the recorded config set to `d` where it has one.
+fn record_approach(document: &mut toml::Table, d: f64) {
+    if let Some(toml::Value::Table(loading)) = document.get_mut("loading") {
+        if loading.contains_key("approach") {
+            loading.insert("approach".into(), toml::Value::Float(d));
+        }
     }
 }
 

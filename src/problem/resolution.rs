@@ -6,7 +6,7 @@ use crate::config::Formulation;
 use crate::error::{Error, Result};
 use crate::solver::{Control, WarmStart};
 
-use super::{Problem, Solution, SurfaceSource};
+use super::{highest, Problem, Solution, SurfaceSource};
 
 /// Below this many cells per shortest roughness wavelength a solve warns
 /// (console and `summary.json`): the finest scales of the surface are not
@@ -127,14 +127,7 @@ impl Problem {
                 "prolongation needs the same domain: {lxc:.6e} x {lyc:.6e} m against {lx:.6e} x {ly:.6e} m"
             )));
         }
-        let zmax = |p: &Problem| {
-            p.surface
-                .heights
-                .iter()
-                .copied()
-                .fold(f64::NEG_INFINITY, f64::max)
-        };
-        let approach = solution.fields.approach + zmax(self) - zmax(coarse);
+        let approach = solution.fields.approach + highest(&self.surface) - highest(&coarse.surface);
         let periodic = self.formulation == Formulation::Periodic;
         let u = bilinear(
             &solution.fields.displacement,

@@ -246,7 +246,13 @@ pub(crate) fn solve_owned<B: Backend>(
 
     let bordered = matches!(control, Control::Load(_));
     let delta_scale = self_coefficient;
-    let mut delta = delta0;
+    // Under approach control the approach is prescribed: the gap is
+    // measured with it, whatever the start (the bearing-area guess's
+    // threshold, a warm start's approach) held.
+    let mut delta = match control {
+        Control::Load(_) => delta0,
+        Control::Approach(d) => d,
+    };
     let mut work = GmresWork::new(backend, params.restart, 0);
     let mut rhs = AugVec {
         v: backend.zeros(0),
