@@ -1,6 +1,8 @@
 //! GPU backend throughput: the influence-coefficient table
-//! (`shaders/coefficients.wgsl`, paper Eq. 6), one matvec (padded Stockham FFT convolution, paper
-//! Eq. 7) and full contact solves at the friction peak (xi = 1.17e-2, paper
+//! (`shaders/coefficients.wgsl`, paper Eq. 6), one matvec (padded FFT
+//! convolution, paper Eq. 7: the default workgroup-memory FFT, and the
+//! radix-2 passes as `NxN_radix2`, whose bytes `viscoslide gpu plan --n N`
+//! predicts) and full contact solves at the friction peak (xi = 1.17e-2, paper
 //! material, 3 kPa on L = 0.01 m, rms slope 0.02). Timings include the
 //! device work (each measured call ends with a readback or a wait).
 //! The adaptive-mesh matvec runs on the fly on a 1024-cell mesh
@@ -18,7 +20,7 @@ mod common;
 
 use common::{material, surface_gap};
 use criterion::{criterion_group, criterion_main, Criterion};
-use viscoslide::backend::gpu::{GpuBackend, GpuContext, GpuOptions};
+use viscoslide::backend::gpu::{FftChoice, GpuBackend, GpuContext, GpuOptions};
 use viscoslide::backend::Backend;
 use viscoslide::kernel::{KernelParams, SlidingKernel};
 use viscoslide::solver::{self, Control, SolverParams};
@@ -94,19 +96,25 @@ fn bench_matvec(c: &mut Criterion) {
         .sample_size(10)
         .measurement_time(Duration::from_secs(10));
     for n in sizes {
-        let Some(ctx) = open() else { return };
         let t = table(n);
-        let mut be = GpuBackend::new(ctx, n, n, &t, GpuOptions::default()).unwrap();
-        let host: Vec<f64> = (0..n * n).map(|i| (i % 97) as f64).collect();
-        let mut x = be.zeros(n * n);
-        be.upload(&host, &mut x);
-        let mut y = be.zeros(n * n);
-        group.bench_function(format!("{n}x{n}"), |b| {
-            b.iter(|| {
-                be.apply(black_box(&x), &mut y);
-                be.synchronize();
-            })
-        });
+        for (suffix, fft) in [("", FftChoice::Auto), ("_radix2", FftChoice::Radix2)] {
+            let Some(ctx) = open() else { return };
+            let options = GpuOptions {
+                fft,
+                ..Default::default()
+            };
+            let mut be = GpuBackend::new(ctx, n, n, &t, options).unwrap();
+            let host: Vec<f64> = (0..n * n).map(|i| (i % 97) as f64).collect();
+            let mut x = be.zeros(n * n);
+            be.upload(&host, &mut x);
+            let mut y = be.zeros(n * n);
+            group.bench_function(format!("{n}x{n}{suffix}"), |b| {
+                b.iter(|| {
+                    be.apply(black_box(&x), &mut y);
+                    be.synchronize();
+                })
+            });
+        }
     }
     group.finish();
 }

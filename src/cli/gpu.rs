@@ -1,16 +1,55 @@
-//! `viscoslide gpu`: list adapters.
+//! `viscoslide gpu`: list adapters; `viscoslide gpu plan`: the dispatch plan
+//! and memory traffic of the GPU matvec for a grid (no device needed).
 
 use crate::backend::gpu;
+use crate::backend::gpu::fft_plan::{shared_elements, MatvecPlan, Path, Traffic};
 use crate::error::Result;
 
 #[derive(Debug, clap::Args)]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct GpuArgs {
+    #[command(subcommand)]
+    pub command: Option<GpuCommand>,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, clap::Subcommand)]
+pub enum GpuCommand {
+    /// Dispatches and bytes moved per matvec (the padded-FFT convolution of
+    /// paper Eq. 7) on the default and the radix-2 path, the floor, and the
+    /// time they predict at a given memory bandwidth.
+    Plan(PlanArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct PlanArgs {
+    /// Grid side (nx).
+    #[arg(long)]
+    pub n: usize,
+    /// Grid side along y (default: n).
+    #[arg(long)]
+    pub ny: Option<usize>,
+    /// Workgroup storage of the adapter [KiB] (WebGPU guarantees 16; an
+    /// H100 under Vulkan allows 48, lavapipe 32).
+    #[arg(long, default_value_t = 48)]
+    pub shared_kib: u64,
+    /// Memory bandwidth of the prediction [TB/s] (H100 SXM: about 3).
+    #[arg(long, default_value_t = 3.0)]
+    pub bandwidth: f64,
+    /// List every dispatch of the default path.
+    #[arg(long)]
+    pub steps: bool,
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
 }
 
 pub fn run(args: GpuArgs) -> Result<()> {
+    if let Some(GpuCommand::Plan(p)) = args.command {
+        return plan(p);
+    }
     let adapters = gpu::list_adapters();
     if args.json {
         println!(
@@ -26,6 +65,82 @@ pub fn run(args: GpuArgs) -> Result<()> {
     }
     for (k, a) in adapters.iter().enumerate() {
         println!("[{k}] {a}");
+    }
+    Ok(())
+}
+
+fn plan(args: PlanArgs) -> Result<()> {
+    let (nx, ny) = (args.n.max(1), args.ny.unwrap_or(args.n).max(1));
+    let path = Path::for_limits(args.shared_kib * 1024);
+    let new = MatvecPlan::new(nx, ny, path);
+    let old = MatvecPlan::new(nx, ny, Path::Radix2);
+    let floor = new.floor();
+    let ms = |t: Traffic| t.bytes() as f64 / (args.bandwidth * 1e12) * 1e3;
+    if args.json {
+        let row = |t: Traffic| {
+            serde_json::json!({
+                "dispatches": t.dispatches, "read": t.read, "written": t.written,
+                "bytes": t.bytes(), "predicted_ms": ms(t),
+            })
+        };
+        let v = serde_json::json!({
+            "nx": nx, "ny": ny, "padded": [new.mx, new.my],
+            "shared_elements": shared_elements(args.shared_kib * 1024),
+            "path": format!("{:?}", new.path),
+            "bandwidth_tb_s": args.bandwidth,
+            "default": row(new.traffic()),
+            "radix2": row(old.traffic()),
+            "floor": row(floor),
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).expect("serialisable")
+        );
+        return Ok(());
+    }
+    println!(
+        "matvec of a {nx} x {ny} grid, padded {} x {}; {} KiB of workgroup memory: {:?}",
+        new.mx, new.my, args.shared_kib, new.path
+    );
+    println!(
+        "{:<22} {:>10} {:>12} {:>12} {:>12} {:>14}",
+        "", "dispatches", "read [MB]", "written [MB]", "total [MB]", "at bandwidth"
+    );
+    let mb = |b: u64| b as f64 / 1e6;
+    for (name, t) in [
+        ("radix-2 passes", old.traffic()),
+        ("default", new.traffic()),
+        ("floor", floor),
+    ] {
+        println!(
+            "{name:<22} {:>10} {:>12.1} {:>12.1} {:>12.1} {:>11.3} ms",
+            t.dispatches,
+            mb(t.read),
+            mb(t.written),
+            mb(t.bytes()),
+            ms(t)
+        );
+    }
+    let (n, o, f) = (
+        new.traffic().bytes() as f64,
+        old.traffic().bytes() as f64,
+        floor.bytes() as f64,
+    );
+    println!(
+        "default / radix-2: {:.3}; default / floor: {:.2}",
+        n / o,
+        n / f
+    );
+    if args.steps {
+        for s in &new.steps {
+            println!(
+                "  {:<60} {:>9} groups {:>10.1} MB read {:>10.1} MB written",
+                s.label,
+                s.groups,
+                mb(s.read),
+                mb(s.written)
+            );
+        }
     }
     Ok(())
 }

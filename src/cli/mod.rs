@@ -48,7 +48,8 @@ pub enum Command {
     Merge(sweep::MergeArgs),
     /// Plot measured minus Coulomb friction against a merged sweep (paper Fig. 6).
     Compare(sweep::CompareArgs),
-    /// List the GPU adapters wgpu can use.
+    /// List the GPU adapters wgpu can use; `gpu plan`: the dispatches and
+    /// memory traffic of the GPU matvec.
     Gpu(gpu::GpuArgs),
     /// Anisotropy (Eq. 11-13), C_chi contours and contact spots of a solve.
     Analyze(analyze::AnalyzeArgs),

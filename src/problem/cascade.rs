@@ -1,10 +1,11 @@
-//! The coarse-to-fine cascade of the uniform CPU paths: the problem's gap
+//! The coarse-to-fine cascade of the uniform paths (CPU and GPU, Toeplitz
+//! and periodic): the problem's gap
 //! restricted to grids halved down to [`CASCADE_COARSEST`] cells a side, each
 //! solved from the coarser one ([`solver::solve_cascade`]).
 
 use std::time::Instant;
 
-use crate::backend::CpuBackend;
+use crate::backend::Backend;
 use crate::error::Result;
 use crate::solver::{self, ContactSolution, Observer, SolveInfo, WarmStart};
 
@@ -16,7 +17,7 @@ pub(super) const CASCADE_COARSEST: usize = 64;
 
 impl Problem {
     /// Whether a solve without an outside start runs as a coarse-to-fine
-    /// cascade (uniform CPU grids, `cascade_levels > 1`, a grid side that
+    /// cascade (uniform grids, `cascade_levels > 1`, a grid side that
     /// halves at least once to 64 cells or more). An outside start (a
     /// neighbouring speed, or a coarser grid's solution prolonged with
     /// [`WarmStart::prolonged`]) replaces the coarse grids.
@@ -29,20 +30,20 @@ impl Problem {
     }
 
     /// The constrained iteration as a coarse-to-fine cascade
-    /// ([`solver::solve_cascade`]) on CPU backends built by
+    /// ([`solver::solve_cascade`]) on backends built by
     /// `build(nx, ny, cell_size)` (the backend and its self coefficient);
     /// the coarse grids' gap profiles are the fine one's 2 x 2 block means
     /// (any surface, files included, and no band limit to meet). Returns
     /// the solution, its report (fine-grid-equivalent matvecs) and the
     /// iteration's wall time \[s\], the coarse grids' set-up included.
-    pub(super) fn iterate_cascade<Op, F>(
+    pub(super) fn iterate_cascade<B, F>(
         &self,
         observer: &mut dyn Observer,
         mut build: F,
     ) -> Result<(ContactSolution, SolveInfo, f64)>
     where
-        Op: crate::operator::GridOperator,
-        F: FnMut(usize, usize, f64) -> (CpuBackend<Op>, f64),
+        B: Backend,
+        F: FnMut(usize, usize, f64) -> Result<(B, f64)>,
     {
         let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
         let t = Instant::now();
@@ -55,11 +56,18 @@ impl Problem {
             gaps.push(coarse);
         }
         gaps.reverse();
-        let (solution, info) = solver::solve_cascade(
+        let mut failure = None;
+        let result = solver::solve_cascade(
             &shapes,
             |k, (lx, ly)| {
                 let cell = a * (nx / lx) as f64;
-                let (backend, l00) = build(lx, ly, cell);
+                // A level that cannot be built (e.g. a device error) fails
+                // the solve with its own error, kept aside here.
+                let (backend, l00) = build(lx, ly, cell).map_err(|e| {
+                    let message = format!("the {lx} x {ly} grid of the cascade: {e}");
+                    failure = Some(e);
+                    solver::SolverError::Invalid(message)
+                })?;
                 Ok(solver::CascadeLevel {
                     backend,
                     gap: std::mem::take(&mut gaps[k]),
@@ -71,7 +79,11 @@ impl Problem {
             &self.params,
             None,
             observer,
-        )?;
+        );
+        let (solution, info) = match (result, failure) {
+            (Err(_), Some(e)) => return Err(e),
+            (result, _) => result?,
+        };
         Ok((solution, info, t.elapsed().as_secs_f64()))
     }
 }

@@ -179,15 +179,15 @@ impl Problem {
                 values: &table.values,
             };
             let l00 = tab.get(0, 0);
-            (
+            Ok((
                 CpuBackend::new(ToeplitzFft::new(tab).with_preconditioner()),
                 l00,
-            )
+            ))
         };
         let (solution, info, t_iter) = if self.cascades(start) {
             self.iterate_cascade(observer, build)?
         } else {
-            let (mut backend, l00) = build(nx, ny, a);
+            let (mut backend, l00) = build(nx, ny, a)?;
             self.iterate_grid(&mut backend, l00, start, observer)?
         };
         let t_setup = 0.0;
@@ -215,29 +215,58 @@ impl Problem {
         let t0 = Instant::now();
         let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
         let kernel = self.sliding_kernel()?;
-        let mut engine = Engine::new(ctx);
-        let table = match self.layer {
-            None => coefficients::coefficient_table(
-                &mut engine,
-                &self.material,
-                kernel.params(),
+        // The coefficient table of an nx x ny grid: a half-space's on the
+        // device, a finite layer's on the host.
+        let table_of = |engine: &mut Engine, nx: usize, ny: usize, a: f64| -> Result<Vec<f64>> {
+            Ok(match self.layer {
+                None => coefficients::coefficient_table(
+                    engine,
+                    &self.material,
+                    kernel.params(),
+                    nx,
+                    ny,
+                    a,
+                )?,
+                Some(_) => kernel.table(nx, ny, a).values,
+            })
+        };
+        let mut engine = Engine::new(ctx.clone());
+        let table = table_of(&mut engine, nx, ny, a)?;
+        let t_coeff = t0.elapsed().as_secs_f64();
+        let self_coefficient = |table: &[f64], nx: usize, ny: usize| {
+            OffsetTable {
                 nx,
                 ny,
-                a,
-            )?,
-            Some(_) => kernel.table(nx, ny, a).values,
+                values: table,
+            }
+            .get(0, 0)
         };
-        let t_coeff = t0.elapsed().as_secs_f64();
-        let l00 = OffsetTable {
-            nx,
-            ny,
-            values: &table,
-        }
-        .get(0, 0);
-        let mut backend = GpuBackend::with_engine(engine, nx, ny, &table, GpuOptions::default())?;
-        let name = backend.name();
+        // As `Backend::name` of the GPU backend.
+        let name = format!("gpu: {}", ctx.adapter);
+        let mut fine = Some((engine, table));
+        // The fine grid's engine and table are made once; the coarse grids'
+        // on demand, each level on an engine of its own.
+        let mut build = |lx: usize, ly: usize, cell: f64| -> Result<(GpuBackend, f64)> {
+            let (engine, table) = match fine.take() {
+                Some((engine, table)) if (lx, ly) == (nx, ny) => (engine, table),
+                other => {
+                    fine = other;
+                    let mut engine = Engine::new(ctx.clone());
+                    let table = table_of(&mut engine, lx, ly, cell)?;
+                    (engine, table)
+                }
+            };
+            let l00 = self_coefficient(&table, lx, ly);
+            let backend = GpuBackend::with_engine(engine, lx, ly, &table, GpuOptions::default())?;
+            Ok((backend, l00))
+        };
         let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
-        let (solution, info, t_iter) = self.iterate_grid(&mut backend, l00, start, observer)?;
+        let (solution, info, t_iter) = if self.cascades(start) {
+            self.iterate_cascade(observer, build)?
+        } else {
+            let (mut backend, l00) = build(nx, ny, a)?;
+            self.iterate_grid(&mut backend, l00, start, observer)?
+        };
         Ok(Raw {
             solution,
             info,
@@ -266,13 +295,13 @@ impl Problem {
             )
             .with_preconditioner();
             let l00 = op.self_coefficient();
-            (CpuBackend::new(op), l00)
+            Ok((CpuBackend::new(op), l00))
         };
         let t_setup = t0.elapsed().as_secs_f64();
         let (solution, info, t_iter) = if self.cascades(start) {
             self.iterate_cascade(observer, build)?
         } else {
-            let (mut backend, l00) = build(nx, ny, a);
+            let (mut backend, l00) = build(nx, ny, a)?;
             self.iterate_grid(&mut backend, l00, start, observer)?
         };
         Ok(Raw {

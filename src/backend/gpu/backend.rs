@@ -24,7 +24,7 @@ use super::adaptive::{AdaptiveMatvec, MeshCells};
 use super::context::{GpuContext, GpuError};
 use super::engine::{groups_for, Buf, Engine, Kernel, Params, WORKGROUP};
 use super::fft::FftMatvec;
-pub use super::fft::SpectrumPrecision;
+pub use super::fft::{FftChoice, SpectrumPrecision};
 use super::level_tables::{GpuLevelTables, LevelMatvec};
 use super::pool::{Pool, Slot};
 use crate::backend::Backend;
@@ -41,6 +41,8 @@ const REDUCE_SLOTS: usize = 64;
 pub struct GpuOptions {
     /// Storage of the kernel spectrum.
     pub spectrum: SpectrumPrecision,
+    /// The FFT of the uniform-grid matvec.
+    pub fft: FftChoice,
 }
 
 /// A device vector: a pool buffer of grid capacity and a logical length.
@@ -115,7 +117,7 @@ impl GpuBackend {
     ) -> Result<Self, GpuError> {
         let n = nx * ny;
         engine.check_binding(&format!("a {nx} x {ny} grid vector"), 4 * n as u64)?;
-        let matvec = FftMatvec::new(&mut engine, nx, ny, table, options.spectrum)?;
+        let matvec = FftMatvec::new(&mut engine, nx, ny, table, options.spectrum, options.fft)?;
         Ok(Self::assemble(engine, n, Operator::Fft(matvec)))
     }
 
@@ -184,20 +186,32 @@ impl GpuBackend {
     }
 
     /// Whether an `nx x ny` grid fits the device's storage-binding limit
-    /// (the padded complex FFT buffer, `8 mx my` bytes, is the largest).
+    /// (a work buffer of the default FFT path is the largest: `8 mx
+    /// (my / 2 + 1)` bytes on the workgroup-memory path, `8 mx my` on the
+    /// radix-2 fallback).
     pub fn check_fits(ctx: &GpuContext, nx: usize, ny: usize) -> Result<(), GpuError> {
-        let (mx, my) = (super::fft::padded(nx.max(1)), super::fft::padded(ny.max(1)));
-        let need = 8 * (mx * my) as u64;
+        let path = super::fft_plan::Path::for_device(&ctx.device.limits());
+        let need = 8 * super::fft_plan::work_elements(nx.max(1), ny.max(1), path) as u64;
         let limit = ctx.adapter.max_storage_binding.min(ctx.adapter.max_buffer);
         if need > limit {
+            let (mx, my) = super::fft_plan::padded_shape(nx.max(1), ny.max(1), path);
             return Err(GpuError::TooLarge {
-                what: format!("the padded {mx} x {my} complex FFT of a {nx} x {ny} grid"),
+                what: format!("the padded {mx} x {my} FFT of a {nx} x {ny} grid"),
                 need,
                 limit,
                 adapter: ctx.adapter.name.clone(),
             });
         }
         Ok(())
+    }
+
+    /// The dispatch plan of the uniform-grid matvec (`None` for the mesh
+    /// operators).
+    pub fn fft_plan(&self) -> Option<&super::fft_plan::MatvecPlan> {
+        match &self.matvec {
+            Operator::Fft(m) => Some(m.plan()),
+            Operator::Adaptive(_) | Operator::Levels(_) => None,
+        }
     }
 
     /// The adapter the backend runs on.

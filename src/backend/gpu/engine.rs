@@ -58,6 +58,10 @@ pub enum Kernel {
     SpectralProduct,
     SpectralProductF16,
     FftExtract,
+    FftRadix,
+    FftRadixProduct,
+    FftSplit,
+    FftMerge,
     Coefficients,
     AdaptiveCoefficients,
     AdaptiveMatvec,
@@ -90,6 +94,10 @@ impl Kernel {
             Kernel::SpectralProduct => "spectral_product.wgsl",
             Kernel::SpectralProductF16 => "spectral_product_f16.wgsl",
             Kernel::FftExtract => "fft_extract.wgsl",
+            Kernel::FftRadix => "fft_radix.wgsl",
+            Kernel::FftRadixProduct => "fft_radix_product.wgsl",
+            Kernel::FftSplit => "fft_split.wgsl",
+            Kernel::FftMerge => "fft_merge.wgsl",
             Kernel::Coefficients => "coefficients.wgsl",
             Kernel::AdaptiveCoefficients => "adaptive_coefficients.wgsl",
             Kernel::AdaptiveMatvec => "adaptive_matvec.wgsl",
@@ -121,6 +129,8 @@ impl Kernel {
             Kernel::FftPass => &[R, W, R],
             Kernel::SpectralProduct | Kernel::SpectralProductF16 => &[W, R],
             Kernel::FftExtract => &[R, W],
+            Kernel::FftRadix | Kernel::FftSplit | Kernel::FftMerge => &[R, W, R],
+            Kernel::FftRadixProduct => &[R, W, R, R],
             Kernel::Coefficients => &[R, W],
             Kernel::AdaptiveCoefficients => &[R, R, W],
             Kernel::AdaptiveMatvec => &[R, R, R, R, R, W],
@@ -165,6 +175,10 @@ pub struct Engine {
     commands: Vec<Command>,
     staging: Option<Buf>,
     next_id: u64,
+    /// Complex elements of the workgroup block of the shared-memory FFT
+    /// kernels (`FFT_SHARED` in `shared/fft_block.wgsl`), from the
+    /// device's workgroup storage limit.
+    pub fft_shared: usize,
 }
 
 /// Workgroup grid `(x, y)` covering `threads` invocations.
@@ -192,7 +206,10 @@ impl Engine {
             id: 0,
             buffer: ctx.device.create_buffer(&ring),
         };
+        let fft_shared =
+            shaders::shared_elements(ctx.device.limits().max_compute_workgroup_storage_size as u64);
         Self {
+            fft_shared,
             ctx,
             pipelines: HashMap::new(),
             binds: HashMap::new(),
@@ -257,6 +274,7 @@ impl Engine {
         if !self.pipelines.contains_key(&kernel) {
             let device = &self.ctx.device;
             let source = shaders::compose(kernel.file()).expect("every kernel has a shader file");
+            let source = shaders::with_fft_shared(&source, self.fft_shared);
             let label = format!("viscoslide {}", kernel.file());
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(&label),

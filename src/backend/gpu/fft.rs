@@ -3,16 +3,21 @@
 //! FFT (physics.md section 3, "Discretisation"; CPU twin:
 //! [`crate::operator::ToeplitzFft`]). The padded sizes are powers of two
 //! `mx >= 2 nx - 1`, `my >= 2 ny - 1`, so circular and linear convolution
-//! agree on the `nx x ny` output block. Transforms are radix-2 Stockham
-//! passes (`shaders/fft_pass.wgsl`), rows then columns, ping-ponging between
-//! two complex buffers; the kernel spectrum is computed once on the host in
-//! f64 and stored in f32 (or f16, [`SpectrumPrecision::F16`]).
+//! agree on the `nx x ny` output block. The dispatches are those of a
+//! [`MatvecPlan`]: by default workgroup-memory Stockham passes over real
+//! rows with the spectral product fused into the column passes
+//! ([`Path::Shared`]), else radix-2 passes (`shaders/fft_pass.wgsl`); both
+//! ping-pong between two work buffers. The kernel spectrum is computed once
+//! on the host in f64 and stored in f32 (or f16, [`SpectrumPrecision::F16`],
+//! radix-2 path only).
 
 use num_complex::Complex64;
 use rustfft::FftPlanner;
 
 use super::context::GpuError;
-use super::engine::{groups_for, Buf, Engine, Kernel, Params};
+use super::engine::{Buf, Engine, Kernel};
+pub use super::fft_plan::padded;
+use super::fft_plan::{grid, work_elements, MatvecPlan, Path, Role, MIN_WORKGROUPS};
 
 /// Storage precision of the kernel spectrum.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -25,19 +30,33 @@ pub enum SpectrumPrecision {
     F16,
 }
 
+/// Which FFT a [`FftMatvec`] runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FftChoice {
+    /// The workgroup-memory FFT sized from the adapter's limits
+    /// ([`Path::for_device`]); the radix-2 passes where those forbid it or
+    /// with the f16 spectrum.
+    #[default]
+    Auto,
+    /// The radix-2 passes, one dispatch each.
+    Radix2,
+    /// The workgroup-memory FFT with radices at most `max_radix` (a power
+    /// of two, at least 2): more passes than needed, for tests.
+    SharedMaxRadix(usize),
+}
+
 /// Plan and device buffers of the padded-FFT matvec.
 pub struct FftMatvec {
     pub nx: usize,
     pub ny: usize,
     pub mx: usize,
     pub my: usize,
+    plan: MatvecPlan,
     a: Buf,
     b: Buf,
     kernel: Buf,
     twiddle_x: Buf,
     twiddle_y: Buf,
-    precision: SpectrumPrecision,
-    f16_scale: f32,
 }
 
 /// `exp(-2 pi i t / n)` for `t < n / 2`, in f32 pairs from f64.
@@ -49,6 +68,17 @@ fn twiddles(n: usize) -> Vec<f32> {
         w.push(ang.sin() as f32);
     }
     w
+}
+
+/// `exp(-2 pi i t / n)` for `t < n`, in f32 pairs from f64 (the tables of
+/// the workgroup-memory passes).
+fn full_twiddles(n: usize) -> Vec<f32> {
+    (0..n.max(1))
+        .flat_map(|t| {
+            let ang = -std::f64::consts::TAU * t as f64 / n as f64;
+            [ang.cos() as f32, ang.sin() as f32]
+        })
+        .collect()
 }
 
 /// 2-D forward FFT of a row-major `mx x my` complex array, in place, f64.
@@ -94,9 +124,33 @@ pub fn kernel_spectrum(
     data
 }
 
-/// Padded power-of-two size for a grid side `n`.
-pub fn padded(n: usize) -> usize {
-    (2 * n - 1).next_power_of_two()
+/// The bins `0 ..= my / 2` of each row of a full `mx x my` spectrum: the
+/// spectrum of the real-row path (the others follow by symmetry).
+pub fn half_spectrum(full: &[Complex64], mx: usize, my: usize) -> Vec<Complex64> {
+    let w = my / 2 + 1;
+    (0..mx)
+        .flat_map(|r| full[r * my..r * my + w].iter().copied())
+        .collect()
+}
+
+/// The path a [`FftMatvec`] takes on a device that allows `device` (its
+/// [`Path::for_device`]) with `shared` elements in its FFT block.
+pub fn choose_path(
+    choice: FftChoice,
+    precision: SpectrumPrecision,
+    device: Path,
+    shared: usize,
+) -> Path {
+    match (choice, device) {
+        (FftChoice::Radix2, _) | (_, Path::Radix2) => Path::Radix2,
+        _ if precision == SpectrumPrecision::F16 => Path::Radix2,
+        (FftChoice::Auto, path) => path,
+        (FftChoice::SharedMaxRadix(r), _) => Path::Shared {
+            shared,
+            max_radix: r.clamp(2, shared),
+            min_workgroups: MIN_WORKGROUPS,
+        },
+    }
 }
 
 impl FftMatvec {
@@ -107,6 +161,7 @@ impl FftMatvec {
         ny: usize,
         table: &[f64],
         precision: SpectrumPrecision,
+        choice: FftChoice,
     ) -> Result<Self, GpuError> {
         if nx == 0 || ny == 0 || table.len() != (2 * nx - 1) * (2 * ny - 1) {
             return Err(GpuError::Invalid(format!(
@@ -115,33 +170,40 @@ impl FftMatvec {
                 table.len()
             )));
         }
-        let (mx, my) = (padded(nx), padded(ny));
-        let bytes = (mx * my * 8) as u64;
+        let device = Path::for_device(&engine.ctx.device.limits());
+        let mut path = choose_path(choice, precision, device, engine.fft_shared);
+        if let Path::Shared { min_workgroups, .. } = &mut path {
+            if engine.ctx.adapter.device_type == "Cpu" {
+                // A CPU adapter runs a workgroup per thread: big blocks, and
+                // enough of them for the host's threads.
+                let threads = std::thread::available_parallelism().map_or(4, |n| n.get());
+                *min_workgroups = 2 * threads as u64;
+            }
+        }
+        let plan = MatvecPlan::new(nx, ny, path);
+        let (mx, my) = (plan.mx, plan.my);
+        let bytes = 8 * work_elements(nx, ny, path) as u64;
         engine.check_binding(
-            &format!("the padded {mx} x {my} complex FFT of a {nx} x {ny} grid"),
+            &format!("the padded {mx} x {my} FFT of a {nx} x {ny} grid"),
             bytes,
         )?;
-        let spectrum = kernel_spectrum(nx, ny, mx, my, table);
-        let (kernel, f16_scale) = match precision {
+        let mut spectrum = kernel_spectrum(nx, ny, mx, my, table);
+        if path != Path::Radix2 {
+            spectrum = half_spectrum(&spectrum, mx, my);
+        }
+        let kernel = match precision {
             SpectrumPrecision::F32 => {
                 let host: Vec<f32> = spectrum
                     .iter()
                     .flat_map(|z| [z.re as f32, z.im as f32])
                     .collect();
-                (
-                    engine.storage_with(
-                        "viscoslide kernel spectrum f32",
-                        bytemuck::cast_slice(&host),
-                    ),
-                    1.0,
+                engine.storage_with(
+                    "viscoslide kernel spectrum f32",
+                    bytemuck::cast_slice(&host),
                 )
             }
             SpectrumPrecision::F16 => {
-                let scale = spectrum
-                    .iter()
-                    .map(|z| z.re.abs().max(z.im.abs()))
-                    .fold(0.0f64, f64::max)
-                    .max(f64::MIN_POSITIVE);
+                let scale = f16_scale(&spectrum);
                 let host: Vec<u32> = spectrum
                     .iter()
                     .map(|z| {
@@ -150,12 +212,9 @@ impl FftMatvec {
                         re | (im << 16)
                     })
                     .collect();
-                (
-                    engine.storage_with(
-                        "viscoslide kernel spectrum f16",
-                        bytemuck::cast_slice(&host),
-                    ),
-                    scale as f32,
+                engine.storage_with(
+                    "viscoslide kernel spectrum f16",
+                    bytemuck::cast_slice(&host),
                 )
             }
         };
@@ -164,27 +223,45 @@ impl FftMatvec {
             | wgpu::BufferUsages::COPY_DST;
         let a = engine.create_buffer("viscoslide fft buffer a", bytes, usage);
         let b = engine.create_buffer("viscoslide fft buffer b", bytes, usage);
+        let table_of = |n: usize| match path {
+            Path::Radix2 => twiddles(n),
+            Path::Shared { .. } => full_twiddles(n),
+        };
         let twiddle_x = engine.storage_with(
             "viscoslide fft twiddles x",
-            bytemuck::cast_slice(&twiddles(mx)),
+            bytemuck::cast_slice(&table_of(mx)),
         );
         let twiddle_y = engine.storage_with(
             "viscoslide fft twiddles y",
-            bytemuck::cast_slice(&twiddles(my)),
+            bytemuck::cast_slice(&table_of(my)),
         );
+        let mut plan = plan;
+        if precision == SpectrumPrecision::F16 {
+            let scale = f16_scale(&spectrum) as f32;
+            for s in &mut plan.steps {
+                if s.kernel == Kernel::SpectralProduct {
+                    s.kernel = Kernel::SpectralProductF16;
+                    s.params.f[0] = scale;
+                }
+            }
+        }
         Ok(Self {
             nx,
             ny,
             mx,
             my,
+            plan,
             a,
             b,
             kernel,
             twiddle_x,
             twiddle_y,
-            precision,
-            f16_scale,
         })
+    }
+
+    /// The dispatch plan this matvec records.
+    pub fn plan(&self) -> &MatvecPlan {
+        &self.plan
     }
 
     /// Device memory of the plan \[bytes\].
@@ -192,89 +269,32 @@ impl FftMatvec {
         self.a.buffer.size() + self.b.buffer.size() + self.kernel.buffer.size()
     }
 
-    /// Record the passes of one FFT along an axis (length `n`, element
-    /// stride `es`, `batches` transforms `bs` apart). Returns whether the
-    /// result is in buffer `b` (an odd number of passes).
-    #[allow(clippy::too_many_arguments)]
-    fn record_axis(
-        &self,
-        engine: &mut Engine,
-        in_b: bool,
-        n: usize,
-        es: usize,
-        bs: usize,
-        batches: usize,
-        sign: f32,
-        twiddle: &Buf,
-    ) -> bool {
-        let mut cur_b = in_b;
-        let mut ns = 1usize;
-        let groups = groups_for((batches * n / 2) as u64);
-        while ns < n {
-            let (src, dst) = if cur_b {
-                (&self.b, &self.a)
-            } else {
-                (&self.a, &self.b)
-            };
-            engine.dispatch(
-                Kernel::FftPass,
-                &[src, dst, twiddle],
-                Params {
-                    i: [n as u32, ns as u32, es as u32, bs as u32],
-                    j: [batches as u32, 0, 0, 0],
-                    f: [sign, 0.0, 0.0, 0.0],
-                },
-                groups,
-            );
-            cur_b = !cur_b;
-            ns *= 2;
-        }
-        cur_b
-    }
-
-    /// Record `y = L x` (grid vectors of `nx ny` f32).
+    /// Record `y = L x` (grid vectors of `nx ny` f32): the steps of the plan.
     pub fn record_apply(&self, engine: &mut Engine, x: &Buf, y: &Buf) {
-        let (nx, ny, mx, my) = (self.nx, self.ny, self.mx, self.my);
-        let shape = [nx as u32, ny as u32, mx as u32, my as u32];
-        let all = groups_for((mx * my) as u64);
-        engine.dispatch(
-            Kernel::FftLoad,
-            &[x, &self.a, &self.b],
-            Params {
-                i: shape,
-                ..Default::default()
-            },
-            all,
-        );
-        // Rows r >= nx are zero in both buffers: transform the first nx only.
-        let mut in_b = self.record_axis(engine, false, my, 1, my, nx, 1.0, &self.twiddle_y);
-        in_b = self.record_axis(engine, in_b, mx, my, 1, my, 1.0, &self.twiddle_x);
-        let spec = if in_b { &self.b } else { &self.a };
-        let mut p = Params {
-            i: [(mx * my) as u32, 0, 0, 0],
-            ..Default::default()
-        };
-        match self.precision {
-            SpectrumPrecision::F32 => {
-                engine.dispatch(Kernel::SpectralProduct, &[spec, &self.kernel], p, all)
-            }
-            SpectrumPrecision::F16 => {
-                p.f[0] = self.f16_scale;
-                engine.dispatch(Kernel::SpectralProductF16, &[spec, &self.kernel], p, all)
-            }
+        for step in &self.plan.steps {
+            let bufs: Vec<&Buf> = step
+                .bufs
+                .iter()
+                .map(|role| match role {
+                    Role::Input => x,
+                    Role::Output => y,
+                    Role::A => &self.a,
+                    Role::B => &self.b,
+                    Role::Spectrum => &self.kernel,
+                    Role::RowTwiddle => &self.twiddle_y,
+                    Role::ColTwiddle => &self.twiddle_x,
+                })
+                .collect();
+            engine.dispatch(step.kernel, &bufs, step.params, grid(step.groups));
         }
-        in_b = self.record_axis(engine, in_b, mx, my, 1, my, -1.0, &self.twiddle_x);
-        // Only the first nx rows of the result are needed.
-        in_b = self.record_axis(engine, in_b, my, 1, my, nx, -1.0, &self.twiddle_y);
-        let spec = if in_b { &self.b } else { &self.a };
-        engine.dispatch(
-            Kernel::FftExtract,
-            &[spec, y],
-            Params {
-                i: shape,
-                ..Default::default()
-            },
-            groups_for((nx * ny) as u64),
-        );
     }
+}
+
+/// The scale of the f16 spectrum: its largest component.
+fn f16_scale(spectrum: &[Complex64]) -> f64 {
+    spectrum
+        .iter()
+        .map(|z| z.re.abs().max(z.im.abs()))
+        .fold(0.0f64, f64::max)
+        .max(f64::MIN_POSITIVE)
 }

@@ -7,7 +7,12 @@
 //! - [`engine`]: pipeline and bind-group caches, the parameter ring, command
 //!   recording, submission and readback.
 //! - [`pool`]: grid-sized storage buffers, recycled.
-//! - [`fft`]: the padded Stockham FFT and the Toeplitz matvec (paper Eq. 7).
+//! - [`fft`]: the Toeplitz matvec (paper Eq. 7) by a padded FFT: its
+//!   buffers, kernel spectrum and recording.
+//! - [`fft_plan`]: the dispatches of that matvec (workgroup-memory Stockham
+//!   passes over real rows, or the radix-2 fallback) and their memory
+//!   traffic.
+//! - [`fft_twin`]: the CPU twin of the shared-memory FFT kernels.
 //! - [`plan`]: what the coefficient kernels share: the creep-term plan, the
 //!   workgroup grid of large dispatches and the scaled f32 read-back.
 //! - [`coefficients`]: the influence-coefficient table computed on the device.
@@ -23,12 +28,14 @@ pub mod coefficients;
 pub mod context;
 pub mod engine;
 pub mod fft;
+pub mod fft_plan;
+pub mod fft_twin;
 pub mod level_tables;
 pub mod plan;
 pub mod pool;
 pub mod shaders;
 
 pub use adaptive::{AdaptiveMatvec, MeshCells};
-pub use backend::{GpuBackend, GpuIndex, GpuOptions, GpuVector, SpectrumPrecision};
+pub use backend::{FftChoice, GpuBackend, GpuIndex, GpuOptions, GpuVector, SpectrumPrecision};
 pub use context::{context_for_tests, list_adapters, AdapterSummary, GpuContext, GpuError};
 pub use level_tables::{GpuLevelTables, LevelMatvec};

@@ -33,9 +33,47 @@ pub const GREEN: (&str, &str) = (
     include_str!("../../../shaders/shared/green.wgsl"),
 );
 
+/// The workgroup-memory FFT blocks, included by the shared-memory FFT
+/// passes only.
+pub const FFT_BLOCK: (&str, &str) = (
+    "shared/fft_block.wgsl",
+    include_str!("../../../shaders/shared/fft_block.wgsl"),
+);
+
+/// Largest workgroup block in complex f32 elements (64 KiB).
+pub const MAX_SHARED: usize = 8192;
+
+/// Complex f32 elements of the workgroup array of [`FFT_BLOCK`] for `storage_bytes` of
+/// workgroup memory: the largest power of two that fits, at most
+/// [`MAX_SHARED`].
+pub fn shared_elements(storage_bytes: u64) -> usize {
+    let n = (storage_bytes / 8).min(MAX_SHARED as u64);
+    if n == 0 {
+        0
+    } else {
+        1usize << (63 - n.leading_zeros())
+    }
+}
+
+/// The line of [`FFT_BLOCK`] that sizes its workgroup array.
+const FFT_SHARED_LINE: &str = "const FFT_SHARED: u32 = 2048u;";
+
+/// `source` with the workgroup block of [`FFT_BLOCK`] sized to `elements`
+/// complex values (a power of two); unchanged for other kernels.
+pub fn with_fft_shared(source: &str, elements: usize) -> String {
+    if elements == 0 {
+        return source.to_string();
+    }
+    source.replace(
+        FFT_SHARED_LINE,
+        &format!("const FFT_SHARED: u32 = {elements}u;"),
+    )
+}
+
 /// Helpers included by kernel `name` after [`SHARED`], in order.
 pub fn includes(name: &str) -> &'static [(&'static str, &'static str)] {
     match name {
+        "fft_radix.wgsl" | "fft_radix_product.wgsl" => std::slice::from_ref(&FFT_BLOCK),
         "coefficients.wgsl"
         | "adaptive_coefficients.wgsl"
         | "adaptive_matvec.wgsl"
@@ -73,6 +111,10 @@ kernels!(
     "spectral_product.wgsl",
     "spectral_product_f16.wgsl",
     "fft_extract.wgsl",
+    "fft_radix.wgsl",
+    "fft_radix_product.wgsl",
+    "fft_split.wgsl",
+    "fft_merge.wgsl",
     "coefficients.wgsl",
     "adaptive_coefficients.wgsl",
     "adaptive_matvec.wgsl",
