@@ -219,6 +219,7 @@ fn matvec_error_with(
         GpuOptions {
             spectrum: precision,
             fft,
+            ..Default::default()
         },
     )
     .unwrap();
@@ -238,6 +239,137 @@ fn matvec_error_with(
         worst = worst.max(rel_l2(&down(&mut g, &gy), &y));
     }
     Some(worst)
+}
+
+/// `R C^-1 R^T x` in f64, written out here: `C` the circulant of the
+/// `mx x my` padding of the offset table, `R` the restriction to the
+/// leading `nx x ny` block; modes below 1e-6 of the largest multiplier
+/// raised to it.
+fn inverse_circulant(
+    nx: usize,
+    ny: usize,
+    mx: usize,
+    my: usize,
+    table: &[f64],
+    x: &[f64],
+) -> Vec<f64> {
+    use num_complex::Complex64;
+    use rustfft::FftPlanner;
+    let fft2 = |data: &mut Vec<Complex64>, inverse: bool| {
+        let mut planner = FftPlanner::<f64>::new();
+        let (rows, cols) = if inverse {
+            (planner.plan_fft_inverse(my), planner.plan_fft_inverse(mx))
+        } else {
+            (planner.plan_fft_forward(my), planner.plan_fft_forward(mx))
+        };
+        rows.process(data);
+        let mut t: Vec<Complex64> = (0..mx * my).map(|k| data[(k % mx) * my + k / mx]).collect();
+        cols.process(&mut t);
+        for k in 0..mx * my {
+            data[(k % mx) * my + k / mx] = t[k];
+        }
+    };
+    let w = 2 * ny - 1;
+    let mut c = vec![Complex64::default(); mx * my];
+    for i in 0..2 * nx - 1 {
+        for j in 0..w {
+            let r = (i as isize - nx as isize + 1).rem_euclid(mx as isize) as usize;
+            let q = (j as isize - ny as isize + 1).rem_euclid(my as isize) as usize;
+            c[r * my + q] = Complex64::new(table[i * w + j], 0.0);
+        }
+    }
+    fft2(&mut c, false);
+    let largest = c.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    let mut v = vec![Complex64::default(); mx * my];
+    for i in 0..nx {
+        for j in 0..ny {
+            v[i * my + j] = Complex64::new(x[i * ny + j], 0.0);
+        }
+    }
+    fft2(&mut v, false);
+    for (vk, ck) in v.iter_mut().zip(&c) {
+        let r = ck.norm();
+        let ck = if r == 0.0 {
+            Complex64::new(largest, 0.0)
+        } else if r < 1e-6 * largest {
+            ck * (1e-6 * largest / r)
+        } else {
+            *ck
+        };
+        *vk /= ck;
+    }
+    fft2(&mut v, true);
+    let s = 1.0 / (mx * my) as f64;
+    (0..nx * ny)
+        .map(|k| v[(k / ny) * my + k % ny].re * s)
+        .collect()
+}
+
+/// The preconditioner (inverse of the padded circulant restricted to the
+/// grid) on the device against the host's, on every FFT path and on
+/// displacement-like inputs (the preconditioner maps displacements to
+/// pressures): relative L2 error and the largest one.
+fn preconditioner_error(nx: usize, ny: usize, table: &[f64], fft: FftChoice) -> Option<f64> {
+    let ctx = gpu::context_for_tests()?;
+    let options = GpuOptions {
+        fft,
+        preconditioner: true,
+        ..Default::default()
+    };
+    let mut g = GpuBackend::new(ctx, nx, ny, table, options).unwrap();
+    assert!(g.has_preconditioner());
+    let plan = g.fft_plan().expect("a uniform grid");
+    let (mx, my) = (plan.mx, plan.my);
+    let tab = OffsetTable {
+        nx,
+        ny,
+        values: table,
+    };
+    let mut op = ToeplitzFft::new(tab);
+    let mut worst = 0.0f64;
+    for seed in 0..3 {
+        // A displacement-like input u = L p for a random pressure.
+        let p = random(nx * ny, 200 + seed, 0.0, 1e5);
+        let mut u = vec![0.0; nx * ny];
+        op.apply(&p, &mut u);
+        let k = inverse_circulant(nx, ny, mx, my, table, &u);
+        let gu = up(&mut g, &u);
+        let mut gk = g.zeros(nx * ny);
+        g.precondition(&gu, &mut gk);
+        worst = worst.max(rel_l2(&down(&mut g, &gk), &k));
+    }
+    Some(worst)
+}
+
+/// The device preconditioner equals an f64 re-implementation of the
+/// inverse of its padded circulant (the host's
+/// `ToeplitzFft::with_preconditioner` pads to other sizes) to 1e-5 relative
+/// L2, the matvec's bound (the same plan with another multiplier; measured
+/// 2e-7 to 2.5e-6, about ten times the matvec's: the inverse multiplier,
+/// spread over six decades, weights the f32 rounding of the small modes),
+/// on every FFT path; without the option the backend has none.
+#[test]
+fn preconditioner_matches_cpu_toeplitz_fft() {
+    let l = 0.01;
+    for fft in [
+        FftChoice::Auto,
+        FftChoice::Radix2,
+        FftChoice::SharedMaxRadix(8),
+    ] {
+        for (nx, ny, v) in [(40, 40, 0.01), (64, 48, 0.1), (33, 17, 1.0)] {
+            let table = paper_table(nx, ny, l / nx as f64, v);
+            let Some(e) = preconditioner_error(nx, ny, &table, fft) else {
+                return;
+            };
+            println!("{fft:?} {nx}x{ny} v={v}: preconditioner rel L2 {e:.2e}");
+            assert!(e < 1e-5, "{fft:?} {nx}x{ny}: {e:e}");
+        }
+    }
+    let table = paper_table(16, 16, l / 16.0, 0.1);
+    if let Some(ctx) = gpu::context_for_tests() {
+        let g = GpuBackend::new(ctx, 16, 16, &table, GpuOptions::default()).unwrap();
+        assert!(!g.has_preconditioner());
+    }
 }
 
 /// The matvec on every FFT path: the default (workgroup-memory passes
@@ -326,7 +458,7 @@ fn f16_spectrum_error_is_measured() {
 /// rms slope 0.02, paper material, `xi = v tau / L`. Returns
 /// `(area fraction gpu, cpu, friction gpu, cpu, pressure relative L2,
 /// contact cells in one set only)`.
-fn solve_both(n: usize, xi: f64) -> Option<(f64, f64, f64, f64, f64, usize)> {
+fn solve_both(n: usize, xi: f64, precondition: bool) -> Option<(f64, f64, f64, f64, f64, usize)> {
     use viscoslide::solver::{self, Control, SolverParams};
     let ctx = gpu::context_for_tests()?;
     let length = 0.01;
@@ -352,7 +484,11 @@ fn solve_both(n: usize, xi: f64) -> Option<(f64, f64, f64, f64, f64, usize)> {
     let control = Control::Load(3e3 * length * length);
     let params = SolverParams::default();
     let t0 = std::time::Instant::now();
-    let mut cpu = CpuBackend::new(ToeplitzFft::new(tab));
+    let mut cpu = if precondition {
+        CpuBackend::new(ToeplitzFft::new(tab).with_preconditioner())
+    } else {
+        CpuBackend::new(ToeplitzFft::new(tab))
+    };
     let (sc, ic) = solver::solve(
         &mut cpu,
         &g,
@@ -365,7 +501,12 @@ fn solve_both(n: usize, xi: f64) -> Option<(f64, f64, f64, f64, f64, usize)> {
     .unwrap();
     let t_cpu = t0.elapsed().as_secs_f64();
     let t0 = std::time::Instant::now();
-    let mut gpu = GpuBackend::new(ctx, n, n, &table.values, GpuOptions::default()).unwrap();
+    let options = GpuOptions {
+        preconditioner: precondition,
+        ..Default::default()
+    };
+    let mut gpu = GpuBackend::new(ctx, n, n, &table.values, options).unwrap();
+    assert_eq!(gpu.has_preconditioner(), precondition);
     let (sg, ig) = solver::solve(
         &mut gpu,
         &g,
@@ -406,9 +547,9 @@ fn solve_both(n: usize, xi: f64) -> Option<(f64, f64, f64, f64, f64, usize)> {
 /// Bounds: area within 0.005, friction within 1 %, pressure within 1e-3
 /// relative L2 (the f32 residual floor is about 1e-5), and the same
 /// contact set cell for cell on these cases.
-fn check_solves(n: usize) {
+fn check_solves(n: usize, precondition: bool) {
     for xi in [1e-3, 1.17e-2, 1e-1] {
-        let Some((ag, ac, mg, mc, e, differ)) = solve_both(n, xi) else {
+        let Some((ag, ac, mg, mc, e, differ)) = solve_both(n, xi, precondition) else {
             return;
         };
         assert!((ag - ac).abs() <= 0.005, "{n}^2 xi {xi}: area {ag} vs {ac}");
@@ -423,12 +564,19 @@ fn check_solves(n: usize) {
 
 #[test]
 fn full_solve_64_matches_cpu() {
-    check_solves(64);
+    check_solves(64, false);
+}
+
+/// Both preconditioned (the inverse padded circulant, on the device and on
+/// the host): the default of a solve.
+#[test]
+fn preconditioned_full_solve_64_matches_cpu() {
+    check_solves(64, true);
 }
 
 #[test]
 fn full_solve_128_matches_cpu() {
-    check_solves(128);
+    check_solves(128, true);
 }
 
 /// Worst relative error of the GPU coefficient table against the CPU table

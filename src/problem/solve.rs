@@ -257,7 +257,11 @@ impl Problem {
                 }
             };
             let l00 = self_coefficient(&table, lx, ly);
-            let backend = GpuBackend::with_engine(engine, lx, ly, &table, GpuOptions::default())?;
+            let options = GpuOptions {
+                preconditioner: self.params.precondition,
+                ..GpuOptions::default()
+            };
+            let backend = GpuBackend::with_engine(engine, lx, ly, &table, options)?;
             Ok((backend, l00))
         };
         let t_setup = t0.elapsed().as_secs_f64() - t_coeff;

@@ -36,6 +36,10 @@ const REDUCE_GROUPS: usize = 256;
 /// Reduction slots of the partials buffer.
 const REDUCE_SLOTS: usize = 64;
 
+/// Modes of the circulant below this fraction of its largest multiplier
+/// are clamped there in the preconditioner (as on the host).
+const PRECONDITIONER_FLOOR: f64 = 1e-6;
+
 /// Options of [`GpuBackend`].
 #[derive(Debug, Clone, Copy, Default)]
 pub struct GpuOptions {
@@ -43,6 +47,11 @@ pub struct GpuOptions {
     pub spectrum: SpectrumPrecision,
     /// The FFT of the uniform-grid matvec.
     pub fft: FftChoice,
+    /// Provide the inverse of the padded circulant as the preconditioner of
+    /// the uniform-grid operator ([`crate::backend::Backend::precondition`],
+    /// as [`crate::operator::ToeplitzFft::with_preconditioner`] on the host;
+    /// f32 spectrum only).
+    pub preconditioner: bool,
 }
 
 /// A device vector: a pool buffer of grid capacity and a logical length.
@@ -117,7 +126,10 @@ impl GpuBackend {
     ) -> Result<Self, GpuError> {
         let n = nx * ny;
         engine.check_binding(&format!("a {nx} x {ny} grid vector"), 4 * n as u64)?;
-        let matvec = FftMatvec::new(&mut engine, nx, ny, table, options.spectrum, options.fft)?;
+        let mut matvec = FftMatvec::new(&mut engine, nx, ny, table, options.spectrum, options.fft)?;
+        if options.preconditioner && options.spectrum == SpectrumPrecision::F32 {
+            matvec.set_inverse(&mut engine, table, PRECONDITIONER_FLOOR);
+        }
         Ok(Self::assemble(engine, n, Operator::Fft(matvec)))
     }
 
@@ -329,6 +341,21 @@ impl Backend for GpuBackend {
             Operator::Fft(m) => m.record_apply(&mut self.engine, x.buf(), y.buf()),
             Operator::Adaptive(m) => m.record_apply(&mut self.engine, x.buf(), y.buf()),
             Operator::Levels(m) => m.record_apply(&mut self.engine, x.buf(), y.buf()),
+        }
+    }
+
+    fn has_preconditioner(&self) -> bool {
+        matches!(&self.matvec, Operator::Fft(m) if m.has_inverse())
+    }
+
+    fn precondition(&mut self, x: &GpuVector, y: &mut GpuVector) {
+        assert_eq!(x.len, self.n);
+        assert_eq!(y.len, self.n);
+        match &mut self.matvec {
+            Operator::Fft(m) if m.has_inverse() => {
+                m.record_inverse(&mut self.engine, x.buf(), y.buf())
+            }
+            _ => self.copy(x, y),
         }
     }
 

@@ -55,6 +55,8 @@ pub struct FftMatvec {
     a: Buf,
     b: Buf,
     kernel: Buf,
+    /// The inverse spectrum of the preconditioner, same layout as `kernel`.
+    inverse: Option<Buf>,
     twiddle_x: Buf,
     twiddle_y: Buf,
 }
@@ -254,9 +256,47 @@ impl FftMatvec {
             a,
             b,
             kernel,
+            inverse: None,
             twiddle_x,
             twiddle_y,
         })
+    }
+
+    /// Provide the preconditioner `K = R C^-1 R^T`, `C` the circulant of the
+    /// padded transform (of which `L` is the leading block): the same plan
+    /// with the inverse of the scaled spectrum (f32), modes below `floor`
+    /// times the largest multiplier clamped there
+    /// ([`inverse_spectrum`]; the host's
+    /// [`crate::operator::ToeplitzFft::with_preconditioner`]).
+    pub fn set_inverse(&mut self, engine: &mut Engine, table: &[f64], floor: f64) {
+        let (mx, my) = (self.mx, self.my);
+        let mut spectrum = inverse_spectrum(
+            &kernel_spectrum(self.nx, self.ny, mx, my, table),
+            mx * my,
+            floor,
+        );
+        if self.plan.path != Path::Radix2 {
+            spectrum = half_spectrum(&spectrum, mx, my);
+        }
+        let host: Vec<f32> = spectrum
+            .iter()
+            .flat_map(|z| [z.re as f32, z.im as f32])
+            .collect();
+        self.inverse = Some(engine.storage_with(
+            "viscoslide inverse spectrum f32",
+            bytemuck::cast_slice(&host),
+        ));
+    }
+
+    /// Whether [`FftMatvec::set_inverse`] was called.
+    pub fn has_inverse(&self) -> bool {
+        self.inverse.is_some()
+    }
+
+    /// Record `y = K x` with the inverse spectrum (the matvec's plan).
+    pub fn record_inverse(&self, engine: &mut Engine, x: &Buf, y: &Buf) {
+        let inverse = self.inverse.as_ref().expect("set_inverse first");
+        self.record_with(engine, x, y, inverse);
     }
 
     /// The dispatch plan this matvec records.
@@ -271,6 +311,11 @@ impl FftMatvec {
 
     /// Record `y = L x` (grid vectors of `nx ny` f32): the steps of the plan.
     pub fn record_apply(&self, engine: &mut Engine, x: &Buf, y: &Buf) {
+        self.record_with(engine, x, y, &self.kernel);
+    }
+
+    /// The plan's steps with `spectrum` as the multiplier.
+    fn record_with(&self, engine: &mut Engine, x: &Buf, y: &Buf, spectrum: &Buf) {
         for step in &self.plan.steps {
             let bufs: Vec<&Buf> = step
                 .bufs
@@ -280,7 +325,7 @@ impl FftMatvec {
                     Role::Output => y,
                     Role::A => &self.a,
                     Role::B => &self.b,
-                    Role::Spectrum => &self.kernel,
+                    Role::Spectrum => spectrum,
                     Role::RowTwiddle => &self.twiddle_y,
                     Role::ColTwiddle => &self.twiddle_x,
                 })
@@ -288,6 +333,28 @@ impl FftMatvec {
             engine.dispatch(step.kernel, &bufs, step.params, grid(step.groups));
         }
     }
+}
+
+/// The multiplier of `C^-1` from the scaled spectrum `m / s` of `C`
+/// (`s = points`, the spectrum stored times `1 / s`), stored times `1 / s`
+/// as well: `conj(m) / |m|^2 / s^2`; modes below `floor` times the largest
+/// are raised to it, zero modes get the largest's inverse.
+pub fn inverse_spectrum(spectrum: &[Complex64], points: usize, floor: f64) -> Vec<Complex64> {
+    let scale = 1.0 / points as f64;
+    let largest = spectrum.iter().map(|m| m.norm()).fold(0.0, f64::max);
+    let cut = floor * largest;
+    spectrum
+        .iter()
+        .map(|&m| {
+            let r = m.norm();
+            if r == 0.0 {
+                Complex64::new(scale * scale / largest, 0.0)
+            } else {
+                let m = if r < cut { m * (cut / r) } else { m };
+                m.conj() / m.norm_sqr() * (scale * scale)
+            }
+        })
+        .collect()
 }
 
 /// The scale of the f16 spectrum: its largest component.
