@@ -37,6 +37,7 @@ mod active_set;
 pub mod cascade;
 mod full_contact;
 mod gmres;
+mod initial_guess;
 pub mod reference;
 
 pub use active_set::solve_from;
