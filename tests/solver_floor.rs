@@ -169,3 +169,41 @@ fn a_set_toggling_at_the_floor_is_accepted() {
         "the set should toggle: {tail:?}"
     );
 }
+
+/// A cell toggling in and out of the set at a residual already below the
+/// target (a degenerate cell: pressure and gap both about zero) ends the
+/// solve as soon as the residual stops improving, with the cells that carry
+/// pressure as the contact set (it used to run to the iteration cap when
+/// the toggling began on a coarse grid of a cascade).
+#[test]
+fn a_set_toggling_below_the_target_ends_the_solve() {
+    let (sol, exact_info) = solve_with(|exact| exact, None).unwrap();
+    let (cell, gap) = (0..sol.gap.len())
+        .filter(|&i| sol.contact[i] < 0.5)
+        .map(|i| (i, sol.gap[i]))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap();
+    let (toggled, info) = solve_with(
+        |exact| Toggling {
+            exact,
+            cell,
+            lowered: 2e-8 * gap,
+        },
+        Some((cell, -(1.0 - 1e-8) * gap)),
+    )
+    .expect("a residual below the target with a toggling cell is converged");
+    let sizes = &info.contact_history;
+    println!(
+        "residual {:.2e}, {} iterations (exact problem: {}), set sizes {sizes:?}",
+        info.residual, info.iterations, exact_info.iterations
+    );
+    assert!(info.residual <= 1e-8);
+    assert!(
+        info.iterations <= exact_info.iterations + 3,
+        "{} iterations",
+        info.iterations
+    );
+    for (c, p) in toggled.contact.iter().zip(&toggled.pressure) {
+        assert_eq!(*c > 0.5, *p > 0.0);
+    }
+}

@@ -381,10 +381,14 @@ pub(crate) fn solve_owned<B: Backend>(
         // A full inner solve that left the residual above the target while
         // the set held (unchanged, or no better than the best so far, or
         // stalled) is limited by the inner tolerance: sharpen it at once.
+        // A full inner solve that did not help (a stalled residual, or none
+        // better than the best so far) or that left the residual above the
+        // target on an unchanged set is limited by the inner tolerance:
+        // sharpen it at once.
         let full_solve = phase == Phase::Sharp && reduction == 0.0;
         let short = residual > tolerance.max(floor);
         let no_gain = residual >= STAGNATION * best_residual;
-        if full_solve && short && sharp > floor_inner && (stalled || changes == 0 || no_gain) {
+        if full_solve && sharp > floor_inner && (stalled || no_gain || (changes == 0 && short)) {
             sharp = (0.01 * sharp).max(floor_inner);
         }
         history.push(residual);
@@ -399,6 +403,11 @@ pub(crate) fn solve_owned<B: Backend>(
         let settled = changes == 0 && outcome.converged;
         let at_inner_floor = sharp <= floor_inner && outcome.converged;
         let few_changes = changes <= (size / FLOOR_TOGGLES).max(1);
+        // Degenerate cells (both `p` and the gap at zero) may toggle in and
+        // out of the set forever at a residual already below the target:
+        // a converged solve whose set moves a few cells without improving
+        // the residual is the answer too.
+        let toggling = few_changes && stalled && outcome.converged;
         if residual < STAGNATION * best_residual {
             best_residual = residual;
             stagnant = 0;
@@ -411,7 +420,7 @@ pub(crate) fn solve_owned<B: Backend>(
         // best residual neither count nor reset: at the floor such steps
         // alternate with the settled ones, which count.)
         let at_floor = stagnant >= STAGNANT_ITERATIONS && residual <= STAGNANT_ACCEPT;
-        if (settled && residual <= tolerance.max(floor)) || at_floor {
+        if ((settled || toggling) && residual <= tolerance.max(floor)) || at_floor {
             let load_error = match control {
                 Control::Load(f) => (cell_area * backend.sum(&p_full) - f).abs() / f,
                 Control::Approach(_) => 0.0,
@@ -426,7 +435,12 @@ pub(crate) fn solve_owned<B: Backend>(
                     pressure: out(&p_full),
                     displacement: out(&u),
                     gap: out(&gap),
-                    contact: out(&mask),
+                    // The cells carrying pressure: the set of this solve
+                    // (the updated mask differs by the toggling cells).
+                    contact: out(&p_full)
+                        .into_iter()
+                        .map(|p| if p > 0.0 { 1.0 } else { 0.0 })
+                        .collect(),
                     approach: delta,
                 },
                 SolveInfo {
