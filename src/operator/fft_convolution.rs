@@ -139,29 +139,8 @@ impl SpectralEngine {
     /// positive definite); `1 / (floor max |m|)` in the direction of `m` in
     /// between.
     pub(crate) fn set_inverse_multiplier(&mut self, floor: f64) {
-        let scale = 1.0 / (self.mx * self.my) as f64;
-        let largest = self
-            .multiplier_t
-            .iter()
-            .map(|m| m.norm())
-            .fold(0.0, f64::max);
-        let cut = floor * largest;
-        let inv = self
-            .multiplier_t
-            .par_iter()
-            .map(|&m| {
-                let r = m.norm();
-                if r == 0.0 {
-                    Complex64::new(scale * scale / largest, 0.0)
-                } else {
-                    // m is stored times `scale`; the inverse is stored times
-                    // `scale` as well.
-                    let m = if r < cut { m * (cut / r) } else { m };
-                    m.conj() / m.norm_sqr() * (scale * scale)
-                }
-            })
-            .collect();
-        self.inverse_t = Some(inv);
+        let points = self.mx * self.my;
+        self.inverse_t = Some(inverse_multiplier(&self.multiplier_t, points, floor));
     }
 
     /// Whether [`SpectralEngine::set_inverse_multiplier`] was called.
@@ -286,4 +265,32 @@ impl SpectralEngine {
                 }
             });
     }
+}
+
+/// The regularised inverse of a multiplier stored times `1 / points` (the
+/// unnormalised inverse transform's scale), stored the same way:
+/// `conj(m) / |m|^2 / points^2`; modes below `floor` times the largest are
+/// raised to it in the direction of `m`, zero modes get the largest's
+/// inverse ([`SpectralEngine::set_inverse_multiplier`]; the GPU
+/// preconditioner's spectrum too).
+pub(crate) fn inverse_multiplier(
+    multiplier: &[Complex64],
+    points: usize,
+    floor: f64,
+) -> Vec<Complex64> {
+    let scale = 1.0 / points as f64;
+    let largest = multiplier.iter().map(|m| m.norm()).fold(0.0, f64::max);
+    let cut = floor * largest;
+    multiplier
+        .par_iter()
+        .map(|&m| {
+            let r = m.norm();
+            if r == 0.0 {
+                Complex64::new(scale * scale / largest, 0.0)
+            } else {
+                let m = if r < cut { m * (cut / r) } else { m };
+                m.conj() / m.norm_sqr() * (scale * scale)
+            }
+        })
+        .collect()
 }

@@ -11,6 +11,7 @@
 mod adaptive;
 mod dense;
 mod fft_convolution;
+pub(crate) use fft_convolution::inverse_multiplier;
 mod periodic;
 mod toeplitz;
 

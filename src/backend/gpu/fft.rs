@@ -18,6 +18,7 @@ use super::context::GpuError;
 use super::engine::{Buf, Engine, Kernel};
 pub use super::fft_plan::padded;
 use super::fft_plan::{grid, work_elements, MatvecPlan, Path, Role, MIN_WORKGROUPS};
+use crate::operator::inverse_multiplier;
 
 /// Storage precision of the kernel spectrum.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -266,11 +267,11 @@ impl FftMatvec {
     /// padded transform (of which `L` is the leading block): the same plan
     /// with the inverse of the scaled spectrum (f32), modes below `floor`
     /// times the largest multiplier clamped there
-    /// ([`inverse_spectrum`]; the host's
+    /// (`inverse_multiplier`, shared with the host's
     /// [`crate::operator::ToeplitzFft::with_preconditioner`]).
     pub fn set_inverse(&mut self, engine: &mut Engine, table: &[f64], floor: f64) {
         let (mx, my) = (self.mx, self.my);
-        let mut spectrum = inverse_spectrum(
+        let mut spectrum = inverse_multiplier(
             &kernel_spectrum(self.nx, self.ny, mx, my, table),
             mx * my,
             floor,
@@ -333,28 +334,6 @@ impl FftMatvec {
             engine.dispatch(step.kernel, &bufs, step.params, grid(step.groups));
         }
     }
-}
-
-/// The multiplier of `C^-1` from the scaled spectrum `m / s` of `C`
-/// (`s = points`, the spectrum stored times `1 / s`), stored times `1 / s`
-/// as well: `conj(m) / |m|^2 / s^2`; modes below `floor` times the largest
-/// are raised to it, zero modes get the largest's inverse.
-pub fn inverse_spectrum(spectrum: &[Complex64], points: usize, floor: f64) -> Vec<Complex64> {
-    let scale = 1.0 / points as f64;
-    let largest = spectrum.iter().map(|m| m.norm()).fold(0.0, f64::max);
-    let cut = floor * largest;
-    spectrum
-        .iter()
-        .map(|&m| {
-            let r = m.norm();
-            if r == 0.0 {
-                Complex64::new(scale * scale / largest, 0.0)
-            } else {
-                let m = if r < cut { m * (cut / r) } else { m };
-                m.conj() / m.norm_sqr() * (scale * scale)
-            }
-        })
-        .collect()
 }
 
 /// The scale of the f16 spectrum: its largest component.
