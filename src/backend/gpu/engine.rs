@@ -4,6 +4,11 @@
 //! uniform ring bound with a dynamic offset, written just before the
 //! submission. Pipelines and bind groups are created once and cached
 //! (DESIGN.md "plan once, apply many"); every resource carries a label.
+//!
+//! Length: a little over 500 lines because it is the one place that talks
+//! to wgpu for every kernel (the kernel table, pipeline and bind-group
+//! caches, the parameter ring, buffers, submission and read-back); splitting
+//! it would spread the device's state over files that all borrow it.
 
 use std::collections::HashMap;
 use std::sync::mpsc;
