@@ -274,7 +274,6 @@ pub(crate) fn solve_owned<B: Backend>(
     let mut contact_history = Vec::new();
     let mut last_changes = usize::MAX;
     let mut residual = f64::INFINITY;
-    let mut previous = f64::INFINITY;
     let mut stalled = false;
     // The inner tolerance is relative to |g_I|; where the complementarity
     // residual (relative to |p|) stalls above the target on an unchanged
@@ -338,8 +337,12 @@ pub(crate) fn solve_owned<B: Backend>(
         // the last), or a stalled residual. A few cells still moving on a
         // slowly falling residual get the sharp phase's reduction only.
         let few_toggles = last_changes <= (contact_cells / FLOOR_TOGGLES).max(1);
+        let before_last = match history.len() {
+            n if n >= 2 => history[n - 2],
+            _ => f64::INFINITY,
+        };
         let settle =
-            stalled || last_changes == 0 || (few_toggles && residual <= FAST_FALL * previous);
+            stalled || last_changes == 0 || (few_toggles && residual <= FAST_FALL * before_last);
         let reduction = phase.reduction(settle);
         let outcome = gmres(
             backend, &mut op, &rhs, &mut p, &mut work, sharp, reduction, budget, observer,
@@ -375,12 +378,8 @@ pub(crate) fn solve_owned<B: Backend>(
             0.0
         };
         let previous_residual = history.last().copied().unwrap_or(f64::INFINITY);
-        previous = previous_residual;
         stalled = residual >= previous_residual;
         let (changes, size) = backend.update_active_set(&p_full, &gap, &mut mask);
-        // A full inner solve that left the residual above the target while
-        // the set held (unchanged, or no better than the best so far, or
-        // stalled) is limited by the inner tolerance: sharpen it at once.
         // A full inner solve that did not help (a stalled residual, or none
         // better than the best so far) or that left the residual above the
         // target on an unchanged set is limited by the inner tolerance:
