@@ -33,6 +33,16 @@ fn json(dir: &Path) -> serde_json::Value {
     serde_json::from_slice(&std::fs::read(dir.join("persson.json")).unwrap()).unwrap()
 }
 
+/// The material of [`SLS`], built in the library.
+fn sls_material() -> viscoslide::material::Material {
+    use viscoslide::material::{CreepSpectrum, Material};
+    Material::new(
+        CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
+        0.5,
+    )
+    .unwrap()
+}
+
 const SLS: &str = "[material]\nmodel = \"sls\"\nrelaxed_modulus = 3.3333333333333335e6\nglassy_modulus = 1.0e7\ncreep_time = 0.01\n";
 
 #[test]
@@ -260,7 +270,6 @@ const ROUGH: &str = "[surface.generate]\nn = 32\nlength = 0.01\nhurst = 0.8\nsca
 
 #[test]
 fn solve_records_persson_beside_the_simulation() {
-    use viscoslide::material::{CreepSpectrum, Material};
     use viscoslide::persson::{Persson, PerssonParams};
     let tmp = tempfile::tempdir().unwrap();
     let cfg = write_config(
@@ -296,11 +305,7 @@ fn solve_records_persson_beside_the_simulation() {
         ..GenerateParams::default()
     };
     let (psd, _) = viscoslide::persson::psd::continuum_self_affine(&params).unwrap();
-    let m = Material::new(
-        CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
-        0.5,
-    )
-    .unwrap();
+    let m = sls_material();
     let p = Persson::new(&m, &psd, 0.3 / 1e-4, PerssonParams::default())
         .unwrap()
         .point(0.01)
@@ -385,7 +390,6 @@ fn merge_draws_and_tabulates_persson() {
 /// refinement study (`with_grid`).
 #[test]
 fn a_surface_synthesised_from_a_table_uses_the_table() {
-    use viscoslide::material::{CreepSpectrum, Material};
     use viscoslide::persson::{Persson, PerssonParams};
     use viscoslide::problem::Problem;
     use viscoslide::surface::TabulatedPsd;
@@ -403,11 +407,7 @@ fn a_surface_synthesised_from_a_table_uses_the_table() {
         tmp.path(),
         &format!("{SLS}[surface.generate]\nn = 64\nlength = 0.01\nseed = 2\npsd = \"psd.csv\"\n[loading]\nmean_pressure = 3e3\nspeed = 0.01\n[analysis]\nenabled = false\n"),
     );
-    let m = Material::new(
-        CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
-        0.5,
-    )
-    .unwrap();
+    let m = sls_material();
     let reread = TabulatedPsd::from_csv(&tmp.path().join("psd.csv")).unwrap();
     let band = |n: usize| {
         let a = 0.01 / n as f64;

@@ -103,6 +103,49 @@ fn kernel(speed: f64) -> SlidingKernel {
     .unwrap()
 }
 
+/// The preconditioned Toeplitz iteration under `control`, from the
+/// bearing-area guess and from every far start, against the dense
+/// solution `(p_ref, d_ref)`: the assertions of [`assert_matches`].
+#[allow(clippy::too_many_arguments)]
+fn toeplitz_matches_from_far_starts(
+    label: &str,
+    tab: OffsetTable,
+    g: &[f64],
+    a: f64,
+    control: Control,
+    p_ref: &[f64],
+    d_ref: f64,
+) {
+    let set: Vec<bool> = p_ref.iter().map(|&p| p > 0.0).collect();
+    let load = a * a * p_ref.iter().sum::<f64>();
+    let mut be = CpuBackend::new(ToeplitzFft::new(tab).with_preconditioner());
+    let mut starts = vec![None];
+    starts.extend(far_starts(g, load, a * a, &set).into_iter().map(Some));
+    for (k, start) in starts.iter().enumerate() {
+        let (sol, info) = solver::solve_from(
+            &mut be,
+            g,
+            a * a,
+            tab.get(0, 0),
+            control,
+            &SolverParams::default(),
+            start.as_ref(),
+            &mut solver::Silent,
+        )
+        .unwrap();
+        assert!(info.preconditioner_applications > 0);
+        if let Control::Approach(d) = control {
+            assert_eq!(sol.approach, d);
+        }
+        let label = format!("{label} start {k}");
+        assert_matches(&label, &sol, &info, p_ref, d_ref);
+        eprintln!(
+            "{label}: {} iterations, {} matvecs, {} preconditioner applications",
+            info.iterations, info.matvecs, info.preconditioner_applications
+        );
+    }
+}
+
 #[test]
 fn preconditioned_toeplitz_matches_dense_from_far_starts() {
     let n = 24;
@@ -120,31 +163,15 @@ fn preconditioned_toeplitz_matches_dense_from_far_starts() {
         let dense = DenseOperator::new(tab);
         let (p_ref, d_ref) =
             reference::solve_dense(dense.matrix(), &g, a * a, Control::Load(load), 500).unwrap();
-        let set: Vec<bool> = p_ref.iter().map(|&p| p > 0.0).collect();
-        let mut be = CpuBackend::new(ToeplitzFft::new(tab).with_preconditioner());
-        let params = SolverParams::default();
-        let mut starts = vec![None];
-        starts.extend(far_starts(&g, load, a * a, &set).into_iter().map(Some));
-        for (k, start) in starts.iter().enumerate() {
-            let (sol, info) = solver::solve_from(
-                &mut be,
-                &g,
-                a * a,
-                tab.get(0, 0),
-                Control::Load(load),
-                &params,
-                start.as_ref(),
-                &mut solver::Silent,
-            )
-            .unwrap();
-            assert!(info.preconditioner_applications > 0);
-            let label = format!("toeplitz xi={xi} start {k}");
-            assert_matches(&label, &sol, &info, &p_ref, d_ref);
-            eprintln!(
-                "{label}: {} iterations, {} matvecs, {} preconditioner applications",
-                info.iterations, info.matvecs, info.preconditioner_applications
-            );
-        }
+        toeplitz_matches_from_far_starts(
+            &format!("toeplitz xi={xi}"),
+            tab,
+            &g,
+            a,
+            Control::Load(load),
+            &p_ref,
+            d_ref,
+        );
     }
 }
 
@@ -444,31 +471,14 @@ fn approach_control_on_a_few_cells_matches_dense() {
         let cells = p_ref.iter().filter(|&&p| p > 0.0).count();
         assert!((1..=10).contains(&cells), "{cells} cells in contact");
         assert_eq!(d_ref, d);
-        let set: Vec<bool> = p_ref.iter().map(|&p| p > 0.0).collect();
-        let load = a * a * p_ref.iter().sum::<f64>();
-        let mut be = CpuBackend::new(ToeplitzFft::new(tab).with_preconditioner());
-        let mut starts = vec![None];
-        starts.extend(far_starts(&g, load, a * a, &set).into_iter().map(Some));
-        for (s, start) in starts.iter().enumerate() {
-            let (sol, info) = solver::solve_from(
-                &mut be,
-                &g,
-                a * a,
-                tab.get(0, 0),
-                Control::Approach(d),
-                &SolverParams::default(),
-                start.as_ref(),
-                &mut solver::Silent,
-            )
-            .unwrap();
-            assert_eq!(sol.approach, d);
-            assert_matches(
-                &format!("approach xi={xi} start {s}"),
-                &sol,
-                &info,
-                &p_ref,
-                d_ref,
-            );
-        }
+        toeplitz_matches_from_far_starts(
+            &format!("approach xi={xi}"),
+            tab,
+            &g,
+            a,
+            Control::Approach(d),
+            &p_ref,
+            d_ref,
+        );
     }
 }
