@@ -69,8 +69,8 @@ pub mod surface;
 
 pub use error::{Error, Result};
 
-/// Crate version recorded in every report.
-pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+pub mod version;
+pub use version::VERSION;
 pub mod analysis;
 pub mod operator;
 pub mod persson;

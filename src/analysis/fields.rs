@@ -142,6 +142,6 @@ pub fn analyze(
         spots: spot_stats,
         contact_area_fraction: contact_cells as f64 / (nx * ny) as f64,
         params: params.clone(),
-        version: crate::VERSION,
+        version: crate::version::VERSION,
     })
 }

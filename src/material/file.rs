@@ -94,7 +94,7 @@ pub fn material_toml(
          # (Carbone & Putignano, PRE 89, 032408, 2014), SI units:\n\
          # creep_spectrum = [[C_k (1/Pa), tau_k (s)], ...], glassy_modulus = E_inf (Pa).\n\
          # Load it from a config with [material] model = \"file\", file = \"<this path>\".\n\n{body}",
-        crate::VERSION
+        crate::version::VERSION
     ))
 }
 

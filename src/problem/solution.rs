@@ -269,7 +269,7 @@ impl Solution {
             "wall_time_s": self.timings.total_s,
             "timings": self.timings,
             "seed": r.seed,
-            "version": crate::VERSION,
+            "version": crate::version::VERSION,
             "formulation": r.formulation,
             "material": {
                 "relaxed_modulus": spec.relaxed_modulus(),

@@ -320,7 +320,7 @@ impl RefineReport {
             "seed": self.seed,
             "speed": self.speed,
             "xi": self.xi,
-            "version": crate::VERSION,
+            "version": crate::version::VERSION,
             "config": self.document,
             "warnings": warnings,
         })

@@ -161,7 +161,7 @@ pub(super) fn run(args: GenerateArgs) -> Result<()> {
     let fit = surface::fit_hurst(&radial, 2.0 * target.q0, 0.5 * target.q1).ok();
 
     let json = serde_json::json!({
-        "version": crate::VERSION,
+        "version": crate::version::VERSION,
         "seed": params.seed,
         "params": params,
         "target_psd": target,
@@ -207,7 +207,7 @@ fn run_from_table(
         .max(2.0 * std::f64::consts::PI / map.length_x().max(map.length_y()));
     let band_hi = table.q_max().min(qn);
     let json = serde_json::json!({
-        "version": crate::VERSION,
+        "version": crate::version::VERSION,
         "seed": sp.seed,
         "psd_table": table_path.display().to_string(),
         "synth_params": sp,

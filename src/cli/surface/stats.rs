@@ -58,7 +58,7 @@ pub(super) fn run(args: StatsArgs) -> Result<()> {
     let an = surface::analyse(&topo, trend, window, args.fit)?;
     let fit = an.hurst;
     let json = serde_json::json!({
-        "version": crate::VERSION,
+        "version": crate::version::VERSION,
         "file": args.file.display().to_string(),
         "format": format,
         "missing": {

@@ -66,7 +66,7 @@ pub(super) fn run(args: StitchArgs) -> Result<()> {
     }
     let st = surface::stitch(&scans, args.bins_per_decade)?;
     let json = serde_json::json!({
-        "version": crate::VERSION,
+        "version": crate::version::VERSION,
         "rule": "maps: trusted for 2 pi / (L_min / 4) <= q <= (2/3) pi / max(dx, dy) (Jacobs, Junge & Pastewka, Surf. Topogr. Metrol. Prop. 5, 013001, 2017); tables: whole range; log bins averaged with weights = number of modes",
         "detrend": args.detrend,
         "window": args.window,
