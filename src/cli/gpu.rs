@@ -3,7 +3,7 @@
 
 use crate::backend::gpu;
 use crate::backend::gpu::fft_plan::{shared_elements, MatvecPlan, Path, Traffic};
-use crate::error::Result;
+use crate::error::{Error, Result};
 
 #[derive(Debug, clap::Args)]
 #[command(args_conflicts_with_subcommands = true)]
@@ -71,7 +71,8 @@ pub fn run(args: GpuArgs) -> Result<()> {
 
 fn plan(args: PlanArgs) -> Result<()> {
     let (nx, ny) = (args.n.max(1), args.ny.unwrap_or(args.n).max(1));
-    let path = Path::for_limits(args.shared_kib * 1024);
+    crate::backend::gpu::fft_plan::check_plan_size(nx, ny).map_err(Error::Invalid)?;
+    let path = Path::for_limits(args.shared_kib.saturating_mul(1024));
     let new = MatvecPlan::new(nx, ny, path);
     let old = MatvecPlan::new(nx, ny, Path::Radix2);
     let floor = new.floor();
@@ -85,7 +86,7 @@ fn plan(args: PlanArgs) -> Result<()> {
         };
         let v = serde_json::json!({
             "nx": nx, "ny": ny, "padded": [new.mx, new.my],
-            "shared_elements": shared_elements(args.shared_kib * 1024),
+            "shared_elements": shared_elements(args.shared_kib.saturating_mul(1024)),
             "path": format!("{:?}", new.path),
             "bandwidth_tb_s": args.bandwidth,
             "default": row(new.traffic()),

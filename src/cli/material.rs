@@ -82,6 +82,10 @@ fn show(args: &ShowArgs) -> Result<()> {
     Ok(())
 }
 
+/// Bytes one frequency of `material show` holds: its moduli and loss
+/// tangent and its printed line.
+const BYTES_PER_POINT: u64 = 256;
+
 /// The text `material show` prints.
 fn describe(
     m: &Material,
@@ -133,6 +137,12 @@ fn describe(
     if n < 2 {
         return Err(Error::Invalid(format!("--points {n} must be at least 2")));
     }
+    crate::io::memory::check_count(
+        || format!("modulus table of {n} points (--points)"),
+        n as u64,
+        BYTES_PER_POINT,
+    )
+    .map_err(|e| Error::Invalid(e.to_string()))?;
     let d = DynamicModuli::evaluate(s, &log_space(from, to, n));
     let _ = writeln!(
         out,
@@ -213,7 +223,7 @@ fn fit(args: &FitArgs) -> Result<()> {
         max_relative_error_e1: info.max_relative_storage,
         max_relative_error_e2: info.max_relative_loss,
         relaxed_modulus: fit.creep.relaxed_modulus(),
-        version: crate::VERSION.into(),
+        version: crate::version::VERSION.into(),
     };
     let toml_text = material_toml(&material, Some(&record))?;
 

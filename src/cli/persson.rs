@@ -96,6 +96,10 @@ fn sweep_speed_range(cfg: &LoadedConfig, xi_scale: Option<XiScale>) -> Result<Op
 /// Points of the default curve.
 const DEFAULT_COUNT: usize = 100;
 
+/// Bytes one speed of the curve holds: its point, its rows of the CSV and
+/// the JSON and its chart data.
+const BYTES_PER_SPEED: u64 = 1024;
+
 pub fn run(args: PerssonArgs) -> Result<()> {
     let cfg = args.config.load()?;
     let window = if args.hann {
@@ -136,6 +140,12 @@ pub fn run(args: PerssonArgs) -> Result<()> {
             }
         },
     };
+    crate::io::memory::check_count(
+        || format!("Persson curve of {count} speeds ({origin})"),
+        count as u64,
+        BYTES_PER_SPEED,
+    )
+    .map_err(|e| Error::Invalid(e.to_string()))?;
     let speeds = persson::log_speeds(from, to, count);
     for n in &inputs.notes {
         eprintln!("note: {n}");
@@ -197,7 +207,7 @@ fn report_json(
     let s = &inputs.material.spectrum;
     let psd = theory.psd();
     serde_json::json!({
-        "version": crate::VERSION,
+        "version": crate::version::VERSION,
         "theory": "Persson (J. Chem. Phys. 115, 3840 (2001); J. Phys.: Condens. Matter 18, 7789 (2006))",
         "speed": curve.iter().map(|p| p.speed).collect::<Vec<_>>(),
         "xi": xi,

@@ -194,19 +194,23 @@ pub fn decode(bytes: &[u8], name: &str) -> Result<NpyArray, NpyError> {
         ">f4" | ">f" => (NpyDtype::F32, false, 4),
         _ => return Err(NpyError::UnsupportedDtype { path, dtype: descr }),
     };
-    let count: usize = shape.iter().product();
+    // The shape is checked against the bytes present, with checked
+    // arithmetic, before anything is allocated for it.
     let body = &bytes[hstart + hlen..];
-    if body.len() < count * width {
+    let need = shape
+        .iter()
+        .try_fold(width, |acc: usize, &d| acc.checked_mul(d));
+    let Some(need) = need.filter(|&n| n <= body.len()) else {
+        let need = need.map_or("more than 2^64".to_string(), |n| n.to_string());
         return Err(NpyError::Truncated {
             path,
             what: format!(
-                "shape {shape:?} needs {} data bytes, file has {}",
-                count * width,
+                "shape {shape:?} needs {need} data bytes, file has {}",
                 body.len()
             ),
         });
-    }
-    let mut data: Vec<f64> = body[..count * width]
+    };
+    let mut data: Vec<f64> = body[..need]
         .chunks_exact(width)
         .map(|c| match (width, little) {
             (8, true) => f64::from_le_bytes(c.try_into().unwrap()),

@@ -462,13 +462,25 @@ impl SlidingKernel {
     }
 }
 
+/// Bytes per entry of a table: the value and as much again of work space
+/// (the row march's rows, the per-offset evaluation's chunks).
+const TABLE_BYTES_PER_OFFSET: u64 = 16;
+
+/// A grid has cells, and its table of `2 nx x 2 ny` offsets (with checked
+/// arithmetic) fits in the memory available ([`crate::io::memory`]).
 fn check_grid(nx: usize, ny: usize) -> Result<(), KernelError> {
     if nx == 0 || ny == 0 {
         return Err(KernelError::Invalid(format!(
             "grid {nx} x {ny} must have at least one cell per side"
         )));
     }
-    Ok(())
+    let offsets = (2 * nx as u64).saturating_mul(2 * ny as u64);
+    crate::io::memory::check_count(
+        || format!("coefficient table of {nx} x {ny} cells"),
+        offsets,
+        TABLE_BYTES_PER_OFFSET,
+    )
+    .map_err(|e| KernelError::Invalid(e.to_string()))
 }
 
 /// Lines on which the spatial factor of an `ax x ay` source cell has kinks:

@@ -242,7 +242,8 @@ pub fn decode_gwy(bytes: &[u8], name: &str) -> Result<Topography, SurfaceError> 
         Some(Value::Doubles(d)) => d,
         _ => return Err(fail(name, "data field has no 'data' array")),
     };
-    if data.len() != xres * yres {
+    // Checked: sizes whose product wraps must not match a short array.
+    if xres.checked_mul(yres) != Some(data.len()) {
         return Err(fail(
             name,
             format!(

@@ -157,21 +157,67 @@ impl<'a> Doc<'a> {
     }
 }
 
+/// The largest ratio of inflated to deflated size (RFC 1951: a 258-byte
+/// match in about two bits).
+const MAX_DEFLATE_RATIO: u64 = 1032;
+
 fn read_entry<R: Read + std::io::Seek>(
     zip: &mut zip::ZipArchive<R>,
     entry: &str,
     name: &str,
 ) -> Result<Vec<u8>, SurfaceError> {
-    let mut f = zip.by_name(entry).map_err(|e| match e {
+    read_entry_sized(zip, entry, name, None)
+}
+
+/// The bytes of `entry`, inflated only after its declared size is checked
+/// against `expected` (when the caller knows it) and against the memory
+/// available; no more than the declared size is ever inflated, so an entry
+/// whose header understates its data is an error, not an allocation.
+fn read_entry_sized<R: Read + std::io::Seek>(
+    zip: &mut zip::ZipArchive<R>,
+    entry: &str,
+    name: &str,
+    expected: Option<(u64, &str)>,
+) -> Result<Vec<u8>, SurfaceError> {
+    let f = zip.by_name(entry).map_err(|e| match e {
         zip::result::ZipError::FileNotFound => fail(name, format!("the archive has no '{entry}'")),
         other => fail(
             name,
             format!("cannot open '{entry}' in the archive: {other}"),
         ),
     })?;
-    let mut bytes = Vec::with_capacity(f.size().min(1 << 30) as usize);
-    f.read_to_end(&mut bytes)
+    let declared = f.size();
+    // Deflate expands at most 1032-fold: a larger declared size is a lie.
+    let inflatable = f.compressed_size().saturating_mul(MAX_DEFLATE_RATIO);
+    if declared > inflatable.max(f.compressed_size()) {
+        return Err(fail(
+            name,
+            format!(
+                "'{entry}' declares {declared} bytes, more than its {} compressed bytes can hold",
+                f.compressed_size()
+            ),
+        ));
+    }
+    if let Some((need, what)) = expected {
+        if declared != need {
+            return Err(fail(
+                name,
+                format!("'{entry}' holds {declared} bytes; {what} need {need}"),
+            ));
+        }
+    }
+    crate::io::memory::check_fits(|| format!("'{entry}' of {declared} bytes"), declared)
+        .map_err(|e| fail(name, e))?;
+    let mut bytes = Vec::with_capacity(declared as usize);
+    f.take(declared.saturating_add(1))
+        .read_to_end(&mut bytes)
         .map_err(|e| fail(name, format!("cannot read '{entry}' from the archive: {e}")))?;
+    if bytes.len() as u64 != declared {
+        return Err(fail(
+            name,
+            format!("'{entry}' does not inflate to the {declared} bytes its header declares"),
+        ));
+    }
     Ok(bytes)
 }
 
@@ -301,14 +347,25 @@ pub fn decode_x3p(bytes: &[u8], name: &str) -> Result<Topography, SurfaceError> 
             format!("SizeZ = {nz}: only single-layer surfaces (SizeZ = 1) are supported"),
         ));
     }
-    let n = nx
-        .checked_mul(ny)
-        .filter(|&n| n >= 4 && nx >= 2 && ny >= 2)
-        .ok_or_else(|| fail(name, format!("matrix {nx} x {ny} must be at least 2 x 2")))?;
+    if nx < 2 || ny < 2 {
+        return Err(fail(name, format!("matrix {nx} x {ny} must be at least 2 x 2")));
+    }
+    // Checked sizes: a product that overflows is refused, not wrapped.
+    let (n, need) = match nx.checked_mul(ny) {
+        Some(n) => (n, (n as u64).checked_mul(width as u64)),
+        None => (0, None),
+    };
+    let need = need.ok_or_else(|| {
+        fail(
+            name,
+            format!("matrix {nx} x {ny} of type {dtype} needs more than 2^64 bytes"),
+        )
+    })?;
 
     // Raw values in file order (x fastest).
     let raw: Vec<f64> = if let Some(link) = doc.get("Record3/DataLink/PointDataLink") {
-        let data = read_entry(&mut zip, link.trim(), name)?;
+        let what = format!("{nx} x {ny} points of type {dtype}");
+        let data = read_entry_sized(&mut zip, link.trim(), name, Some((need, &what)))?;
         check_md5(
             &doc,
             "Record3/DataLink/MD5ChecksumPointData",
@@ -316,16 +373,6 @@ pub fn decode_x3p(bytes: &[u8], name: &str) -> Result<Topography, SurfaceError> 
             "point data",
             name,
         )?;
-        if data.len() != n * width {
-            return Err(fail(
-                name,
-                format!(
-                    "'{link}' holds {} bytes; {nx} x {ny} points of type {dtype} need {}",
-                    data.len(),
-                    n * width
-                ),
-            ));
-        }
         let c = data.chunks_exact(width);
         match dtype {
             "I" => c.map(|b| i16::from_le_bytes([b[0], b[1]]) as f64).collect(),
@@ -495,7 +542,7 @@ pub fn encode_x3p(
         )
     };
     let date = now_iso();
-    let version = esc(crate::VERSION);
+    let version = esc(crate::version::VERSION);
     let mut xml = String::new();
     xml.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\" ?>\n");
     xml.push_str("<p:ISO5436_2 xmlns:p=\"http://www.opengps.eu/2008/ISO5436_2\" xmlns:xsi=\"http://www.w3.org/2001/XMLSchema-instance\" xsi:schemaLocation=\"http://www.opengps.eu/2008/ISO5436_2 http://www.opengps.eu/2008/ISO5436_2/ISO5436_2_XML.xsd\">\n");

@@ -36,7 +36,11 @@ fn log_range(r: [f64; 3], key: &str) -> Result<Vec<f64>> {
             "[sweep] {key} = [from, to, points] needs positive finite ends and a whole number of points, got {r:?}"
         )));
     }
-    let n = n as usize;
+    // Checked before anything is allocated: `n as usize` saturates, and
+    // every point costs a plan entry, a solve and a row of the table.
+    let count = if n < u64::MAX as f64 { n as u64 } else { u64::MAX };
+    check_points(&format!("[sweep] {key} of {n:e} points"), count)?;
+    let n = count as usize;
     Ok((0..n)
         .map(|k| {
             if n == 1 {
@@ -46,6 +50,16 @@ fn log_range(r: [f64; 3], key: &str) -> Result<Vec<f64>> {
             }
         })
         .collect())
+}
+
+/// Bytes one point of a sweep holds until the merge: its plan entry
+/// (`Point`, its id) and its row of the merged table.
+const POINT_BYTES: u64 = 256;
+
+/// Refuse `count` sweep points that cannot be held in memory.
+fn check_points(what: &str, count: u64) -> Result<()> {
+    crate::io::memory::check_count(|| what.to_string(), count, POINT_BYTES)
+        .map_err(|e| Error::Invalid(e.to_string()))
 }
 
 impl SweepPlan {
@@ -110,7 +124,20 @@ impl SweepPlan {
             Some(s) => s.iter().map(|&x| Some(x)).collect(),
             None => vec![None],
         };
-        let mut points = Vec::new();
+        let total = [loads.len(), speeds.len(), seeds.len()]
+            .iter()
+            .try_fold(1u64, |acc, &k| acc.checked_mul(k as u64))
+            .unwrap_or(u64::MAX);
+        check_points(
+            &format!(
+                "sweep of {} loads x {} speeds x {} seeds",
+                loads.len(),
+                speeds.len(),
+                seeds.len()
+            ),
+            total,
+        )?;
+        let mut points = Vec::with_capacity(total as usize);
         for &normal_load in &loads {
             for &v in &speeds {
                 for &seed in &seeds {

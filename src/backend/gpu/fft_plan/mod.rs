@@ -173,6 +173,28 @@ pub fn padded_shape(nx: usize, ny: usize, path: Path) -> (usize, usize) {
     }
 }
 
+/// Refuse a grid whose padded transform the shaders cannot index: every
+/// size and offset of a pass is a `u32`, so the padded `mx x my` elements
+/// (sides `2 n - 1` rounded up to a power of two, with checked arithmetic)
+/// must number at most `u32::MAX`.
+pub fn check_plan_size(nx: usize, ny: usize) -> Result<(), String> {
+    let side = |n: usize| {
+        n.max(1)
+            .checked_mul(2)
+            .and_then(|m| (m - 1).checked_next_power_of_two())
+    };
+    let elements = side(nx)
+        .zip(side(ny))
+        .and_then(|(mx, my)| mx.checked_mul(my.max(2)))
+        .filter(|&e| e <= u32::MAX as usize);
+    match elements {
+        Some(_) => Ok(()),
+        None => Err(format!(
+            "a {nx} x {ny} grid pads to more than 2^32 transform elements, beyond what the GPU shaders index (u32)"
+        )),
+    }
+}
+
 /// Complex elements of each work buffer and of the spectrum.
 pub fn work_elements(nx: usize, ny: usize, path: Path) -> usize {
     let (mx, my) = padded_shape(nx, ny, path);
