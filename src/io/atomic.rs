@@ -1,10 +1,25 @@
 //! Atomic output: every file of one result set is first written into a
-//! hidden staging folder inside the target directory and moved into place only
-//! when all of them are complete. A failure before `commit` leaves the target
-//! directory as it was (the staging folder is removed on drop).
+//! hidden staging folder beside the target directory, which also receives
+//! (as hard links) the files of the target that this write keeps; `commit`
+//! then swaps the two directories with one `renameat2(RENAME_EXCHANGE)`, so
+//! a reader (or a crash at any instant) sees the whole old directory or the
+//! whole new one, never a mixture. Where the file system cannot exchange,
+//! the old directory is renamed aside and the new one into place; a crash
+//! between the two renames is repaired by the next writer. A directory
+//! holding sub-directories (a sweep's `points/`, written by concurrent
+//! shards) or the working directory is not swapped: its files are staged
+//! inside it and renamed one by one.
+//!
+//! One writer per directory ([`DirLock`]): a second fails at once. Staging
+//! folders and temporary files of dead processes are removed by the next
+//! writer; a failed write (a full disk included) leaves nothing behind,
+//! not even the directory if it made it.
 
 use std::fs;
 use std::path::{Path, PathBuf};
+
+use super::dirlock::{remove_dead, remove_dead_temps, DirLock};
+use super::fault::{crash_point, full_disk};
 
 /// Errors writing output files; each names the path.
 #[derive(Debug, thiserror::Error)]
@@ -21,6 +36,8 @@ pub enum OutputError {
     NotAFile(String),
     #[error("{path}: not a directory, so the output directory {dir} cannot be made under it")]
     NotADirectory { path: String, dir: String },
+    #[error("{0}: another process is writing output there now; wait for it to finish or choose another output directory")]
+    Busy(String),
     #[error("{dir}: cannot write output there ({source})")]
     Unwritable {
         dir: String,
@@ -74,36 +91,85 @@ pub fn check_output_dir(dir: &Path) -> Result<()> {
     fs::remove_file(&probe).map_err(unwritable)
 }
 
+/// How a [`StagedOutput`] reaches its directory.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Mode {
+    /// Staging beside the directory, swapped in whole.
+    Swap,
+    /// Staging inside the directory, files renamed one by one.
+    InPlace,
+}
+
 /// A set of output files written together, or not at all.
 #[derive(Debug)]
 pub struct StagedOutput {
     dir: PathBuf,
     staging: PathBuf,
+    mode: Mode,
     names: Vec<String>,
     /// Names of the whole output set: those not written this time are
     /// removed from `dir` on commit.
     set: Vec<String>,
     committed: bool,
+    /// The directory did not exist before: removed again (when empty) if
+    /// the write fails.
+    created: bool,
+    _lock: DirLock,
 }
 
 impl StagedOutput {
-    /// Prepare to write into `dir` (created if missing).
+    /// Prepare to write into `dir` (created if missing). Fails at once if
+    /// another process is writing there.
     pub fn new(dir: impl AsRef<Path>) -> Result<Self> {
         let dir = dir.as_ref().to_path_buf();
+        let name = dir_name(&dir);
+        let parent = parent_of(&dir);
+        if let Some(name) = &name {
+            recover_aside(&parent, &dir, name);
+        }
+        let created = !dir.exists();
         fs::create_dir_all(&dir).map_err(|e| OutputError::io(&dir, e))?;
-        let staging = dir.join(format!(
-            ".staging-{}-{}",
-            std::process::id(),
-            unique_suffix()
-        ));
-        fs::create_dir_all(&staging).map_err(|e| OutputError::io(&staging, e))?;
-        Ok(Self {
+        let lock = match DirLock::acquire(&dir) {
+            Ok(Some(l)) => l,
+            other => {
+                if created {
+                    let _ = fs::remove_dir(&dir);
+                }
+                return Err(match other {
+                    Err(e) => OutputError::io(&dir, e),
+                    _ => OutputError::Busy(dir.display().to_string()),
+                });
+            }
+        };
+        remove_dead(&dir, &[".staging-".to_string()]);
+        remove_dead_temps(&dir);
+        let mode = match &name {
+            Some(name) if swappable(&dir) => {
+                remove_dead(
+                    &parent,
+                    &[format!(".{name}.staging-"), format!(".{name}.aside-")],
+                );
+                Mode::Swap
+            }
+            _ => Mode::InPlace,
+        };
+        let suffix = format!("{}-{}", std::process::id(), unique_suffix());
+        let staging = match (mode, &name) {
+            (Mode::Swap, Some(name)) => parent.join(format!(".{name}.staging-{suffix}")),
+            _ => dir.join(format!(".staging-{suffix}")),
+        };
+        let out = Self {
             dir,
             staging,
+            mode,
             names: Vec::new(),
             set: Vec::new(),
             committed: false,
-        })
+            created,
+            _lock: lock,
+        };
+        fs::create_dir(&out.staging).map_err(|e| OutputError::io(&out.staging, e))?;
+        Ok(out)
     }
 
     /// The final directory.
@@ -127,7 +193,9 @@ impl StagedOutput {
     /// Write `bytes` as the file `name`.
     pub fn write(&mut self, name: &str, bytes: &[u8]) -> Result<()> {
         let p = self.path(name);
-        fs::write(&p, bytes).map_err(|e| OutputError::io(&p, e))
+        full_disk()
+            .and_then(|()| fs::write(&p, bytes))
+            .map_err(|e| OutputError::io(&p, e))
     }
 
     /// Declare the names of the whole output set this write replaces: any
@@ -138,21 +206,98 @@ impl StagedOutput {
         self.set = names.iter().map(|n| n.to_string()).collect();
     }
 
-    /// Move every staged file into the target directory, then remove the
-    /// stale members of the output set (see [`StagedOutput::replaces`]).
+    /// Put every staged file into the target directory at once (see the
+    /// module documentation), then remove the stale members of the output
+    /// set (see [`StagedOutput::replaces`]).
     pub fn commit(mut self) -> Result<Vec<PathBuf>> {
-        let mut out = Vec::with_capacity(self.names.len());
         for name in &self.names {
-            let from = self.staging.join(name);
-            if !from.exists() {
+            if !self.staging.join(name).exists() {
                 return Err(OutputError::Unwritten(name.clone()));
             }
         }
-        for name in &self.names {
-            let from = self.staging.join(name);
-            let to = self.dir.join(name);
+        full_disk().map_err(|e| OutputError::io(&self.staging, e))?;
+        let out: Vec<PathBuf> = self.names.iter().map(|n| self.dir.join(n)).collect();
+        match self.mode {
+            Mode::Swap => self.commit_swap()?,
+            Mode::InPlace => self.commit_in_place()?,
+        }
+        Ok(out)
+    }
+
+    fn commit_swap(&mut self) -> Result<()> {
+        // The files this write keeps: hard links (a copy where the file
+        // system has none) of everything else in the directory.
+        let entries = fs::read_dir(&self.dir).map_err(|e| OutputError::io(&self.dir, e))?;
+        for e in entries {
+            let e = e.map_err(|e| OutputError::io(&self.dir, e))?;
+            let name = e.file_name();
+            let keep = name.to_str().is_none_or(|n| {
+                !self.names.iter().any(|m| m == n)
+                    && !self.set.iter().any(|m| m == n)
+                    && !n.starts_with(".staging-")
+            });
+            if !keep {
+                continue;
+            }
+            let (from, to) = (e.path(), self.staging.join(&name));
+            let ty = e.file_type().map_err(|err| OutputError::io(&from, err))?;
+            let linked = if ty.is_symlink() {
+                fs::read_link(&from).and_then(|t| std::os::unix::fs::symlink(t, &to))
+            } else if ty.is_dir() {
+                // A directory appeared since `new`: do not swap it away.
+                return self.commit_in_place();
+            } else {
+                fs::hard_link(&from, &to).or_else(|_| fs::copy(&from, &to).map(|_| ()))
+            };
+            linked.map_err(|err| OutputError::io(&to, err))?;
+        }
+        crash_point("staged");
+        let exchanged = if super::fault::no_exchange() {
+            Err(std::io::Error::from_raw_os_error(libc::EINVAL))
+        } else {
+            exchange(&self.staging, &self.dir)
+        };
+        match exchanged {
+            Ok(()) => {
+                // The old directory is now at the staging path.
+                self.committed = true;
+                crash_point("swapped");
+                let _ = fs::remove_dir_all(&self.staging);
+                Ok(())
+            }
+            Err(e) if unsupported(&e) => self.commit_aside(),
+            Err(e) => Err(OutputError::io(&self.dir, e)),
+        }
+    }
+
+    /// Rename-aside-then-rename, for file systems without an exchange: a
+    /// crash between the two renames leaves `.NAME.aside-PID-*` and no
+    /// directory, which the next writer renames back ([`recover_aside`]).
+    fn commit_aside(&mut self) -> Result<()> {
+        let name = dir_name(&self.dir).expect("a swapped directory has a name");
+        let aside = parent_of(&self.dir).join(format!(
+            ".{name}.aside-{}-{}",
+            std::process::id(),
+            unique_suffix()
+        ));
+        fs::rename(&self.dir, &aside).map_err(|e| OutputError::io(&self.dir, e))?;
+        crash_point("aside");
+        if let Err(e) = fs::rename(&self.staging, &self.dir) {
+            let _ = fs::rename(&aside, &self.dir);
+            return Err(OutputError::io(&self.dir, e));
+        }
+        self.committed = true;
+        let _ = fs::remove_dir_all(&aside);
+        Ok(())
+    }
+
+    fn commit_in_place(&mut self) -> Result<()> {
+        for (k, name) in self.names.iter().enumerate() {
+            let (from, to) = (self.staging.join(name), self.dir.join(name));
+            if k > 0 {
+                crash_point("renaming");
+            }
             fs::rename(&from, &to).map_err(|e| OutputError::io(&to, e))?;
-            out.push(to);
         }
         self.committed = true;
         let _ = fs::remove_dir_all(&self.staging);
@@ -165,7 +310,7 @@ impl StagedOutput {
                 _ => {}
             }
         }
-        Ok(out)
+        Ok(())
     }
 }
 
@@ -173,31 +318,143 @@ impl Drop for StagedOutput {
     fn drop(&mut self) {
         if !self.committed {
             let _ = fs::remove_dir_all(&self.staging);
+            if self.created {
+                // Only if empty: never remove what someone else put there.
+                let _ = fs::remove_dir(&self.dir);
+            }
+        }
+    }
+}
+
+/// The last component of `dir` as text, if it has a plain one.
+fn dir_name(dir: &Path) -> Option<String> {
+    match dir.components().next_back()? {
+        std::path::Component::Normal(n) => n.to_str().map(str::to_string),
+        _ => None,
+    }
+}
+
+/// The directory holding `dir` (`.` for a bare name).
+fn parent_of(dir: &Path) -> PathBuf {
+    dir.parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."))
+        .to_path_buf()
+}
+
+/// Whether `dir` may be swapped whole: it holds no sub-directory (whose
+/// writers hold no lock on `dir`), it is not the working directory or one
+/// of its ancestors, and it is on the same file system as its parent.
+fn swappable(dir: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    let Ok(entries) = fs::read_dir(dir) else {
+        return false;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name();
+        let is_staging = name.to_str().is_some_and(|n| n.starts_with(".staging-"));
+        if !is_staging && e.file_type().is_ok_and(|t| t.is_dir()) {
+            return false;
+        }
+    }
+    let (Ok(d), Ok(cwd)) = (fs::canonicalize(dir), std::env::current_dir()) else {
+        return false;
+    };
+    if cwd.starts_with(&d) {
+        return false;
+    }
+    match (fs::metadata(&d), fs::metadata(parent_of(&d))) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev(),
+        _ => false,
+    }
+}
+
+/// Exchange two directories atomically (`renameat2(RENAME_EXCHANGE)`).
+fn exchange(a: &Path, b: &Path) -> std::io::Result<()> {
+    use std::ffi::CString;
+    use std::os::unix::ffi::OsStrExt;
+    let c = |p: &Path| {
+        CString::new(p.as_os_str().as_bytes())
+            .map_err(|_| std::io::Error::from(std::io::ErrorKind::InvalidInput))
+    };
+    let (ca, cb) = (c(a)?, c(b)?);
+    // SAFETY: two NUL-terminated paths that live across the call.
+    let rc = unsafe {
+        libc::renameat2(
+            libc::AT_FDCWD,
+            ca.as_ptr(),
+            libc::AT_FDCWD,
+            cb.as_ptr(),
+            libc::RENAME_EXCHANGE,
+        )
+    };
+    if rc == 0 {
+        Ok(())
+    } else {
+        Err(std::io::Error::last_os_error())
+    }
+}
+
+/// An exchange the file system or kernel does not offer.
+fn unsupported(e: &std::io::Error) -> bool {
+    matches!(
+        e.raw_os_error(),
+        Some(libc::EINVAL) | Some(libc::ENOSYS) | Some(libc::EOPNOTSUPP)
+    )
+}
+
+/// Repair a crash between the two renames of [`StagedOutput::commit_aside`]:
+/// the directory is missing and a dead writer's `.NAME.aside-PID-*` holds
+/// the old one, which is renamed back.
+fn recover_aside(parent: &Path, dir: &Path, name: &str) {
+    if dir.exists() {
+        return;
+    }
+    let prefix = format!(".{name}.aside-");
+    let Ok(entries) = fs::read_dir(parent) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let n = e.file_name();
+        let dead = n
+            .to_str()
+            .and_then(|n| super::dirlock::owner(n, &prefix))
+            .is_some_and(|pid| !super::dirlock::process_alive(pid));
+        if dead && fs::rename(e.path(), dir).is_ok() {
+            return;
         }
     }
 }
 
 /// Write one file atomically: a temporary file in the same directory, then a
-/// rename over the target.
+/// rename over the target. Temporary files of dead writers of the same
+/// target are removed first; a failed write (a full disk) leaves none.
 pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<()> {
     let path = path.as_ref();
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
+    let existed = dir.exists();
     fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))?;
     let file_name = path
         .file_name()
         .ok_or_else(|| OutputError::NotAFile(path.display().to_string()))?;
+    let prefix = format!(".{}.tmp-", file_name.to_string_lossy());
+    remove_dead_temps(dir);
     let tmp = dir.join(format!(
-        ".{}.tmp-{}-{}",
-        file_name.to_string_lossy(),
+        "{prefix}{}-{}",
         std::process::id(),
         unique_suffix()
     ));
-    fs::write(&tmp, bytes).map_err(|e| OutputError::io(&tmp, e))?;
-    fs::rename(&tmp, path).map_err(|e| {
+    let written = full_disk()
+        .and_then(|()| fs::write(&tmp, bytes))
+        .and_then(|()| fs::rename(&tmp, path));
+    written.map_err(|e| {
         let _ = fs::remove_file(&tmp);
+        if !existed {
+            let _ = fs::remove_dir(dir);
+        }
         OutputError::io(path, e)
     })
 }
@@ -225,7 +482,9 @@ mod tests {
             s.write("a.txt", b"x").unwrap();
             // dropped without commit
         }
-        let left: Vec<_> = fs::read_dir(&out).unwrap().collect();
+        // The directory was made by the write: it goes with it.
+        assert!(!out.exists(), "the failed write's directory must vanish");
+        let left: Vec<_> = fs::read_dir(tmp.path()).unwrap().collect();
         assert!(left.is_empty(), "staging must vanish: {left:?}");
     }
 

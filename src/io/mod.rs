@@ -1,6 +1,9 @@
-//! File formats, atomic output and what memory the machine has.
+//! File formats, atomic output (one writer per directory, injected faults
+//! for its tests) and what memory the machine has.
 
 pub mod atomic;
+pub mod dirlock;
+pub mod fault;
 pub mod memory;
 pub mod npy;
 

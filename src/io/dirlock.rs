@@ -1,0 +1,145 @@
+//! One writer per output directory, and the leftovers of dead writers.
+//!
+//! A writer holds an exclusive `flock` on the output directory itself (no
+//! lock file is left behind); a second writer fails at once with one line.
+//! Staging folders and temporary files carry the id of the process that
+//! made them (`.staging-PID-*`, `.NAME.staging-PID-*`, `.NAME.tmp-PID-*`);
+//! those of processes no longer running (killed, or out of disk) are
+//! removed by the next writer of the same place.
+
+use std::fs;
+use std::os::unix::fs::MetadataExt;
+use std::os::unix::io::AsRawFd;
+use std::path::Path;
+
+/// An exclusive lock on a directory, held until dropped (or the process
+/// ends: the kernel releases it, so a killed writer never blocks the next).
+#[derive(Debug)]
+pub struct DirLock {
+    _file: fs::File,
+}
+
+impl DirLock {
+    /// Lock `dir` (which exists); `None` at once if another process holds
+    /// it. The directory is re-checked after locking: a writer that swapped
+    /// in a new directory meanwhile leaves the lock on the old one, so the
+    /// new one is locked instead.
+    pub fn acquire(dir: &Path) -> std::io::Result<Option<Self>> {
+        for _ in 0..8 {
+            let file = fs::File::open(dir)?;
+            // SAFETY: flock on a descriptor this function owns.
+            let rc = unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) };
+            if rc != 0 {
+                let e = std::io::Error::last_os_error();
+                if e.raw_os_error() == Some(libc::EWOULDBLOCK) {
+                    return Ok(None);
+                }
+                return Err(e);
+            }
+            let held = file.metadata()?;
+            match fs::metadata(dir) {
+                Ok(now) if now.dev() == held.dev() && now.ino() == held.ino() => {
+                    return Ok(Some(Self { _file: file }));
+                }
+                _ => continue,
+            }
+        }
+        Ok(None)
+    }
+}
+
+/// Whether process `pid` is running (signal 0 reaches it, or exists but
+/// belongs to someone else).
+pub fn process_alive(pid: u32) -> bool {
+    let Ok(pid) = libc::pid_t::try_from(pid) else {
+        return false;
+    };
+    if pid <= 0 {
+        return false;
+    }
+    // SAFETY: signal 0 only checks that the process exists.
+    let rc = unsafe { libc::kill(pid, 0) };
+    rc == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
+}
+
+/// The process id in a leftover name `PREFIX<pid>-<suffix>`, if `name`
+/// starts with `prefix`.
+pub fn owner(name: &str, prefix: &str) -> Option<u32> {
+    let rest = name.strip_prefix(prefix)?;
+    let (pid, suffix) = rest.split_once('-')?;
+    if suffix.is_empty() || !suffix.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    pid.parse().ok()
+}
+
+/// The writer of a temporary file `.NAME.tmp-<pid>-<suffix>` of any `NAME`.
+fn temp_owner(name: &str) -> Option<u32> {
+    let at = name.rfind(".tmp-")?;
+    if !name.starts_with('.') || at == 0 {
+        return None;
+    }
+    owner(&name[at..], ".tmp-")
+}
+
+/// Remove the temporary files (`.NAME.tmp-PID-*`) of dead writers in `dir`.
+pub fn remove_dead_temps(dir: &Path) {
+    remove_matching(dir, |name| temp_owner(name));
+}
+
+/// Remove the entries of `dir` whose names start with one of `prefixes`
+/// followed by the id of a process no longer running. Errors are ignored:
+/// cleaning is a courtesy, never a reason to fail a write.
+pub fn remove_dead(dir: &Path, prefixes: &[String]) {
+    remove_matching(dir, |name| prefixes.iter().find_map(|p| owner(name, p)));
+}
+
+fn remove_matching(dir: &Path, owner_of: impl Fn(&str) -> Option<u32>) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name();
+        let Some(name) = name.to_str() else {
+            continue;
+        };
+        let dead = owner_of(name).is_some_and(|pid| pid != std::process::id() && !process_alive(pid));
+        if dead {
+            let p = e.path();
+            match e.file_type() {
+                Ok(t) if t.is_dir() => {
+                    let _ = fs::remove_dir_all(&p);
+                }
+                _ => {
+                    let _ = fs::remove_file(&p);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn owners_are_read_from_names() {
+        assert_eq!(owner(".staging-123-456", ".staging-"), Some(123));
+        assert_eq!(owner(".a.tmp-9-1", ".a.tmp-"), Some(9));
+        assert_eq!(owner(".staging-123-x", ".staging-"), None);
+        assert_eq!(owner("summary.json", ".staging-"), None);
+        assert_eq!(temp_owner(".heights.npy.tmp-77-1"), Some(77));
+        assert_eq!(temp_owner("heights.npy.tmp-77-1"), None);
+        assert!(process_alive(std::process::id()));
+        assert!(!process_alive(0));
+    }
+
+    #[test]
+    fn a_second_lock_fails_at_once_and_the_first_releases() {
+        let tmp = tempfile::tempdir().unwrap();
+        let a = DirLock::acquire(tmp.path()).unwrap().unwrap();
+        assert!(DirLock::acquire(tmp.path()).unwrap().is_none());
+        drop(a);
+        assert!(DirLock::acquire(tmp.path()).unwrap().is_some());
+    }
+}
