@@ -232,3 +232,38 @@ fn compare_plots_measured_minus_coulomb_against_the_sweep() {
     assert!(!ok && err.contains("speed_m_s"), "{err}");
     assert!(!out.join("compare.csv").exists());
 }
+
+/// A sweep refused for bad input creates nothing: neither the pinned
+/// configuration nor `points/`, so the corrected sweep runs in the same
+/// directory.
+#[test]
+fn a_refused_sweep_leaves_its_directory_untouched() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("run");
+    let o = out.display().to_string();
+    // Seeds with a surface read from a file.
+    let h: Vec<f64> = (0..64).map(|k| 1e-6 * (k as f64 * 0.7).sin()).collect();
+    std::fs::write(
+        tmp.path().join("h.npy"),
+        viscoslide::io::npy::encode_f64(&[8, 8], &h),
+    )
+    .unwrap();
+    let file_surface = CONFIG.replace(
+        "[surface.generate]\nn = 32\nlength = 0.01\nhurst = 0.8\nscales = 4\nrms_slope = 0.02\nseed = 1\n",
+        "[surface]\nfile = \"h.npy\"\nlength = 0.01\n",
+    );
+    assert!(file_surface.contains("h.npy"));
+    // A negative modulus.
+    let negative = CONFIG.replace("relaxed_modulus = 3.3333333333333335e6", "relaxed_modulus = -1");
+    for (what, text) in [("seeds", file_surface), ("modulus", negative)] {
+        let cfg = write_config(tmp.path(), &text);
+        let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o, "--limit", "1"]);
+        assert!(!ok, "{what}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{what}: {err}");
+        assert!(!out.exists(), "{what}: a refused sweep made {}", out.display());
+    }
+    let cfg = write_config(tmp.path(), CONFIG);
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o, "--limit", "1"]);
+    assert!(ok, "{err}");
+    assert_eq!(point_times(&out).len(), 1);
+}

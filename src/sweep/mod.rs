@@ -59,6 +59,13 @@ pub fn run_sweep(
         ))
     })?;
     let plan = SweepPlan::new(&sweep)?;
+    // Every check before any output: the points differ only in speed, load
+    // and seed, each already checked by the plan, so a first point that
+    // builds means they all do; a refused sweep creates nothing.
+    if let Some(first) = plan.points.first() {
+        point_problem(cfg, first)?;
+    }
+    crate::io::check_output_dir(dir)?;
     pin_config(cfg, dir)?;
     let points_dir = dir.join("points");
     std::fs::create_dir_all(&points_dir).map_err(|e| Error::io(&points_dir, e))?;
@@ -109,6 +116,25 @@ pub fn run_sweep(
 /// Solve one point: the base configuration with the point's speed, load and
 /// seed substituted.
 pub fn solve_point(cfg: &LoadedConfig, point: &Point) -> Result<Value> {
+    let problem = point_problem(cfg, point)?;
+    let solution = problem.solve(&Executor::Cpu, &mut Silent)?;
+    let analysis = solution.analyze_configured()?;
+    let mut value = solution.summary_with(analysis.as_ref());
+    if let Value::Object(map) = &mut value {
+        map.remove("config");
+        map.remove("residual_history");
+        map.remove("contact_history");
+        map.insert(
+            "point".into(),
+            serde_json::to_value(point).expect("serialisable"),
+        );
+    }
+    Ok(value)
+}
+
+/// The problem of one point: the base configuration with the point's
+/// speed, load and seed substituted, checked whole.
+fn point_problem(cfg: &LoadedConfig, point: &Point) -> Result<Problem> {
     let mut config = cfg.config.clone();
     config.sweep = None;
     let loading = config.loading.get_or_insert_with(Default::default);
@@ -137,20 +163,7 @@ pub fn solve_point(cfg: &LoadedConfig, point: &Point) -> Result<Value> {
         base_dir: cfg.base_dir.clone(),
         document,
     };
-    let problem = Problem::from_config(&point_cfg)?;
-    let solution = problem.solve(&Executor::Cpu, &mut Silent)?;
-    let analysis = solution.analyze_configured()?;
-    let mut value = solution.summary_with(analysis.as_ref());
-    if let Value::Object(map) = &mut value {
-        map.remove("config");
-        map.remove("residual_history");
-        map.remove("contact_history");
-        map.insert(
-            "point".into(),
-            serde_json::to_value(point).expect("serialisable"),
-        );
-    }
-    Ok(value)
+    Problem::from_config(&point_cfg)
 }
 
 fn point_path(points_dir: &Path, point: &Point) -> PathBuf {
