@@ -238,7 +238,9 @@ fn leftovers_of_dead_writers_are_removed_by_the_next_run() {
     std::fs::create_dir(&inside).unwrap();
     std::fs::write(&temp, b"half").unwrap();
     // A live writer's staging folder is left alone.
-    let live = tmp.path().join(format!(".run.staging-{}-20", std::process::id()));
+    let live = tmp
+        .path()
+        .join(format!(".run.staging-{}-20", std::process::id()));
     std::fs::create_dir(&live).unwrap();
     assert!(generate(&out, 2, None).status.success());
     assert!(!beside.exists() && !inside.exists());

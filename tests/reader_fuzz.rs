@@ -89,7 +89,9 @@ fn mutate(valid: &[u8], rng: &mut ChaCha8Rng) -> Vec<u8> {
                     .collect();
                 if !starts.is_empty() {
                     let s = starts[rng.random_range(0..starts.len())];
-                    let e = (s..b.len()).find(|&k| !b[k].is_ascii_digit()).unwrap_or(b.len());
+                    let e = (s..b.len())
+                        .find(|&k| !b[k].is_ascii_digit())
+                        .unwrap_or(b.len());
                     let x = EXTREMES[rng.random_range(0..EXTREMES.len())];
                     b.splice(s..e, x.bytes());
                 }
@@ -146,12 +148,17 @@ fn fuzz(name: &str, valid: &[u8], ratio: usize, count: usize, read: &dyn Fn(&[u8
             m.len()
         );
     }
-    eprintln!("{name}: {count} mutants in {:.2} s", t0.elapsed().as_secs_f64());
+    eprintln!(
+        "{name}: {count} mutants in {:.2} s",
+        t0.elapsed().as_secs_f64()
+    );
 }
 
 fn topo() -> Topography {
     let (nx, ny) = (6, 5);
-    let h: Vec<f64> = (0..nx * ny).map(|k| 1e-7 * (k as f64 * 0.37).sin()).collect();
+    let h: Vec<f64> = (0..nx * ny)
+        .map(|k| 1e-7 * (k as f64 * 0.37).sin())
+        .collect();
     Topography::new(nx, ny, 1e-6, 2e-6, h, "t").unwrap()
 }
 
@@ -269,7 +276,15 @@ restart = 30
     let doc: toml::Table = toml::from_str(CONFIG).unwrap();
     let tmp = tempfile::tempdir().unwrap();
     let values = [
-        "0", "-1", "1e300", "-1e300", "1e-300", "nan", "inf", "9223372036854775807", "-0.0",
+        "0",
+        "-1",
+        "1e300",
+        "-1e300",
+        "1e-300",
+        "nan",
+        "inf",
+        "9223372036854775807",
+        "-0.0",
         "\"x\"",
     ];
     fn leaves(t: &toml::Table, at: &str, out: &mut Vec<String>) {

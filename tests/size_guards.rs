@@ -210,7 +210,10 @@ fn x3p_sizes_that_overflow_or_exceed_the_data_are_errors_before_inflating() {
         .replace("<SizeY>3</SizeY>", "<SizeY>60000</SizeY>");
     let z = zip_of(&[("main.xml", big.as_bytes()), ("bindata/data.bin", &data)]);
     let e = decode_x3p(&z, "big.x3p").unwrap_err().to_string();
-    assert!(e.contains("holds 96 bytes") && e.contains("28800000000"), "{e}");
+    assert!(
+        e.contains("holds 96 bytes") && e.contains("28800000000"),
+        "{e}"
+    );
     // 64 MiB of zeros (64 KiB deflated) where 96 bytes are declared: refused
     // by its declared size, not inflated first (tests/reader_fuzz.rs bounds
     // the allocation; here the message).
@@ -261,7 +264,9 @@ fn gwy_sizes_whose_product_wraps_are_errors() {
     decode_gwy(&gwy_q(3, 2, 6), "ok.gwy").unwrap();
     // 2^32 x 2^32 wraps to 0 values; 2^63 x 2 wraps to 0 as well.
     for (x, y) in [(1i64 << 32, 1i64 << 32), (1 << 62, 4)] {
-        let e = decode_gwy(&gwy_q(x, y, 0), "w.gwy").unwrap_err().to_string();
+        let e = decode_gwy(&gwy_q(x, y, 0), "w.gwy")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("holds 0 values"), "{e}");
     }
     let tmp = tempfile::tempdir().unwrap();

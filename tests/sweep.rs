@@ -254,13 +254,20 @@ fn a_refused_sweep_leaves_its_directory_untouched() {
     );
     assert!(file_surface.contains("h.npy"));
     // A negative modulus.
-    let negative = CONFIG.replace("relaxed_modulus = 3.3333333333333335e6", "relaxed_modulus = -1");
+    let negative = CONFIG.replace(
+        "relaxed_modulus = 3.3333333333333335e6",
+        "relaxed_modulus = -1",
+    );
     for (what, text) in [("seeds", file_surface), ("modulus", negative)] {
         let cfg = write_config(tmp.path(), &text);
         let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o, "--limit", "1"]);
         assert!(!ok, "{what}");
         assert_eq!(err.trim_end().lines().count(), 1, "{what}: {err}");
-        assert!(!out.exists(), "{what}: a refused sweep made {}", out.display());
+        assert!(
+            !out.exists(),
+            "{what}: a refused sweep made {}",
+            out.display()
+        );
     }
     let cfg = write_config(tmp.path(), CONFIG);
     let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o, "--limit", "1"]);

@@ -158,6 +158,17 @@ impl StagedOutput {
             (Mode::Swap, Some(name)) => parent.join(format!(".{name}.staging-{suffix}")),
             _ => dir.join(format!(".staging-{suffix}")),
         };
+        let (staging, mode) = match fs::create_dir(&staging) {
+            Ok(()) => (staging, mode),
+            // A parent that takes no new entry (read-only, another
+            // owner's): stage inside the directory instead.
+            Err(_) if mode == Mode::Swap => {
+                let inside = dir.join(format!(".staging-{suffix}"));
+                fs::create_dir(&inside).map_err(|e| OutputError::io(&inside, e))?;
+                (inside, Mode::InPlace)
+            }
+            Err(e) => return Err(OutputError::io(&staging, e)),
+        };
         let out = Self {
             dir,
             staging,
@@ -168,7 +179,6 @@ impl StagedOutput {
             created,
             _lock: lock,
         };
-        fs::create_dir(&out.staging).map_err(|e| OutputError::io(&out.staging, e))?;
         Ok(out)
     }
 

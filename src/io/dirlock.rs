@@ -84,7 +84,7 @@ fn temp_owner(name: &str) -> Option<u32> {
 
 /// Remove the temporary files (`.NAME.tmp-PID-*`) of dead writers in `dir`.
 pub fn remove_dead_temps(dir: &Path) {
-    remove_matching(dir, |name| temp_owner(name));
+    remove_matching(dir, temp_owner);
 }
 
 /// Remove the entries of `dir` whose names start with one of `prefixes`
@@ -103,7 +103,8 @@ fn remove_matching(dir: &Path, owner_of: impl Fn(&str) -> Option<u32>) {
         let Some(name) = name.to_str() else {
             continue;
         };
-        let dead = owner_of(name).is_some_and(|pid| pid != std::process::id() && !process_alive(pid));
+        let dead =
+            owner_of(name).is_some_and(|pid| pid != std::process::id() && !process_alive(pid));
         if dead {
             let p = e.path();
             match e.file_type() {

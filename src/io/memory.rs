@@ -59,7 +59,7 @@ pub fn check_count(
     count: u64,
     item_bytes: u64,
 ) -> Result<(), MemoryError> {
-    check_fits(what, count.checked_mul(item_bytes).unwrap_or(u64::MAX))
+    check_fits(what, count.saturating_mul(item_bytes))
 }
 
 #[cfg(test)]
@@ -68,10 +68,17 @@ mod tests {
 
     #[test]
     fn refusals_name_the_count_and_both_sizes() {
-        let e = check_count(|| "curve of 10000000000 points".into(), 10_000_000_000, 1 << 40)
-            .unwrap_err();
+        let e = check_count(
+            || "curve of 10000000000 points".into(),
+            10_000_000_000,
+            1 << 40,
+        )
+        .unwrap_err();
         let msg = e.to_string();
-        assert!(msg.starts_with("a curve of 10000000000 points needs"), "{msg}");
+        assert!(
+            msg.starts_with("a curve of 10000000000 points needs"),
+            "{msg}"
+        );
         assert!(msg.contains("GiB is available"), "{msg}");
         let e = check_count(|| "x".into(), u64::MAX, 2).unwrap_err();
         assert!(e.to_string().contains("more than 2^64 bytes"), "{e}");

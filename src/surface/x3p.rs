@@ -348,7 +348,10 @@ pub fn decode_x3p(bytes: &[u8], name: &str) -> Result<Topography, SurfaceError> 
         ));
     }
     if nx < 2 || ny < 2 {
-        return Err(fail(name, format!("matrix {nx} x {ny} must be at least 2 x 2")));
+        return Err(fail(
+            name,
+            format!("matrix {nx} x {ny} must be at least 2 x 2"),
+        ));
     }
     // Checked sizes: a product that overflows is refused, not wrapped.
     let (n, need) = match nx.checked_mul(ny) {

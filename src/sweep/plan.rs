@@ -38,7 +38,11 @@ fn log_range(r: [f64; 3], key: &str) -> Result<Vec<f64>> {
     }
     // Checked before anything is allocated: `n as usize` saturates, and
     // every point costs a plan entry, a solve and a row of the table.
-    let count = if n < u64::MAX as f64 { n as u64 } else { u64::MAX };
+    let count = if n < u64::MAX as f64 {
+        n as u64
+    } else {
+        u64::MAX
+    };
     check_points(&format!("[sweep] {key} of {n:e} points"), count)?;
     let n = count as usize;
     Ok((0..n)
