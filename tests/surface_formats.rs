@@ -236,7 +236,10 @@ fn x3p_checksum_file_is_verified_against_the_member_it_names() {
         format!("{} *bindata/other.bin\n", hex(data))
     });
     let e = decode_x3p(&absent, "a.x3p").unwrap_err().to_string();
-    assert!(e.starts_with("a.x3p: ") && e.contains("'bindata/other.bin'"), "{e}");
+    assert!(
+        e.starts_with("a.x3p: ") && e.contains("'bindata/other.bin'"),
+        "{e}"
+    );
     assert!(!e.contains('\n'), "{e}");
 }
 

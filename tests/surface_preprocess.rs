@@ -145,7 +145,10 @@ fn without_detrending_the_psd_slope_disagrees_and_is_warned_about() {
     let p = problem(tmp.path(), "detrend = \"none\"\n");
     // The tilt stays in the solver's map.
     let (sx, sy) = plane_slopes(&p.surface);
-    assert!((sx - TILT.0).abs() < 0.01 && (sy - TILT.1).abs() < 0.01, "{sx} {sy}");
+    assert!(
+        (sx - TILT.0).abs() < 0.01 && (sy - TILT.1).abs() < 0.01,
+        "{sx} {sy}"
+    );
     let (_, _, report) = p.persson_psd_report().unwrap();
     let report = report.unwrap();
     eprintln!(
@@ -157,7 +160,10 @@ fn without_detrending_the_psd_slope_disagrees_and_is_warned_about() {
     assert!(!w.contains('\n'));
     // The solve carries it into its warnings and summary.json.
     let s = p
-        .solve(&viscoslide::problem::Executor::Cpu, &mut viscoslide::solver::Silent)
+        .solve(
+            &viscoslide::problem::Executor::Cpu,
+            &mut viscoslide::solver::Silent,
+        )
         .unwrap();
     assert!(s.warnings.contains(&w), "{:?}", s.warnings);
     let doc = s.summary();

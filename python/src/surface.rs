@@ -12,10 +12,9 @@ use pyo3::prelude::*;
 use viscoslide::problem::SurfaceSource;
 use viscoslide::surface::{
     parse_detrend, parse_window, prepare, psd_2d, radial_average, rms_slope_real, slope_warning,
-    stats_with_window, GenerateConfig, MissingData, Preprocessing, SurfaceConfig, Topography,
-    Window,
+    stats_with_window, GenerateConfig, HeightMap, MissingData, Preprocessing, SurfaceConfig,
+    Topography, Window,
 };
-
 
 use crate::errors::value_error;
 
@@ -147,8 +146,16 @@ impl NativeSurface {
             .map_err(value_error)?;
         let pre = Preprocessing::resolve(
             periodic,
-            detrend.as_deref().map(parse_detrend).transpose().map_err(value_error)?,
-            window.as_deref().map(parse_window).transpose().map_err(value_error)?,
+            detrend
+                .as_deref()
+                .map(parse_detrend)
+                .transpose()
+                .map_err(value_error)?,
+            window
+                .as_deref()
+                .map(parse_window)
+                .transpose()
+                .map_err(value_error)?,
         );
         let map = prepare(&topo, &pre, "heights").map_err(value_error)?;
         Ok(Self {

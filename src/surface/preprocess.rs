@@ -72,9 +72,7 @@ pub fn parse_detrend(s: &str) -> Result<Detrend, String> {
         "mean" => Ok(Detrend::Mean),
         "plane" => Ok(Detrend::Plane),
         "quadratic" => Ok(Detrend::Quadratic),
-        _ => Err(format!(
-            "detrend '{s}': use none, mean, plane or quadratic"
-        )),
+        _ => Err(format!("detrend '{s}': use none, mean, plane or quadratic")),
     }
 }
 
@@ -85,9 +83,7 @@ pub fn parse_window(s: &str) -> Result<Window, String> {
         "none" => Ok(Window::None),
         "hann" => Ok(Window::Hann),
         "blackman-harris" | "blackman_harris" => Ok(Window::BlackmanHarris),
-        _ => Err(format!(
-            "window '{s}': use none, hann or blackman-harris"
-        )),
+        _ => Err(format!("window '{s}': use none, hann or blackman-harris")),
     }
 }
 

@@ -210,7 +210,11 @@ fn verify_checksum_file<R: Read + std::io::Seek>(
     name: &str,
 ) -> Result<(), SurfaceError> {
     let text = String::from_utf8_lossy(text);
-    let line = text.lines().map(str::trim).find(|l| !l.is_empty()).unwrap_or("");
+    let line = text
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty())
+        .unwrap_or("");
     let (expected, member) = match line.split_once(char::is_whitespace) {
         Some((hex, rest)) => (hex, rest.trim().trim_start_matches('*').trim()),
         None => (line, ""),
@@ -219,7 +223,11 @@ fn verify_checksum_file<R: Read + std::io::Seek>(
     if expected.len() != 32 || !expected.bytes().all(|b| b.is_ascii_hexdigit()) {
         return Ok(());
     }
-    let member = if member.is_empty() { "main.xml" } else { member };
+    let member = if member.is_empty() {
+        "main.xml"
+    } else {
+        member
+    };
     let got = if member == "main.xml" {
         md5_hex(xml_bytes)
     } else {
