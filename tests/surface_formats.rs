@@ -468,10 +468,15 @@ fn solver_config_reads_x3p_with_override_and_fill() {
         let cfg = viscoslide::config::load(&p, &[]).unwrap();
         cfg.config.surface.unwrap().load(d)
     };
+    // A scan: its mean plane removed by default, the heights as read with
+    // detrend = "none".
     let m = load("[surface]\nfile = \"s.x3p\"\n").unwrap();
     assert_eq!((m.nx, m.ny, m.cell_size), (n, n, a));
+    let plane = viscoslide::surface::detrend(&t, viscoslide::surface::Detrend::Plane);
+    assert_eq!(m.heights, plane.heights);
+    let m = load("[surface]\nfile = \"s.x3p\"\ndetrend = \"none\"\n").unwrap();
     assert_eq!(m.heights, h);
-    let m = load("[surface]\nfile = \"s.dat\"\nformat = \"x3p\"\n").unwrap();
+    let m = load("[surface]\nfile = \"s.dat\"\nformat = \"x3p\"\ndetrend = \"none\"\n").unwrap();
     assert_eq!(m.heights, h);
     // Missing points: refused, or filled on request.
     h[40] = f64::NAN;
