@@ -117,16 +117,19 @@ impl NativeSurface {
     }
 
     /// A surface from heights \[m\] (float64, axis 0 = x; NaN marks a
-    /// missing point) on square cells, `length` \[m\] the side along x,
-    /// prepared by the one rule of the library ([`prepare`]): missing
-    /// points refused or filled (`fill_missing`), the `detrend` polynomial
-    /// removed and `window` for its PSDs, with the defaults of a scan
-    /// unless `periodic`.
+    /// missing point), `length` \[m\] the side along x and `length_y` the
+    /// side along y (default: square cells; otherwise cells `length / nx x
+    /// length_y / ny`), prepared by the one rule of the library
+    /// ([`prepare`]): missing points refused or filled (`fill_missing`), the
+    /// `detrend` polynomial removed and `window` for its PSDs, with the
+    /// defaults of a scan unless `periodic`.
     #[staticmethod]
-    #[pyo3(signature = (heights, length, detrend=None, window=None, periodic=false, fill_missing=false))]
+    #[pyo3(signature = (heights, length, length_y=None, detrend=None, window=None, periodic=false, fill_missing=false))]
+    #[allow(clippy::too_many_arguments)]
     fn from_array(
         heights: PyReadonlyArray2<'_, f64>,
         length: f64,
+        length_y: Option<f64>,
         detrend: Option<String>,
         window: Option<String>,
         periodic: bool,
@@ -136,7 +139,8 @@ impl NativeSurface {
         let (nx, ny) = view.dim();
         let values: Vec<f64> = view.iter().copied().collect();
         let dx = length / nx.max(1) as f64;
-        let mut topo = Topography::new(nx, ny, dx, dx, values, "heights").map_err(value_error)?;
+        let dy = length_y.map_or(dx, |ly| ly / ny.max(1) as f64);
+        let mut topo = Topography::new(nx, ny, dx, dy, values, "heights").map_err(value_error)?;
         let missing = if fill_missing {
             MissingData::Fill
         } else {
@@ -190,10 +194,16 @@ impl NativeSurface {
         (self.map.nx, self.map.ny)
     }
 
-    /// Side of a square cell \[m\].
+    /// Side of a cell along x \[m\].
     #[getter]
     fn cell_size(&self) -> f64 {
         self.map.cell_size
+    }
+
+    /// Sides of a cell `(dx, dy)` \[m\].
+    #[getter]
+    fn cell_sizes(&self) -> (f64, f64) {
+        self.map.cell()
     }
 
     /// `(Lx, Ly)` \[m\].
@@ -244,7 +254,7 @@ impl NativeSurface {
     fn stats_json(&self, window_name: Option<&str>) -> PyResult<String> {
         let s = stats_with_window(&self.map, self.window_of(window_name)?).map_err(value_error)?;
         let m = &self.map;
-        let real = rms_slope_real(m.nx, m.ny, m.cell_size, m.cell_size, &m.heights);
+        let real = rms_slope_real(m.nx, m.ny, m.cell_size, m.cell_size_y, &m.heights);
         let warnings: Vec<String> = slope_warning(s.rms_slope, real, "the radial PSD of this map")
             .into_iter()
             .collect();

@@ -54,6 +54,7 @@ class Surface:
     def from_array(
         heights: npt.NDArray[np.float64],
         length: float,
+        length_y: Optional[float] = None,
         detrend: Optional[str] = None,
         window: Optional[str] = None,
         periodic: bool = False,

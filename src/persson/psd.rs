@@ -164,7 +164,8 @@ pub fn map_psd(
         (t, band, true)
     };
     let rms_slope_psd = table.moment(2).sqrt();
-    let rms_slope_real = rms_slope_real(map.nx, map.ny, map.cell_size, map.cell_size, &map.heights);
+    let rms_slope_real =
+        rms_slope_real(map.nx, map.ny, map.cell_size, map.cell_size_y, &map.heights);
     let warning = slope_warning(
         rms_slope_psd,
         rms_slope_real,
