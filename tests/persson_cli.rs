@@ -102,7 +102,7 @@ fn surface_file_and_csv_sources_and_explicit_speeds() {
     surface::save_npy(&map, &tmp.path().join("h.npy"), surface::NpyPrecision::F64).unwrap();
     let cfg = write_config(
         tmp.path(),
-        &format!("{SLS}[surface]\nfile = \"h.npy\"\nlength = 0.01\n[loading]\nmean_pressure = 3e3\nspeed = 0.01\n"),
+        &format!("{SLS}[surface]\nfile = \"h.npy\"\nlength = 0.01\nperiodic = true\n[loading]\nmean_pressure = 3e3\nspeed = 0.01\n"),
     );
     let out = tmp.path().join("file");
     let o = viscoslide(&[
@@ -125,7 +125,7 @@ fn surface_file_and_csv_sources_and_explicit_speeds() {
         .collect();
     assert!(mu_file.iter().all(|m| *m > 0.0));
 
-    // The same surface through `surface stats --out`'s psd.csv.
+    // The same (periodic) surface through `surface stats --out`'s psd.csv.
     let stats = tmp.path().join("stats");
     let o = viscoslide(&[
         "surface",
@@ -133,6 +133,7 @@ fn surface_file_and_csv_sources_and_explicit_speeds() {
         tmp.path().join("h.npy").to_str().unwrap(),
         "--length",
         "0.01",
+        "--periodic",
         "--out",
         stats.to_str().unwrap(),
     ]);

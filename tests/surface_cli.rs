@@ -86,13 +86,15 @@ fn generate_writes_four_files_and_records_seed() {
         .collect();
     assert_eq!(row.len(), 3);
 
-    // Stats of the written file, as JSON.
+    // Stats of the written file, as JSON: one period of a periodic
+    // surface, taken as it is (no plane removed, no window).
     let o = viscoslide(&[
         "surface",
         "stats",
         out.join("heights.npy").to_str().unwrap(),
         "--length",
         "0.01",
+        "--periodic",
         "--json",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -92,6 +92,18 @@ fn x3p_round_trip_is_exact_to_the_type_for_f32_and_i32() {
 /// offset 2e-6 m), incremental axes with different increments, a
 /// non-square 3 x 2 map, a valid-points mask, checksums.
 fn handmade(data_md5: Option<&str>, with_record4: bool) -> Vec<u8> {
+    handmade_summed(data_md5, with_record4, |xml, _| {
+        format!("{} *main.xml\n", hex(xml))
+    })
+}
+
+/// [`handmade`] with the line of `md5checksum.hex` made by `sum(main.xml,
+/// bindata/data.bin)`.
+fn handmade_summed(
+    data_md5: Option<&str>,
+    with_record4: bool,
+    sum: impl Fn(&[u8], &[u8]) -> String,
+) -> Vec<u8> {
     let raw: [i16; 6] = [1, 2, 3, -4, 5, 6]; // x fastest
     let data: Vec<u8> = raw.iter().flat_map(|v| v.to_le_bytes()).collect();
     let mask = [0b0011_1011u8]; // point 2 (x = 2, y = 0) invalid
@@ -117,7 +129,7 @@ fn handmade(data_md5: Option<&str>, with_record4: bool) -> Vec<u8> {
             ""
         }
     );
-    let sum = format!("{} *main.xml\n", hex(xml.as_bytes()));
+    let sum = sum(xml.as_bytes(), &data);
     zip_of(&[
         ("main.xml", xml.as_bytes()),
         ("bindata/data.bin", &data),
@@ -187,6 +199,48 @@ fn bad_x3p_files_are_one_line_errors() {
         assert!(e.contains(want), "{what}: {e}");
         assert!(!e.contains('\n'), "{what}: {e}");
     }
+}
+
+/// SurfaceTopography writes the checksum of `bindata/data.bin` into
+/// `md5checksum.hex` and names that member: it is verified against that
+/// member; a wrong one is an error naming the member, as is a member the
+/// archive lacks.
+#[test]
+fn x3p_checksum_file_is_verified_against_the_member_it_names() {
+    let reference = decode_x3p(&handmade(None, true), "h.x3p").unwrap();
+    let st = handmade_summed(None, true, |_, data| {
+        format!("{} *bindata/data.bin\n", hex(data))
+    });
+    let t = decode_x3p(&st, "st.x3p").unwrap();
+    assert_eq!((t.nx, t.ny, t.dx, t.dy), (3, 2, 5e-7, 1e-6));
+    for (a, b) in t.heights.iter().zip(&reference.heights) {
+        assert!(a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()));
+    }
+    // Two spaces (text mode of md5sum) and a bare checksum of main.xml.
+    let text_mode = handmade_summed(None, true, |_, data| {
+        format!("{}  bindata/data.bin\n", hex(data))
+    });
+    assert!(decode_x3p(&text_mode, "t.x3p").is_ok());
+    let bare = handmade_summed(None, true, |xml, _| format!("{}\n", hex(xml)));
+    assert!(decode_x3p(&bare, "b.x3p").is_ok());
+    // The checksum of main.xml said to be that of data.bin: matches nothing.
+    let wrong = handmade_summed(None, true, |xml, _| {
+        format!("{} *bindata/data.bin\n", hex(xml))
+    });
+    let e = decode_x3p(&wrong, "w.x3p").unwrap_err().to_string();
+    assert!(e.starts_with("w.x3p: "), "{e}");
+    assert!(e.contains("MD5 checksum of bindata/data.bin"), "{e}");
+    assert!(e.contains("md5checksum.hex"), "{e}");
+    assert!(!e.contains('\n'), "{e}");
+    let absent = handmade_summed(None, true, |_, data| {
+        format!("{} *bindata/other.bin\n", hex(data))
+    });
+    let e = decode_x3p(&absent, "a.x3p").unwrap_err().to_string();
+    assert!(
+        e.starts_with("a.x3p: ") && e.contains("'bindata/other.bin'"),
+        "{e}"
+    );
+    assert!(!e.contains('\n'), "{e}");
 }
 
 /// A minimal Gwyddion file: one data field, xy in micrometres, z in nm.
@@ -414,10 +468,15 @@ fn solver_config_reads_x3p_with_override_and_fill() {
         let cfg = viscoslide::config::load(&p, &[]).unwrap();
         cfg.config.surface.unwrap().load(d)
     };
+    // A scan: its mean plane removed by default, the heights as read with
+    // detrend = "none".
     let m = load("[surface]\nfile = \"s.x3p\"\n").unwrap();
     assert_eq!((m.nx, m.ny, m.cell_size), (n, n, a));
+    let plane = viscoslide::surface::detrend(&t, viscoslide::surface::Detrend::Plane);
+    assert_eq!(m.heights, plane.heights);
+    let m = load("[surface]\nfile = \"s.x3p\"\ndetrend = \"none\"\n").unwrap();
     assert_eq!(m.heights, h);
-    let m = load("[surface]\nfile = \"s.dat\"\nformat = \"x3p\"\n").unwrap();
+    let m = load("[surface]\nfile = \"s.dat\"\nformat = \"x3p\"\ndetrend = \"none\"\n").unwrap();
     assert_eq!(m.heights, h);
     // Missing points: refused, or filled on request.
     h[40] = f64::NAN;

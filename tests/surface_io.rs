@@ -4,8 +4,9 @@ use std::path::Path;
 
 use viscoslide::io::npy::{self, NpyError};
 use viscoslide::surface::{
-    encode_npy, generate, load_npy, parse_text, read_height_map, save_npy, GenerateParams,
-    HeightMap, Normalisation, NpyPrecision, SurfaceConfig, SurfaceError, UpperCutoff,
+    detrend, encode_npy, generate, load_npy, parse_text, read_height_map, save_npy, Detrend,
+    GenerateParams, HeightMap, Normalisation, NpyPrecision, SurfaceConfig, SurfaceError,
+    Topography, UpperCutoff,
 };
 
 fn small_map() -> HeightMap {
@@ -196,9 +197,21 @@ fn config_file_or_generate() {
     let map = small_map();
     std::fs::write(d.join("maps/h.npy"), encode_npy(&map, NpyPrecision::F64)).unwrap();
 
-    // A file relative to the config directory.
+    // A file relative to the config directory: a scan loses its mean
+    // plane by default (the one preprocessing rule) ...
     let c = config(d, "[surface]\nfile = \"maps/h.npy\"\nlength = 2e-3\n");
-    assert_eq!(c.load(d).unwrap(), map);
+    let plane = detrend(&Topography::from_height_map(&map), Detrend::Plane)
+        .to_height_map("h")
+        .unwrap();
+    assert_eq!(c.load(d).unwrap(), plane);
+    // ... and is taken as it is when marked periodic or not detrended.
+    for key in ["periodic = true", "detrend = \"none\""] {
+        let c = config(
+            d,
+            &format!("[surface]\nfile = \"maps/h.npy\"\nlength = 2e-3\n{key}\n"),
+        );
+        assert_eq!(c.load(d).unwrap(), map, "{key}");
+    }
     // `length` is required with `file`.
     let c = config(d, "[surface]\nfile = \"maps/h.npy\"\n");
     assert!(c.load(d).unwrap_err().to_string().contains("length"));

@@ -58,6 +58,7 @@ pub fn build(
         problem = problem.with_layer(l.build().map_err(value_error)?);
     }
     problem.source = surface.source.clone();
+    problem.preprocessing = surface.preprocessing;
     problem.seed = surface.seed;
     let mut document = toml::Table::new();
     document.insert(

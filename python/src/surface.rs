@@ -11,7 +11,9 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
 use pyo3::prelude::*;
 use viscoslide::problem::SurfaceSource;
 use viscoslide::surface::{
-    psd_2d, radial_average, stats_with_window, GenerateConfig, HeightMap, SurfaceConfig, Window,
+    parse_detrend, parse_window, prepare, psd_2d, radial_average, rms_slope_real, slope_warning,
+    stats_with_window, GenerateConfig, HeightMap, MissingData, Preprocessing, SurfaceConfig,
+    Topography, Window,
 };
 
 use crate::errors::value_error;
@@ -27,6 +29,8 @@ pub struct NativeSurface {
     pub seed: Option<u64>,
     /// The `[surface]` section that makes it (`None` for values).
     pub section: Option<SurfaceConfig>,
+    /// How a measured map was prepared (`None`: generated, taken as it is).
+    pub preprocessing: Option<Preprocessing>,
 }
 
 impl NativeSurface {
@@ -36,22 +40,31 @@ impl NativeSurface {
         let map = section.load(base_dir).map_err(value_error)?;
         let source = SurfaceSource::of(&section, base_dir).map_err(value_error)?;
         let seed = section.generate.as_ref().map(|g| g.seed.unwrap_or(0));
+        let preprocessing = section.preprocessing().map_err(value_error)?;
         Ok(Self {
             map,
             source,
             seed,
             section: Some(section),
+            preprocessing,
         })
     }
 }
 
 /// A window by its config name (`none`, `hann`, `blackman_harris`).
 pub fn window(name: &str) -> PyResult<Window> {
-    serde_json::from_value(serde_json::Value::String(name.to_string())).map_err(|_| {
-        value_error(format!(
-            "window '{name}': expected 'none', 'hann' or 'blackman_harris'"
-        ))
-    })
+    parse_window(name).map_err(value_error)
+}
+
+impl NativeSurface {
+    /// The window named, else the map's own (Hann for a scan, none for a
+    /// periodic or generated map).
+    fn window_of(&self, name: Option<&str>) -> PyResult<Window> {
+        match name {
+            Some(n) => window(n),
+            None => Ok(self.preprocessing.map(|p| p.window).unwrap_or(Window::None)),
+        }
+    }
 }
 
 #[pymethods]
@@ -76,13 +89,17 @@ impl NativeSurface {
     /// A surface read from `path` in any format the library reads (`.x3p`,
     /// `.gwy`, `.npy`, text); `length` (m) is needed for `.npy` and text.
     #[staticmethod]
-    #[pyo3(signature = (path, length=None, length_y=None, format=None, fill_missing=false))]
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (path, length=None, length_y=None, format=None, fill_missing=false, detrend=None, window=None, periodic=false))]
     fn from_file(
         path: PathBuf,
         length: Option<f64>,
         length_y: Option<f64>,
         format: Option<String>,
         fill_missing: bool,
+        detrend: Option<String>,
+        window: Option<String>,
+        periodic: bool,
     ) -> PyResult<Self> {
         let path = std::path::absolute(&path).unwrap_or(path);
         let section = SurfaceConfig {
@@ -91,37 +108,74 @@ impl NativeSurface {
             length_y,
             format,
             fill_missing: fill_missing.then_some(true),
+            detrend,
+            window,
+            periodic: periodic.then_some(true),
             ..Default::default()
         };
         Self::from_config(section, Path::new("."))
     }
 
-    /// A surface from heights \[m\] (C-contiguous float64, axis 0 = x),
-    /// `length` \[m\] the side along x and `length_y` the side along y
-    /// (default: square cells; otherwise cells `length / nx x length_y / ny`).
+    /// A surface from heights \[m\] (float64, axis 0 = x; NaN marks a
+    /// missing point), `length` \[m\] the side along x and `length_y` the
+    /// side along y (default: square cells; otherwise cells `length / nx x
+    /// length_y / ny`), prepared by the one rule of the library
+    /// ([`prepare`]): missing points refused or filled (`fill_missing`), the
+    /// `detrend` polynomial removed and `window` for its PSDs, with the
+    /// defaults of a scan unless `periodic`.
     #[staticmethod]
-    #[pyo3(signature = (heights, length, length_y=None))]
+    #[pyo3(signature = (heights, length, length_y=None, detrend=None, window=None, periodic=false, fill_missing=false))]
+    #[allow(clippy::too_many_arguments)]
     fn from_array(
         heights: PyReadonlyArray2<'_, f64>,
         length: f64,
         length_y: Option<f64>,
+        detrend: Option<String>,
+        window: Option<String>,
+        periodic: bool,
+        fill_missing: bool,
     ) -> PyResult<Self> {
         let view = heights.as_array();
         let (nx, ny) = view.dim();
-        let values = view.iter().copied().collect();
-        let map = match length_y {
-            None => HeightMap::new(nx, ny, length, values),
-            Some(ly) => {
-                HeightMap::with_cells(nx, ny, length / nx as f64, ly / ny.max(1) as f64, values)
-            }
-        }
-        .map_err(value_error)?;
+        let values: Vec<f64> = view.iter().copied().collect();
+        let dx = length / nx.max(1) as f64;
+        let dy = length_y.map_or(dx, |ly| ly / ny.max(1) as f64);
+        let mut topo = Topography::new(nx, ny, dx, dy, values, "heights").map_err(value_error)?;
+        let missing = if fill_missing {
+            MissingData::Fill
+        } else {
+            MissingData::Error
+        };
+        topo.handle_missing(missing, "heights")
+            .map_err(value_error)?;
+        let pre = Preprocessing::resolve(
+            periodic,
+            detrend
+                .as_deref()
+                .map(parse_detrend)
+                .transpose()
+                .map_err(value_error)?,
+            window
+                .as_deref()
+                .map(parse_window)
+                .transpose()
+                .map_err(value_error)?,
+        );
+        let map = prepare(&topo, &pre, "heights").map_err(value_error)?;
         Ok(Self {
             map,
             source: SurfaceSource::Given,
             seed: None,
             section: None,
+            preprocessing: Some(pre),
         })
+    }
+
+    /// How the map was prepared, as JSON (`None` for a generated surface).
+    fn preprocessing_json(&self) -> Option<String> {
+        self.preprocessing
+            .as_ref()
+            .map(|p| serde_json::to_string(p).unwrap_or_default())
     }
 
     /// Heights \[m\], shape `(nx, ny)`.
@@ -174,16 +228,17 @@ impl NativeSurface {
 
     /// Radial PSD: `(q [1/m], C [m^4], modes per bin)`.
     #[allow(clippy::type_complexity)]
+    #[pyo3(signature = (window_name=None))]
     fn psd<'py>(
         &self,
         py: Python<'py>,
-        window_name: &str,
+        window_name: Option<&str>,
     ) -> PyResult<(
         Bound<'py, PyArray1<f64>>,
         Bound<'py, PyArray1<f64>>,
         Bound<'py, PyArray1<usize>>,
     )> {
-        let psd = psd_2d(&self.map, window(window_name)?).map_err(value_error)?;
+        let psd = psd_2d(&self.map, self.window_of(window_name)?).map_err(value_error)?;
         let r = radial_average(&psd);
         Ok((
             r.q.into_pyarray(py),
@@ -192,9 +247,21 @@ impl NativeSurface {
         ))
     }
 
-    /// Statistics (rms height, slope, curvature, ...) as JSON.
-    fn stats_json(&self, window_name: &str) -> PyResult<String> {
-        let s = stats_with_window(&self.map, window(window_name)?).map_err(value_error)?;
-        serde_json::to_string(&s).map_err(value_error)
+    /// Statistics (rms height, slope, curvature, ...) as JSON, with the
+    /// map's `preprocessing` and the `warnings` of the rms-slope check of
+    /// the PSD (physics.md section 11).
+    #[pyo3(signature = (window_name=None))]
+    fn stats_json(&self, window_name: Option<&str>) -> PyResult<String> {
+        let s = stats_with_window(&self.map, self.window_of(window_name)?).map_err(value_error)?;
+        let m = &self.map;
+        let real = rms_slope_real(m.nx, m.ny, m.cell_size, m.cell_size_y, &m.heights);
+        let warnings: Vec<String> = slope_warning(s.rms_slope, real, "the radial PSD of this map")
+            .into_iter()
+            .collect();
+        let mut doc = serde_json::to_value(&s).map_err(value_error)?;
+        doc["rms_slope_real"] = serde_json::json!(real);
+        doc["preprocessing"] = serde_json::json!(self.preprocessing);
+        doc["warnings"] = serde_json::json!(warnings);
+        serde_json::to_string(&doc).map_err(value_error)
     }
 }

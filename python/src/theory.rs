@@ -17,7 +17,9 @@ use crate::surface::NativeSurface;
 /// Persson's friction coefficient, contact area fraction and `G(q1)` at
 /// `speeds` \[m/s\] for `surface` under `material` at the nominal pressure
 /// of the `[loading]` section (JSON; `speed`/`xi` ignored). Returns
-/// `(mu, A/A0, G(q1), psd kind, nominal pressure)`.
+/// `(mu, A/A0, G(q1), psd kind, nominal pressure, map PSD report as JSON)`,
+/// the report (preprocessing, band, rms-slope check with its warning) for
+/// the radial average of a map only.
 #[pyfunction]
 #[allow(clippy::type_complexity)]
 pub fn persson<'py>(
@@ -32,9 +34,14 @@ pub fn persson<'py>(
     Bound<'py, PyArray1<f64>>,
     &'static str,
     f64,
+    Option<String>,
 )> {
     let problem = problem::build(&surface, &material, loading_json, "{}", None)?;
-    let (psd, kind) = problem.persson_psd().map_err(value_error)?;
+    let (psd, kind, report) = problem.persson_psd_report().map_err(value_error)?;
+    let report = report
+        .map(|r| serde_json::to_string(&r))
+        .transpose()
+        .map_err(value_error)?;
     let sigma0 = match problem.control {
         Control::Load(f) => f / (problem.surface.length_x() * problem.surface.length_y()),
         Control::Approach(_) => {
@@ -58,6 +65,7 @@ pub fn persson<'py>(
         column(|p| p.g_q1),
         kind,
         sigma0,
+        report,
     ))
 }
 

@@ -29,7 +29,8 @@ def test_a_periodic_topography_is_solved_periodic_under_auto(pad, rubber):
 
 def test_a_rectangular_topography_keeps_its_axes(pad):
     h = pad.heights[:, :32]
-    topo = SurfaceTopography.Topography(h, physical_sizes=(0.01, 0.005))
+    # Periodic: taken as it is (a scan would lose its mean plane).
+    topo = SurfaceTopography.Topography(h, physical_sizes=(0.01, 0.005), periodic=True)
     s = vs.Surface.coerce(topo)
     assert s.shape == (64, 32)
     assert np.array_equal(s.heights, h)
@@ -60,12 +61,12 @@ def test_other_objects_are_refused(rubber):
 
 def test_units_are_converted_and_missing_points_refused(pad):
     h = pad.heights
-    in_um = SurfaceTopography.Topography(h * 1e6, physical_sizes=(1e4, 1e4), unit="um")
+    in_um = SurfaceTopography.Topography(h * 1e6, physical_sizes=(1e4, 1e4), unit="um", periodic=True)
     s = vs.Surface.coerce(in_um)
     np.testing.assert_allclose(s.heights, h, rtol=1e-12)
     assert s.physical_sizes == pytest.approx((0.01, 0.01))
     holes = np.ma.masked_array(h, mask=np.zeros_like(h, dtype=bool))
     holes.mask[3, 4] = True
     missing = SurfaceTopography.Topography(holes, physical_sizes=(0.01, 0.01))
-    with pytest.raises(ValueError, match="missing"):
+    with pytest.raises(ValueError, match="missing.*fill_missing=True"):
         vs.Surface.coerce(missing)

@@ -10,13 +10,21 @@ from typing import Any, Optional
 import numpy as np
 
 
-def real_array(name: str, value: Any, ndim: int) -> np.ndarray:
+def real_array(name: str, value: Any, ndim: int, allow_nan: bool = False) -> np.ndarray:
     """``value`` as a C-contiguous float64 array of ``ndim`` dimensions.
 
     Any real dtype (float32, integers) and any memory order is accepted and
     converted; complex, object, boolean or string data, the wrong number of
-    dimensions and non-finite values (NaN, inf) are refused.
+    dimensions and non-finite values (NaN, inf) are refused. A numpy masked
+    array has its masked points set to NaN (missing), whatever values lie
+    under the mask. With ``allow_nan`` NaN (a missing point) passes; inf
+    never does.
     """
+    if isinstance(value, np.ma.MaskedArray):
+        if value.dtype.kind in "fiu":
+            value = np.ma.filled(value.astype(np.float64), np.nan)
+        else:
+            value = np.ma.getdata(value)
     try:
         arr = np.asarray(value)
     except Exception as e:  # ragged lists and the like
@@ -30,13 +38,13 @@ def real_array(name: str, value: Any, ndim: int) -> np.ndarray:
     if arr.ndim != ndim:
         raise ValueError(f"{name} must be {ndim}-dimensional, got shape {arr.shape}")
     arr = np.ascontiguousarray(arr, dtype=np.float64)
-    finite = np.isfinite(arr)
+    finite = np.isfinite(arr) | (np.isnan(arr) if allow_nan else False)
     if not finite.all():
         bad = int(arr.size - np.count_nonzero(finite))
         first = tuple(int(i) for i in np.argwhere(~finite)[0])
         raise ValueError(
             f"{name} has {bad} non-finite value(s) (NaN or inf), the first at index {first}; "
-            "fill or crop them first (Surface.from_file(..., fill_missing=True) fills the missing points of a file)"
+            "pass fill_missing=True to fill missing (NaN or masked) points by harmonic interpolation, or crop them"
         )
     return arr
 

@@ -46,9 +46,21 @@ class Surface:
         length_y: Optional[float] = None,
         format: Optional[str] = None,
         fill_missing: bool = False,
+        detrend: Optional[str] = None,
+        window: Optional[str] = None,
+        periodic: bool = False,
     ) -> "Surface": ...
     @staticmethod
-    def from_array(heights: npt.NDArray[np.float64], length: float) -> "Surface": ...
+    def from_array(
+        heights: npt.NDArray[np.float64],
+        length: float,
+        length_y: Optional[float] = None,
+        detrend: Optional[str] = None,
+        window: Optional[str] = None,
+        periodic: bool = False,
+        fill_missing: bool = False,
+    ) -> "Surface": ...
+    def preprocessing_json(self) -> Optional[str]: ...
     @property
     def heights(self) -> npt.NDArray[np.float64]: ...
     @property
@@ -61,9 +73,9 @@ class Surface:
     def seed(self) -> Optional[int]: ...
     def section_json(self) -> Optional[str]: ...
     def psd(
-        self, window_name: str
+        self, window_name: Optional[str] = None
     ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.uint64]]: ...
-    def stats_json(self, window_name: str) -> str: ...
+    def stats_json(self, window_name: Optional[str] = None) -> str: ...
 
 class Result:
     @property
@@ -105,7 +117,9 @@ def solve(
 def solve_config(path: str, overrides: List[str], backend: Optional[str], progress: Progress = None) -> Result: ...
 def persson(
     surface: Surface, material: Material, loading_json: str, speeds: List[float]
-) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], str, float]: ...
+) -> Tuple[
+    npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], str, float, Optional[str]
+]: ...
 def kernel_table(
     material: Material,
     nx: int,

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import warnings
 from typing import Any, Dict, Optional, Sequence
 
 import numpy as np
@@ -145,6 +146,9 @@ def persson(
     normal_load: Optional[float] = None,
     mean_pressure: Optional[float] = None,
     as_frame: bool = False,
+    fill_missing: Optional[bool] = None,
+    detrend: Optional[str] = None,
+    window: Optional[str] = None,
 ) -> Any:
     """Persson's theory of friction and contact area (physics.md section
     10) for ``surface``, ``material`` and the nominal pressure
@@ -153,14 +157,26 @@ def persson(
 
     The PSD is the continuum self-affine PSD of a generated surface, the
     table of a surface synthesised from a PSD table (``psd`` key of
-    :meth:`Surface.generate`), else the radial average of the map. Returns a dict of arrays ``speed``,
+    :meth:`Surface.generate`), else the radial average of the map as the
+    solve prepares it (a scan: detrended, Hann-windowed, over its trusted
+    band; physics.md section 11). ``fill_missing``, ``detrend`` and
+    ``window`` prepare a topography-like ``surface`` (see
+    :meth:`Surface.from_array`). Returns a dict of arrays ``speed``,
     ``friction_coefficient``, ``contact_area_fraction``, ``g_q1`` and the
-    scalars ``psd`` (which PSD) and ``nominal_pressure`` [Pa].
+    scalars ``psd`` (which PSD), ``nominal_pressure`` [Pa] and ``map_psd``
+    (for a map's radial average: preprocessing, band, rms-slope check;
+    else ``None``). A PSD whose rms slope differs from the map's real-space
+    rms slope by more than 20 % is warned about (``warnings.warn``).
     """
-    surf = Surface.coerce(surface)
+    surf = Surface.coerce(surface, fill_missing=fill_missing, detrend=detrend, window=window)
     v = _axis("speeds", speeds)
     loading = _loading(0.0, None, normal_load, mean_pressure, None, None)
-    mu, area, g, kind, sigma0 = _native.persson(surf._native, material._native, json.dumps(loading), v.tolist())
+    mu, area, g, kind, sigma0, report = _native.persson(
+        surf._native, material._native, json.dumps(loading), v.tolist()
+    )
+    map_psd = None if report is None else json.loads(report)
+    if map_psd is not None and map_psd.get("warning"):
+        warnings.warn(map_psd["warning"], stacklevel=2)
     columns: Dict[str, Any] = {
         "speed": v,
         "friction_coefficient": mu,
@@ -169,9 +185,9 @@ def persson(
     }
     if as_frame:
         frame = _frame(columns, True)
-        frame.attrs.update(psd=kind, nominal_pressure=sigma0)
+        frame.attrs.update(psd=kind, nominal_pressure=sigma0, map_psd=map_psd)
         return frame
-    columns.update(psd=kind, nominal_pressure=sigma0)
+    columns.update(psd=kind, nominal_pressure=sigma0, map_psd=map_psd)
     return columns
 
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+import warnings
 from typing import Any, Dict, Mapping, Optional
 
 import numpy as np
@@ -184,6 +185,9 @@ def solve(
     cascade_levels: Optional[int] = None,
     mesh: Optional[str] = None,
     progress: Any = None,
+    fill_missing: Optional[bool] = None,
+    detrend: Optional[str] = None,
+    window: Optional[str] = None,
 ) -> Result:
     """Solve the steady sliding contact of ``surface`` on ``material``.
 
@@ -224,6 +228,14 @@ def solve(
         ``True`` shows a tqdm bar; a callable is called after every outer
         iteration with a dict (``iteration``, ``matvecs``, ``residual``,
         ``contact_cells``).
+    fill_missing, detrend, window : optional
+        How a topography-like ``surface`` is prepared (see
+        :meth:`Surface.from_array`: missing points, the polynomial removed,
+        default ``"plane"`` unless periodic, and the PSD window of Persson's
+        theory beside the solve, default ``"hann"``).
+
+    The solution's warnings (``summary["warnings"]``) are also issued with
+    ``warnings.warn``.
 
     Returns
     -------
@@ -238,7 +250,7 @@ def solve(
     KeyboardInterrupt
         Ctrl-C during the solve.
     """
-    surf = Surface.coerce(surface)
+    surf = Surface.coerce(surface, fill_missing=fill_missing, detrend=detrend, window=window)
     if not isinstance(material, Material):
         raise TypeError(f"material must be a viscoslide.Material, got {type(material).__name__}")
     loading = _loading(speed, xi, normal_load, mean_pressure, approach, direction_deg)
@@ -253,7 +265,14 @@ def solve(
             backend,
             callback,
         )
-    return Result(native)
+    return _warned(Result(native))
+
+
+def _warned(result: Result) -> Result:
+    """``result`` after its warnings are issued with ``warnings.warn``."""
+    for w in result.summary.get("warnings", []):
+        warnings.warn(w, stacklevel=3)
+    return result
 
 
 def _toml_value(value: Any) -> str:
@@ -304,4 +323,4 @@ def solve_config(
     overrides = [f"{key}={_toml_value(value)}" for key, value in (set or {}).items()]
     with _progress.iterations(progress) as callback:
         native = _native.solve_config(path, overrides, backend, callback)
-    return Result(native)
+    return _warned(Result(native))

@@ -1,13 +1,22 @@
 """Surfaces: height maps on grids of cells (axis 0 = x = the
 sliding direction), generated, read from a file in any format the engine
 reads, given as an array, or taken from any object with ``heights()`` and
-``physical_sizes`` (a SurfaceTopography ``Topography``)."""
+``physical_sizes`` (a SurfaceTopography ``Topography``).
+
+A map read from a file or given as values is a scan unless marked
+periodic: its mean plane is removed before solving and before any PSD
+(``detrend="plane"``; ``"none"``, ``"mean"``, ``"quadratic"``) and its
+PSDs use the Hann window (``window="hann"``), the rule of the engine
+(``[surface] detrend``/``window``/``periodic``). Generated surfaces are
+taken as they are. Missing points (NaN, masked) are an error unless
+``fill_missing=True`` fills them by harmonic interpolation."""
 
 from __future__ import annotations
 
 import json
 import math
 import os
+import warnings
 from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
@@ -114,13 +123,19 @@ class Surface:
         length_y: Optional[float] = None,
         format: Optional[str] = None,
         fill_missing: bool = False,
+        detrend: Optional[str] = None,
+        window: Optional[str] = None,
+        periodic: bool = False,
     ) -> "Surface":
         """A surface read from ``path``: ``.x3p``, ``.gwy`` (sizes from the
         file), ``.npy`` or a text matrix (``length`` [m] along x needed).
 
         ``format`` (``"x3p"``, ``"gwy"``, ``"npy"``, ``"text"``) overrides the
         extension; ``fill_missing`` fills missing points by harmonic
-        interpolation (otherwise they are an error).
+        interpolation (otherwise they are an error); ``detrend`` (default
+        ``"plane"``, ``"none"`` when ``periodic``) is removed before solving
+        and before any PSD, whose ``window`` defaults to ``"hann"``
+        (``"none"`` when ``periodic``).
         """
         path = os.fspath(path)
         if not os.path.exists(path):
@@ -131,8 +146,11 @@ class Surface:
             None if length_y is None else _checks.positive("length_y", length_y, "m"),
             format,
             bool(fill_missing),
+            detrend,
+            window,
+            bool(periodic),
         )
-        return cls(native)
+        return cls(native, periodic=bool(periodic))
 
     @classmethod
     def from_array(
@@ -142,13 +160,22 @@ class Surface:
         *,
         length_y: Optional[float] = None,
         periodic: bool = False,
+        fill_missing: bool = False,
+        detrend: Optional[str] = None,
+        window: Optional[str] = None,
     ) -> "Surface":
         """A surface from a 2-D array of heights [m] (axis 0 = x), any real
         dtype and memory order; ``length`` [m] is the side along x and
         ``length_y`` the side along y (default: square cells). Cells are
         ``length / nx`` by ``length_y / ny``: rectangular pixels are solved
-        on their own grid (Love's rectangle, physics.md section 11)."""
-        h = _checks.real_array("heights", heights, 2)
+        on their own grid (Love's rectangle, physics.md section 11).
+
+        NaN and the masked points of a numpy masked array are missing: an
+        error unless ``fill_missing`` (harmonic interpolation). Unless
+        ``periodic``, the map is a scan: ``detrend`` (default ``"plane"``)
+        is removed and its PSDs use ``window`` (default ``"hann"``); a
+        periodic map is taken as it is (defaults ``"none"``)."""
+        h = _checks.real_array("heights", heights, 2, allow_nan=bool(fill_missing))
         lx = _checks.positive("length", length, "m")
         nx, ny = h.shape
         if nx < 2 or ny < 2:
@@ -158,29 +185,46 @@ class Surface:
             ly = _checks.positive("length_y", length_y, "m")
             if math.isclose(lx / nx, ly / ny, rel_tol=1e-9):
                 ly = None
-        return cls(_native.Surface.from_array(h, lx, ly), periodic=periodic)
+        native = _native.Surface.from_array(h, lx, ly, detrend, window, bool(periodic), bool(fill_missing))
+        return cls(native, periodic=periodic)
 
     @classmethod
-    def from_topography(cls, topography: Any) -> "Surface":
+    def from_topography(
+        cls,
+        topography: Any,
+        *,
+        fill_missing: bool = False,
+        detrend: Optional[str] = None,
+        window: Optional[str] = None,
+    ) -> "Surface":
         """A surface from any object with ``heights()`` (a 2-D array, axis 0
         = x) and ``physical_sizes`` (``(Lx, Ly)`` in m), such as a
         SurfaceTopography ``Topography``; its ``is_periodic`` flag, if it has
-        one, is kept. A topography in other units is converted with its
-        ``to_unit("m")``; missing points must be filled first."""
+        one, is kept (a periodic map is taken as it is, any other is
+        detrended, see :meth:`from_array`). A topography in other units is
+        converted with its ``to_unit("m")``; its missing (masked) points are
+        an error unless ``fill_missing``."""
         unit = getattr(topography, "unit", None)
         if unit is not None and unit != "m":
             if not callable(getattr(topography, "to_unit", None)):
                 raise ValueError(f"the topography's unit is {unit!r}; heights and sizes must be in m")
             topography = topography.to_unit("m")
-        if getattr(topography, "has_undefined_data", False):
-            raise ValueError(
-                "the topography has undefined (missing) points; fill them first "
-                "(SurfaceTopography: topography.interpolate_undefined_data())"
-            )
         heights = topography.heights()
-        if isinstance(heights, np.ma.MaskedArray) and np.ma.count_masked(heights):
-            raise ValueError(f"the topography's heights have {np.ma.count_masked(heights)} masked (missing) points; fill them first")
-        h = np.asarray(heights)
+        if isinstance(heights, np.ma.MaskedArray):
+            masked = int(np.ma.count_masked(heights))
+            if masked and not fill_missing:
+                raise ValueError(
+                    f"the topography's heights have {masked} masked (missing) points; "
+                    "pass fill_missing=True to fill them by harmonic interpolation"
+                )
+            h = np.ma.filled(heights.astype(np.float64), np.nan)
+        else:
+            if getattr(topography, "has_undefined_data", False) and not fill_missing:
+                raise ValueError(
+                    "the topography has undefined (missing) points; "
+                    "pass fill_missing=True to fill them by harmonic interpolation"
+                )
+            h = np.asarray(heights)
         if h.ndim != 2:
             raise ValueError(f"the topography's heights() must be 2-dimensional (a map, not a line scan), got shape {h.shape}")
         sizes = topography.physical_sizes
@@ -189,16 +233,34 @@ class Surface:
         except (TypeError, ValueError):
             raise ValueError(f"physical_sizes must be (Lx, Ly) in m, got {sizes!r}") from None
         periodic = bool(getattr(topography, "is_periodic", False))
-        return cls.from_array(h, lx, length_y=ly, periodic=periodic)
+        return cls.from_array(
+            h, lx, length_y=ly, periodic=periodic, fill_missing=fill_missing, detrend=detrend, window=window
+        )
 
     @classmethod
-    def coerce(cls, value: Any) -> "Surface":
+    def coerce(
+        cls,
+        value: Any,
+        *,
+        fill_missing: Optional[bool] = None,
+        detrend: Optional[str] = None,
+        window: Optional[str] = None,
+    ) -> "Surface":
         """``value`` if it is a :class:`Surface`, else a surface from a
-        topography-like object (:meth:`from_topography`)."""
+        topography-like object (:meth:`from_topography` with
+        ``fill_missing``, ``detrend`` and ``window``). A :class:`Surface` was
+        prepared when it was built: giving the three keys with one is an
+        error."""
         if isinstance(value, Surface):
+            given = [k for k, v in (("fill_missing", fill_missing), ("detrend", detrend), ("window", window)) if v is not None]
+            if given:
+                raise ValueError(
+                    f"{', '.join(given)} apply when a surface is built (Surface.from_array, from_file, "
+                    "from_topography); this Surface was prepared already"
+                )
             return value
         if callable(getattr(value, "heights", None)) and hasattr(value, "physical_sizes"):
-            return cls.from_topography(value)
+            return cls.from_topography(value, fill_missing=bool(fill_missing), detrend=detrend, window=window)
         raise TypeError(
             f"expected a viscoslide.Surface or an object with heights() and physical_sizes, got {type(value).__name__}"
         )
@@ -240,17 +302,32 @@ class Surface:
         text = self._native.section_json()
         return None if text is None else json.loads(text)
 
-    def psd(self, window: str = "none") -> Tuple[np.ndarray, np.ndarray]:
+    @property
+    def preprocessing(self) -> Optional[Dict[str, Any]]:
+        """How the map was prepared (``periodic``, ``detrend``, ``window``),
+        ``None`` for a generated surface (taken as it is)."""
+        text = self._native.preprocessing_json()
+        return None if text is None else json.loads(text)
+
+    def psd(self, window: Optional[str] = None) -> Tuple[np.ndarray, np.ndarray]:
         """Radially averaged PSD ``(q [1/m], C [m^4])`` with
         ``<h^2> = 2 pi Int q C dq``; ``window`` is ``"none"`` (periodic maps),
-        ``"hann"`` or ``"blackman_harris"`` (measured, non-periodic maps)."""
+        ``"hann"`` or ``"blackman_harris"`` (measured, non-periodic maps);
+        default: the map's own (``"hann"`` for a scan, ``"none"`` for a
+        periodic or generated map)."""
         q, c, _ = self._native.psd(window)
         return q, c
 
-    def stats(self, window: str = "none") -> Dict[str, Any]:
+    def stats(self, window: Optional[str] = None) -> Dict[str, Any]:
         """Statistics of the map (rms height, slope and curvature from the
-        PSD and from the map, ...), as ``viscoslide surface stats``."""
-        return json.loads(self._native.stats_json(window))
+        PSD and from the map, ...), as ``viscoslide surface stats``; the
+        window defaults to the map's own (see :meth:`psd`). A PSD whose rms
+        slope differs from the real-space rms slope by more than 20 % is
+        warned about (``warnings`` key and ``warnings.warn``)."""
+        doc = json.loads(self._native.stats_json(window))
+        for w in doc.get("warnings", []):
+            warnings.warn(w, stacklevel=2)
+        return doc
 
     def __repr__(self) -> str:
         nx, ny = self.shape

@@ -29,7 +29,12 @@ pub struct PerssonArgs {
     /// as `surface stats --out` writes) instead of the config's surface.
     #[arg(long, value_name = "CSV")]
     pub psd: Option<PathBuf>,
-    /// Hann window for the PSD of a measured (non-periodic) surface file.
+    /// Window of the PSD of a surface file: none, hann, blackman-harris
+    /// (default: `[surface] window`, hann for a scan, none for a map with
+    /// `periodic = true`).
+    #[arg(long, value_parser = crate::surface::parse_window, conflicts_with = "hann")]
+    pub window: Option<Window>,
+    /// Same as --window hann.
     #[arg(long)]
     pub hann: bool,
 }
@@ -102,11 +107,7 @@ const BYTES_PER_SPEED: u64 = 1024;
 
 pub fn run(args: PerssonArgs) -> Result<()> {
     let cfg = args.config.load()?;
-    let window = if args.hann {
-        Window::Hann
-    } else {
-        Window::None
-    };
+    let window = args.window.or(args.hann.then_some(Window::Hann));
     let inputs = theory_inputs(&cfg, args.psd.as_deref(), window)?;
     let theory = Persson::new(
         &inputs.material,
@@ -149,6 +150,9 @@ pub fn run(args: PerssonArgs) -> Result<()> {
     let speeds = persson::log_speeds(from, to, count);
     for n in &inputs.notes {
         eprintln!("note: {n}");
+    }
+    for w in &inputs.warnings {
+        eprintln!("warning: {w}");
     }
     let t0 = std::time::Instant::now();
     let curve = theory.curve(&speeds)?;
@@ -237,6 +241,7 @@ fn report_json(
             "quadrature": theory.params(),
         },
         "notes": inputs.notes,
+        "warnings": inputs.warnings,
         "wall_time_s": elapsed,
         "config": {"path": cfg.path.display().to_string(), "document": cfg.document},
         "files": ["persson.json", "persson.csv", "persson.png"],

@@ -26,6 +26,14 @@
 //! `.npy` or a text matrix (`length` needed); `format = "x3p"` overrides the
 //! extension, `length_y` gives a non-square side for `.npy`/text, and
 //! `fill_missing = true` fills missing points by harmonic interpolation.
+//!
+//! A `file` is a scan, not one period of a periodic surface, unless
+//! `periodic = true`: its mean plane is removed before solving and before
+//! any PSD (`detrend = "none" | "mean" | "plane" | "quadratic"`, default
+//! `"plane"`; `"none"` for a periodic map), and its PSDs use the Hann
+//! window (`window = "none" | "hann" | "blackman_harris"`, default
+//! `"hann"`; `"none"` for a periodic map). Generated surfaces are taken as
+//! they are (physics.md section 11).
 
 use std::path::PathBuf;
 
@@ -56,6 +64,18 @@ pub struct SurfaceConfig {
     /// a file with missing points is an error).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fill_missing: Option<bool>,
+    /// Polynomial removed from `file` before solving and before any PSD:
+    /// "none", "mean", "plane" or "quadratic" (default "plane"; "none"
+    /// when `periodic`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub detrend: Option<String>,
+    /// Window of the PSDs of `file`: "none", "hann" or "blackman_harris"
+    /// (default "hann"; "none" when `periodic`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window: Option<String>,
+    /// `file` is one period of a periodic surface (default false: a scan).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub periodic: Option<bool>,
 }
 
 /// `[surface.sphere]`: the paraboloid `z = -(x^2 + y^2) / (2 R)` of a sphere

@@ -7,13 +7,16 @@
 //!   by the continuum integral of the prescribed rms height or rms slope;
 //! * [`radial`]: the radial average of a height map's 2-D PSD, the
 //!   `surface stats` code ([`psd_2d`] and [`radial_average`]);
+//! * [`map_psd`]: that radial average as the preprocessing of the map
+//!   prescribes (window, a scan's trusted band), checked against the
+//!   map's real-space rms slope (physics.md section 11);
 //! * a `q, C` CSV: [`TabulatedPsd::from_csv`] itself.
 
 use serde::Serialize;
 
 use crate::surface::{
-    psd_2d, radial_average, GenerateParams, HeightMap, Normalisation, SelfAffinePsd, TabulatedPsd,
-    Window,
+    psd_2d, radial_average, rms_slope_real, slope_warning, trusted_band, Detrend, GenerateParams,
+    HeightMap, Normalisation, Preprocessing, SelfAffinePsd, TabulatedPsd, Topography, Window,
 };
 
 use super::PerssonError;
@@ -113,5 +116,72 @@ pub fn radial(map: &HeightMap, window: Window) -> Result<(TabulatedPsd, RadialIn
     Ok((
         TabulatedPsd::new(q, c, "radial PSD of the height map")?,
         info,
+    ))
+}
+
+/// How the PSD of a height map was made for the theory, with its check.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MapPsdReport {
+    /// Polynomial removed from the map before solving and before the PSD
+    /// (`None`: a map given as values, taken as it is).
+    pub detrend: Option<Detrend>,
+    /// Window of the 2-D PSD.
+    pub window: Window,
+    /// The band the table covers \[1/m\]: the trusted band of a scan
+    /// ([`trusted_band`]), zero outside it; the whole radial average of a
+    /// periodic map.
+    pub q_band_per_m: [f64; 2],
+    /// Whether the band is a scan's trusted band.
+    pub trusted_band: bool,
+    pub radial: RadialInfo,
+    /// `sqrt(2 pi Int q^3 C dq)` of the table.
+    pub rms_slope_psd: f64,
+    /// Real-space rms slope of the same map ([`rms_slope_real`]).
+    pub rms_slope_real: f64,
+    /// Set when the two differ by more than 20 % ([`slope_warning`]).
+    pub warning: Option<String>,
+}
+
+/// The PSD Persson's theory sees for a height map prepared by `pre`
+/// (physics.md section 11): the radial average of its 2-D PSD with
+/// `pre.window`; for a scan (`!pre.periodic`) only over its trusted band
+/// (zero outside), for a periodic map over every bin. Checked against the
+/// map's real-space rms slope. `map` is already detrended (the map the
+/// solver uses, [`crate::surface::prepare`]).
+pub fn map_psd(
+    map: &HeightMap,
+    pre: &Preprocessing,
+    detrended: bool,
+) -> Result<(TabulatedPsd, MapPsdReport), PerssonError> {
+    let (full, radial_info) = radial(map, pre.window)?;
+    let (table, band, trusted) = if pre.periodic {
+        let band = [full.q_min(), full.q_max()];
+        (full, band, false)
+    } else {
+        let (lo, hi) = trusted_band(&Topography::from_height_map(map));
+        let t = full.within(lo, hi, "radial PSD of the height map over its trusted band")?;
+        let band = [t.q_min(), t.q_max()];
+        (t, band, true)
+    };
+    let rms_slope_psd = table.moment(2).sqrt();
+    let rms_slope_real =
+        rms_slope_real(map.nx, map.ny, map.cell_size, map.cell_size_y, &map.heights);
+    let warning = slope_warning(
+        rms_slope_psd,
+        rms_slope_real,
+        "the PSD of the surface map used by Persson's theory",
+    );
+    Ok((
+        table,
+        MapPsdReport {
+            detrend: detrended.then_some(pre.detrend),
+            window: pre.window,
+            q_band_per_m: band,
+            trusted_band: trusted,
+            radial: radial_info,
+            rms_slope_psd,
+            rms_slope_real,
+            warning,
+        },
     ))
 }

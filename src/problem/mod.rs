@@ -47,7 +47,7 @@ use crate::error::{Error, Result};
 use crate::kernel::{KernelParams, Layer, SlidingKernel};
 use crate::material::Material;
 use crate::solver::{Control, SolverParams};
-use crate::surface::{GenerateParams, HeightMap, SynthParams, TabulatedPsd};
+use crate::surface::{GenerateParams, HeightMap, Preprocessing, SynthParams, TabulatedPsd};
 
 /// Where the surface of a problem came from: what [`Problem::with_grid`]
 /// needs to sample it again at another resolution.
@@ -78,6 +78,11 @@ pub struct Problem {
     pub surface: HeightMap,
     /// What the surface was made from.
     pub source: SurfaceSource,
+    /// How a measured map was prepared before it became `surface`
+    /// (detrending, the window of its PSDs; physics.md section 11);
+    /// `None` for generated surfaces, spheres and maps given as values
+    /// without a record, which are taken as they are.
+    pub preprocessing: Option<Preprocessing>,
     pub control: Control,
     /// Sliding speed \[m/s\].
     pub speed: f64,
@@ -112,6 +117,7 @@ impl Problem {
             material,
             surface,
             source: SurfaceSource::Given,
+            preprocessing: None,
             control,
             speed,
             direction_rad: 0.0,

@@ -5,8 +5,9 @@
 //!
 //! PSD: the continuum self-affine PSD of `[surface.generate]`
 //! ([`persson::psd::continuum_self_affine`]), the radial average of a
-//! surface file or of a height map given as values ([`persson::psd::radial`],
-//! no window), or a `q, C` CSV. Nominal pressure: `loading.mean_pressure`,
+//! surface file or of a height map given as values prepared as the solve
+//! prepares it ([`persson::psd::map_psd`]: detrended, Hann-windowed, over
+//! a scan's trusted band; physics.md section 11), or a `q, C` CSV. Nominal pressure: `loading.mean_pressure`,
 //! else the normal load over the map's area (for a problem under
 //! displacement control, the solved mean pressure).
 
@@ -18,9 +19,9 @@ use serde::Serialize;
 use crate::config::{LoadedConfig, XiScale};
 use crate::error::{Error, Result};
 use crate::material::Material;
-use crate::persson::{self, psd::RadialInfo, Persson, PerssonParams};
+use crate::persson::{self, psd::MapPsdReport, Persson, PerssonParams};
 use crate::solver::Control;
-use crate::surface::{TabulatedPsd, Window};
+use crate::surface::{Preprocessing, TabulatedPsd, Window};
 
 use super::{Problem, SurfaceSource};
 
@@ -36,11 +37,12 @@ pub enum PsdSource {
         q1_per_m: f64,
         c0_m4: f64,
     },
-    /// The radial average of the config's surface file.
+    /// The radial average of the config's surface file, prepared as the
+    /// solve prepares it.
     SurfaceFile {
         path: String,
-        window: Window,
-        radial: RadialInfo,
+        #[serde(flatten)]
+        map: MapPsdReport,
     },
     /// A `q, C` table.
     Table { path: String, rows: usize },
@@ -70,8 +72,11 @@ pub struct TheoryInputs {
     pub length_x: Option<f64>,
     /// Nominal area `Lx Ly` of the surface \[m^2\], when the config defines it.
     pub area: Option<f64>,
-    /// Warnings about the theory's assumptions.
+    /// Notes about the theory's assumptions.
     pub notes: Vec<String>,
+    /// Results that may mislead (a PSD whose rms slope disagrees with the
+    /// map's).
+    pub warnings: Vec<String>,
 }
 
 impl TheoryInputs {
@@ -90,16 +95,19 @@ impl TheoryInputs {
 
 /// Build the theory's inputs from `cfg`: the material of `[material]`; the
 /// PSD of `psd_csv` if given, else of `[surface.generate]` (continuum) or of
-/// the `[surface] file` (radial average with `window`); the pressure
+/// the `[surface] file` (radial average of the map the solve uses, with
+/// `window` if given, else the section's, over a scan's trusted band;
+/// [`persson::psd::map_psd`]); the pressure
 /// `loading.mean_pressure`, or `loading.normal_load` over the surface's
 /// area.
 pub fn theory_inputs(
     cfg: &LoadedConfig,
     psd_csv: Option<&Path>,
-    window: Window,
+    window: Option<Window>,
 ) -> Result<TheoryInputs> {
     let material = cfg.material()?.build(&cfg.base_dir)?;
     let mut notes = Vec::new();
+    let mut warnings = Vec::new();
     if cfg.config.layer.is_some() {
         notes.push(
             "the config has a [layer]; Persson's theory here is for a half-space and ignores it"
@@ -176,13 +184,18 @@ pub fn theory_inputs(
             (Some(s), None) => {
                 let map = s.load(&cfg.base_dir)?;
                 sides = Some((map.length_x(), map.length_y()));
-                let (t, info) = persson::psd::radial(&map, window)?;
-                if info.slope_isotropy < 0.7 {
+                let mut pre = s
+                    .preprocessing()?
+                    .unwrap_or(Preprocessing::default_for(false));
+                pre.window = window.unwrap_or(pre.window);
+                let (t, info) = persson::psd::map_psd(&map, &pre, true)?;
+                if info.radial.slope_isotropy < 0.7 {
                     notes.push(format!(
                         "the surface file's slopes are anisotropic (gamma = {:.3}); the isotropic theory uses its radial average",
-                        info.slope_isotropy
+                        info.radial.slope_isotropy
                     ));
                 }
+                warnings.extend(info.warning.clone());
                 let path = s
                     .file
                     .as_ref()
@@ -190,11 +203,7 @@ pub fn theory_inputs(
                     .unwrap_or_default();
                 (
                     t,
-                    PsdSource::SurfaceFile {
-                        path,
-                        window,
-                        radial: info,
-                    },
+                    PsdSource::SurfaceFile { path, map: info },
                 )
             }
         }
@@ -228,6 +237,7 @@ pub fn theory_inputs(
         length_x: sides.map(|s| s.0),
         area: sides.map(|s| s.0 * s.1),
         notes,
+        warnings,
     })
 }
 
@@ -245,6 +255,9 @@ pub struct PerssonEstimate {
     /// synthesised surface follows, over the grid's band) or
     /// `radial_average` (of the map).
     pub psd: &'static str,
+    /// How the radial average of a map was made (preprocessing, band,
+    /// rms-slope check); `None` for the other PSDs.
+    pub map: Option<MapPsdReport>,
 }
 
 impl Problem {
@@ -256,9 +269,19 @@ impl Problem {
     /// says why the theory does not apply (a sphere, an anisotropic
     /// surface).
     pub fn persson_psd(&self) -> std::result::Result<(TabulatedPsd, &'static str), String> {
+        self.persson_psd_report().map(|(t, kind, _)| (t, kind))
+    }
+
+    /// [`Problem::persson_psd`] with, for the radial average of a map, how
+    /// it was made: the map's preprocessing (a map given as values
+    /// without a record is taken as it is, unwindowed, over every bin),
+    /// the band and the rms-slope check ([`persson::psd::map_psd`]).
+    pub fn persson_psd_report(
+        &self,
+    ) -> std::result::Result<(TabulatedPsd, &'static str, Option<MapPsdReport>), String> {
         match &self.source {
             SurfaceSource::Generated(p) => persson::psd::continuum_self_affine(p)
-                .map(|(t, _)| (t, "self_affine"))
+                .map(|(t, _)| (t, "self_affine", None))
                 .map_err(|e| e.to_string()),
             SurfaceSource::Sphere(_) => {
                 Err("Persson's theory is for randomly rough surfaces, not a sphere".to_string())
@@ -271,12 +294,16 @@ impl Problem {
                         PI / a,
                         &path.display().to_string(),
                     )
-                    .map(|t| (t, "generated_table"))
+                    .map(|t| (t, "generated_table", None))
                     .map_err(|e| e.to_string())
             }
             SurfaceSource::File(_) | SurfaceSource::Given => {
-                persson::psd::radial(&self.surface, Window::None)
-                    .map(|(t, _)| (t, "radial_average"))
+                let (pre, detrended) = match self.preprocessing {
+                    Some(p) => (p, true),
+                    None => (Preprocessing::default_for(true), false),
+                };
+                persson::psd::map_psd(&self.surface, &pre, detrended)
+                    .map(|(t, r)| (t, "radial_average", Some(r)))
                     .map_err(|e| e.to_string())
             }
         }
@@ -290,7 +317,7 @@ impl Problem {
         &self,
         mean_pressure: f64,
     ) -> std::result::Result<PerssonEstimate, String> {
-        let (psd, kind) = self.persson_psd()?;
+        let (psd, kind, map) = self.persson_psd_report()?;
         let sigma0 = match self.control {
             Control::Load(f) => f / (self.surface.length_x() * self.surface.length_y()),
             Control::Approach(_) => mean_pressure,
@@ -303,6 +330,7 @@ impl Problem {
             contact_area_fraction: p.contact_area_fraction,
             nominal_pressure: sigma0,
             psd: kind,
+            map,
         })
     }
 }

@@ -44,6 +44,7 @@ impl Problem {
             eprintln!("warning: {w}");
         }
         problem.source = source;
+        problem.preprocessing = surface_cfg.preprocessing()?;
         problem.layer = layer;
         problem.seed = seed;
         problem.document = cfg.document.clone();

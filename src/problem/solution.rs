@@ -18,7 +18,7 @@ use crate::io::{npy, StagedOutput};
 use crate::material::Material;
 use crate::plot;
 use crate::solver::{ContactSolution, SolveInfo, WarmStart};
-use crate::surface::Window;
+use crate::surface::{Preprocessing, Window};
 
 use super::persson::PerssonEstimate;
 use super::{MeshReport, Problem};
@@ -45,6 +45,7 @@ struct Record {
     xi: Option<f64>,
     direction_rad: f64,
     seed: Option<u64>,
+    preprocessing: Option<Preprocessing>,
     formulation: Formulation,
     material: Material,
     document: toml::Table,
@@ -91,9 +92,12 @@ impl Solution {
         timings: Timings,
         unknowns: usize,
         mesh: Option<MeshReport>,
-        warnings: Vec<String>,
+        mut warnings: Vec<String>,
     ) -> Self {
         let persson = problem.persson_estimate(stats.mean_pressure);
+        if let Ok(PerssonEstimate { map: Some(m), .. }) = &persson {
+            warnings.extend(m.warning.clone());
+        }
         Self {
             fields,
             info,
@@ -116,6 +120,7 @@ impl Solution {
                 xi: problem.xi(),
                 direction_rad: problem.direction_rad,
                 seed: problem.seed,
+                preprocessing: problem.preprocessing,
                 formulation: problem.formulation,
                 material: problem.material.clone(),
                 document: problem.document.clone(),
@@ -235,9 +240,14 @@ impl Solution {
             Ok(p) => json!({
                 "nominal_pressure": p.nominal_pressure,
                 "psd": p.psd,
+                "map_psd": p.map,
                 "theory": "Persson, J. Chem. Phys. 115, 3840 (2001); physics.md section 10",
             }),
             Err(why) => json!({ "not_evaluated": why }),
+        };
+        let preprocessing = match &r.preprocessing {
+            Some(p) => json!(p),
+            None => json!({ "detrend": "none", "window": "none", "taken_as_is": true }),
         };
         let mut doc = json!({
             "friction_coefficient": self.friction_coefficient,
@@ -287,6 +297,7 @@ impl Solution {
             "persson_contact_area_fraction": self.persson.as_ref().ok().map(|p| p.contact_area_fraction),
             "persson": persson,
         });
+        doc["surface_preprocessing"] = preprocessing;
         // The cell side along y beside `cell_size` (along x): rectangular
         // cells (physics.md section 11).
         doc["cell_size_y"] = json!(r.cell_size_y);

@@ -4,7 +4,10 @@
 use std::path::{Path, PathBuf};
 
 use super::generate::{Anisotropy, GenerateParams, Normalisation, UpperCutoff};
-use super::{HeightMap, MissingData, ReadOptions, SurfaceError, SurfaceFormat, SynthParams};
+use super::{
+    parse_detrend, parse_window, HeightMap, MissingData, Preprocessing, ReadOptions, SurfaceError,
+    SurfaceFormat, SynthParams,
+};
 use crate::config::{GenerateConfig, SphereConfig, SurfaceConfig};
 
 impl SphereConfig {
@@ -170,11 +173,54 @@ impl SurfaceConfig {
             .transpose()
     }
 
+    /// How `file` is prepared ([`Preprocessing`], physics.md section 11):
+    /// the `detrend` and `window` keys over the defaults of a scan (or of
+    /// a periodic map with `periodic = true`). `None` for a generated
+    /// surface or a sphere, which are taken as they are; the three keys
+    /// are refused there.
+    pub fn preprocessing(&self) -> Result<Option<Preprocessing>, SurfaceError> {
+        if self.file.is_none() {
+            let given: Vec<&str> = [
+                (self.detrend.is_some(), "detrend"),
+                (self.window.is_some(), "window"),
+                (self.periodic.is_some(), "periodic"),
+            ]
+            .into_iter()
+            .filter_map(|(g, k)| g.then_some(k))
+            .collect();
+            if !given.is_empty() {
+                return Err(SurfaceError::Invalid(format!(
+                    "[surface] {} apply to a surface `file`; generated surfaces and spheres are taken as they are",
+                    given.join(", ")
+                )));
+            }
+            return Ok(None);
+        }
+        let bad = |key: &str, e: String| SurfaceError::Invalid(format!("[surface] {key}: {e}"));
+        let detrend = self
+            .detrend
+            .as_deref()
+            .map(|d| parse_detrend(d).map_err(|e| bad("detrend", e)))
+            .transpose()?;
+        let window = self
+            .window
+            .as_deref()
+            .map(|w| parse_window(w).map_err(|e| bad("window", e)))
+            .transpose()?;
+        Ok(Some(Preprocessing::resolve(
+            self.periodic.unwrap_or(false),
+            detrend,
+            window,
+        )))
+    }
+
     /// The height map: `file` (relative to `base_dir`; any format of
-    /// [`super::read_topography`], `length` required for `.npy`/text),
+    /// [`super::read_topography`], `length` required for `.npy`/text;
+    /// prepared by [`SurfaceConfig::preprocessing`], see [`super::prepare`]),
     /// generated from `[surface.generate]` (self-affine, or following the
     /// tabulated `psd`), or the `[surface.sphere]` paraboloid.
     pub fn load(&self, base_dir: &Path) -> Result<HeightMap, SurfaceError> {
+        let pre = self.preprocessing()?;
         if let Some(params) = self.generate_params()? {
             return super::generate(&params);
         }
@@ -209,6 +255,8 @@ impl SurfaceConfig {
                 MissingData::Error
             },
         };
-        super::read_topography(&path, &opts)?.to_height_map(&path.display().to_string())
+        let pre = pre.unwrap_or(Preprocessing::default_for(false));
+        let topo = super::read_topography(&path, &opts)?;
+        super::prepare(&topo, &pre, &path.display().to_string())
     }
 }

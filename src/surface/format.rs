@@ -61,12 +61,6 @@ impl SurfaceFormat {
     pub fn has_size(self) -> bool {
         matches!(self, Self::X3p | Self::Gwy)
     }
-
-    /// Whether files of this format come from instruments (non-periodic):
-    /// their analysis defaults to plane detrending and a Hann window.
-    pub fn is_measured(self) -> bool {
-        self.has_size()
-    }
 }
 
 /// How to read a surface file.

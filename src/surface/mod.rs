@@ -14,6 +14,7 @@ mod gwy;
 mod height_fft;
 mod io;
 mod measured;
+mod preprocess;
 mod psd;
 mod psd_table;
 mod stitch;
@@ -38,6 +39,10 @@ pub use io::{
 pub use measured::{
     analyse, detrend, line_psd, psd_topography, trusted_band, Analysis, Axis, Detrend, LinePsd,
     MeasuredStats,
+};
+pub use preprocess::{
+    parse_detrend, parse_window, prepare, rms_slope_real, slope_warning, Preprocessing,
+    SLOPE_TOLERANCE,
 };
 pub use psd::{
     fit_hurst, psd_2d, psd_grid, radial_average, stats, stats_with_window, window_weights,

@@ -5,7 +5,8 @@
 //! the data are, `Record4` the name of the checksum file), the binary point
 //! data (little endian, x index fastest: point `(i, j)` at `i + nx j`), an
 //! optional valid-points mask (one bit per point, least significant bit
-//! first, 1 = valid) and `md5checksum.hex`, the MD5 of `main.xml`.
+//! first, 1 = valid) and `md5checksum.hex`, the MD5 of `main.xml` (written
+//! so; read against whichever member it names, see `verify_checksum_file`).
 //!
 //! Supported, as the standard allows for a surface (`FeatureType` `SUR`):
 //! incremental x and y axes (`AxisType` `I`, `Increment` \[m\]), an absolute
@@ -241,6 +242,58 @@ fn check_md5(
     Ok(())
 }
 
+/// Verify the checksum file `sum_file` (text `text`, `md5sum` format:
+/// `<hex> *<member>` or `<hex>  <member>`, or a bare `<hex>`) against the
+/// member it names: `main.xml` per ISO 25178-72 (also when no member is
+/// named), or another member of the archive (SurfaceTopography names
+/// `bindata/data.bin`). A checksum that does not match its member, or that
+/// names a member the archive lacks, is an error naming both.
+fn verify_checksum_file<R: Read + std::io::Seek>(
+    zip: &mut zip::ZipArchive<R>,
+    sum_file: &str,
+    text: &[u8],
+    xml_bytes: &[u8],
+    name: &str,
+) -> Result<(), SurfaceError> {
+    let text = String::from_utf8_lossy(text);
+    let line = text
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty())
+        .unwrap_or("");
+    let (expected, member) = match line.split_once(char::is_whitespace) {
+        Some((hex, rest)) => (hex, rest.trim().trim_start_matches('*').trim()),
+        None => (line, ""),
+    };
+    let expected = expected.to_ascii_lowercase();
+    if expected.len() != 32 || !expected.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return Ok(());
+    }
+    let member = if member.is_empty() {
+        "main.xml"
+    } else {
+        member
+    };
+    let got = if member == "main.xml" {
+        md5_hex(xml_bytes)
+    } else {
+        if zip.index_for_name(member).is_none() {
+            return Err(fail(
+                name,
+                format!("{sum_file} holds the checksum of '{member}', which the archive does not have: the file is corrupted"),
+            ));
+        }
+        md5_hex(&read_entry(zip, member, name)?)
+    };
+    if expected != got {
+        return Err(fail(
+            name,
+            format!("MD5 checksum of {member} is {got}, {sum_file} says {expected}: the file is corrupted"),
+        ));
+    }
+    Ok(())
+}
+
 /// Read an `.x3p` file.
 pub fn read_x3p(path: &Path) -> Result<Topography, SurfaceError> {
     let bytes = std::fs::read(path).map_err(|source| SurfaceError::Io {
@@ -260,23 +313,11 @@ pub fn decode_x3p(bytes: &[u8], name: &str) -> Result<Topography, SurfaceError> 
     let leaves = xml_leaves(xml).map_err(|e| fail(name, e))?;
     let doc = Doc::new(name, &leaves);
 
-    // main.xml against md5checksum.hex (Record4), when both are there.
+    // md5checksum.hex (Record4) against the member it names.
     if let Some(sum_file) = doc.get("Record4/ChecksumFile") {
         if zip.index_for_name(sum_file).is_some() {
             let text = read_entry(&mut zip, sum_file, name)?;
-            let text = String::from_utf8_lossy(&text);
-            let expected = text
-                .split_whitespace()
-                .next()
-                .unwrap_or("")
-                .to_ascii_lowercase();
-            let got = md5_hex(&xml_bytes);
-            if expected.len() == 32 && expected != got {
-                return Err(fail(
-                    name,
-                    format!("MD5 checksum of main.xml is {got}, {sum_file} says {expected}: the file is corrupted"),
-                ));
-            }
+            verify_checksum_file(&mut zip, sum_file, &text, &xml_bytes, name)?;
         }
     }
 

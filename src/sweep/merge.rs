@@ -25,7 +25,6 @@ use crate::io::StagedOutput;
 use crate::persson::{self, Persson, PerssonParams};
 use crate::plot::{xy_chart, Series, XyChart};
 use crate::problem::persson::{theory_inputs, TheoryInputs};
-use crate::surface::Window;
 
 /// One row of `sweep.csv`.
 #[derive(Debug, Clone, PartialEq)]
@@ -218,7 +217,7 @@ fn theory_for(dir: &Path) -> std::result::Result<TheoryInputs, String> {
         base_dir,
         document,
     };
-    theory_inputs(&cfg, None, Window::None).map_err(|e| e.to_string())
+    theory_inputs(&cfg, None, None).map_err(|e| e.to_string())
 }
 
 /// The theory's curves per load label: `(x, mu, A/A0, A/A(0))` at 100

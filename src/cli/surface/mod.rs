@@ -81,22 +81,11 @@ fn parse_format(s: &str) -> std::result::Result<SurfaceFormat, String> {
 }
 
 pub(super) fn parse_detrend(s: &str) -> std::result::Result<Detrend, String> {
-    match s {
-        "none" => Ok(Detrend::None),
-        "mean" => Ok(Detrend::Mean),
-        "plane" => Ok(Detrend::Plane),
-        "quadratic" => Ok(Detrend::Quadratic),
-        _ => Err(format!("'{s}': use none, mean, plane or quadratic")),
-    }
+    surface::parse_detrend(s)
 }
 
 pub(super) fn parse_window(s: &str) -> std::result::Result<Window, String> {
-    match s {
-        "none" => Ok(Window::None),
-        "hann" => Ok(Window::Hann),
-        "blackman-harris" => Ok(Window::BlackmanHarris),
-        _ => Err(format!("'{s}': use none, hann or blackman-harris")),
-    }
+    surface::parse_window(s)
 }
 
 pub(super) fn parse_pair(s: &str) -> std::result::Result<(f64, f64), String> {

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use crate::error::Result;
 use crate::io::StagedOutput;
 use crate::plot::Series;
-use crate::surface::{self, Detrend, LinePsd, RadialPsd, Window};
+use crate::surface::{self, Detrend, LinePsd, Preprocessing, RadialPsd, Window};
 
 use super::{
     filled_note, json_bytes, log_plot, pairs, parse_detrend, parse_pair, parse_window, psd_plot,
@@ -19,13 +19,17 @@ pub struct StatsArgs {
     #[command(flatten)]
     pub input: InputArgs,
     /// Polynomial to remove first: none, mean, plane, quadratic (default:
-    /// plane for .x3p/.gwy, none for .npy/text).
+    /// plane, whatever the format; none with --periodic).
     #[arg(long, value_parser = parse_detrend)]
     pub detrend: Option<Detrend>,
-    /// Window: none, hann, blackman-harris (default: hann for .x3p/.gwy,
-    /// none for .npy/text, which are taken as periodic).
+    /// Window: none, hann, blackman-harris (default: hann, whatever the
+    /// format; none with --periodic).
     #[arg(long, value_parser = parse_window, conflicts_with = "hann")]
     pub window: Option<Window>,
+    /// The map is one period of a periodic surface (a generated map): no
+    /// detrending and no window by default.
+    #[arg(long)]
+    pub periodic: bool,
     /// Same as --window hann.
     #[arg(long)]
     pub hann: bool,
@@ -43,19 +47,19 @@ pub struct StatsArgs {
 
 pub(super) fn run(args: StatsArgs) -> Result<()> {
     let (topo, format) = read_input(&args.file, &args.input)?;
-    let measured = format.is_measured();
-    let trend = args.detrend.unwrap_or(if measured {
-        Detrend::Plane
-    } else {
-        Detrend::None
-    });
-    let window = match (args.window, args.hann) {
-        (Some(w), _) => w,
-        (None, true) => Window::Hann,
-        (None, false) if measured => Window::Hann,
-        _ => Window::None,
-    };
-    let an = surface::analyse(&topo, trend, window, args.fit)?;
+    let window = args.window.or(args.hann.then_some(Window::Hann));
+    let pre = Preprocessing::resolve(args.periodic, args.detrend, window);
+    let an = surface::analyse(&topo, pre.detrend, pre.window, args.fit)?;
+    let warnings: Vec<String> = surface::slope_warning(
+        an.stats.rms_slope_psd,
+        an.stats.rms_slope_real,
+        "the radial PSD of this map",
+    )
+    .into_iter()
+    .collect();
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
     let fit = an.hurst;
     let json = serde_json::json!({
         "version": crate::version::VERSION,
@@ -65,7 +69,9 @@ pub(super) fn run(args: StatsArgs) -> Result<()> {
             "filled_points": topo.filled,
             "method": (topo.filled > 0).then_some("harmonic (Laplace) interpolation"),
         },
+        "preprocessing": pre,
         "stats": an.stats,
+        "warnings": warnings,
         "hurst_fit": fit,
         "conventions": {
             "radial_psd": "C(q) [m^4], <h^2> = sum C dqx dqy = 2 pi Int q C dq",

@@ -1,0 +1,131 @@
+//! One preprocessing rule for every measured map (physics.md section 11),
+//! whatever its file format or front end: a map that is not one period of
+//! a periodic surface has its least-squares plane removed before it is
+//! solved on and before any PSD is taken of it, and every PSD of it uses
+//! the Hann window. A tilt left in a scan is geometry the solver presses
+//! into the rubber and, in a PSD, an edge step that leaks as `C ~ q^-4`.
+//!
+//! [`Preprocessing`] holds the two choices, [`prepare`] turns a
+//! [`Topography`] into the [`HeightMap`] the solver uses (the one place
+//! where this happens for files, configs and arrays), and [`slope_warning`]
+//! is the check of any PSD estimate: its rms slope `sqrt(2 pi Int q^3 C dq)`
+//! against the real-space rms slope of the same detrended map.
+//! Generated and synthesised surfaces are periodic by construction and are
+//! not preprocessed.
+
+use serde::{Deserialize, Serialize};
+
+use super::{detrend, Detrend, HeightMap, SurfaceError, Topography, Window};
+
+/// Relative difference between the rms slope of a PSD and the real-space
+/// rms slope of its map above which the PSD is flagged (physics.md
+/// section 11: a sound estimate agrees within some 10-20 %).
+pub const SLOPE_TOLERANCE: f64 = 0.2;
+
+/// How a map is prepared: the polynomial removed before solving and before
+/// any PSD, and the window of its PSDs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Preprocessing {
+    /// Whether the map is one period of a periodic surface (else a scan,
+    /// whose PSDs are trusted only inside [`super::trusted_band`]).
+    pub periodic: bool,
+    pub detrend: Detrend,
+    pub window: Window,
+}
+
+impl Preprocessing {
+    /// The defaults: a map that is one period of a periodic surface is
+    /// taken as it is (no detrending, no window); any other map (a scan)
+    /// loses its mean plane and gets the Hann window.
+    pub fn default_for(periodic: bool) -> Self {
+        if periodic {
+            Self {
+                periodic,
+                detrend: Detrend::None,
+                window: Window::None,
+            }
+        } else {
+            Self {
+                periodic,
+                detrend: Detrend::Plane,
+                window: Window::Hann,
+            }
+        }
+    }
+
+    /// [`Preprocessing::default_for`] with the choices given replacing
+    /// the defaults.
+    pub fn resolve(periodic: bool, detrend: Option<Detrend>, window: Option<Window>) -> Self {
+        let d = Self::default_for(periodic);
+        Self {
+            periodic,
+            detrend: detrend.unwrap_or(d.detrend),
+            window: window.unwrap_or(d.window),
+        }
+    }
+}
+
+/// A detrending by its name: `none`, `mean`, `plane` or `quadratic`.
+pub fn parse_detrend(s: &str) -> Result<Detrend, String> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "none" => Ok(Detrend::None),
+        "mean" => Ok(Detrend::Mean),
+        "plane" => Ok(Detrend::Plane),
+        "quadratic" => Ok(Detrend::Quadratic),
+        _ => Err(format!("detrend '{s}': use none, mean, plane or quadratic")),
+    }
+}
+
+/// A window by its name: `none`, `hann` or `blackman-harris`
+/// (`blackman_harris`).
+pub fn parse_window(s: &str) -> Result<Window, String> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "none" => Ok(Window::None),
+        "hann" => Ok(Window::Hann),
+        "blackman-harris" | "blackman_harris" => Ok(Window::BlackmanHarris),
+        _ => Err(format!("window '{s}': use none, hann or blackman-harris")),
+    }
+}
+
+/// The height map the solver uses: `topo` with `pre.detrend` removed.
+/// Missing points must have been filled; cells must be square
+/// ([`Topography::to_height_map`]). `name` labels errors.
+pub fn prepare(
+    topo: &Topography,
+    pre: &Preprocessing,
+    name: &str,
+) -> Result<HeightMap, SurfaceError> {
+    detrend(topo, pre.detrend).to_height_map(name)
+}
+
+/// Real-space rms slope `sqrt(<(dh/dx)^2> + <(dh/dy)^2>)` of `nx x ny`
+/// heights on `dx x dy` pixels, by central differences over the interior
+/// points (the definition `surface stats` reports).
+pub fn rms_slope_real(nx: usize, ny: usize, dx: f64, dy: f64, heights: &[f64]) -> f64 {
+    let h = |i: usize, j: usize| heights[i * ny + j];
+    let (mut s2, mut cnt) = (0.0, 0usize);
+    for i in 1..nx.saturating_sub(1) {
+        for j in 1..ny.saturating_sub(1) {
+            let gx = (h(i + 1, j) - h(i - 1, j)) / (2.0 * dx);
+            let gy = (h(i, j + 1) - h(i, j - 1)) / (2.0 * dy);
+            s2 += gx * gx + gy * gy;
+            cnt += 1;
+        }
+    }
+    (s2 / cnt.max(1) as f64).sqrt()
+}
+
+/// The warning for a PSD whose rms slope `psd_slope` differs from the
+/// real-space rms slope `real_slope` of the same map by more than
+/// [`SLOPE_TOLERANCE`] (relative to the real-space value); `what` names
+/// the PSD. `None` when they agree.
+pub fn slope_warning(psd_slope: f64, real_slope: f64, what: &str) -> Option<String> {
+    let diff = (psd_slope - real_slope).abs() / real_slope.abs().max(f64::MIN_POSITIVE);
+    (diff > SLOPE_TOLERANCE).then(|| {
+        format!(
+            "{what}: its rms slope sqrt(2 pi Int q^3 C dq) = {psd_slope:.4e} differs from the real-space rms slope {real_slope:.4e} of the same map by {:.0} % (more than {:.0} %): the PSD is not a sound estimate (a tilt or curvature left in the map, edge leakage, no window); detrend the map (plane or quadratic) and use a window (hann)",
+            100.0 * diff,
+            100.0 * SLOPE_TOLERANCE
+        )
+    })
+}
