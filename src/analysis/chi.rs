@@ -155,7 +155,9 @@ pub fn max_window_radius(nx: usize, ny: usize) -> f64 {
 }
 
 /// Smoothed `C_chi` of `contact` (`> 0.5` in contact) with window radius
-/// `radius` cells (flat part `2/3` of it), capped at [`max_window_radius`].
+/// `radius` cells (flat part `2/3` of it), capped at [`max_window_radius`],
+/// on square cells of side `cell_size` \[m\]; [`chi_spectrum_cells`] for
+/// rectangular ones.
 pub fn chi_spectrum(
     contact: &[f64],
     nx: usize,
@@ -163,7 +165,26 @@ pub fn chi_spectrum(
     cell_size: f64,
     radius: f64,
 ) -> ChiSpectrum {
-    let radius = radius.min(max_window_radius(nx, ny)).max(1.0);
+    chi_spectrum_cells(contact, nx, ny, (cell_size, cell_size), radius)
+}
+
+/// [`chi_spectrum`] on cells of sides `(a_x, a_y)` \[m\]: the window is
+/// round in physical space, its radius counted in cells of the mean side
+/// `c = sqrt(a_x a_y)` (`radius c / a_x` cells along x, `radius c / a_y`
+/// along y), and capped so that it fits the grid both ways.
+pub fn chi_spectrum_cells(
+    contact: &[f64],
+    nx: usize,
+    ny: usize,
+    (ax, ay): (f64, f64),
+    radius: f64,
+) -> ChiSpectrum {
+    let c = (ax * ay).sqrt();
+    // Lag (dx, dy) in cells of side c.
+    let (sx, sy) = (ax / c, ay / c);
+    let cap = ((nx / 2) as f64 - 1.0) * sx;
+    let cap = cap.min(((ny / 2) as f64 - 1.0) * sy);
+    let radius = radius.min(cap).max(1.0);
     let flat = radius / 1.5;
     let (px, py) = (2 * nx, 2 * ny);
     let mut buf = vec![Complex64::default(); px * py];
@@ -179,9 +200,10 @@ pub fn chi_spectrum(
         .for_each(|v| *v = Complex64::new(v.norm_sqr(), 0.0));
     fft2(&mut buf, px, py, true);
     let inv = 1.0 / (px * py) as f64;
-    let (lx, ly) = (nx as f64 * cell_size, ny as f64 * cell_size);
-    let factor = cell_size.powi(4) / ((2.0 * PI).powi(2) * lx * ly);
-    let rmax = radius.ceil() as i64;
+    let (lx, ly) = (nx as f64 * ax, ny as f64 * ay);
+    let factor = (ax * ay).powi(2) / ((2.0 * PI).powi(2) * lx * ly);
+    let (rmax_x, rmax_y) = ((radius / sx).ceil() as i64, (radius / sy).ceil() as i64);
+    let dist = |dx: i64, dy: i64| (dx as f64 * sx).hypot(dy as f64 * sy);
     let lag = |dx: i64, dy: i64| {
         // R counts overlapping cells: an integer up to round-off.
         (buf[dx.rem_euclid(px as i64) as usize * py + dy.rem_euclid(py as i64) as usize].re * inv)
@@ -189,9 +211,9 @@ pub fn chi_spectrum(
     };
     // Background: mean of R over the taper ring.
     let (mut ring_sum, mut ring_count) = (0.0, 0usize);
-    for dx in -rmax..=rmax {
-        for dy in -rmax..=rmax {
-            let d = ((dx * dx + dy * dy) as f64).sqrt();
+    for dx in -rmax_x..=rmax_x {
+        for dy in -rmax_y..=rmax_y {
+            let d = dist(dx, dy);
             if d > flat && d < radius {
                 ring_sum += lag(dx, dy);
                 ring_count += 1;
@@ -205,9 +227,9 @@ pub fn chi_spectrum(
     };
     let mut terms = Vec::new();
     let mut grid = vec![0.0; nx * ny];
-    for dx in -rmax..=rmax {
-        for dy in -rmax..=rmax {
-            let w = window(((dx * dx + dy * dy) as f64).sqrt(), flat, radius);
+    for dx in -rmax_x..=rmax_x {
+        for dy in -rmax_y..=rmax_y {
+            let w = window(dist(dx, dy), flat, radius);
             if w == 0.0 {
                 continue;
             }
@@ -216,7 +238,7 @@ pub fn chi_spectrum(
                 continue;
             }
             let v = w * r * factor;
-            terms.push((dx as f64 * cell_size, dy as f64 * cell_size, v));
+            terms.push((dx as f64 * ax, dy as f64 * ay, v));
             grid[dx.rem_euclid(nx as i64) as usize * ny + dy.rem_euclid(ny as i64) as usize] += v;
         }
     }
