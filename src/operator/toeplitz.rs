@@ -34,10 +34,12 @@ pub struct ToeplitzFft {
     use_chan: bool,
 }
 
-/// Contact-set fraction of the grid from which the preconditioner is the
+/// Contact-set fraction of the grid above which the preconditioner is the
 /// inverse of T. Chan's optimal circulant instead of the restricted inverse
 /// of the padded circulant (measured in BENCHMARKS.md, "Near-full contact":
-/// 140 against 281 matvecs at 82 % contact, 90 against 82 at 5 %).
+/// 140 against 281 matvecs at 82 % contact, 90 against 82 at 5 %). Strictly
+/// above: the bearing-area start, capped at half the grid, keeps the padded
+/// one.
 pub const CHAN_FRACTION: f64 = 0.5;
 
 /// First row (an `nx x ny` array, C order) of T. Chan's optimal circulant of
@@ -120,7 +122,7 @@ impl ToeplitzFft {
     /// Also provide an approximate inverse as the operator's preconditioner
     /// ([`GridOperator::precondition`]): the inverse of the circulant of the
     /// padded transform, of which `L` is the leading block, restricted to the
-    /// grid (`K = R C^-1 R^T`); and, for contact sets covering at least
+    /// grid (`K = R C^-1 R^T`); and, for contact sets covering more than
     /// [`CHAN_FRACTION`] of the grid, the inverse of T. Chan's optimal
     /// circulant ([`chan_kernel`], transformed when first needed). Modes
     /// where a circulant's multiplier is below `1e-6` of its largest are
@@ -150,7 +152,7 @@ impl GridOperator for ToeplitzFft {
     }
 
     fn set_contact_fraction(&mut self, fraction: f64) {
-        self.use_chan = fraction >= CHAN_FRACTION && self.engine.has_inverse();
+        self.use_chan = fraction > CHAN_FRACTION && self.engine.has_inverse();
         if self.use_chan && self.chan.is_none() {
             let kernel = self.chan_kernel.take().expect("kept by new");
             let (nx, ny) = self.engine.shape();
