@@ -79,6 +79,10 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
         self.op.has_preconditioner()
     }
 
+    fn set_contact_fraction(&mut self, fraction: f64) {
+        self.op.set_contact_fraction(fraction);
+    }
+
     fn precondition(&mut self, x: &Vec<f64>, y: &mut Vec<f64>) {
         self.op.precondition(x, y);
     }

@@ -57,6 +57,11 @@ pub trait Backend {
     fn has_preconditioner(&self) -> bool {
         false
     }
+    /// The fraction of the grid's cells in the contact set of the next inner
+    /// solve, for a backend with more than one approximate inverse to pick
+    /// from ([`crate::operator::GridOperator::set_contact_fraction`];
+    /// default: nothing to pick).
+    fn set_contact_fraction(&mut self, _fraction: f64) {}
     /// `y = K x` on grid vectors, `K` an approximate inverse of `L` (the
     /// stiffness); only called when [`Backend::has_preconditioner`].
     fn precondition(&mut self, x: &Self::Vector, y: &mut Self::Vector) {

@@ -22,7 +22,7 @@ pub(crate) use periodic::{column_weight, multiplier_half_spectrum};
 pub use periodic::{
     periodic_multiplier, periodic_multiplier_cells, PeriodicResponse, SpectralPeriodic,
 };
-pub use toeplitz::{fast_size, ToeplitzFft};
+pub use toeplitz::{chan_kernel, fast_size, ToeplitzFft, CHAN_FRACTION};
 
 /// A square linear map on grid vectors (C order, axis 0 = x).
 pub trait GridOperator: Send + Sync {
@@ -44,6 +44,10 @@ pub trait GridOperator: Send + Sync {
     fn has_preconditioner(&self) -> bool {
         false
     }
+    /// The fraction of the grid's cells in the contact set that the next
+    /// preconditioner applications serve: an operator with more than one
+    /// approximate inverse picks the one for it (default: nothing to pick).
+    fn set_contact_fraction(&mut self, _fraction: f64) {}
     /// `y = K x` with `K` an approximate inverse of `L` on the whole grid
     /// (the identity unless [`GridOperator::has_preconditioner`]).
     fn precondition(&mut self, x: &[f64], y: &mut [f64]) {

@@ -317,6 +317,9 @@ pub(crate) fn solve_owned<B: Backend>(
         // Warm start: the previous pressure on the new set, the previous approach.
         backend.gather(&index, &p_full, &mut p.v);
         p.s = delta / delta_scale;
+        // The preconditioner fitting the set's size (near-full contact: the
+        // optimal circulant of the whole grid).
+        backend.set_contact_fraction(m as f64 / n as f64);
         let mut op = Bordered::new(
             backend,
             &index,
