@@ -16,6 +16,7 @@ mod io;
 mod measured;
 mod psd;
 mod psd_table;
+mod resample;
 mod stitch;
 mod synth;
 mod topography;
@@ -44,6 +45,9 @@ pub use psd::{
     HurstFit, Psd2d, RadialPsd, SurfaceStats, Window,
 };
 pub use psd_table::TabulatedPsd;
+pub use resample::{
+    resample, resample_grid, ResampleGrid, ResampleMethod, ResampleTarget, MAX_RESAMPLE_CELLS,
+};
 pub use stitch::{stitch, ScanPsd, StitchedPsd};
 pub use synth::{generate_from_table, SynthParams};
 pub use topography::{MissingData, Topography};
