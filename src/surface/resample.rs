@@ -6,7 +6,7 @@
 //! y for every row, then one along x for every column), which is exact for
 //! tensor-product interpolants:
 //!
-//! - [`ResampleMethod::Spline`]: bicubic spline interpolation, a
+//! - Spline ([`ResampleMethod::Spline`]): bicubic spline interpolation, a
 //!   not-a-knot cubic spline along each axis (third derivative continuous
 //!   at the second and the second-to-last sample), whose error on a smooth
 //!   surface is `O(h^4)` up to the edges (a natural spline's is `O(h^2)`
@@ -14,7 +14,7 @@
 //!   `floor(L / d)` pixels, centred on the old extent (the strip left over,
 //!   less than one new pixel, is shared by both edges); a point up to half
 //!   an old pixel outside the old centres is extrapolated by the end piece.
-//! - [`ResampleMethod::Fourier`]: band-limited (trigonometric)
+//! - Fourier ([`ResampleMethod::Fourier`]): band-limited (trigonometric)
 //!   interpolation of a periodic map: the spectrum is zero-padded or
 //!   truncated and shifted by the offset of the new pixel centres. The
 //!   period is kept, so the new pixel is `L / round(L / d)`; an even
