@@ -1,11 +1,12 @@
 // Influence-coefficient table of the steady-sliding Green's function in f32
 // (paper Eq. 4 and Eq. 6; physics.md section 3), one invocation per cell
-// offset X = (di, dj), in units of the cell side (L(a X) = a L(X)):
+// offset X = (di, dj a_y / a_x), in units of the cell side along x
+// (L(a X) = a L(X); rectangular cells of aspect a_y / a_x = P.f.w):
 //   T(X) = g L(X) + sum_k w_k int_0^inf ds (1/l_k) exp(-s/l_k) L(X + s e_v),
 // evaluated by `unit_coefficient` (shared/green.wgsl) with l_k = v tau_k / a.
 // The host multiplies by (1 - nu^2)/pi * a * (total compliance). CPU twin:
 // SlidingKernel::table.
-// P.i: (nx, ny, active terms, 0); P.f: (e_x, e_y, g, 0).
+// P.i: (nx, ny, active terms, 0); P.f: (e_x, e_y, g, a_y / a_x).
 // terms (binding 1, shared/green.wgsl)[k] = (w_k, 1 / l_k).
 
 @group(0) @binding(2) var<storage, read_write> table: array<f32>;
@@ -21,6 +22,7 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     if (t >= (2u * nx - 1u) * wy) {
         return;
     }
-    let x = vec2<f32>(f32(i32(t / wy) - i32(nx) + 1), f32(i32(t % wy) - i32(ny) + 1));
+    cell_aspect = P.f.w;
+    let x = vec2<f32>(f32(i32(t / wy) - i32(nx) + 1), f32(i32(t % wy) - i32(ny) + 1) * cell_aspect);
     table[t] = unit_coefficient(x, P.f.xy, P.f.z, P.i.z, 1.0);
 }

@@ -52,6 +52,7 @@ fn analyse(u: &[f64], n: usize, scales: Option<f64>, params: &AnalysisParams) ->
             nx: n,
             ny: n,
             cell_size: L / N as f64,
+            cell_size_y: L / N as f64,
             displacement: u,
             contact: &zeros,
             pressure: &zeros,

@@ -89,6 +89,7 @@ fn analyse(chi: &[f64], n: usize, params: &AnalysisParams) -> AnalysisReport {
             nx: n,
             ny: n,
             cell_size: 1e-5,
+            cell_size_y: 1e-5,
             displacement: &zeros,
             contact: chi,
             pressure: &zeros,

@@ -682,3 +682,81 @@ fn oversized_grid_is_refused_clearly() {
     let e = GpuBackend::new(ctx, n + 1, n + 1, &table, GpuOptions::default());
     assert!(matches!(e, Err(gpu::GpuError::TooLarge { .. })));
 }
+
+/// Rectangular cells (physics.md section 11): the device table of
+/// `shaders/coefficients.wgsl` (source cell `1 x a_y / a_x` in units of
+/// `a_x`) against the host's row-marched `table_rect`, for cells twice as
+/// long along x and 2.5 times as long along y, along +x and obliquely.
+/// Bound 1e-5 relative over the entries above 1e-6 of the largest, as for
+/// square cells (f32 on the device).
+#[test]
+fn coefficient_table_on_rectangles_matches_cpu() {
+    use viscoslide::backend::gpu::{coefficients, engine::Engine};
+    let Some(ctx) = gpu::context_for_tests() else {
+        return;
+    };
+    let m = common::paper_material();
+    let mut engine = Engine::new(ctx);
+    for (ax, ay) in [(2e-4, 1e-4), (1e-4, 2.5e-4)] {
+        for (lambda, direction) in [(0.3, 0.0), (3.0, 0.0), (30.0, 0.0), (3.0, 0.5)] {
+            let params = KernelParams {
+                speed: lambda * ax / 0.01,
+                direction_rad: direction,
+                layer: None,
+            };
+            let (nx, ny) = (24, 20);
+            let cpu = SlidingKernel::new(&m, params)
+                .unwrap()
+                .table_rect(nx, ny, ax, ay)
+                .values;
+            let gpu =
+                coefficients::coefficient_table_rect(&mut engine, &m, &params, nx, ny, (ax, ay))
+                    .unwrap();
+            let max = cpu.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+            let mut worst = 0.0f64;
+            for (g, c) in gpu.iter().zip(&cpu) {
+                if c.abs() > 1e-6 * max {
+                    worst = worst.max((g - c).abs() / c.abs());
+                }
+            }
+            println!("rectangle {ax:e} x {ay:e}, v tau / a_x = {lambda}, direction {direction}: max rel {worst:.2e}");
+            assert!(
+                worst <= 1e-5,
+                "{ax:e} x {ay:e} {lambda} {direction}: {worst:.3e}"
+            );
+        }
+    }
+}
+
+/// A whole solve on 2:1 cells through the problem API (device table,
+/// cascade, f32 iteration) against the CPU solve: area within 0.005,
+/// friction within 1 %, pressure within 1e-3 relative L2, the bounds of
+/// the square-cell solves above.
+#[test]
+fn rectangular_cell_solve_matches_cpu() {
+    use viscoslide::problem::{Executor, Problem};
+    use viscoslide::solver::{Control, Silent};
+    use viscoslide::surface::HeightMap;
+    let Some(ctx) = gpu::context_for_tests() else {
+        return;
+    };
+    let m = common::paper_material();
+    let (nx, ny, length) = (64, 128, 0.01);
+    // The square-grid helper sampled on 128^2, every other row: cells of
+    // 2 a x a over the same L x L surface.
+    let z128 = common::trig_surface(128, length, 16, 0.8, 0.02, 11);
+    let z: Vec<f64> = (0..nx)
+        .flat_map(|i| z128[2 * i * ny..(2 * i + 1) * ny].to_vec())
+        .collect();
+    let map = HeightMap::with_cells(nx, ny, length / nx as f64, length / ny as f64, z).unwrap();
+    let problem = Problem::new(m, map, Control::Load(3e3 * length * length), 1.17e-2);
+    let c = problem.solve(&Executor::Cpu, &mut Silent).unwrap();
+    let g = problem.solve(&Executor::Gpu(ctx), &mut Silent).unwrap();
+    let e = rel_l2(&g.fields.pressure, &c.fields.pressure);
+    let (ag, ac) = (g.stats.contact_area_fraction, c.stats.contact_area_fraction);
+    let (mg, mc) = (g.friction_coefficient, c.friction_coefficient);
+    println!("2:1 cells {nx}x{ny}: area {ag:.5} vs {ac:.5}, mu {mg:.6e} vs {mc:.6e}, pressure rel L2 {e:.2e}");
+    assert!((ag - ac).abs() <= 0.005, "area {ag} vs {ac}");
+    assert!((mg - mc).abs() <= 0.01 * mc.abs(), "friction {mg} vs {mc}");
+    assert!(e <= 1e-3, "pressure relative L2 {e:.3e}");
+}

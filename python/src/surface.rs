@@ -96,14 +96,26 @@ impl NativeSurface {
         Self::from_config(section, Path::new("."))
     }
 
-    /// A surface from heights \[m\] (C-contiguous float64, axis 0 = x) on
-    /// square cells, `length` \[m\] the side along x.
+    /// A surface from heights \[m\] (C-contiguous float64, axis 0 = x),
+    /// `length` \[m\] the side along x and `length_y` the side along y
+    /// (default: square cells; otherwise cells `length / nx x length_y / ny`).
     #[staticmethod]
-    fn from_array(heights: PyReadonlyArray2<'_, f64>, length: f64) -> PyResult<Self> {
+    #[pyo3(signature = (heights, length, length_y=None))]
+    fn from_array(
+        heights: PyReadonlyArray2<'_, f64>,
+        length: f64,
+        length_y: Option<f64>,
+    ) -> PyResult<Self> {
         let view = heights.as_array();
         let (nx, ny) = view.dim();
         let values = view.iter().copied().collect();
-        let map = HeightMap::new(nx, ny, length, values).map_err(value_error)?;
+        let map = match length_y {
+            None => HeightMap::new(nx, ny, length, values),
+            Some(ly) => {
+                HeightMap::with_cells(nx, ny, length / nx as f64, ly / ny.max(1) as f64, values)
+            }
+        }
+        .map_err(value_error)?;
         Ok(Self {
             map,
             source: SurfaceSource::Given,
@@ -128,10 +140,16 @@ impl NativeSurface {
         (self.map.nx, self.map.ny)
     }
 
-    /// Side of a square cell \[m\].
+    /// Side of a cell along x \[m\].
     #[getter]
     fn cell_size(&self) -> f64 {
         self.map.cell_size
+    }
+
+    /// Sides of a cell `(dx, dy)` \[m\].
+    #[getter]
+    fn cell_sizes(&self) -> (f64, f64) {
+        self.map.cell()
     }
 
     /// `(Lx, Ly)` \[m\].

@@ -57,9 +57,9 @@ def test_one_nan_is_located():
         vs.Surface.from_array(h, 0.01)
 
 
-def test_non_square_cells_are_refused():
-    with pytest.raises(ValueError, match="square"):
-        vs.Surface.from_array(np.zeros((8, 4)), 0.01, length_y=0.01)
+def test_non_square_cells_are_kept():
+    s = vs.Surface.from_array(np.zeros((8, 4)), 0.01, length_y=0.01)
+    assert s.cell_sizes == (0.01 / 8, 0.01 / 4)
 
 
 @pytest.mark.parametrize(

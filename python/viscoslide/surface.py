@@ -1,4 +1,4 @@
-"""Surfaces: height maps on grids of square cells (axis 0 = x = the
+"""Surfaces: height maps on grids of cells (axis 0 = x = the
 sliding direction), generated, read from a file in any format the engine
 reads, given as an array, or taken from any object with ``heights()`` and
 ``physical_sizes`` (a SurfaceTopography ``Topography``)."""
@@ -17,7 +17,8 @@ from . import _native
 
 
 class Surface:
-    """A rigid rough surface: heights [m] at cell centres on square cells.
+    """A rigid rough surface: heights [m] at cell centres on a grid of
+    ``dx x dy`` cells (rectangular where the pixels are).
 
     Build one with :meth:`self_affine`, :meth:`generate`, :meth:`from_file`,
     :meth:`from_array` or :meth:`from_topography`; anywhere a surface is
@@ -143,20 +144,21 @@ class Surface:
         periodic: bool = False,
     ) -> "Surface":
         """A surface from a 2-D array of heights [m] (axis 0 = x), any real
-        dtype and memory order; ``length`` [m] is the side along x. Cells are
-        square: a ``length_y`` must equal ``length * ny / nx``."""
+        dtype and memory order; ``length`` [m] is the side along x and
+        ``length_y`` the side along y (default: square cells). Cells are
+        ``length / nx`` by ``length_y / ny``: rectangular pixels are solved
+        on their own grid (Love's rectangle, physics.md section 11)."""
         h = _checks.real_array("heights", heights, 2)
         lx = _checks.positive("length", length, "m")
         nx, ny = h.shape
         if nx < 2 or ny < 2:
             raise ValueError(f"heights needs at least 2 x 2 cells, got shape {h.shape}")
+        ly = None
         if length_y is not None:
             ly = _checks.positive("length_y", length_y, "m")
-            if not math.isclose(lx / nx, ly / ny, rel_tol=1e-9):
-                raise ValueError(
-                    f"cells must be square: {lx} m / {nx} cells along x is not {ly} m / {ny} cells along y"
-                )
-        return cls(_native.Surface.from_array(h, lx), periodic=periodic)
+            if math.isclose(lx / nx, ly / ny, rel_tol=1e-9):
+                ly = None
+        return cls(_native.Surface.from_array(h, lx, ly), periodic=periodic)
 
     @classmethod
     def from_topography(cls, topography: Any) -> "Surface":
@@ -213,8 +215,13 @@ class Surface:
 
     @property
     def cell_size(self) -> float:
-        """Side of a square cell [m]."""
+        """Side of a cell along x [m] (see :attr:`cell_sizes`)."""
         return self._native.cell_size
+
+    @property
+    def cell_sizes(self) -> Tuple[float, float]:
+        """Sides of a cell ``(dx, dy)`` [m]; equal for square cells."""
+        return self._native.cell_sizes
 
     @property
     def physical_sizes(self) -> Tuple[float, float]:

@@ -15,8 +15,14 @@
 // panels at s = 0 reach below l_min / 8, the tail doubles until 20 l_max.
 // terms[k] = (w_k, 1 / l_k), w_k the compliance fraction of creep term k and
 // l_k = v tau_k in the unit length of the kernel.
+// Rectangular source cells (physics.md section 11): the unit length is the
+// side along x and the cell is 1 x `cell_aspect` (a_y / a_x); kernels that
+// leave it at 1 have square cells.
 
 @group(0) @binding(1) var<storage, read> terms: array<vec2<f32>>;
+
+// Side of the source cell along y in units of its side along x.
+var<private> cell_aspect: f32 = 1.0;
 
 // Inverse memory lengths (per source cell) above this act as relaxed.
 const RELAXED_INV: f32 = 1e7;
@@ -61,12 +67,13 @@ fn corner(x: f32, y: f32) -> f32 {
     return v;
 }
 
-// Love's closed form over the unit cell.
+// Love's closed form over the unit cell (1 x cell_aspect).
 fn love_near(x: f32, y: f32) -> f32 {
+    let hy = 0.5 * cell_aspect;
     let x1 = x + 0.5;
     let x2 = x - 0.5;
-    let y1 = y + 0.5;
-    let y2 = y - 0.5;
+    let y1 = y + hy;
+    let y2 = y - hy;
     return corner(x1, y1) - corner(x2, y1) - corner(x1, y2) + corner(x2, y2);
 }
 
@@ -76,11 +83,11 @@ fn love_gl8(x: f32, y: f32) -> f32 {
     for (var i = 0u; i < 8u; i = i + 1u) {
         let dx = x - 0.5 * gl_x[i];
         for (var j = 0u; j < 8u; j = j + 1u) {
-            let dy = y - 0.5 * gl_x[j];
+            let dy = y - 0.5 * cell_aspect * gl_x[j];
             s = s + gl_w[i] * gl_w[j] * inverseSqrt(dx * dx + dy * dy);
         }
     }
-    return 0.25 * s;
+    return 0.25 * cell_aspect * s;
 }
 
 fn love_gl6(x: f32, y: f32) -> f32 {
@@ -88,11 +95,11 @@ fn love_gl6(x: f32, y: f32) -> f32 {
     for (var i = 0u; i < 6u; i = i + 1u) {
         let dx = x - 0.5 * gl6_x[i];
         for (var j = 0u; j < 6u; j = j + 1u) {
-            let dy = y - 0.5 * gl6_x[j];
+            let dy = y - 0.5 * cell_aspect * gl6_x[j];
             s = s + gl6_w[i] * gl6_w[j] * inverseSqrt(dx * dx + dy * dy);
         }
     }
-    return 0.25 * s;
+    return 0.25 * cell_aspect * s;
 }
 
 fn love_gl4(x: f32, y: f32) -> f32 {
@@ -100,20 +107,20 @@ fn love_gl4(x: f32, y: f32) -> f32 {
     for (var i = 0u; i < 4u; i = i + 1u) {
         let dx = x - 0.5 * gl4_x[i];
         for (var j = 0u; j < 4u; j = j + 1u) {
-            let dy = y - 0.5 * gl4_x[j];
+            let dy = y - 0.5 * cell_aspect * gl4_x[j];
             s = s + gl4_w[i] * gl4_w[j] * inverseSqrt(dx * dx + dy * dy);
         }
     }
-    return 0.25 * s;
+    return 0.25 * cell_aspect * s;
 }
 
-// L(x, y) over the unit cell: closed form within distance 1 of the cell,
-// Gauss-Legendre of decreasing order beyond (error below 1e-8 relative:
-// the integrand's complex singularities lie at least the distance to the
-// cell away).
+// L(x, y) over the unit cell: closed form within one (longer) side of the
+// cell, Gauss-Legendre of decreasing order beyond (error below 1e-8
+// relative: the integrand's complex singularities lie at least the
+// distance to the cell away); distances in units of the longer side.
 fn love(x: f32, y: f32) -> f32 {
-    let q = max(abs(vec2<f32>(x, y)) - vec2<f32>(0.5, 0.5), vec2<f32>(0.0, 0.0));
-    let dist = length(q);
+    let q = max(abs(vec2<f32>(x, y)) - vec2<f32>(0.5, 0.5 * cell_aspect), vec2<f32>(0.0, 0.0));
+    let dist = length(q) / max(1.0, cell_aspect);
     var v = 0.0;
     if (dist < 1.0) {
         v = love_near(x, y);
@@ -129,11 +136,11 @@ fn love(x: f32, y: f32) -> f32 {
         for (var i = 0u; i < 2u; i = i + 1u) {
             for (var j = 0u; j < 2u; j = j + 1u) {
                 let px = x - select(-dx, dx, i == 1u);
-                let py = y - select(-dx, dx, j == 1u);
+                let py = y - cell_aspect * select(-dx, dx, j == 1u);
                 s = s + inverseSqrt(px * px + py * py);
             }
         }
-        v = 0.25 * s;
+        v = 0.25 * cell_aspect * s;
     }
     return v;
 }
@@ -228,8 +235,8 @@ fn unit_coefficient(x: vec2<f32>, e: vec2<f32>, instantaneous: f32, count: u32, 
         var cand: array<f32, 5>;
         cand[0] = select(-1.0, (-0.5 - x.x) / e.x, e.x != 0.0);
         cand[1] = select(-1.0, (0.5 - x.x) / e.x, e.x != 0.0);
-        cand[2] = select(-1.0, (-0.5 - x.y) / e.y, e.y != 0.0);
-        cand[3] = select(-1.0, (0.5 - x.y) / e.y, e.y != 0.0);
+        cand[2] = select(-1.0, (-0.5 * cell_aspect - x.y) / e.y, e.y != 0.0);
+        cand[3] = select(-1.0, (0.5 * cell_aspect - x.y) / e.y, e.y != 0.0);
         cand[4] = -dot(x, e);
         for (var k = 0u; k < 5u; k = k + 1u) {
             let s = cand[k];

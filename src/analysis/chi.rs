@@ -86,32 +86,33 @@ pub struct ChiSpectrum {
     pub background_cells: f64,
     /// The cosine sum's coefficients `v = w (R - R_b) a^4 / ((2 pi)^2 Lx Ly)`
     /// folded onto the half plane (`v(-r) = v(r)` and the cosine is even):
-    /// row `rx` in `0..=rmax` of `2 rmax + 1` columns `ry + rmax`, holding
+    /// row `rx` in `0..=rmax_x` of `2 rmax_y + 1` columns `ry + rmax_y`, holding
     /// `2 v` for `rx > 0` or `ry > 0`, `v` at `r = 0` and nothing for
     /// `rx = 0, ry < 0`.
     lags: Vec<f64>,
     /// Lags per axis on either side of 0.
-    rmax: usize,
-    /// Side of a cell \[m\].
-    cell_size: f64,
+    rmax_x: usize,
+    rmax_y: usize,
+    /// Sides of a cell \[m\].
+    cell: (f64, f64),
 }
 
 impl ChiSpectrum {
     /// Exact `C_chi(q)` [m^4] at any wavevector: the cosine sum of the
     /// module doc, separated along the axes,
     /// `sum_rx [cos(qx rx) sum_ry v cos(qy ry) - sin(qx rx) sum_ry v sin(qy ry)]`,
-    /// two multiply-adds per lag and `2 (2 rmax + 1)` sines and cosines
+    /// two multiply-adds per lag and `rmax_x + 2 rmax_y + 2` sines and cosines
     /// instead of one cosine per lag.
     pub fn eval(&self, qx: f64, qy: f64) -> f64 {
-        let m = 2 * self.rmax + 1;
-        let trig = |q: f64| -> (Vec<f64>, Vec<f64>) {
-            (0..m)
-                .map(|k| (q * (k as f64 - self.rmax as f64) * self.cell_size).sin_cos())
+        let m = 2 * self.rmax_y + 1;
+        let trig = |q: f64, n: usize, shift: usize, a: f64| -> (Vec<f64>, Vec<f64>) {
+            (0..n)
+                .map(|k| (q * (k as f64 - shift as f64) * a).sin_cos())
                 .map(|(s, c)| (c, s))
                 .unzip()
         };
-        let (cx, sx) = trig(qx);
-        let (cy, sy) = trig(qy);
+        let (cx, sx) = trig(qx, self.rmax_x + 1, 0, self.cell.0);
+        let (cy, sy) = trig(qy, m, self.rmax_y, self.cell.1);
         let mut total = 0.0;
         for (i, row) in self.lags.chunks_exact(m).enumerate() {
             let (mut rc, mut rs) = (0.0, 0.0);
@@ -119,8 +120,7 @@ impl ChiSpectrum {
                 rc += v * c;
                 rs += v * s;
             }
-            let k = i + self.rmax;
-            total += cx[k] * rc - sx[k] * rs;
+            total += cx[i] * rc - sx[i] * rs;
         }
         total
     }
@@ -183,7 +183,9 @@ pub fn max_window_radius(nx: usize, ny: usize) -> f64 {
 }
 
 /// Smoothed `C_chi` of `contact` (`> 0.5` in contact) with window radius
-/// `radius` cells (flat part `2/3` of it), capped at [`max_window_radius`].
+/// `radius` cells (flat part `2/3` of it), capped at [`max_window_radius`],
+/// on square cells of side `cell_size` \[m\]; [`chi_spectrum_cells`] for
+/// rectangular ones.
 pub fn chi_spectrum(
     contact: &[f64],
     nx: usize,
@@ -191,7 +193,26 @@ pub fn chi_spectrum(
     cell_size: f64,
     radius: f64,
 ) -> ChiSpectrum {
-    let radius = radius.min(max_window_radius(nx, ny)).max(1.0);
+    chi_spectrum_cells(contact, nx, ny, (cell_size, cell_size), radius)
+}
+
+/// [`chi_spectrum`] on cells of sides `(a_x, a_y)` \[m\]: the window is
+/// round in physical space, its radius counted in cells of the mean side
+/// `c = sqrt(a_x a_y)` (`radius c / a_x` cells along x, `radius c / a_y`
+/// along y), and capped so that it fits the grid both ways.
+pub fn chi_spectrum_cells(
+    contact: &[f64],
+    nx: usize,
+    ny: usize,
+    (ax, ay): (f64, f64),
+    radius: f64,
+) -> ChiSpectrum {
+    let c = (ax * ay).sqrt();
+    // Lag (dx, dy) in cells of side c.
+    let (sx, sy) = (ax / c, ay / c);
+    let cap = ((nx / 2) as f64 - 1.0) * sx;
+    let cap = cap.min(((ny / 2) as f64 - 1.0) * sy);
+    let radius = radius.min(cap).max(1.0);
     let flat = radius / 1.5;
     let (px, py) = (2 * nx, 2 * ny);
     let mut buf = vec![Complex64::default(); px * py];
@@ -207,9 +228,10 @@ pub fn chi_spectrum(
         .for_each(|v| *v = Complex64::new(v.norm_sqr(), 0.0));
     fft2(&mut buf, px, py, true);
     let inv = 1.0 / (px * py) as f64;
-    let (lx, ly) = (nx as f64 * cell_size, ny as f64 * cell_size);
-    let factor = cell_size.powi(4) / ((2.0 * PI).powi(2) * lx * ly);
-    let rmax = radius.ceil() as i64;
+    let (lx, ly) = (nx as f64 * ax, ny as f64 * ay);
+    let factor = (ax * ay).powi(2) / ((2.0 * PI).powi(2) * lx * ly);
+    let (rmax_x, rmax_y) = ((radius / sx).ceil() as i64, (radius / sy).ceil() as i64);
+    let dist = |dx: i64, dy: i64| (dx as f64 * sx).hypot(dy as f64 * sy);
     let lag = |dx: i64, dy: i64| {
         // R counts overlapping cells: an integer up to round-off.
         (buf[dx.rem_euclid(px as i64) as usize * py + dy.rem_euclid(py as i64) as usize].re * inv)
@@ -217,9 +239,9 @@ pub fn chi_spectrum(
     };
     // Background: mean of R over the taper ring.
     let (mut ring_sum, mut ring_count) = (0.0, 0usize);
-    for dx in -rmax..=rmax {
-        for dy in -rmax..=rmax {
-            let d = ((dx * dx + dy * dy) as f64).sqrt();
+    for dx in -rmax_x..=rmax_x {
+        for dy in -rmax_y..=rmax_y {
+            let d = dist(dx, dy);
             if d > flat && d < radius {
                 ring_sum += lag(dx, dy);
                 ring_count += 1;
@@ -231,12 +253,12 @@ pub fn chi_spectrum(
     } else {
         0.0
     };
-    let m = 2 * rmax as usize + 1;
-    let mut lags = vec![0.0; (rmax as usize + 1) * m];
+    let m = 2 * rmax_y as usize + 1;
+    let mut lags = vec![0.0; (rmax_x as usize + 1) * m];
     let mut grid = vec![0.0; nx * ny];
-    for dx in -rmax..=rmax {
-        for dy in -rmax..=rmax {
-            let w = window(((dx * dx + dy * dy) as f64).sqrt(), flat, radius);
+    for dx in -rmax_x..=rmax_x {
+        for dy in -rmax_y..=rmax_y {
+            let w = window(dist(dx, dy), flat, radius);
             if w == 0.0 {
                 continue;
             }
@@ -252,7 +274,7 @@ pub fn chi_spectrum(
                 _ => 2.0,
             };
             if fold > 0.0 {
-                lags[dx as usize * m + (dy + rmax) as usize] = fold * v;
+                lags[dx as usize * m + (dy + rmax_y) as usize] = fold * v;
             }
             grid[dx.rem_euclid(nx as i64) as usize * ny + dy.rem_euclid(ny as i64) as usize] += v;
         }
@@ -273,8 +295,9 @@ pub fn chi_spectrum(
         flat_radius_cells: flat,
         background_cells: background,
         lags,
-        rmax: rmax as usize,
-        cell_size,
+        rmax_x: rmax_x as usize,
+        rmax_y: rmax_y as usize,
+        cell: (ax, ay),
     }
 }
 

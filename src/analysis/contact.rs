@@ -22,13 +22,14 @@ pub struct ContactStatistics {
 }
 
 /// Statistics of `pressure` and the contact map (`contact[i] > 0.5` in
-/// contact) on an `nx x ny` grid of cells of side `a`.
+/// contact) on an `nx x ny` grid of cells of sides `(a_x, a_y)` (area
+/// `a_x a_y` each).
 pub fn contact_statistics(
     pressure: &[f64],
     contact: &[f64],
     nx: usize,
     ny: usize,
-    a: f64,
+    (ax, ay): (f64, f64),
 ) -> ContactStatistics {
     let cells = contact.iter().filter(|&&c| c > 0.5).count();
     let total: f64 = pressure.iter().sum();
@@ -36,15 +37,15 @@ pub fn contact_statistics(
     for i in 0..nx {
         for j in 0..ny {
             let p = pressure[i * ny + j];
-            sx += p * ((i as f64 + 0.5) * a - 0.5 * nx as f64 * a);
-            sy += p * ((j as f64 + 0.5) * a - 0.5 * ny as f64 * a);
+            sx += p * ((i as f64 + 0.5) * ax - 0.5 * nx as f64 * ax);
+            sy += p * ((j as f64 + 0.5) * ay - 0.5 * ny as f64 * ay);
         }
     }
-    let area0 = (nx * ny) as f64 * a * a;
-    let load = total * a * a;
+    let area0 = (nx * ny) as f64 * ax * ay;
+    let load = total * ax * ay;
     ContactStatistics {
         contact_cells: cells,
-        contact_area: cells as f64 * a * a,
+        contact_area: cells as f64 * ax * ay,
         contact_area_fraction: cells as f64 / (nx * ny) as f64,
         max_pressure: pressure.iter().cloned().fold(0.0, f64::max),
         normal_load: load,

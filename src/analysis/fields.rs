@@ -3,7 +3,7 @@
 //! contact-spot statistics (physics.md section 5).
 
 use super::anisotropy::deformed_anisotropy;
-use super::chi::{chi_spectrum, contour_level, ChiLevel};
+use super::chi::{chi_spectrum_cells, contour_level, ChiLevel};
 use super::report::{
     param, AnalysisError, AnalysisInputs, AnalysisParams, AnalysisReport, ChiReport,
 };
@@ -25,12 +25,13 @@ pub(super) fn check_inputs(inp: &AnalysisInputs<'_>) -> Result<(), AnalysisError
             });
         }
     }
-    if !(inp.cell_size.is_finite() && inp.cell_size > 0.0) {
-        return Err(param(
-            "cell_size",
-            inp.cell_size,
-            "must be a length > 0 (m)",
-        ));
+    for (name, a) in [
+        ("cell_size", inp.cell_size),
+        ("cell_size_y", inp.cell_size_y),
+    ] {
+        if !(a.is_finite() && a > 0.0) {
+            return Err(param(name, a, "must be a length > 0 (m)"));
+        }
     }
     Ok(())
 }
@@ -75,8 +76,9 @@ pub fn analyze(
 ) -> Result<AnalysisReport, AnalysisError> {
     check_inputs(inputs)?;
     check_params(params)?;
-    let (nx, ny, a) = (inputs.nx, inputs.ny, inputs.cell_size);
-    let map = HeightMap::new(nx, ny, nx as f64 * a, inputs.displacement.to_vec())?;
+    let (nx, ny) = (inputs.nx, inputs.ny);
+    let (ax, ay) = (inputs.cell_size, inputs.cell_size_y);
+    let map = HeightMap::with_cells(nx, ny, ax, ay, inputs.displacement.to_vec())?;
     let psd = psd_2d(&map, params.window)?;
     let zeta2 = match (params.zeta2, inputs.scales) {
         (Some(z), _) => z,
@@ -90,7 +92,7 @@ pub fn analyze(
 
     let spots = find_spots(inputs.contact, nx, ny, Connectivity::Four);
     let count_8 = find_spots(inputs.contact, nx, ny, Connectivity::Eight).len();
-    let spot_stats = statistics_of(&spots, count_8, a);
+    let spot_stats = statistics_of(&spots, count_8, ax * ay);
     let contact_cells = inputs.contact.iter().filter(|&&c| c > 0.5).count();
 
     let chi = if contact_cells == 0 {
@@ -105,7 +107,7 @@ pub fn analyze(
             }
             1.5 * (4.0 * (sv / sw).sqrt()).max(2.0)
         });
-        let spec = chi_spectrum(inputs.contact, nx, ny, a, radius);
+        let spec = chi_spectrum_cells(inputs.contact, nx, ny, (ax, ay), radius);
         let levels: Vec<ChiLevel> = params
             .chi_levels
             .iter()

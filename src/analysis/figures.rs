@@ -31,8 +31,10 @@ fn speed_label(inputs: &AnalysisInputs<'_>) -> String {
 /// `min(Lx, Ly) / 4` at the centre of the map (the same region for every
 /// speed, as in Fig. 8), in m.
 pub fn zoom_window(inputs: &AnalysisInputs<'_>) -> (f64, f64, f64, f64) {
-    let a = inputs.cell_size;
-    let (lx, ly) = (inputs.nx as f64 * a, inputs.ny as f64 * a);
+    let (lx, ly) = (
+        inputs.nx as f64 * inputs.cell_size,
+        inputs.ny as f64 * inputs.cell_size_y,
+    );
     let side = 0.25 * lx.min(ly);
     let (cx, cy) = (0.5 * lx, 0.5 * ly);
     (
@@ -70,20 +72,20 @@ fn contact_panel(
         .y_label_formatter(&|v| format_tick(*v))
         .draw()
         .map_err(|e| err(path, e))?;
-    let a = inputs.cell_size;
-    let cells = |lo: f64, hi: f64, n: usize| {
+    let (ax, ay) = (inputs.cell_size, inputs.cell_size_y);
+    let cells = |lo: f64, hi: f64, n: usize, a: f64| {
         let first = ((lo / a).floor().max(0.0) as usize).min(n);
         let last = ((hi / a).ceil().max(0.0) as usize).min(n);
         first..last
     };
-    let (ri, rj) = (cells(x0, x1, inputs.nx), cells(y0, y1, inputs.ny));
+    let (ri, rj) = (cells(x0, x1, inputs.nx, ax), cells(y0, y1, inputs.ny, ay));
     let clip = |v: f64, lo: f64, hi: f64| v.clamp(lo, hi);
     ctx.draw_series(
         ri.flat_map(|i| rj.clone().map(move |j| (i, j)))
             .filter(|&(i, j)| inputs.contact[i * inputs.ny + j] > 0.5)
             .map(|(i, j)| {
-                let (xa, xb) = (i as f64 * a, (i + 1) as f64 * a);
-                let (ya, yb) = (j as f64 * a, (j + 1) as f64 * a);
+                let (xa, xb) = (i as f64 * ax, (i + 1) as f64 * ax);
+                let (ya, yb) = (j as f64 * ay, (j + 1) as f64 * ay);
                 Rectangle::new(
                     [
                         (clip(xa, x0, x1), clip(ya, y0, y1)),
@@ -111,8 +113,12 @@ pub fn contact_map(
     report: &AnalysisReport,
 ) -> Result<(), PlotError> {
     plot::ensure_font();
-    let a = inputs.cell_size;
-    let full = (0.0, inputs.nx as f64 * a, 0.0, inputs.ny as f64 * a);
+    let full = (
+        0.0,
+        inputs.nx as f64 * inputs.cell_size,
+        0.0,
+        inputs.ny as f64 * inputs.cell_size_y,
+    );
     let zoom = zoom_window(inputs);
     let root = BitMapBackend::new(path, (1400, 720)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(path, e))?;
@@ -335,7 +341,7 @@ pub fn field_map(
     values: &[f64],
     bar_label: &str,
 ) -> Result<(), PlotError> {
-    let a = inputs.cell_size;
+    let (ax, ay) = (inputs.cell_size, inputs.cell_size_y);
     plot::heatmap(
         path,
         &format!("{title}{}", speed_label(inputs)),
@@ -343,7 +349,7 @@ pub fn field_map(
             nx: inputs.nx,
             ny: inputs.ny,
             values,
-            extent: (0.0, inputs.nx as f64 * a, 0.0, inputs.ny as f64 * a),
+            extent: (0.0, inputs.nx as f64 * ax, 0.0, inputs.ny as f64 * ay),
         },
         bar_label,
         None,

@@ -64,6 +64,9 @@ pub struct SolveSummary {
     pub nx: usize,
     pub ny: usize,
     pub cell_size: f64,
+    /// Cell side along y \[m\]: `cell_size_y` of the summary, `cell_size`
+    /// where it is absent (square cells).
+    pub cell_size_y: f64,
     /// `q1 / q0` of a generated surface, if the config says.
     pub scales: Option<f64>,
     pub xi: Option<f64>,
@@ -104,6 +107,13 @@ pub fn read_summary(path: &Path) -> Result<SolveSummary, AnalysisError> {
         .as_f64()
         .filter(|a| a.is_finite() && *a > 0.0)
         .ok_or_else(|| bad("needs `cell_size` > 0 (m)"))?;
+    let cell_size_y = match &doc["cell_size_y"] {
+        Value::Null => cell_size,
+        v => v
+            .as_f64()
+            .filter(|a| a.is_finite() && *a > 0.0)
+            .ok_or_else(|| bad("`cell_size_y` must be > 0 (m)"))?,
+    };
     let lx = grid[0] as f64 * cell_size;
     let q0 = 2.0 * std::f64::consts::PI / lx;
     let scales = scales_from_config(&doc["config"], q0);
@@ -111,6 +121,7 @@ pub fn read_summary(path: &Path) -> Result<SolveSummary, AnalysisError> {
         nx: grid[0],
         ny: grid[1],
         cell_size,
+        cell_size_y,
         scales,
         xi: doc["xi"].as_f64(),
     })
@@ -154,6 +165,7 @@ pub fn analyze_dir(dir: &Path, params: &AnalysisParams) -> Result<AnalysisReport
         nx,
         ny,
         cell_size: summary.cell_size,
+        cell_size_y: summary.cell_size_y,
         displacement: &displacement,
         contact: &contact,
         pressure: &pressure,

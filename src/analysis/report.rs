@@ -101,8 +101,10 @@ impl Default for AnalysisParams {
 pub struct AnalysisInputs<'a> {
     pub nx: usize,
     pub ny: usize,
-    /// Side of a square cell \[m\].
+    /// Side of a cell along x \[m\].
     pub cell_size: f64,
+    /// Side of a cell along y \[m\] (equal to `cell_size` for square cells).
+    pub cell_size_y: f64,
     /// Surface displacement `u` of the solid \[m\].
     pub displacement: &'a [f64],
     /// 1 in contact, 0 elsewhere.

@@ -146,10 +146,11 @@ pub struct SpotStatistics {
 pub fn spot_statistics(contact: &[f64], nx: usize, ny: usize, cell_size: f64) -> SpotStatistics {
     let spots = find_spots(contact, nx, ny, Connectivity::Four);
     let count_8 = find_spots(contact, nx, ny, Connectivity::Eight).len();
-    statistics_of(&spots, count_8, cell_size)
+    statistics_of(&spots, count_8, cell_size * cell_size)
 }
 
-pub(crate) fn statistics_of(spots: &[Spot], count_8: usize, cell_size: f64) -> SpotStatistics {
+/// Spot statistics of `spots` on cells of area `cell_area` \[m^2\].
+pub(crate) fn statistics_of(spots: &[Spot], count_8: usize, cell_area: f64) -> SpotStatistics {
     let mut areas: Vec<usize> = spots.iter().map(|s| s.cells).collect();
     areas.sort_unstable();
     let count = areas.len();
@@ -177,7 +178,7 @@ pub(crate) fn statistics_of(spots: &[Spot], count_8: usize, cell_size: f64) -> S
         });
         lo *= 2;
     }
-    let a2 = cell_size * cell_size;
+    let a2 = cell_area;
     SpotStatistics {
         connectivity: Connectivity::Four,
         count,

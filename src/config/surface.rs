@@ -39,7 +39,7 @@ pub struct SurfaceConfig {
     /// `.npy` (or plain-text) height map, heights in m at cell centres;
     /// relative to the config file's directory.
     pub file: Option<PathBuf>,
-    /// Side of the map along x \[m\]; cells are square.
+    /// Side of the map along x \[m\] (cells `length / nx` along x).
     pub length: Option<f64>,
     /// Generate a self-affine surface instead of reading one.
     pub generate: Option<GenerateConfig>,
@@ -48,7 +48,8 @@ pub struct SurfaceConfig {
     /// Format of `file` overriding its extension: "x3p", "gwy", "npy" or "text".
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub format: Option<String>,
-    /// Side of `file` along y \[m\] (`.npy`/text; default square cells).
+    /// Side of `file` along y \[m\] (`.npy`/text; default square cells;
+    /// otherwise rectangular cells `length_y / ny` along y).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub length_y: Option<f64>,
     /// Fill missing points of `file` by harmonic interpolation (default:

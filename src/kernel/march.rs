@@ -61,7 +61,10 @@ const FAR_NODES: usize = 4;
 
 /// Shared pieces of the row march for one kernel and cell size.
 struct Plan {
+    /// Cell side along the sliding axis: the panel length.
     a: f64,
+    /// Cell side across the sliding axis: the spacing of the rows.
+    across: f64,
     /// Whether the 4-point far rules are accurate (no layer, or one at
     /// least four cells thick: `g` analytic within `2h >= 8a` of the row).
     far_ok: bool,
@@ -109,11 +112,14 @@ fn fine_geometric(lo: f64, hi: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
 }
 
 impl Plan {
-    fn new(k: &SlidingKernel, a: f64, extent: f64) -> Self {
+    fn new(k: &SlidingKernel, (a, across): (f64, f64), extent: f64) -> Self {
         let (gl_t, gl_w) = gauss_legendre_unit(8);
-        let far_ok = k.theta().is_none_or(|t| t.layer.thickness >= 4.0 * a);
+        let far_ok = k
+            .theta()
+            .is_none_or(|t| t.layer.thickness >= 4.0 * a.max(across));
         let mut plan = Plan {
             a,
+            across,
             far_ok,
             glassy_plus_relaxed: k.glassy,
             shared: vec![],
@@ -234,27 +240,35 @@ impl Plan {
     }
 }
 
-/// Canonical table for sliding along `+x`: `(2na-1) x (2nt-1)` values of `K`
-/// (or of `D_x` when `derivative`), row-major in the along index.
+/// Canonical table for sliding along `+x` on cells of side `aa` along and
+/// `at` across (`cell = (aa, at)`; physics.md section 11: the sliding line
+/// integral shifts the along coordinate only): `(2na-1) x (2nt-1)` values
+/// of `K` (or of `D_x` when `derivative`), row-major in the along index.
 ///
 /// With `shift`, the targets are the cell vertices instead: offsets
-/// `((i + 1/2) a, (j + 1/2) a)` for `i in -na..na`, `j in -nt..nt`, a
+/// `((i + 1/2) aa, (j + 1/2) at)` for `i in -na..na`, `j in -nt..nt`, a
 /// `2na x 2nt` table (values of `K` only).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn canonical(
     k: &SlidingKernel,
     na: usize,
     nt: usize,
-    a: f64,
+    (a, at): (f64, f64),
     derivative: bool,
     slide_axis: Axis,
     sign: f64,
     shift: bool,
 ) -> Vec<f64> {
     debug_assert!(!(shift && derivative));
-    let cell = k.cell(a, a);
-    let extent = (na.max(nt) as f64 + 1.0) * a * std::f64::consts::SQRT_2;
-    let plan = Plan::new(k, a, extent);
+    // The source cell in canonical (along, across) coordinates, and in the
+    // grid's own for the near block.
+    let cell = k.cell(a, at);
+    let grid_cell = match slide_axis {
+        Axis::X => k.cell(a, at),
+        Axis::Y => k.cell(at, a),
+    };
+    let extent = ((na as f64 + 1.0) * a).hypot((nt as f64 + 1.0) * at);
+    let plan = Plan::new(k, (a, at), extent);
     let h = if shift { 0.5 } else { 0.0 };
     let (wt, wa) = if shift {
         (2 * nt, 2 * na)
@@ -281,9 +295,9 @@ pub(super) fn canonical(
     let rows: Vec<Vec<f64>> = (0..nt)
         .into_par_iter()
         .map(|j| {
-            let y = (j as f64 + h) * a;
+            let y = (j as f64 + h) * at;
             // Rows beyond the reach of Theta (trail included) vanish.
-            let gy = if derivative { 0.5 * a } else { 0.0 };
+            let gy = if derivative { 0.5 * at } else { 0.0 };
             let zero = cell
                 .layer
                 .as_ref()
@@ -314,25 +328,27 @@ pub(super) fn canonical(
             out[i * wt + down] = *v;
         }
     }
-    // Near block: per-offset evaluation.
-    let m = 3isize;
+    // Near block: per-offset evaluation of the targets within three cells
+    // of the larger side of the source.
+    let span = |side: f64| (3.0 * a.max(at) / side).ceil() as isize;
+    let (m, mt) = (span(a), span(at));
     let lo = if shift { -m - 1 } else { -m };
     let first = if shift { na as isize } else { na as isize - 1 };
     for di in lo..=m {
-        for dj in 0..=m {
+        for dj in 0..=mt {
             if (di + first) < 0 || (di + first) as usize >= wa || dj as usize >= nt {
                 continue;
             }
             // Physical offset of the canonical (along, across) offset.
-            let (along, across) = (sign * (di as f64 + h) * a, (dj as f64 + h) * a);
+            let (along, across) = (sign * (di as f64 + h) * a, (dj as f64 + h) * at);
             let (x, y) = match slide_axis {
                 Axis::X => (along, across),
                 Axis::Y => (across, along),
             };
             let v = if derivative {
-                sign * k.derivative_with(&cell, x, y, slide_axis)
+                sign * k.derivative_with(&grid_cell, x, y, slide_axis)
             } else {
-                k.coefficient_with(&cell, x, y).total()
+                k.coefficient_with(&grid_cell, x, y).total()
             };
             let i = (di + first) as usize;
             let (up, down) = row_index(dj as usize);
@@ -370,7 +386,11 @@ fn march_row(
 ) -> Vec<f64> {
     let a = plan.a;
     let hx = 0.5 * a;
-    let hy = if averaged { a } else { 0.5 * a };
+    let hy = if averaged {
+        plan.across
+    } else {
+        0.5 * plan.across
+    };
     let near = |xa: f64, xb: f64| seg_rect_dist(xa, xb, y, hx, hy) < 2.5 * a;
     let far = |xa: f64, xb: f64| plan.far_ok && seg_rect_dist(xa, xb, y, hx, hy) >= FAR_CELLS * a;
     let mut out = vec![0.0; count];

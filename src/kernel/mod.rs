@@ -391,7 +391,7 @@ impl SlidingKernel {
     /// of square cells of side `cell` \[m\] (rayon). Uses the row march when
     /// `e_v` is along a grid axis (see the `table` module docs), per-offset
     /// evaluation otherwise. Panics on an invalid cell size; see
-    /// [`Self::try_table`].
+    /// [`Self::try_table`]; [`Self::table_rect`] for rectangular cells.
     pub fn table(&self, nx: usize, ny: usize, cell: f64) -> CoefficientTable {
         self.try_table(nx, ny, cell).expect("valid cell size")
     }
@@ -403,9 +403,28 @@ impl SlidingKernel {
         ny: usize,
         cell: f64,
     ) -> Result<CoefficientTable, KernelError> {
-        Self::check_cell(cell, cell)?;
+        self.try_table_rect(nx, ny, cell, cell)
+    }
+
+    /// [`Self::table`] for cells of side `ax` along x and `ay` along y \[m\]
+    /// (Love's rectangle, physics.md section 11). Panics on an invalid cell
+    /// size.
+    pub fn table_rect(&self, nx: usize, ny: usize, ax: f64, ay: f64) -> CoefficientTable {
+        self.try_table_rect(nx, ny, ax, ay)
+            .expect("valid cell size")
+    }
+
+    /// [`Self::table_rect`] with the cell size checked.
+    pub fn try_table_rect(
+        &self,
+        nx: usize,
+        ny: usize,
+        ax: f64,
+        ay: f64,
+    ) -> Result<CoefficientTable, KernelError> {
+        Self::check_cell(ax, ay)?;
         check_grid(nx, ny)?;
-        Ok(table::build(self, nx, ny, cell, None, false))
+        Ok(table::build(self, nx, ny, (ax, ay), None, false))
     }
 
     /// Table of the cell-averaged derivative `D_x` or `D_y` [1/Pa] over all
@@ -430,9 +449,34 @@ impl SlidingKernel {
         cell: f64,
         axis: Axis,
     ) -> Result<CoefficientTable, KernelError> {
-        Self::check_cell(cell, cell)?;
+        self.try_derivative_table_rect(nx, ny, cell, cell, axis)
+    }
+
+    /// [`Self::derivative_table`] for `ax x ay` cells \[m\].
+    pub fn derivative_table_rect(
+        &self,
+        nx: usize,
+        ny: usize,
+        ax: f64,
+        ay: f64,
+        axis: Axis,
+    ) -> CoefficientTable {
+        self.try_derivative_table_rect(nx, ny, ax, ay, axis)
+            .expect("valid cell size")
+    }
+
+    /// [`Self::derivative_table_rect`] with the cell size checked.
+    pub fn try_derivative_table_rect(
+        &self,
+        nx: usize,
+        ny: usize,
+        ax: f64,
+        ay: f64,
+        axis: Axis,
+    ) -> Result<CoefficientTable, KernelError> {
+        Self::check_cell(ax, ay)?;
         check_grid(nx, ny)?;
-        Ok(table::build(self, nx, ny, cell, Some(axis), false))
+        Ok(table::build(self, nx, ny, (ax, ay), Some(axis), false))
     }
 
     /// [`VertexTable`]: `K` at the corner offsets `((i + 1/2) a, (j + 1/2) a)`
@@ -458,7 +502,19 @@ impl SlidingKernel {
         cell: f64,
         derivative: Option<Axis>,
     ) -> CoefficientTable {
-        table::build(self, nx, ny, cell, derivative, true)
+        self.table_per_offset_rect(nx, ny, cell, cell, derivative)
+    }
+
+    /// [`Self::table_per_offset`] for `ax x ay` cells \[m\].
+    pub fn table_per_offset_rect(
+        &self,
+        nx: usize,
+        ny: usize,
+        ax: f64,
+        ay: f64,
+        derivative: Option<Axis>,
+    ) -> CoefficientTable {
+        table::build(self, nx, ny, (ax, ay), derivative, true)
     }
 }
 

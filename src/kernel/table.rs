@@ -1,5 +1,6 @@
-//! Coefficient tables over all cell offsets of a uniform grid (physics.md
-//! section 3, "Discretisation": the operator is block-Toeplitz).
+//! Coefficient tables over all cell offsets of a uniform grid of `a_x x a_y`
+//! cells (physics.md section 3, "Discretisation": the operator is
+//! block-Toeplitz; section 11: Love's closed form is for a rectangle).
 //!
 //! When `e_v` is along a grid axis and any layer is thicker than the
 //! kernel's thin limit, the tables come from the row march
@@ -24,8 +25,10 @@ use super::{Axis, SlidingKernel};
 pub struct CoefficientTable {
     pub nx: usize,
     pub ny: usize,
-    /// Cell side `a` \[m\].
+    /// Cell side along x `a_x` \[m\].
     pub cell_size: f64,
+    /// Cell side along y `a_y` \[m\] (equal to `cell_size` for square cells).
+    pub cell_size_y: f64,
     pub values: Vec<f64>,
 }
 
@@ -94,6 +97,7 @@ impl VertexTable {
 /// +1/-1), `None` for other directions and for layers thinner than the
 /// kernel's thin limit.
 fn march_plan(k: &SlidingKernel, cell: f64) -> Option<(Axis, f64)> {
+    // `cell`: the longer side (a panel of the march is at most that long).
     let (ex, ey) = k.e;
     let orient = match (ex, ey) {
         (x, y) if x == 1.0 && y == 0.0 => Some((Axis::X, 1.0)),
@@ -109,7 +113,7 @@ fn march_plan(k: &SlidingKernel, cell: f64) -> Option<(Axis, f64)> {
     orient.filter(|_| !thin)
 }
 
-/// Offsets of a table: `(i + s) a, (j + s) a` with `s = 0` (cell centres,
+/// Offsets of a table: `(i + s) a_x, (j + s) a_y` with `s = 0` (cell centres,
 /// `i in -(nx-1)..=(nx-1)`) or `s = 1/2` (vertices, `i in -nx..nx`).
 #[derive(Clone, Copy)]
 struct Lattice {
@@ -145,11 +149,11 @@ impl Lattice {
 fn values(
     k: &SlidingKernel,
     lat: Lattice,
-    a: f64,
+    a: (f64, f64),
     derivative: Option<Axis>,
     force_per_offset: bool,
 ) -> Vec<f64> {
-    let orient = march_plan(k, a).filter(|_| !force_per_offset);
+    let orient = march_plan(k, a.0.max(a.1)).filter(|_| !force_per_offset);
     match orient {
         Some((slide_axis, sign)) if derivative.is_none_or(|d| d == slide_axis) => {
             marched(k, lat, a, derivative.is_some(), slide_axis, sign)
@@ -159,17 +163,22 @@ fn values(
 }
 
 /// Per-offset evaluation of every entry (rayon over rows).
-fn per_offset(k: &SlidingKernel, lat: Lattice, a: f64, derivative: Option<Axis>) -> Vec<f64> {
-    let cell = k.cell(a, a);
+fn per_offset(
+    k: &SlidingKernel,
+    lat: Lattice,
+    (ax, ay): (f64, f64),
+    derivative: Option<Axis>,
+) -> Vec<f64> {
+    let cell = k.cell(ax, ay);
     let (wx, wy) = lat.width();
     let (fx, fy) = lat.first();
     let s = lat.shift();
     let progress = Progress::new("coefficient table (per offset)", wx as u64);
     let mut out = vec![0.0; wx * wy];
     out.par_chunks_mut(wy).enumerate().for_each(|(ii, row)| {
-        let x = ((ii as isize + fx) as f64 + s) * a;
+        let x = ((ii as isize + fx) as f64 + s) * ax;
         for (jj, v) in row.iter_mut().enumerate() {
-            let y = ((jj as isize + fy) as f64 + s) * a;
+            let y = ((jj as isize + fy) as f64 + s) * ay;
             *v = match derivative {
                 None => k.coefficient_with(&cell, x, y).total(),
                 Some(axis) => k.derivative_with(&cell, x, y, axis),
@@ -185,17 +194,27 @@ fn per_offset(k: &SlidingKernel, lat: Lattice, a: f64, derivative: Option<Axis>)
 fn marched(
     k: &SlidingKernel,
     lat: Lattice,
-    a: f64,
+    (ax, ay): (f64, f64),
     derivative: bool,
     slide_axis: Axis,
     sign: f64,
 ) -> Vec<f64> {
-    // Canonical problem: sliding along +x, `na` cells along, `nt` across.
-    let (na, nt) = match slide_axis {
-        Axis::X => (lat.nx, lat.ny),
-        Axis::Y => (lat.ny, lat.nx),
+    // Canonical problem: sliding along +x, `na` cells of side `aa` along,
+    // `nt` cells of side `at` across.
+    let (na, nt, aa, at) = match slide_axis {
+        Axis::X => (lat.nx, lat.ny, ax, ay),
+        Axis::Y => (lat.ny, lat.nx, ay, ax),
     };
-    let canon = canonical(k, na, nt, a, derivative, slide_axis, sign, lat.vertex);
+    let canon = canonical(
+        k,
+        na,
+        nt,
+        (aa, at),
+        derivative,
+        slide_axis,
+        sign,
+        lat.vertex,
+    );
     let canon_lat = Lattice {
         nx: na,
         ny: nt,
@@ -232,7 +251,7 @@ pub(super) fn build(
     k: &SlidingKernel,
     nx: usize,
     ny: usize,
-    cell: f64,
+    (ax, ay): (f64, f64),
     derivative: Option<Axis>,
     force_per_offset: bool,
 ) -> CoefficientTable {
@@ -244,8 +263,9 @@ pub(super) fn build(
     CoefficientTable {
         nx,
         ny,
-        cell_size: cell,
-        values: values(k, lat, cell, derivative, force_per_offset),
+        cell_size: ax,
+        cell_size_y: ay,
+        values: values(k, lat, (ax, ay), derivative, force_per_offset),
     }
 }
 
@@ -260,6 +280,6 @@ pub(super) fn build_vertex(k: &SlidingKernel, nx: usize, ny: usize, cell: f64) -
         nx,
         ny,
         cell_size: cell,
-        values: values(k, lat, cell, None, false),
+        values: values(k, lat, (cell, cell), None, false),
     }
 }

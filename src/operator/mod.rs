@@ -19,7 +19,9 @@ pub use adaptive::{AdaptiveOperator, LevelTables};
 pub use dense::DenseOperator;
 pub(crate) use fft_convolution::SpectralEngine;
 pub(crate) use periodic::{column_weight, multiplier_half_spectrum};
-pub use periodic::{periodic_multiplier, PeriodicResponse, SpectralPeriodic};
+pub use periodic::{
+    periodic_multiplier, periodic_multiplier_cells, PeriodicResponse, SpectralPeriodic,
+};
 pub use toeplitz::{fast_size, ToeplitzFft};
 
 /// A square linear map on grid vectors (C order, axis 0 = x).

@@ -1,14 +1,15 @@
 //! Periodic (spectral) influence operator: the paper's Appendix (Eq. A1-A2)
 //! and physics.md section 6.
 //!
-//! On a periodic cell of `nx x ny` square cells of side `a`, a pressure mode
+//! On a periodic cell of `nx x ny` cells of sides `a_x x a_y`, a pressure mode
 //! `exp(i q.x)` produces the displacement mode
 //! `u(q) = 2 (1 - nu^2) J*(omega) / |q| p(q)`, where `omega = -q.v` is the
 //! frequency the material sees (time factor `exp(+i w t)`, physics.md
 //! section 2). With the forward transform `exp(-i q.x)` of rustfft/realfft
 //! the multiplier of the discrete mode `(i, j)` is therefore
 //! `m(q) = 2 (1 - nu^2) J*(-q.v) / |q|` at the grid wavevector
-//! `q = 2 pi (k_i / (nx a), k_j / (ny a))`, `k` the signed FFT index.
+//! `q = 2 pi (k_i / L_x, k_j / L_y)`, `L_x = nx a_x`, `L_y = ny a_y`, `k`
+//! the signed FFT index (rectangular cells: physics.md section 11).
 //!
 //! On a layer of thickness `h` (physics.md section 3, "Finite thickness")
 //! the multiplier is exact: the half-space's times the layer's compliance
@@ -108,9 +109,9 @@ fn continuous_multiplier(
     }
 }
 
-/// The discrete multiplier of mode `(i, j)` of an `nx x ny` grid of cells of
-/// side `a`: the continuous multiplier at the grid wavevector, averaged over
-/// the signs of Nyquist components (module docs).
+/// The discrete multiplier of mode `(i, j)` of an `nx x ny` grid of square
+/// cells of side `a`: the continuous multiplier at the grid wavevector,
+/// averaged over the signs of Nyquist components (module docs).
 #[allow(clippy::too_many_arguments)]
 pub fn periodic_multiplier(
     material: &Material,
@@ -122,11 +123,27 @@ pub fn periodic_multiplier(
     j: usize,
     response: PeriodicResponse,
 ) -> Complex64 {
+    periodic_multiplier_cells(material, params, nx, ny, (a, a), i, j, response)
+}
+
+/// [`periodic_multiplier`] for cells of sides `(a_x, a_y)` \[m\]: the grid
+/// wavevector is `2 pi (k_i / (nx a_x), k_j / (ny a_y))`.
+#[allow(clippy::too_many_arguments)]
+pub fn periodic_multiplier_cells(
+    material: &Material,
+    params: &KernelParams,
+    nx: usize,
+    ny: usize,
+    (ax, ay): (f64, f64),
+    i: usize,
+    j: usize,
+    response: PeriodicResponse,
+) -> Complex64 {
     let e = (params.direction_rad.cos(), params.direction_rad.sin());
     let (kx, nyq_x) = signed_index(i, nx);
     let (ky, nyq_y) = signed_index(j, ny);
-    let qx = std::f64::consts::TAU * kx / (nx as f64 * a);
-    let qy = std::f64::consts::TAU * ky / (ny as f64 * a);
+    let qx = std::f64::consts::TAU * kx / (nx as f64 * ax);
+    let qy = std::f64::consts::TAU * ky / (ny as f64 * ay);
     let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
     let sy: &[f64] = if nyq_y { &[1.0, -1.0] } else { &[1.0] };
     let mut acc = Complex64::default();
@@ -212,10 +229,25 @@ impl SpectralPeriodic {
         params: &KernelParams,
         response: PeriodicResponse,
     ) -> Self {
+        Self::with_cells(nx, ny, (a, a), material, params, response)
+    }
+
+    /// [`Self::with_params`] on cells of sides `(a_x, a_y)` \[m\]
+    /// (`L_x / nx != L_y / ny`).
+    pub fn with_cells(
+        nx: usize,
+        ny: usize,
+        cell: (f64, f64),
+        material: &Material,
+        params: &KernelParams,
+        response: PeriodicResponse,
+    ) -> Self {
         assert!(nx > 0 && ny > 0, "grid must be non-empty");
-        assert!(a > 0.0 && a.is_finite(), "cell side must be positive");
+        for a in [cell.0, cell.1] {
+            assert!(a > 0.0 && a.is_finite(), "cell side must be positive");
+        }
         let mut engine = SpectralEngine::new(nx, ny, nx, ny);
-        let multiplier_t = multiplier_half_spectrum(material, params, nx, ny, a, response);
+        let multiplier_t = multiplier_half_spectrum(material, params, nx, ny, cell, response);
         // Diagonal: (1/N) sum over all modes.
         let diag: f64 = multiplier_t
             .chunks_exact(nx)
@@ -249,14 +281,14 @@ impl SpectralPeriodic {
 }
 
 /// The discrete multiplier of every mode of the half spectrum of an
-/// `nx x ny` grid of cells of side `a` (`ny / 2 + 1` columns of `nx` modes,
-/// column-major, as the transforms hold them).
+/// `nx x ny` grid of cells of sides `cell = (a_x, a_y)` (`ny / 2 + 1`
+/// columns of `nx` modes, column-major, as the transforms hold them).
 pub(crate) fn multiplier_half_spectrum(
     material: &Material,
     params: &KernelParams,
     nx: usize,
     ny: usize,
-    a: f64,
+    cell: (f64, f64),
     response: PeriodicResponse,
 ) -> Vec<Complex64> {
     let nyh = ny / 2 + 1;
@@ -266,7 +298,7 @@ pub(crate) fn multiplier_half_spectrum(
         .enumerate()
         .for_each(|(j, col)| {
             for (i, m) in col.iter_mut().enumerate() {
-                *m = periodic_multiplier(material, params, nx, ny, a, i, j, response);
+                *m = periodic_multiplier_cells(material, params, nx, ny, cell, i, j, response);
             }
         });
     multiplier_t

@@ -31,7 +31,9 @@ impl Problem {
 
     /// The constrained iteration as a coarse-to-fine cascade
     /// ([`solver::solve_cascade`]) on backends built by
-    /// `build(nx, ny, cell_size)` (the backend and its self coefficient);
+    /// `build(nx, ny, (a_x, a_y))` (the backend and its self coefficient;
+    /// both sides halve together, so every level keeps the fine grid's cell
+    /// aspect ratio);
     /// the coarse grids' gap profiles are the fine one's 2 x 2 block means
     /// (any surface, files included, and no band limit to meet). Returns
     /// the solution, its report (fine-grid-equivalent matvecs) and the
@@ -43,9 +45,9 @@ impl Problem {
     ) -> Result<(ContactSolution, SolveInfo, f64)>
     where
         B: Backend,
-        F: FnMut(usize, usize, f64) -> Result<(B, f64)>,
+        F: FnMut(usize, usize, (f64, f64)) -> Result<(B, f64)>,
     {
-        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
+        let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let t = Instant::now();
         let shapes =
             solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.params.cascade_levels);
@@ -60,7 +62,7 @@ impl Problem {
         let result = solver::solve_cascade(
             &shapes,
             |k, (lx, ly)| {
-                let cell = a * (nx / lx) as f64;
+                let cell = (ax * (nx / lx) as f64, ay * (ny / ly) as f64);
                 // A level that cannot be built (e.g. a device error) fails
                 // the solve with its own error, kept aside here.
                 let (backend, l00) = build(lx, ly, cell).map_err(|e| {
@@ -71,7 +73,7 @@ impl Problem {
                 Ok(solver::CascadeLevel {
                     backend,
                     gap: std::mem::take(&mut gaps[k]),
-                    cell_area: cell * cell,
+                    cell_area: cell.0 * cell.1,
                     self_coefficient: l00,
                 })
             },

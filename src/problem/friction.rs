@@ -20,23 +20,32 @@ impl Problem {
         &self,
         solution: &ContactSolution,
     ) -> Result<(f64, f64, ContactStatistics)> {
-        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
-        let stats = analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, a);
+        let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
+        let (ax, ay) = cell;
+        let stats =
+            analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, cell);
         let load = stats.normal_load;
         let (m, v, dir) = (&self.material, self.speed, self.direction_rad);
         if self.formulation == Formulation::Periodic {
             let params = self.kernel_params();
-            let mut slope = SpectralPeriodic::with_params(
+            let mut slope = SpectralPeriodic::with_cells(
                 nx,
                 ny,
-                a,
+                cell,
                 m,
                 &params,
                 PeriodicResponse::SlidingSlope,
             );
-            let force = analysis::friction_force_stencil(&mut slope, &solution.pressure, a);
-            let force_d =
-                analysis::friction_force_periodic_with(&solution.pressure, nx, ny, a, m, &params);
+            let force =
+                analysis::friction_force_stencil_area(&mut slope, &solution.pressure, ax * ay);
+            let force_d = analysis::friction_force_periodic_cells(
+                &solution.pressure,
+                nx,
+                ny,
+                cell,
+                m,
+                &params,
+            );
             return Ok((-force / load, -force_d / load, stats));
         }
         if load.is_nan() || load <= 0.0 {
@@ -51,19 +60,20 @@ impl Problem {
             if w.abs() < 1e-15 {
                 continue;
             }
-            let d = kernel.derivative_table(nx, ny, a, axis);
+            let d = kernel.derivative_table_rect(nx, ny, ax, ay, axis);
             let mut op = ToeplitzFft::new(OffsetTable {
                 nx,
                 ny,
                 values: &d.values,
             });
-            force += w * analysis::friction_force_stencil(&mut op, &solution.pressure, a);
+            force +=
+                w * analysis::friction_force_stencil_area(&mut op, &solution.pressure, ax * ay);
         }
-        let force_d = analysis::friction::friction_force_dissipation_layered(
+        let force_d = analysis::friction::friction_force_dissipation_cells(
             &solution.pressure,
             nx,
             ny,
-            a,
+            cell,
             &m.spectrum,
             m.poisson,
             v,

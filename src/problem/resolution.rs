@@ -37,9 +37,10 @@ impl Problem {
     /// The shortest roughness wavelength of the surface: `2 pi / q1` for a
     /// generated surface, the grid's Nyquist wavelength (2 cells) for a
     /// surface read from a file or given as values, `None` for a sphere
-    /// (no roughness).
+    /// (no roughness). On rectangular cells the grid's Nyquist wavelength
+    /// is that of the longer side.
     pub fn shortest_wavelength(&self) -> Option<ShortestWavelength> {
-        let a = self.surface.cell_size;
+        let a = self.coarser_cell_side();
         match &self.source {
             SurfaceSource::Generated(p) => p
                 .resolve()
@@ -68,14 +69,19 @@ impl Problem {
     /// [`MIN_CELLS_PER_WAVELENGTH`] a solve warns. `None` for a sphere.
     pub fn cells_per_shortest_wavelength(&self) -> Option<f64> {
         self.shortest_wavelength()
-            .map(|w| w.length() / self.surface.cell_size)
+            .map(|w| w.length() / self.coarser_cell_side())
+    }
+
+    /// The longer side of a cell \[m\]: the resolution of the coarser axis.
+    fn coarser_cell_side(&self) -> f64 {
+        self.surface.cell_size.max(self.surface.cell_size_y)
     }
 
     /// The warning a solve of this problem carries about its resolution,
     /// if any.
     pub fn resolution_warning(&self) -> Option<String> {
         let w = self.shortest_wavelength()?;
-        let cells = w.length() / self.surface.cell_size;
+        let cells = w.length() / self.coarser_cell_side();
         if cells >= MIN_CELLS_PER_WAVELENGTH {
             return None;
         }
@@ -158,8 +164,7 @@ impl Problem {
             contact[top] = 1.0;
         }
         if let Control::Load(f) = self.control {
-            let a = self.surface.cell_size;
-            let carried = a * a * pressure.iter().sum::<f64>();
+            let carried = self.surface.cell_area() * pressure.iter().sum::<f64>();
             if carried > 0.0 {
                 let s = f / carried;
                 pressure.iter_mut().for_each(|p| *p *= s);

@@ -39,7 +39,8 @@ impl Problem {
             .with_loading(&loading)?
             .with_solver_config(&sc)?;
         let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
-        if let Some(w) = layer.and_then(|l| l.resolution_warning(problem.surface.cell_size)) {
+        let coarser_side = problem.surface.cell_size.max(problem.surface.cell_size_y);
+        if let Some(w) = layer.and_then(|l| l.resolution_warning(coarser_side)) {
             eprintln!("warning: {w}");
         }
         problem.source = source;
@@ -153,7 +154,23 @@ impl Problem {
             ));
         }
         self.adaptive.check().map_err(invalid)?;
+        if self.mesh == MeshKind::Adaptive {
+            self.check_adaptive_cells()?;
+        }
         Ok(())
+    }
+
+    /// The adaptive quadtree merges 2 x 2 blocks of square cells into square
+    /// cells (physics.md section 7; its level tables and vertex offsets are
+    /// built for squares): rectangular cells are refused with the remedy.
+    pub(super) fn check_adaptive_cells(&self) -> Result<()> {
+        if self.surface.square_cells() {
+            return Ok(());
+        }
+        Err(invalid(format!(
+            "[solver] mesh = \"adaptive\" needs square cells (its quadtree merges square blocks), the map has {:.4e} m x {:.4e} m cells; use mesh = \"uniform\" or resample the map to square pixels",
+            self.surface.cell_size, self.surface.cell_size_y
+        )))
     }
 }
 

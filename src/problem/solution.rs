@@ -39,6 +39,7 @@ struct Record {
     nx: usize,
     ny: usize,
     cell_size: f64,
+    cell_size_y: f64,
     cells_per_shortest_wavelength: Option<f64>,
     speed: f64,
     xi: Option<f64>,
@@ -109,6 +110,7 @@ impl Solution {
                 nx: problem.surface.nx,
                 ny: problem.surface.ny,
                 cell_size: problem.surface.cell_size,
+                cell_size_y: problem.surface.cell_size_y,
                 cells_per_shortest_wavelength: problem.cells_per_shortest_wavelength(),
                 speed: problem.speed,
                 xi: problem.xi(),
@@ -176,6 +178,7 @@ impl Solution {
             nx: r.nx,
             ny: r.ny,
             cell_size: r.cell_size,
+            cell_size_y: r.cell_size_y,
             displacement: &self.fields.displacement,
             contact: &self.fields.contact,
             pressure: &self.fields.pressure,
@@ -236,7 +239,7 @@ impl Solution {
             }),
             Err(why) => json!({ "not_evaluated": why }),
         };
-        json!({
+        let mut doc = json!({
             "friction_coefficient": self.friction_coefficient,
             "friction_coefficient_dissipation": self.friction_coefficient_dissipation,
             "friction_relative_difference": self.friction_relative_difference(),
@@ -254,7 +257,7 @@ impl Solution {
             "grid": [r.nx, r.ny],
             "cell_size": r.cell_size,
             "cells_per_shortest_wavelength": r.cells_per_shortest_wavelength,
-            "length": [r.nx as f64 * r.cell_size, r.ny as f64 * r.cell_size],
+            "length": [r.nx as f64 * r.cell_size, r.ny as f64 * r.cell_size_y],
             "unknowns": self.unknowns,
             "mesh": self.mesh,
             "iterations": self.info.iterations,
@@ -283,7 +286,11 @@ impl Solution {
             "persson_friction_coefficient": self.persson.as_ref().ok().map(|p| p.friction_coefficient),
             "persson_contact_area_fraction": self.persson.as_ref().ok().map(|p| p.contact_area_fraction),
             "persson": persson,
-        })
+        });
+        // The cell side along y beside `cell_size` (along x): rectangular
+        // cells (physics.md section 11).
+        doc["cell_size_y"] = json!(r.cell_size_y);
+        doc
     }
 
     /// Write every output of this solve into `dir`, the configured analysis
@@ -291,7 +298,8 @@ impl Solution {
     /// written paths.
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         let report = self.analyze_configured()?;
-        let (nx, ny, a) = (self.record.nx, self.record.ny, self.record.cell_size);
+        let (nx, ny) = (self.record.nx, self.record.ny);
+        let (ax, ay) = (self.record.cell_size, self.record.cell_size_y);
         let mut staged = StagedOutput::new(dir)?;
         let set: Vec<&str> = SOLVE_FILES
             .iter()
@@ -315,7 +323,7 @@ impl Solution {
         ] {
             staged.write(name, &npy::encode_f64(&[nx, ny], field))?;
         }
-        let extent = (0.0, nx as f64 * a, 0.0, ny as f64 * a);
+        let extent = (0.0, nx as f64 * ax, 0.0, ny as f64 * ay);
         let title_suffix = match self.record.xi {
             Some(xi) => format!("xi = {xi:.3e}"),
             None => format!("v = {:.3e} m/s", self.record.speed),

@@ -126,7 +126,6 @@ impl Problem {
         start: Option<&WarmStart>,
         observer: &mut dyn Observer,
     ) -> std::result::Result<(ContactSolution, SolveInfo), SolverError> {
-        let a = self.surface.cell_size;
         let params = solver::SolverParams {
             tolerance,
             ..self.params.clone()
@@ -134,7 +133,7 @@ impl Problem {
         solver::solve_from(
             backend,
             g,
-            a * a,
+            self.surface.cell_area(),
             l00,
             self.control,
             &params,
@@ -162,16 +161,16 @@ impl Problem {
     /// Uniform grid on the CPU: the host coefficient table, Toeplitz-FFT.
     fn uniform_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
         let t0 = Instant::now();
-        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
+        let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
-        let table = kernel.table(nx, ny, a);
+        let table = kernel.table_rect(nx, ny, cell.0, cell.1);
         let t_coeff = t0.elapsed().as_secs_f64();
         let mut fine = Some(table);
         // The fine grid's table is computed once; coarse grids' on demand.
-        let mut build = |nx: usize, ny: usize, a: f64| {
+        let mut build = |nx: usize, ny: usize, (ax, ay): (f64, f64)| {
             let table = match fine.take() {
                 Some(t) if t.nx == nx && t.ny == ny => t,
-                _ => kernel.table(nx, ny, a),
+                _ => kernel.table_rect(nx, ny, ax, ay),
             };
             let tab = OffsetTable {
                 nx,
@@ -187,7 +186,7 @@ impl Problem {
         let (solution, info, t_iter) = if self.cascades(start) {
             self.iterate_cascade(observer, build)?
         } else {
-            let (mut backend, l00) = build(nx, ny, a)?;
+            let (mut backend, l00) = build(nx, ny, cell)?;
             self.iterate_grid(&mut backend, l00, start, observer)?
         };
         let t_setup = 0.0;
@@ -213,25 +212,25 @@ impl Problem {
         observer: &mut dyn Observer,
     ) -> Result<Raw> {
         let t0 = Instant::now();
-        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
+        let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
         // The coefficient table of an nx x ny grid: a half-space's on the
         // device, a finite layer's on the host.
-        let table_of = |engine: &mut Engine, nx: usize, ny: usize, a: f64| -> Result<Vec<f64>> {
-            Ok(match self.layer {
-                None => coefficients::coefficient_table(
+        let table_of = |engine: &mut Engine, nx: usize, ny: usize, cell: (f64, f64)| {
+            Ok::<_, Error>(match self.layer {
+                None => coefficients::coefficient_table_rect(
                     engine,
                     &self.material,
                     kernel.params(),
                     nx,
                     ny,
-                    a,
+                    cell,
                 )?,
-                Some(_) => kernel.table(nx, ny, a).values,
+                Some(_) => kernel.table_rect(nx, ny, cell.0, cell.1).values,
             })
         };
         let mut engine = Engine::new(ctx.clone());
-        let table = table_of(&mut engine, nx, ny, a)?;
+        let table = table_of(&mut engine, nx, ny, cell)?;
         let t_coeff = t0.elapsed().as_secs_f64();
         let self_coefficient = |table: &[f64], nx: usize, ny: usize| {
             OffsetTable {
@@ -246,7 +245,7 @@ impl Problem {
         let mut fine = Some((engine, table));
         // The fine grid's engine and table are made once; the coarse grids'
         // on demand, each level on an engine of its own.
-        let mut build = |lx: usize, ly: usize, cell: f64| -> Result<(GpuBackend, f64)> {
+        let mut build = |lx: usize, ly: usize, cell: (f64, f64)| -> Result<(GpuBackend, f64)> {
             let (engine, table) = match fine.take() {
                 Some((engine, table)) if (lx, ly) == (nx, ny) => (engine, table),
                 other => {
@@ -268,7 +267,7 @@ impl Problem {
         let (solution, info, t_iter) = if self.cascades(start) {
             self.iterate_cascade(observer, build)?
         } else {
-            let (mut backend, l00) = build(nx, ny, a)?;
+            let (mut backend, l00) = build(nx, ny, cell)?;
             self.iterate_grid(&mut backend, l00, start, observer)?
         };
         Ok(Raw {
@@ -286,13 +285,13 @@ impl Problem {
     /// CPU: the same iteration on the [`SpectralPeriodic`] operator.
     fn periodic_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
         let t0 = Instant::now();
-        let (nx, ny, a) = (self.surface.nx, self.surface.ny, self.surface.cell_size);
+        let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let (m, params) = (&self.material, self.kernel_params());
-        let build = |nx, ny, a| {
-            let op = SpectralPeriodic::with_params(
+        let build = |nx, ny, cell| {
+            let op = SpectralPeriodic::with_cells(
                 nx,
                 ny,
-                a,
+                cell,
                 m,
                 &params,
                 PeriodicResponse::Displacement,
@@ -305,7 +304,7 @@ impl Problem {
         let (solution, info, t_iter) = if self.cascades(start) {
             self.iterate_cascade(observer, build)?
         } else {
-            let (mut backend, l00) = build(nx, ny, a)?;
+            let (mut backend, l00) = build(nx, ny, cell)?;
             self.iterate_grid(&mut backend, l00, start, observer)?
         };
         Ok(Raw {
@@ -486,6 +485,7 @@ struct AdaptivePlan {
 
 impl AdaptivePlan {
     fn new(problem: &Problem) -> Result<Self> {
+        problem.check_adaptive_cells()?;
         let (nx, ny, a) = (
             problem.surface.nx,
             problem.surface.ny,

@@ -27,6 +27,10 @@ impl Problem {
     /// (dissipation).
     pub(super) fn warnings(&self, stats: &ContactStatistics, mu: f64, mu_d: f64) -> Vec<String> {
         let mut out: Vec<String> = self.resolution_warning().into_iter().collect();
+        out.extend(crate::surface::cell_aspect_warning(
+            self.surface.cell_size,
+            self.surface.cell_size_y,
+        ));
         let (lx, ly) = (self.surface.length_x(), self.surface.length_y());
         let p0 = stats.normal_load / (lx * ly);
         let e0 = self.material.spectrum.relaxed_modulus();

@@ -411,6 +411,7 @@ pub fn generate_with_target(
         nx,
         ny,
         cell_size: a,
+        cell_size_y: a,
         heights,
     };
     Ok((map, target))

@@ -58,6 +58,7 @@ fn build(
         nx,
         ny,
         cell_size: length / nx as f64,
+        cell_size_y: length / nx as f64,
         heights,
     })
 }

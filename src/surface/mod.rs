@@ -123,17 +123,39 @@ impl SurfaceError {
     }
 }
 
-/// A height map on a uniform grid of square cells.
+/// A height map on a uniform grid of `cell_size x cell_size_y` cells
+/// (rectangular cells: physics.md section 11).
 #[derive(Debug, Clone, PartialEq)]
 pub struct HeightMap {
     /// Cells along x (axis 0, sliding direction).
     pub nx: usize,
     /// Cells along y (axis 1).
     pub ny: usize,
-    /// Side of one square cell \[m\].
+    /// Side of one cell along x \[m\].
     pub cell_size: f64,
+    /// Side of one cell along y \[m\] (equal to `cell_size` for square cells).
+    pub cell_size_y: f64,
     /// Heights \[m\], `heights[i * ny + j]`.
     pub heights: Vec<f64>,
+}
+
+/// Aspect ratio of a cell (longer side over shorter) beyond which results
+/// get a warning: the longer direction is resolved that much worse
+/// (physics.md section 11).
+pub const CELL_ASPECT_WARNING: f64 = 4.0;
+
+/// The warning for `ax x ay` cells whose aspect ratio exceeds
+/// [`CELL_ASPECT_WARNING`], `None` otherwise.
+pub fn cell_aspect_warning(ax: f64, ay: f64) -> Option<String> {
+    let r = ax.max(ay) / ax.min(ay);
+    (r > CELL_ASPECT_WARNING).then(|| {
+        format!(
+            "cells of {ax:.4e} m x {ay:.4e} m have an aspect ratio of {r:.2} (beyond \
+             {CELL_ASPECT_WARNING}): the {} direction is resolved {r:.1} times worse than the \
+             other; consider resampling the map to squarer cells",
+            if ax > ay { "x" } else { "y" }
+        )
+    })
 }
 
 impl HeightMap {
@@ -159,12 +181,36 @@ impl HeightMap {
             });
         }
         validate_heights("height map", ny, &heights)?;
+        let a = length_x / nx as f64;
         Ok(Self {
             nx,
             ny,
-            cell_size: length_x / nx as f64,
+            cell_size: a,
+            cell_size_y: a,
             heights,
         })
+    }
+
+    /// A validated height map of `nx x ny` cells of side `dx` along x and
+    /// `dy` along y \[m\] (both finite and > 0).
+    pub fn with_cells(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        dy: f64,
+        heights: Vec<f64>,
+    ) -> Result<Self, SurfaceError> {
+        if !(dy.is_finite() && dy > 0.0) {
+            return Err(SurfaceError::param(
+                "cell_size_y",
+                dy,
+                "the cell side along y must be a finite length > 0 (m)",
+            ));
+        }
+        let mut map = Self::new(nx, ny, dx * nx as f64, heights)?;
+        map.cell_size = dx;
+        map.cell_size_y = dy;
+        Ok(map)
     }
 
     /// Side of the map along x \[m\].
@@ -173,7 +219,19 @@ impl HeightMap {
     }
     /// Side of the map along y \[m\].
     pub fn length_y(&self) -> f64 {
-        self.ny as f64 * self.cell_size
+        self.ny as f64 * self.cell_size_y
+    }
+    /// Cell sides `(a_x, a_y)` \[m\].
+    pub fn cell(&self) -> (f64, f64) {
+        (self.cell_size, self.cell_size_y)
+    }
+    /// Area of one cell `a_x a_y` \[m^2\].
+    pub fn cell_area(&self) -> f64 {
+        self.cell_size * self.cell_size_y
+    }
+    /// Whether the cells are square (sides equal to 1e-9 relative).
+    pub fn square_cells(&self) -> bool {
+        ((self.cell_size - self.cell_size_y) / self.cell_size).abs() <= 1e-9
     }
     /// Height of cell `(i, j)` \[m\].
     pub fn at(&self, i: usize, j: usize) -> f64 {

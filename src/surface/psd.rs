@@ -120,7 +120,7 @@ pub fn psd_2d(map: &HeightMap, window: Window) -> Result<Psd2d, SurfaceError> {
         map.nx,
         map.ny,
         map.cell_size,
-        map.cell_size,
+        map.cell_size_y,
         &map.heights,
         window,
     )
@@ -319,8 +319,10 @@ pub fn fit_hurst(radial: &RadialPsd, q_min: f64, q_max: f64) -> Result<HurstFit,
 pub struct SurfaceStats {
     pub nx: usize,
     pub ny: usize,
-    /// Cell side `a` \[m\].
+    /// Cell side along x \[m\].
     pub cell_size: f64,
+    /// Cell side along y \[m\] (equal to `cell_size` for square cells).
+    pub cell_size_y: f64,
     /// Sides \[m\].
     pub length_x: f64,
     pub length_y: f64,
@@ -370,24 +372,25 @@ pub fn stats_with_window(map: &HeightMap, window: Window) -> Result<SurfaceStats
         .iter()
         .copied()
         .fold(f64::NEG_INFINITY, f64::max);
-    let (nx, ny, a) = (map.nx, map.ny, map.cell_size);
+    let (nx, ny, (ax, ay)) = (map.nx, map.ny, map.cell());
     let mut sx = 0.0;
     for i in 0..nx - 1 {
         for j in 0..ny {
-            sx += ((map.at(i + 1, j) - map.at(i, j)) / a).powi(2);
+            sx += ((map.at(i + 1, j) - map.at(i, j)) / ax).powi(2);
         }
     }
     let mut sy = 0.0;
     for i in 0..nx {
         for j in 0..ny - 1 {
-            sy += ((map.at(i, j + 1) - map.at(i, j)) / a).powi(2);
+            sy += ((map.at(i, j + 1) - map.at(i, j)) / ay).powi(2);
         }
     }
     let fd = (sx / ((nx - 1) * ny) as f64 + sy / (nx * (ny - 1)) as f64).sqrt();
     Ok(SurfaceStats {
         nx,
         ny,
-        cell_size: a,
+        cell_size: ax,
+        cell_size_y: ay,
         length_x: map.length_x(),
         length_y: map.length_y(),
         mean,
@@ -405,9 +408,10 @@ pub fn stats_with_window(map: &HeightMap, window: Window) -> Result<SurfaceStats
 
 impl std::fmt::Display for SurfaceStats {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let rows: [(&str, String, &str); 14] = [
+        let rows: [(&str, String, &str); 15] = [
             ("grid", format!("{} x {}", self.nx, self.ny), "cells"),
-            ("cell size", format!("{:.6e}", self.cell_size), "m"),
+            ("cell size x", format!("{:.6e}", self.cell_size), "m"),
+            ("cell size y", format!("{:.6e}", self.cell_size_y), "m"),
             ("length x", format!("{:.6e}", self.length_x), "m"),
             ("length y", format!("{:.6e}", self.length_y), "m"),
             ("mean", format!("{:.6e}", self.mean), "m"),

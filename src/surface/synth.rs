@@ -150,6 +150,7 @@ pub fn generate_from_table(
         nx,
         ny,
         cell_size: a,
+        cell_size_y: a,
         heights,
     })
 }

@@ -85,13 +85,13 @@ impl Topography {
         })
     }
 
-    /// The topography of a height map (square cells, nothing missing).
+    /// The topography of a height map (nothing missing).
     pub fn from_height_map(map: &HeightMap) -> Self {
         Self {
             nx: map.nx,
             ny: map.ny,
             dx: map.cell_size,
-            dy: map.cell_size,
+            dy: map.cell_size_y,
             heights: map.heights.clone(),
             filled: 0,
         }
@@ -255,16 +255,15 @@ impl Topography {
         Ok(())
     }
 
-    /// The height map the solver uses: square cells (`dx = dy` to 1e-6
-    /// relative), nothing missing. `name` labels errors.
+    /// The height map the solver uses: the topography's own pixels as cells
+    /// (`dx x dy`, rectangular where they differ; pixels equal to 1e-6
+    /// relative are taken as square), nothing missing. `name` labels errors.
     pub fn to_height_map(&self, name: &str) -> Result<HeightMap, SurfaceError> {
-        if ((self.dx - self.dy) / self.dx).abs() > 1e-6 {
-            return Err(SurfaceError::Invalid(format!(
-                "{name}: pixels are {:.6e} m x {:.6e} m; the contact solver needs square cells \
-                 (resample the map, or give --length/--length-y that make them square)",
-                self.dx, self.dy
-            )));
-        }
+        let dy = if ((self.dx - self.dy) / self.dx).abs() > 1e-6 {
+            self.dy
+        } else {
+            self.dx
+        };
         let m = self.missing();
         if m > 0 {
             return Err(SurfaceError::Invalid(format!(
@@ -276,6 +275,7 @@ impl Topography {
             nx: self.nx,
             ny: self.ny,
             cell_size: self.dx,
+            cell_size_y: dy,
             heights: self.heights.clone(),
         })
     }

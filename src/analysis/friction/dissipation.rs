@@ -57,11 +57,11 @@ pub fn friction_force_dissipation(
     speed: f64,
     direction_rad: f64,
 ) -> f64 {
-    friction_force_dissipation_layered(
+    friction_force_dissipation_cells(
         pressure,
         nx,
         ny,
-        a,
+        (a, a),
         spectrum,
         poisson,
         speed,
@@ -89,11 +89,39 @@ pub fn friction_force_dissipation_layered(
     direction_rad: f64,
     layer: Option<&Layer>,
 ) -> f64 {
+    friction_force_dissipation_cells(
+        pressure,
+        nx,
+        ny,
+        (a, a),
+        spectrum,
+        poisson,
+        speed,
+        direction_rad,
+        layer,
+    )
+}
+
+/// [`friction_force_dissipation_layered`] on cells of sides
+/// `cell = (a_x, a_y)` \[m\] (physics.md section 11): the zone is
+/// `2 pi / a_x x 2 pi / a_y` and `S` the product of the sincs of each side.
+#[allow(clippy::too_many_arguments)]
+pub fn friction_force_dissipation_cells(
+    pressure: &[f64],
+    nx: usize,
+    ny: usize,
+    (ax, ay): (f64, f64),
+    spectrum: &CreepSpectrum,
+    poisson: f64,
+    speed: f64,
+    direction_rad: f64,
+    layer: Option<&Layer>,
+) -> f64 {
     zone_sum(
         pressure,
         nx,
         ny,
-        a,
+        (ax, ay),
         spectrum,
         poisson,
         speed,
@@ -115,7 +143,7 @@ fn zone_sum(
     pressure: &[f64],
     nx: usize,
     ny: usize,
-    a: f64,
+    (ax, ay): (f64, f64),
     spectrum: &CreepSpectrum,
     poisson: f64,
     speed: f64,
@@ -149,7 +177,7 @@ fn zone_sum(
     let fft = FftPlanner::<f64>::new().plan_fft_forward(mx);
     let (ex, ey) = (direction_rad.cos(), direction_rad.sin());
     let two_pi = 2.0 * std::f64::consts::PI;
-    let gx = two_pi / a;
+    let (gx, gy) = (two_pi / ax, two_pi / ay);
     let composite = 1.0 - poisson * poisson;
     let sinc = |t: f64| {
         if t.abs() < 1e-8 {
@@ -167,15 +195,15 @@ fn zone_sum(
         } else {
             i as f64 - mx as f64
         };
-        two_pi * k / (mx as f64 * a)
+        two_pi * k / (mx as f64 * ax)
     };
-    let qy_of = |j: usize| two_pi * j as f64 / (my as f64 * a);
+    let qy_of = |j: usize| two_pi * j as f64 / (my as f64 * ay);
     let mut qxs = vec![0.0; mx * NA];
     let mut sx2s = vec![0.0; mx * NA];
     for i in 0..mx {
         for (k, m) in (-ALIASES..=ALIASES).enumerate() {
             let qx = qx_of(i) + m as f64 * gx;
-            let s = sinc(0.5 * qx * a);
+            let s = sinc(0.5 * qx * ax);
             qxs[i * NA + k] = qx;
             sx2s[i * NA + k] = s * s;
             if along_x {
@@ -210,8 +238,8 @@ fn zone_sum(
                 let mut qys = [0.0; NA];
                 let mut sy2 = [0.0; NA];
                 for (k, m) in (-ALIASES..=ALIASES).enumerate() {
-                    qys[k] = qy0 + m as f64 * gx;
-                    let s = sinc(0.5 * qys[k] * a);
+                    qys[k] = qy0 + m as f64 * gy;
+                    let s = sinc(0.5 * qys[k] * ay);
                     sy2[k] = s * s;
                 }
                 if fast {
@@ -272,9 +300,9 @@ fn zone_sum(
             },
         )
         .sum();
-    // P(q) = a^2 sum p e^{-iqx}: |P|^2 = a^4 |FFT|^2; the zone integral is
-    // sum dq^2 / (2 pi)^2 with dq^2 = (2 pi)^2 / (mx my a^2).
-    total * a.powi(4) / (mx as f64 * my as f64 * a * a)
+    // P(q) = ax ay sum p e^{-iqx}: |P|^2 = (ax ay)^2 |FFT|^2; the zone
+    // integral is sum dq^2 / (2 pi)^2 with dq^2 = (2 pi)^2 / (mx my ax ay).
+    total * ax * ay / (mx as f64 * my as f64)
 }
 
 /// `F_T` \[N\] of a periodic pressure field (C order, axis 0 = x) from the
@@ -307,6 +335,19 @@ pub fn friction_force_periodic_with(
     material: &Material,
     params: &KernelParams,
 ) -> f64 {
+    friction_force_periodic_cells(pressure, nx, ny, (a, a), material, params)
+}
+
+/// [`friction_force_periodic_with`] on cells of sides `cell = (a_x, a_y)`
+/// \[m\]: the mode sum times the cell area `a_x a_y / N`.
+pub fn friction_force_periodic_cells(
+    pressure: &[f64],
+    nx: usize,
+    ny: usize,
+    cell: (f64, f64),
+    material: &Material,
+    params: &KernelParams,
+) -> f64 {
     assert_eq!(pressure.len(), nx * ny, "pressure must hold nx * ny cells");
     if params.speed == 0.0 || !params.speed.is_finite() {
         return 0.0;
@@ -318,15 +359,21 @@ pub fn friction_force_periodic_with(
         .iter()
         .map(|c| c.norm_sqr())
         .collect();
-    let slope =
-        multiplier_half_spectrum(material, params, nx, ny, a, PeriodicResponse::SlidingSlope);
+    let slope = multiplier_half_spectrum(
+        material,
+        params,
+        nx,
+        ny,
+        cell,
+        PeriodicResponse::SlidingSlope,
+    );
     let weights: Vec<f64> = slope
         .chunks_exact(nx)
         .enumerate()
         .flat_map(|(j, col)| col.iter().map(move |v| column_weight(j, ny) * v.re))
         .collect();
     let total: f64 = power.iter().zip(&weights).map(|(p, w)| p * w).sum();
-    total * a * a / (nx * ny) as f64
+    total * cell.0 * cell.1 / (nx * ny) as f64
 }
 
 #[cfg(test)]
@@ -347,7 +394,7 @@ mod tests {
             })
             .collect();
         for speed in [1e-4, 3e-3, 0.1] {
-            let run = |fast| zone_sum(&p, nx, ny, a, &spectrum, 0.5, speed, 0.0, None, fast);
+            let run = |fast| zone_sum(&p, nx, ny, (a, a), &spectrum, 0.5, speed, 0.0, None, fast);
             let (fast, slow) = (run(true), run(false));
             // The same terms summed in another order, sqrt for hypot:
             // round-off of a sum of ~1e5 terms of one sign per mode.

@@ -18,8 +18,9 @@ pub mod full_contact;
 pub mod stencil;
 
 pub use dissipation::{
-    friction_force_dissipation, friction_force_dissipation_layered, friction_force_periodic,
+    friction_force_dissipation, friction_force_dissipation_cells,
+    friction_force_dissipation_layered, friction_force_periodic, friction_force_periodic_cells,
     friction_force_periodic_with,
 };
 pub use full_contact::{full_contact_friction_stress, full_contact_friction_stress_layered};
-pub use stencil::friction_force_stencil;
+pub use stencil::{friction_force_stencil, friction_force_stencil_area};

@@ -11,7 +11,17 @@ use crate::operator::GridOperator;
 /// `F_T = a^2 p . (D p)` \[N\] with `D` the cell-averaged derivative operator
 /// along the sliding direction.
 pub fn friction_force_stencil(derivative: &mut dyn GridOperator, pressure: &[f64], a: f64) -> f64 {
+    friction_force_stencil_area(derivative, pressure, a * a)
+}
+
+/// [`friction_force_stencil`] on cells of area `cell_area = a_x a_y`
+/// \[m^2\] (rectangular cells): `F_T = a_x a_y p . (D p)`.
+pub fn friction_force_stencil_area(
+    derivative: &mut dyn GridOperator,
+    pressure: &[f64],
+    cell_area: f64,
+) -> f64 {
     let mut dp = vec![0.0; pressure.len()];
     derivative.apply(pressure, &mut dp);
-    a * a * pressure.iter().zip(&dp).map(|(p, d)| p * d).sum::<f64>()
+    cell_area * pressure.iter().zip(&dp).map(|(p, d)| p * d).sum::<f64>()
 }

@@ -24,12 +24,27 @@ pub fn coefficient_table(
     ny: usize,
     cell: f64,
 ) -> Result<Vec<f64>, GpuError> {
-    if !(cell.is_finite() && cell > 0.0) || nx == 0 || ny == 0 {
+    coefficient_table_rect(engine, material, params, nx, ny, (cell, cell))
+}
+
+/// [`coefficient_table`] on cells of sides `(a_x, a_y)` \[m\] (Love's
+/// rectangle, physics.md section 11): lengths in units of `a_x`, the source
+/// cell `1 x a_y / a_x`.
+pub fn coefficient_table_rect(
+    engine: &mut Engine,
+    material: &Material,
+    params: &KernelParams,
+    nx: usize,
+    ny: usize,
+    (ax, ay): (f64, f64),
+) -> Result<Vec<f64>, GpuError> {
+    let ok = |a: f64| a.is_finite() && a > 0.0;
+    if !ok(ax) || !ok(ay) || nx == 0 || ny == 0 {
         return Err(GpuError::Invalid(format!(
-            "grid {nx} x {ny} with cell {cell} m"
+            "grid {nx} x {ny} with cell {ax} m x {ay} m"
         )));
     }
-    let plan = plan(material, params, cell)?;
+    let plan = plan(material, params, ax)?;
     let count = (2 * nx - 1) * (2 * ny - 1);
     engine.check_binding("the coefficient table", 4 * count as u64)?;
     let terms = engine.storage_with("viscoslide creep terms", bytemuck::cast_slice(&plan.terms));
@@ -44,7 +59,7 @@ pub fn coefficient_table(
         Params {
             i: [nx as u32, ny as u32, plan.count, 0],
             j: [0; 4],
-            f: [plan.e[0], plan.e[1], plan.instantaneous, 0.0],
+            f: [plan.e[0], plan.e[1], plan.instantaneous, (ay / ax) as f32],
         },
         grid((count as u64).div_ceil(COEFF_WORKGROUP)),
     );
