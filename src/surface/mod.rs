@@ -17,6 +17,7 @@ mod measured;
 mod preprocess;
 mod psd;
 mod psd_table;
+mod resample;
 mod stitch;
 mod synth;
 mod topography;
@@ -49,6 +50,9 @@ pub use psd::{
     HurstFit, Psd2d, RadialPsd, SurfaceStats, Window,
 };
 pub use psd_table::TabulatedPsd;
+pub use resample::{
+    resample, resample_grid, ResampleGrid, ResampleMethod, ResampleTarget, MAX_RESAMPLE_CELLS,
+};
 pub use stitch::{stitch, ScanPsd, StitchedPsd};
 pub use synth::{generate_from_table, SynthParams};
 pub use topography::{MissingData, Topography};

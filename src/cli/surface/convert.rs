@@ -24,7 +24,7 @@ pub struct ConvertArgs {
     pub f32: bool,
 }
 
-fn parse_x3p_type(s: &str) -> std::result::Result<X3pType, String> {
+pub(super) fn parse_x3p_type(s: &str) -> std::result::Result<X3pType, String> {
     match s {
         "f64" => Ok(X3pType::F64),
         "f32" => Ok(X3pType::F32),

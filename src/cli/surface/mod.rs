@@ -4,7 +4,7 @@
 //! sections 8 and 11).
 
 //!
-//! One file per subcommand (`generate`, `stats`, `convert`, `stitch` for
+//! One file per subcommand (`generate`, `stats`, `convert`, `resample`, `stitch` for
 //! `psd-stitch`); this one holds what they share: reading a surface file,
 //! the flag parsers and the PSD charts (`charts`).
 
@@ -16,12 +16,14 @@ use crate::surface::{self, Detrend, MissingData, ReadOptions, SurfaceFormat, Top
 mod charts;
 mod convert;
 mod generate;
+mod resample;
 mod stats;
 mod stitch;
 
 use charts::{log_plot, pairs, psd_plot};
 pub use convert::ConvertArgs;
 pub use generate::GenerateArgs;
+pub use resample::ResampleArgs;
 pub use stats::StatsArgs;
 pub use stitch::StitchArgs;
 
@@ -37,6 +39,10 @@ pub enum SurfaceCommand {
     /// Convert a height map between formats (by extension): .x3p, .gwy
     /// (read only), .npy, text.
     Convert(ConvertArgs),
+    /// Resample a height map to another pixel size (e.g. square pixels from
+    /// a scan with non-square ones) by bicubic spline or Fourier
+    /// interpolation; writes heights.<ext> and resample.json into --out.
+    Resample(Box<ResampleArgs>),
     /// Stitch the PSDs of several scans of one surface (maps or PSD CSVs);
     /// writes psd.csv, psd.png and stitch.json into --out.
     PsdStitch(StitchArgs),
@@ -105,6 +111,7 @@ pub fn run(cmd: SurfaceCommand) -> Result<()> {
         SurfaceCommand::Generate(a) => generate::run(*a),
         SurfaceCommand::Stats(a) => stats::run(a),
         SurfaceCommand::Convert(a) => convert::run(a),
+        SurfaceCommand::Resample(a) => resample::run(*a),
         SurfaceCommand::PsdStitch(a) => stitch::run(a),
     }
 }
