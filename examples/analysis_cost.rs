@@ -64,10 +64,10 @@ fn main() {
     let problem = Problem::from_config(&cfg).expect("problem");
     let dir = Path::new(&args[1]);
     let read = |n: &str| npy::read(dir.join(n)).expect(n).data;
-    let (nx, ny, a) = (
+    let (nx, ny, (a, a_y)) = (
         problem.surface.nx,
         problem.surface.ny,
-        problem.surface.cell_size,
+        problem.surface.cell(),
     );
     let sol = ContactSolution {
         pressure: read("pressure.npy"),
@@ -81,17 +81,17 @@ fn main() {
     });
     let (total, cpu0) = (Instant::now(), cpu_s());
     timed("contact statistics", || {
-        analysis::contact_statistics(&sol.pressure, &sol.contact, nx, ny, a)
+        analysis::contact_statistics(&sol.pressure, &sol.contact, nx, ny, (a, a_y))
     });
     timed("friction, both routes + stats", || {
         problem.friction_and_stats(&sol).expect("friction")
     });
     timed("  dissipation route alone", || {
-        analysis::friction::friction_force_dissipation_layered(
+        analysis::friction::friction_force_dissipation_cells(
             &sol.pressure,
             nx,
             ny,
-            a,
+            (a, a_y),
             &problem.material.spectrum,
             problem.material.poisson,
             problem.speed,
@@ -105,6 +105,7 @@ fn main() {
         nx,
         ny,
         cell_size: a,
+        cell_size_y: a_y,
         displacement: &sol.displacement,
         contact: &sol.contact,
         pressure: &sol.pressure,
@@ -112,7 +113,7 @@ fn main() {
         xi: None,
     };
     timed("  m2: psd + Eq. 11-13", || {
-        let map = HeightMap::new(nx, ny, nx as f64 * a, sol.displacement.clone()).unwrap();
+        let map = HeightMap::with_cells(nx, ny, a, a_y, sol.displacement.clone()).unwrap();
         let psd = psd_2d(&map, params.window).unwrap();
         analysis::deformed_anisotropy(&psd, 1.0, (nx.min(ny) / 2) as f64)
     });
