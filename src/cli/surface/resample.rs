@@ -154,7 +154,7 @@ pub(super) fn run(args: ResampleArgs) -> Result<()> {
         })
     };
     let doc = json!({
-        "version": crate::VERSION,
+        "version": crate::version::VERSION,
         "input": args.input_file.display().to_string(),
         "method": method,
         "description": what,
