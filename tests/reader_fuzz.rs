@@ -6,6 +6,8 @@
 //! input's size (counted by the allocator of this test binary). Bounded in
 //! time: a fixed number of mutants per format (about a second each).
 
+mod common;
+
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::io::{Cursor, Write};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -163,19 +165,7 @@ fn topo() -> Topography {
 }
 
 fn gwy_valid() -> Vec<u8> {
-    fn key(k: &str, t: u8) -> Vec<u8> {
-        let mut v = k.as_bytes().to_vec();
-        v.push(0);
-        v.push(t);
-        v
-    }
-    fn obj(name: &str, body: &[u8]) -> Vec<u8> {
-        let mut v = name.as_bytes().to_vec();
-        v.push(0);
-        v.extend_from_slice(&(body.len() as u32).to_le_bytes());
-        v.extend_from_slice(body);
-        v
-    }
+    use common::gwy::{key, obj};
     let mut f = Vec::new();
     for (k, v) in [("xres", 4i32), ("yres", 3)] {
         f.extend(key(k, b'i'));

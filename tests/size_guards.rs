@@ -4,6 +4,8 @@
 //! "eleven aborts or panics on sizes"); now each is one line naming the
 //! count, what it needs and what there is, and nothing is written.
 
+mod common;
+
 use std::io::{Cursor, Write};
 use std::path::Path;
 use std::process::{Command, Output};
@@ -225,19 +227,7 @@ fn x3p_sizes_that_overflow_or_exceed_the_data_are_errors_before_inflating() {
 
 /// A `.gwy` whose `xres` and `yres` are 64-bit and `data` holds `n` doubles.
 fn gwy_q(xres: i64, yres: i64, n: usize) -> Vec<u8> {
-    fn key(k: &str, t: u8) -> Vec<u8> {
-        let mut v = k.as_bytes().to_vec();
-        v.push(0);
-        v.push(t);
-        v
-    }
-    fn obj(name: &str, body: &[u8]) -> Vec<u8> {
-        let mut v = name.as_bytes().to_vec();
-        v.push(0);
-        v.extend_from_slice(&(body.len() as u32).to_le_bytes());
-        v.extend_from_slice(body);
-        v
-    }
+    use common::gwy::{key, obj};
     let mut f = Vec::new();
     f.extend(key("xres", b'q'));
     f.extend(xres.to_le_bytes());
