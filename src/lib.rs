@@ -62,6 +62,7 @@ pub mod error;
 pub mod gauss;
 pub mod io;
 pub mod kernel;
+pub mod magnification;
 pub mod material;
 pub mod mesh;
 pub mod plot;

@@ -24,6 +24,7 @@ const LAYERS: &[&[&str]] = &[
     &["error"],
     &["problem"],
     &["sweep", "refine"],
+    &["magnification"],
     &["cli"],
 ];
 
@@ -381,6 +382,8 @@ const PYTHON_MAY_USE: &[(&str, &[&str])] = &[
         &["Observer", "Control", "SolverError", "SolverParams"],
     ),
     ("backend", &["BackendChoice"]),
+    ("magnification", &[]),
+    ("sweep", &["Shard"]),
     ("Error", &[]),
     ("Result", &[]),
     ("VERSION", &[]),

@@ -10,11 +10,13 @@
 //! - [`solve`]: solves with the GIL released, interruptible, with progress.
 //! - [`results`]: a solution's fields, scalars, summary and analysis.
 //! - [`theory`]: Persson's theory and the influence coefficients.
+//! - [`magnification`]: magnification studies of a configuration file.
 //! - [`errors`]: library errors as Python exceptions.
 
 use pyo3::prelude::*;
 
 mod errors;
+mod magnification;
 mod material;
 mod observer;
 mod problem;
@@ -34,5 +36,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(solve::solve_config, m)?)?;
     m.add_function(wrap_pyfunction!(theory::persson, m)?)?;
     m.add_function(wrap_pyfunction!(theory::kernel_table, m)?)?;
+    m.add_function(wrap_pyfunction!(magnification::magnification, m)?)?;
     Ok(())
 }

@@ -24,7 +24,7 @@ use crate::surface::NativeSurface;
 
 /// `auto`, `cpu` or `gpu`; `None`: `VISCOSLIDE_BACKEND`, else `auto` (as
 /// the command line without `--backend`).
-fn backend_choice(name: Option<&str>) -> PyResult<BackendChoice> {
+pub(crate) fn backend_choice(name: Option<&str>) -> PyResult<BackendChoice> {
     let flag = match name {
         None => None,
         Some("auto") => Some(BackendChoice::Auto),

@@ -12,7 +12,8 @@ True
 The API mirrors the engine's layers: :class:`Material`, :class:`Surface`,
 :func:`solve` (and :func:`solve_config` for configuration files) giving a
 :class:`Result`; :func:`sweep` and :func:`friction_curve` for many solves;
-:func:`persson` for Persson's theory; :func:`kernel_table` for the
+:func:`persson` for Persson's theory; :func:`magnification` for friction
+and area against the cut-off ``q1``; :func:`kernel_table` for the
 influence coefficients. Errors: ``ValueError`` for bad input,
 :class:`ConvergenceError` for a solve that did not converge.
 """
@@ -20,6 +21,7 @@ influence coefficients. Errors: ``ValueError`` for bad input,
 from ._native import VERSION as __version__
 from .curves import COLUMNS, friction_curve, kernel_table, persson, sweep
 from .errors import ConvergenceError
+from .magnification import MAGNIFICATION_COLUMNS, magnification
 from .material import Material
 from .solve import Result, solve, solve_config
 from .surface import Surface
@@ -27,12 +29,14 @@ from .surface import Surface
 __all__ = [
     "COLUMNS",
     "ConvergenceError",
+    "MAGNIFICATION_COLUMNS",
     "Material",
     "Result",
     "Surface",
     "__version__",
     "friction_curve",
     "kernel_table",
+    "magnification",
     "persson",
     "solve",
     "solve_config",

@@ -130,3 +130,14 @@ def kernel_table(
     layer_json: Optional[str],
     derivative: bool,
 ) -> npt.NDArray[np.float64]: ...
+def magnification(
+    path: str,
+    overrides: List[str],
+    q1: Optional[List[float]],
+    scales: Optional[List[float]],
+    cells_per_wavelength: float,
+    speeds: Optional[List[float]],
+    backend: Optional[str],
+    shard: Optional[str],
+    out: Optional[str],
+) -> Optional[str]: ...

@@ -4,6 +4,7 @@
 mod analyze;
 mod gpu;
 mod kernel;
+mod magnification;
 mod material;
 pub mod persson;
 mod refine;
@@ -55,6 +56,9 @@ pub enum Command {
     Analyze(analyze::AnalyzeArgs),
     /// Persson's theory: friction and contact area against speed.
     Persson(persson::PerssonArgs),
+    /// Friction and contact area against the cut-off q1 (the PSD held
+    /// fixed, cut at each level), boundary elements beside Persson.
+    Magnification(magnification::MagnificationArgs),
 }
 
 /// A config file plus `--set section.key=value` overrides.
@@ -88,5 +92,6 @@ pub fn run() -> Result<()> {
         Command::Gpu(a) => gpu::run(a),
         Command::Analyze(a) => analyze::run(a),
         Command::Persson(a) => persson::run(a),
+        Command::Magnification(a) => magnification::run(a),
     }
 }

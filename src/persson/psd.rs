@@ -48,28 +48,30 @@ pub fn continuum_self_affine(
         }
     }
     let mut target = params.resolve()?;
-    let exponent = -2.0 * (target.hurst + 1.0);
-    let rows = |c0: f64| {
-        let mut q = vec![target.ql];
-        let mut c = vec![c0];
-        if target.q0 > target.ql {
-            q.push(target.q0);
-            c.push(c0);
-        }
-        q.push(target.q1);
-        c.push(c0 * (target.q1 / target.q0).powf(exponent));
-        (q, c)
-    };
-    let (q, c) = rows(1.0);
-    let unit = TabulatedPsd::new(q, c, "self-affine PSD")?;
+    target.anisotropy = None;
+    let unit = self_affine_table(&target)?;
     let c0 = match params.normalisation {
         Normalisation::RmsHeight(h) => h * h / unit.moment(0),
         Normalisation::RmsSlope(s) => s * s / unit.moment(2),
     };
     target.c0 = c0;
-    target.anisotropy = None;
-    let (q, c) = rows(c0);
-    Ok((TabulatedPsd::new(q, c, "self-affine PSD")?, target))
+    Ok((self_affine_table(&target)?, target))
+}
+
+/// The table of the isotropic self-affine PSD `target` with its own `C0`
+/// (two or three rows: `q_L`, the roll-off `q0` if any, `q1`): exact, a
+/// power law is a straight line in log-log axes.
+pub fn self_affine_table(target: &SelfAffinePsd) -> Result<TabulatedPsd, PerssonError> {
+    let exponent = -2.0 * (target.hurst + 1.0);
+    let mut q = vec![target.ql];
+    let mut c = vec![target.c0];
+    if target.q0 > target.ql {
+        q.push(target.q0);
+        c.push(target.c0);
+    }
+    q.push(target.q1);
+    c.push(target.c0 * (target.q1 / target.q0).powf(exponent));
+    Ok(TabulatedPsd::new(q, c, "self-affine PSD")?)
 }
 
 /// What [`radial`] kept of a height map's radial PSD.

@@ -323,6 +323,47 @@ impl GenerateParams {
     }
 }
 
+/// The spectral moments `(sum C dq^2, sum |q|^2 C dq^2)` over the Fourier
+/// modes of the grid of `params` for the PSD with `C0 = 1`: the sums
+/// [`generate`] normalises with, from the amplitudes alone (no phases, no
+/// transform). A surface whose PSD has the plateau `C0` has the spectral
+/// rms height `sqrt(C0 m0)` and rms slope `sqrt(C0 m2)`, so generating it
+/// with `rms_slope = sqrt(C0 m2)` reproduces exactly that `C0`: how a
+/// magnification study holds `C(q)` fixed while it cuts the band at
+/// several `q1` (physics.md section 12).
+pub fn lattice_moments(params: &GenerateParams) -> Result<(f64, f64), SurfaceError> {
+    let target = params.resolve()?;
+    let (nx, ny) = (params.nx, params.ny);
+    let a = params.length / nx as f64;
+    let dqx = 2.0 * PI / (nx as f64 * a);
+    let dqy = 2.0 * PI / (ny as f64 * a);
+    // Signed indices as the generator uses them: (-n/2, n/2] for even n.
+    let signed = |k: usize, n: usize| {
+        if k <= n / 2 {
+            k as f64
+        } else {
+            k as f64 - n as f64
+        }
+    };
+    // Row sums in parallel, added in row order: the same bits on any
+    // number of threads.
+    let rows: Vec<(f64, f64)> = (0..ny)
+        .into_par_iter()
+        .map(|ky| {
+            let qy = signed(ky, ny) * dqy;
+            (0..nx).fold((0.0, 0.0), |(m0, m2), kx| {
+                let qx = signed(kx, nx) * dqx;
+                let s = target.sqrt_eval(qx, qy);
+                let c = s * s * dqx * dqy;
+                (m0 + c, m2 + (qx * qx + qy * qy) * c)
+            })
+        })
+        .collect();
+    Ok(rows
+        .iter()
+        .fold((0.0, 0.0), |(m0, m2), r| (m0 + r.0, m2 + r.1)))
+}
+
 /// Bytes per cell [`generate`] needs at its peak, roughly: the heights (8),
 /// the half spectrum (about 8) and the FFT's work space (about 32).
 pub const GENERATE_BYTES_PER_CELL: u64 = 48;

@@ -28,8 +28,8 @@ pub use format::{
     encode_topography, read_topography, write_topography, ReadOptions, SurfaceFormat, WriteOptions,
 };
 pub use generate::{
-    generate, generate_with_target, Anisotropy, GenerateParams, Normalisation, SelfAffinePsd,
-    UpperCutoff,
+    generate, generate_with_target, lattice_moments, Anisotropy, GenerateParams, Normalisation,
+    SelfAffinePsd, UpperCutoff,
 };
 pub use gwy::{decode_gwy, read_gwy};
 pub(crate) use io::npy_bytes_of;

@@ -7,13 +7,15 @@
 mod compare;
 mod merge;
 mod plan;
+mod store;
 
 pub use crate::config::SweepConfig;
 pub use compare::{compare, read_measured, Measured};
 pub use merge::{aggregate, merge, MergedRow};
 pub use plan::{Point, Shard, SweepPlan};
+pub use store::PointStore;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::Value;
@@ -65,10 +67,7 @@ pub fn run_sweep(
     if let Some(first) = plan.points.first() {
         point_problem(cfg, first)?;
     }
-    crate::io::check_output_dir(dir)?;
-    pin_config(cfg, dir)?;
-    let points_dir = dir.join("points");
-    std::fs::create_dir_all(&points_dir).map_err(|e| Error::io(&points_dir, e))?;
+    let store = pin_config(cfg, dir)?;
     let mine: Vec<&Point> = plan
         .points
         .iter()
@@ -76,7 +75,7 @@ pub fn run_sweep(
         .collect();
     let todo: Vec<&&Point> = mine
         .iter()
-        .filter(|p| !point_done(&points_dir, p))
+        .filter(|p| !store.done(&p.id, "friction_coefficient"))
         .collect();
     let skipped = mine.len() - todo.len();
     let count = limit.map_or(todo.len(), |l| l.min(todo.len()));
@@ -94,13 +93,7 @@ pub fn run_sweep(
         for w in value["warnings"].as_array().into_iter().flatten() {
             bar.suspend(|| eprintln!("warning: point {}: {}", point.id, w.as_str().unwrap_or("")));
         }
-        let path = point_path(&points_dir, point);
-        write_atomic(
-            &path,
-            serde_json::to_string_pretty(&value)
-                .expect("serialisable")
-                .as_bytes(),
-        )?;
+        store.write(&point.id, &value)?;
         solved += 1;
         bar.inc(1);
     }
@@ -166,30 +159,11 @@ fn point_problem(cfg: &LoadedConfig, point: &Point) -> Result<Problem> {
     Problem::from_config(&point_cfg)
 }
 
-fn point_path(points_dir: &Path, point: &Point) -> PathBuf {
-    points_dir.join(format!("{}.json", point.id))
-}
-
-fn point_done(points_dir: &Path, point: &Point) -> bool {
-    std::fs::read_to_string(point_path(points_dir, point))
-        .ok()
-        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
-        .is_some_and(|v| v.get("friction_coefficient").is_some())
-}
-
 /// Record the configuration in `dir`, or check that it matches the one
 /// recorded there: a sweep directory holds the points of one configuration.
-fn pin_config(cfg: &LoadedConfig, dir: &Path) -> Result<()> {
+fn pin_config(cfg: &LoadedConfig, dir: &Path) -> Result<PointStore> {
     let text = toml::to_string(&cfg.document).expect("a parsed document serialises");
-    let pinned = dir.join(CONFIG_FILE);
-    match std::fs::read_to_string(&pinned) {
-        Ok(old) if old == text => Ok(()),
-        Ok(_) => Err(Error::Invalid(format!(
-            "{} holds a sweep made with a different configuration; use another --out directory (or delete it) instead of mixing results",
-            dir.display()
-        ))),
-        Err(_) => Ok(write_atomic(&pinned, text.as_bytes())?),
-    }?;
+    let store = PointStore::open(dir, CONFIG_FILE, &text, "sweep")?;
     // Where the pinned configuration's relative paths point (for `merge`,
     // which rebuilds Persson's theory from it); not part of the pin.
     let base = std::fs::canonicalize(&cfg.base_dir).unwrap_or_else(|_| cfg.base_dir.clone());
@@ -197,5 +171,5 @@ fn pin_config(cfg: &LoadedConfig, dir: &Path) -> Result<()> {
         dir.join(CONFIG_DIR_FILE),
         base.display().to_string().as_bytes(),
     )?;
-    Ok(())
+    Ok(store)
 }
