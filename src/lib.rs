@@ -49,7 +49,7 @@
 //!
 //! Data flows one way: `config` -> `material` and `surface` -> `mesh` ->
 //! `kernel` (influence coefficients) -> `operator` -> `backend` -> `solver`
-//! -> `analysis` -> `problem` (the API) -> `sweep` and `refine` -> `cli`; `io` and `plot`
+//! -> `analysis` -> `problem` (the API) -> `sweep` and `refine` -> `magnification` -> `cli`; `io` and `plot`
 //! serve every layer. `persson` (Persson's theory, the analytic reference)
 //! needs only `material` and `surface`; `problem` builds its inputs from a
 //! configuration or a problem. `docs/ARCHITECTURE.md` says what each layer owns and

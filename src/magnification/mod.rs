@@ -214,6 +214,37 @@ impl Study {
         toml::to_string(&doc).expect("a table serialises")
     }
 
+    /// Persson's theory at 48 cut-offs log-spaced over the levels' range
+    /// (and at every level), per speed: the smooth curves of the figure.
+    pub fn persson_curves(&self) -> Result<Vec<(f64, Vec<(f64, f64, f64)>)>> {
+        const POINTS: usize = 48;
+        let (lo, hi) = (self.levels[0].q1, self.levels[self.levels.len() - 1].q1);
+        let mut q1s: Vec<f64> = (0..POINTS)
+            .map(|k| lo * (hi / lo).powf(k as f64 / (POINTS - 1) as f64))
+            .chain(self.levels.iter().map(|l| l.q1))
+            .collect();
+        q1s.sort_by(f64::total_cmp);
+        q1s.dedup();
+        let mut curves: Vec<(f64, Vec<(f64, f64, f64)>)> =
+            self.speeds.iter().map(|&v| (v, Vec::new())).collect();
+        for &q1 in &q1s {
+            let psd = plan::truncated_psd(&self.psd, q1)?;
+            let theory = Persson::new(
+                &self.material,
+                &psd,
+                self.nominal_pressure,
+                PerssonParams::default(),
+            )?
+            .curve(&self.speeds)?;
+            for (curve, p) in curves.iter_mut().zip(theory) {
+                curve
+                    .1
+                    .push((q1, p.friction_coefficient, p.contact_area_fraction));
+            }
+        }
+        Ok(curves)
+    }
+
     /// The configuration `viscoslide solve` solves exactly point `point` with.
     pub fn point_config(&self, point: &StudyPoint) -> Result<LoadedConfig> {
         plan::level_config(&self.cfg, &self.levels[point.level], Some(point.speed))
@@ -365,6 +396,7 @@ pub fn run(
                     nominal_pressure: study.nominal_pressure,
                     seed: study.levels[0].params.seed,
                     document: study.cfg.document.clone(),
+                    persson_curves: study.persson_curves()?,
                 },
             );
             let written = match dir {

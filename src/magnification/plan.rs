@@ -13,7 +13,9 @@ use crate::error::{Error, Result};
 use crate::persson::psd::{continuum_self_affine, self_affine_table};
 use crate::problem::check_memory;
 use crate::solver::SolverParams;
-use crate::surface::{lattice_moments, GenerateParams, Normalisation, TabulatedPsd, UpperCutoff};
+use crate::surface::{
+    lattice_moments, GenerateParams, Normalisation, SelfAffinePsd, TabulatedPsd, UpperCutoff,
+};
 
 fn invalid(msg: impl Into<String>) -> Error {
     Error::Invalid(msg.into())
@@ -129,6 +131,19 @@ pub struct FixedPsd {
     pub c0_m4: f64,
 }
 
+/// The fixed PSD cut at `q1` (`q0 < q1`), as a table for Persson's
+/// theory.
+pub fn truncated_psd(fixed: &FixedPsd, q1: f64) -> Result<TabulatedPsd> {
+    Ok(self_affine_table(&SelfAffinePsd {
+        ql: fixed.ql_per_m,
+        q0: fixed.rolloff_q0_per_m,
+        q1,
+        hurst: fixed.hurst,
+        c0: fixed.c0_m4,
+        anisotropy: None,
+    })?)
+}
+
 /// The generator parameters of the configuration's surface, or why a
 /// magnification study cannot be made of it.
 pub fn config_params(cfg: &LoadedConfig) -> Result<GenerateParams> {
@@ -231,10 +246,7 @@ pub fn plan_levels(
         let (m0, m2) = lattice_moments(&params)?;
         let rms_slope = (target.c0 * m2).sqrt();
         params.normalisation = Normalisation::RmsSlope(rms_slope);
-        let mut truncated = params.resolve()?;
-        truncated.c0 = target.c0;
-        truncated.anisotropy = None;
-        let psd = self_affine_table(&truncated)?;
+        let psd = truncated_psd(&fixed, q1)?;
         levels.push(LevelPlan {
             q1,
             n,

@@ -69,6 +69,9 @@ pub struct ReportContext {
     pub seed: u64,
     /// The study's configuration document.
     pub document: toml::Table,
+    /// Persson's theory on a fine set of cut-offs between the levels, per
+    /// speed: `(speed, [(q1, mu, A/A0)])`, drawn as smooth curves.
+    pub persson_curves: Vec<(f64, Vec<(f64, f64, f64)>)>,
 }
 
 /// A finished study.
@@ -83,6 +86,8 @@ pub struct MagnificationReport {
     pub seed: u64,
     pub document: toml::Table,
     pub warnings: Vec<String>,
+    /// See [`ReportContext::persson_curves`].
+    pub persson_curves: Vec<(f64, Vec<(f64, f64, f64)>)>,
 }
 
 fn ratio_warning(what: &str, persson: f64, bem: f64, at: &str) -> Option<String> {
@@ -148,6 +153,7 @@ impl MagnificationReport {
             seed: fixed.seed,
             document: fixed.document,
             warnings,
+            persson_curves: fixed.persson_curves,
         }
     }
 
@@ -201,7 +207,9 @@ impl MagnificationReport {
     /// line) and Persson's theory (line), one pair of curves per speed.
     pub fn charts(&self) -> Vec<XyChart> {
         let several = self.speeds.len() > 1;
-        let chart = |title: &str, y_label: &str, log_y: bool, bem: fn(&LevelResult) -> f64, theory: fn(&LevelResult) -> f64| {
+        type Pick = fn(&LevelResult) -> f64;
+        type TheoryPick = fn(&(f64, f64, f64)) -> f64;
+        let chart = |title: &str, y_label: &str, log_y: bool, bem: Pick, theory: TheoryPick| {
             let mut series = Vec::new();
             for (c, &v) in self.speeds.iter().enumerate() {
                 let row: Vec<&LevelResult> = self.levels.iter().filter(|l| l.speed == v).collect();
@@ -217,11 +225,13 @@ impl MagnificationReport {
                     color: c,
                     errors: None,
                 });
-                series.push(Series::line(
-                    format!("Persson{at}"),
-                    row.iter().map(|l| (l.q1, theory(l))).collect(),
-                    c + 3,
-                ));
+                let curve = self
+                    .persson_curves
+                    .iter()
+                    .find(|(s, _)| *s == v)
+                    .map(|(_, c)| c.iter().map(|p| (p.0, theory(p))).collect())
+                    .unwrap_or_default();
+                series.push(Series::line(format!("Persson{at}"), curve, c + 3));
             }
             XyChart {
                 title: title.into(),
@@ -238,14 +248,14 @@ impl MagnificationReport {
                 "friction coefficient",
                 false,
                 |l| l.friction_coefficient,
-                |l| l.persson_friction_coefficient,
+                |p| p.1,
             ),
             chart(
                 "Contact area against the cut-off q1",
                 "contact area fraction A/A0",
                 true,
                 |l| l.contact_area_fraction,
-                |l| l.persson_contact_area_fraction,
+                |p| p.2,
             ),
         ]
     }
