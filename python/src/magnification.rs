@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use viscoslide::config;
-use viscoslide::magnification::{self, MagnificationParams, Study, StudyObserver};
+use viscoslide::magnification::{run, MagnificationParams, Study, StudyObserver};
 use viscoslide::problem::{Executor, Problem};
 use viscoslide::solver::{Observer, SolverError};
 use viscoslide::sweep::Shard;
@@ -59,8 +59,8 @@ pub fn magnification(
         let study = Study::new(&cfg, params)?;
         let coarse = Problem::from_config(&study.point_config(&study.points[0])?)?;
         let (executor, _) = Executor::select(choice, &coarse)?;
-        let run = magnification::run(&study, &executor, out.as_deref(), shard, &mut observer)?;
-        Ok(run.report.map(|r| r.to_json().to_string()))
+        let done = run(&study, &executor, out.as_deref(), shard, &mut observer)?;
+        Ok(done.report.map(|r| r.to_json().to_string()))
     });
     match outcome {
         Ok(json) => Ok(json),

@@ -61,6 +61,17 @@ fn smooth(mut n: usize) -> bool {
     n == 1
 }
 
+/// Whether the solver's coarse-to-fine cascade, which halves a grid while
+/// its side is even and the half at least 64 cells, reaches a grid of
+/// fewer than 128 cells from `n` (a 4050 grid stops at 2025 and solves
+/// most of its contact there: several times slower than 4096).
+fn cascades_down(mut n: usize) -> bool {
+    while n.is_multiple_of(2) && n / 2 >= 64 {
+        n /= 2;
+    }
+    n < 128
+}
+
 fn gcd(a: usize, b: usize) -> usize {
     if b == 0 {
         a
@@ -70,8 +81,9 @@ fn gcd(a: usize, b: usize) -> usize {
 }
 
 /// The grid `(nx, ny)` of a level: the smallest FFT-friendly `nx` (no
-/// prime factor above 5; any multiple of the aspect's denominator when
-/// that has one) with at least `cells` cells per shortest wavelength
+/// prime factor above 5, halving down to fewer than 128 cells for the
+/// solver's cascade; any multiple of the aspect's denominator when no such
+/// size is one) with at least `cells` cells per shortest wavelength
 /// `2 pi / q1` on a side `length`, and `ny` keeping the configuration's
 /// side along y exactly (`ny / nx` of the configuration), both at least 8.
 pub fn level_grid(cells: f64, q1: f64, length: f64, nx0: usize, ny0: usize) -> (usize, usize) {
@@ -85,7 +97,7 @@ pub fn level_grid(cells: f64, q1: f64, length: f64, nx0: usize, ny0: usize) -> (
     let n = (start..)
         .step_by(q)
         .take(4 * need + 64)
-        .find(|&n| fits(n) && smooth(n))
+        .find(|&n| fits(n) && smooth(n) && cascades_down(n) && cascades_down(n * p / q))
         .unwrap_or_else(|| (start..).step_by(q).find(|&n| fits(n)).expect("a multiple"));
     (n, n * p / q)
 }
@@ -316,7 +328,7 @@ mod tests {
     fn grids_are_fft_friendly_and_resolve_k_cells() {
         // Paper experiment: L = 2 pi / 2.51e4.
         let l = 2.5032990e-4;
-        for (q1, want) in [(2.51e5, 40), (6.31e6, 1024)] {
+        for (q1, want) in [(2.51e5, 45), (2.82e6, 480), (6.31e6, 1024)] {
             let (n, ny) = level_grid(4.0, q1, l, 1024, 1024);
             assert_eq!((n, ny), (want, want), "q1 = {q1}");
             assert!(TAU / q1 / (l / n as f64) >= 4.0);
@@ -324,6 +336,9 @@ mod tests {
         // Exactly 40 cells needed: no extra cell from round-off.
         let q1 = 40.0 * TAU / l / 4.0;
         assert_eq!(level_grid(4.0, q1, l, 64, 64).0, 40);
+        // 16 cells at the experiment's q1: 4096, not 4050 (= 2 x 2025).
+        assert_eq!(level_grid(16.0, 6.31e6, l, 64, 64).0, 4096);
+        assert!(cascades_down(4096) && cascades_down(120) && !cascades_down(4050));
         // Aspect 3:2 kept exactly.
         let (n, ny) = level_grid(4.0, 2.51e5, l, 96, 64);
         assert_eq!(n * 2, ny * 3);
