@@ -405,3 +405,21 @@ speed = 0.0
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_configs_own_grid_need_not_carry_its_q1() {
+    // n = 8 reaches 4 q_L, the config's q1 is 8 q_L: a solve would refuse
+    // it, a study plans its own grids and the same levels.
+    let dir = tmp("owngrid");
+    let coarse = write_config(&dir.join("a"), &CONFIG.replace("n = 64", "n = 8"));
+    let fine = write_config(&dir.join("b"), CONFIG);
+    let (a, b) = (
+        study(&coarse, vec![3.0 * ql(), 8.0 * ql()]),
+        study(&fine, vec![3.0 * ql(), 8.0 * ql()]),
+    );
+    assert_eq!(a.psd, b.psd);
+    for (x, y) in a.levels.iter().zip(&b.levels) {
+        assert_eq!((x.n, x.rms_slope), (y.n, y.rms_slope));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

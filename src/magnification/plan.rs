@@ -92,14 +92,16 @@ pub fn level_grid(cells: f64, q1: f64, length: f64, nx0: usize, ny0: usize) -> (
     let need = (cells * q1 * length / TAU * (1.0 - 1e-12)).ceil().max(8.0) as usize;
     let g = gcd(nx0, ny0);
     let (p, q) = (ny0 / g, nx0 / g);
-    let fits = |n: usize| n >= need && n.is_multiple_of(q) && n * p / q >= 8;
-    let start = need.div_ceil(q) * q;
-    let n = (start..)
-        .step_by(q)
-        .take(4 * need + 64)
-        .find(|&n| fits(n) && smooth(n) && cascades_down(n) && cascades_down(n * p / q))
-        .unwrap_or_else(|| (start..).step_by(q).find(|&n| fits(n)).expect("a multiple"));
-    (n, n * p / q)
+    let ny_of = |n: usize| n.checked_mul(p).map(|m| m / q).unwrap_or(usize::MAX);
+    let fits = |n: usize| n >= need && n.is_multiple_of(q) && ny_of(n) >= 8;
+    // Every size with both properties is c 2^k with c < 128 5-smooth.
+    let n = (1..128usize)
+        .filter(|&c| smooth(c))
+        .flat_map(|c| (0..48u32).filter_map(move |k| c.checked_mul(1usize << k)))
+        .filter(|&n| fits(n) && cascades_down(n) && cascades_down(ny_of(n)))
+        .min()
+        .unwrap_or_else(|| need.div_ceil(q).max(8usize.div_ceil(p.max(1))) * q);
+    (n, ny_of(n))
 }
 
 /// One level of the study, planned (nothing solved).
@@ -194,7 +196,17 @@ pub fn plan_levels(
             "--cells-per-wavelength must be at least 2 (the Nyquist limit), got {cells}"
         )));
     }
-    let base = config_params(cfg)?;
+    let mut base = config_params(cfg)?;
+    // The configuration's own grid need not carry its q1 (each level has
+    // its own grid): check the PSD on one that does.
+    let ql = base.ql.unwrap_or(TAU / base.length);
+    let q1_config = match base.upper {
+        UpperCutoff::Scales(n) => n * ql,
+        UpperCutoff::Q1(q) => q,
+    };
+    if q1_config.is_finite() && q1_config > 0.0 {
+        (base.nx, base.ny) = level_grid(2.0, q1_config, base.length, base.nx, base.ny);
+    }
     let (_, target) = continuum_self_affine(&base)?;
     let fixed = FixedPsd {
         hurst: target.hurst,
