@@ -124,7 +124,8 @@ fn mode(map: &HeightMap, kx: i64, ky: i64) -> Complex64 {
     let mut sum = Complex64::new(0.0, 0.0);
     for i in 0..map.nx {
         for j in 0..map.ny {
-            let phase = -2.0 * PI
+            let phase = -2.0
+                * PI
                 * (kx as f64 * i as f64 / map.nx as f64 + ky as f64 * j as f64 / map.ny as f64);
             sum += map.heights[i * map.ny + j] * Complex64::from_polar(1.0, phase);
         }
@@ -157,7 +158,10 @@ fn every_level_holds_the_same_psd_and_the_same_fourier_modes() {
     for (kx, ky) in [(1, 0), (0, 2), (-2, 1), (1, -2)] {
         let (a, b) = (mode(coarse, kx, ky), mode(fine, kx, ky));
         assert!(a.norm() > 0.0);
-        assert!((a - b).norm() < 1e-10 * a.norm(), "mode ({kx}, {ky}): {a} vs {b}");
+        assert!(
+            (a - b).norm() < 1e-10 * a.norm(),
+            "mode ({kx}, {ky}): {a} vs {b}"
+        );
     }
     let (a, b) = (mode(coarse, 3, 3), mode(fine, 3, 3)); // |k| = 4.24 > 2.5
     assert!(a.norm() < 1e-12 * b.norm() && b.norm() > 0.0);
@@ -245,9 +249,19 @@ fn persson_per_level_is_its_own_integral_over_the_truncated_psd() {
     let theory: Vec<(f64, f64)> = report
         .levels
         .iter()
-        .map(|l| (l.persson_friction_coefficient, l.persson_contact_area_fraction))
+        .map(|l| {
+            (
+                l.persson_friction_coefficient,
+                l.persson_contact_area_fraction,
+            )
+        })
         .collect();
-    assert!(theory.windows(2).all(|w| w[1].0 > w[0].0 && w[1].1 < w[0].1), "{theory:?}");
+    assert!(
+        theory
+            .windows(2)
+            .all(|w| w[1].0 > w[0].0 && w[1].1 < w[0].1),
+        "{theory:?}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -289,7 +303,14 @@ fn shards_resume_and_the_report_match_one_run() {
     let speeds = "--speeds=0.003,0.01";
     let one = dir.join("one");
     let (ok, _, err) = viscoslide(&[
-        "magnification", cfg, scales, speeds, "--backend", "cpu", "--out", one.to_str().unwrap(),
+        "magnification",
+        cfg,
+        scales,
+        speeds,
+        "--backend",
+        "cpu",
+        "--out",
+        one.to_str().unwrap(),
     ]);
     assert!(ok, "{err}");
     let json: Value =
@@ -298,12 +319,24 @@ fn shards_resume_and_the_report_match_one_run() {
     assert_eq!(json["levels"].as_array().unwrap().len(), 6);
     assert!(json["speed"].is_null(), "two speeds: no single speed");
     for key in [
-        "q1", "n", "cells_per_shortest_wavelength", "rms_height", "rms_slope",
-        "friction_coefficient", "friction_coefficient_dissipation", "contact_area_fraction",
-        "persson_friction_coefficient", "persson_contact_area_fraction", "matvecs", "wall_time_s",
+        "q1",
+        "n",
+        "cells_per_shortest_wavelength",
+        "rms_height",
+        "rms_slope",
+        "friction_coefficient",
+        "friction_coefficient_dissipation",
+        "contact_area_fraction",
+        "persson_friction_coefficient",
+        "persson_contact_area_fraction",
+        "matvecs",
+        "wall_time_s",
         "speed",
     ] {
-        assert!(json["levels"][0].get(key).is_some(), "levels[0] lacks {key}");
+        assert!(
+            json["levels"][0].get(key).is_some(),
+            "levels[0] lacks {key}"
+        );
     }
     assert!(json["warnings"].is_array());
     assert!(one.join("magnification.csv").is_file() && one.join("magnification.png").is_file());
@@ -314,7 +347,16 @@ fn shards_resume_and_the_report_match_one_run() {
     let sharded = dir.join("sharded");
     let out = sharded.to_str().unwrap();
     let (ok, stdout, err) = viscoslide(&[
-        "magnification", cfg, scales, speeds, "--backend", "cpu", "--shard", "0/2", "--out", out,
+        "magnification",
+        cfg,
+        scales,
+        speeds,
+        "--backend",
+        "cpu",
+        "--shard",
+        "0/2",
+        "--out",
+        out,
     ]);
     assert!(ok, "{err}");
     assert!(stdout.contains("3 in this shard"), "{stdout}");
@@ -322,30 +364,51 @@ fn shards_resume_and_the_report_match_one_run() {
     assert!(!sharded.join("magnification.json").exists());
     let before = points(&sharded);
     let (ok, _, err) = viscoslide(&[
-        "magnification", cfg, scales, speeds, "--backend", "cpu", "--shard", "1/2", "--out", out,
+        "magnification",
+        cfg,
+        scales,
+        speeds,
+        "--backend",
+        "cpu",
+        "--shard",
+        "1/2",
+        "--out",
+        out,
     ]);
     assert!(ok, "{err}");
     assert_eq!(points(&sharded).len(), 6);
     // Resume: nothing solved again, the shard-0 points untouched.
-    let (ok, stdout, err) =
-        viscoslide(&["magnification", cfg, scales, speeds, "--backend", "cpu", "--out", out]);
+    let (ok, stdout, err) = viscoslide(&[
+        "magnification",
+        cfg,
+        scales,
+        speeds,
+        "--backend",
+        "cpu",
+        "--out",
+        out,
+    ]);
     assert!(ok, "{err}");
     assert!(stdout.contains("6 already done, 0 solved now"), "{stdout}");
     let after = points(&sharded);
     for p in &before {
         assert!(after.contains(p), "{} was rewritten", p.0);
     }
-    let merged: Value = serde_json::from_str(
-        &std::fs::read_to_string(sharded.join("magnification.json")).unwrap(),
-    )
-    .unwrap();
+    let merged: Value =
+        serde_json::from_str(&std::fs::read_to_string(sharded.join("magnification.json")).unwrap())
+            .unwrap();
     for (a, b) in json["levels"]
         .as_array()
         .unwrap()
         .iter()
         .zip(merged["levels"].as_array().unwrap())
     {
-        for key in ["q1", "friction_coefficient", "contact_area_fraction", "persson_friction_coefficient"] {
+        for key in [
+            "q1",
+            "friction_coefficient",
+            "contact_area_fraction",
+            "persson_friction_coefficient",
+        ] {
             assert_eq!(a[key], b[key], "{key}");
         }
     }
@@ -386,11 +449,20 @@ speed = 0.0
         (vec![cfg, "--q1=600"], "must exceed"),
         (vec![cfg, "--scales=4,2"], "increase strictly"),
         (vec![cfg, "--scales=4,x"], "not a finite number"),
-        (vec![cfg, "--scales=4", "--cells-per-wavelength=1.5"], "at least 2"),
+        (
+            vec![cfg, "--scales=4", "--cells-per-wavelength=1.5"],
+            "at least 2",
+        ),
         (vec![cfg, "--scales=4", "--speeds=0.1,-1"], ">= 0"),
         (vec![cfg], "exactly one of --q1"),
-        (vec![approach.to_str().unwrap(), "--scales=4"], "prescribed load"),
-        (vec![sphere.to_str().unwrap(), "--scales=4"], "generated self-affine surface"),
+        (
+            vec![approach.to_str().unwrap(), "--scales=4"],
+            "prescribed load",
+        ),
+        (
+            vec![sphere.to_str().unwrap(), "--scales=4"],
+            "generated self-affine surface",
+        ),
     ];
     for (args, want) in cases {
         let out = dir.join("out");
@@ -400,7 +472,11 @@ speed = 0.0
         let (ok, _, err) = viscoslide(&all);
         assert!(!ok, "{args:?} was accepted");
         assert!(err.contains(want), "{args:?}: {err}");
-        assert_eq!(err.trim().lines().count(), 1, "{args:?}: one line, got {err}");
+        assert_eq!(
+            err.trim().lines().count(),
+            1,
+            "{args:?}: one line, got {err}"
+        );
         assert!(!out.exists(), "{args:?} created {}", out.display());
     }
     let _ = std::fs::remove_dir_all(&dir);

@@ -97,7 +97,8 @@ impl StudyObserver for Progress {
             point.speed
         );
         self.bar.suspend(|| eprintln!("{line}"));
-        self.bar.set_message("generating the surface, influence coefficients");
+        self.bar
+            .set_message("generating the surface, influence coefficients");
     }
 
     fn point_finished(&mut self, done: usize, count: usize, l: &LevelResult) {

@@ -63,12 +63,10 @@ impl MagnificationParams {
         let levels = match (q1, scales) {
             (Some(q), None) => LevelSpec::Q1(q),
             (None, Some(s)) => LevelSpec::Scales(s),
-            _ => {
-                return Err(Error::Invalid(
-                    "give the levels with exactly one of --q1 Q1,Q2,... (1/m) and --scales N1,N2,..."
-                        .into(),
-                ))
-            }
+            _ => return Err(Error::Invalid(
+                "give the levels with exactly one of --q1 Q1,Q2,... (1/m) and --scales N1,N2,..."
+                    .into(),
+            )),
         };
         Ok(Self {
             levels,
@@ -210,7 +208,10 @@ impl Study {
         );
         let mut doc = toml::Table::new();
         doc.insert("study".into(), toml::Value::Table(study));
-        doc.insert("config".into(), toml::Value::Table(self.cfg.document.clone()));
+        doc.insert(
+            "config".into(),
+            toml::Value::Table(self.cfg.document.clone()),
+        );
         toml::to_string(&doc).expect("a table serialises")
     }
 
@@ -297,7 +298,14 @@ impl Study {
 /// Hears about a study's progress.
 pub trait StudyObserver {
     /// Point `done + 1` of `count` to solve in this run starts.
-    fn point_started(&mut self, _done: usize, _count: usize, _point: &StudyPoint, _level: &LevelPlan) {}
+    fn point_started(
+        &mut self,
+        _done: usize,
+        _count: usize,
+        _point: &StudyPoint,
+        _level: &LevelPlan,
+    ) {
+    }
     /// A point is finished.
     fn point_finished(&mut self, _done: usize, _count: usize, _result: &LevelResult) {}
     /// The observer of each solve's iterations.
@@ -349,7 +357,12 @@ pub fn run(
     observer: &mut dyn StudyObserver,
 ) -> Result<StudyRun> {
     let store = match dir {
-        Some(d) => Some(PointStore::open(d, PIN_FILE, &study.pin_text(), "magnification study")?),
+        Some(d) => Some(PointStore::open(
+            d,
+            PIN_FILE,
+            &study.pin_text(),
+            "magnification study",
+        )?),
         None if shard != Shard::ALL => {
             return Err(Error::Invalid(
                 "--shard needs an output directory to store the points in".into(),
