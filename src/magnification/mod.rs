@@ -22,7 +22,7 @@ pub mod plan;
 pub mod report;
 
 pub use plan::{level_grid, parse_list, FixedPsd, LevelPlan, LevelSpec};
-pub use report::{LevelResult, MagnificationReport, ReportContext};
+pub use report::{LevelResult, MagnificationReport, PerssonCurve, ReportContext};
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -217,7 +217,7 @@ impl Study {
 
     /// Persson's theory at 48 cut-offs log-spaced over the levels' range
     /// (and at every level), per speed: the smooth curves of the figure.
-    pub fn persson_curves(&self) -> Result<Vec<(f64, Vec<(f64, f64, f64)>)>> {
+    pub fn persson_curves(&self) -> Result<Vec<PerssonCurve>> {
         const POINTS: usize = 48;
         let (lo, hi) = (self.levels[0].q1, self.levels[self.levels.len() - 1].q1);
         let mut q1s: Vec<f64> = (0..POINTS)
@@ -226,8 +226,7 @@ impl Study {
             .collect();
         q1s.sort_by(f64::total_cmp);
         q1s.dedup();
-        let mut curves: Vec<(f64, Vec<(f64, f64, f64)>)> =
-            self.speeds.iter().map(|&v| (v, Vec::new())).collect();
+        let mut curves: Vec<PerssonCurve> = self.speeds.iter().map(|&v| (v, Vec::new())).collect();
         for &q1 in &q1s {
             let psd = plan::truncated_psd(&self.psd, q1)?;
             let theory = Persson::new(

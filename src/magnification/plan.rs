@@ -54,7 +54,7 @@ pub const DEFAULT_CELLS_PER_WAVELENGTH: f64 = 4.0;
 /// their fastest radices).
 fn smooth(mut n: usize) -> bool {
     for p in [2, 3, 5] {
-        while n.is_multiple_of(p) {
+        while n % p == 0 {
             n /= p;
         }
     }
@@ -66,7 +66,7 @@ fn smooth(mut n: usize) -> bool {
 /// fewer than 128 cells from `n` (a 4050 grid stops at 2025 and solves
 /// most of its contact there: several times slower than 4096).
 fn cascades_down(mut n: usize) -> bool {
-    while n.is_multiple_of(2) && n / 2 >= 64 {
+    while n % 2 == 0 && n / 2 >= 64 {
         n /= 2;
     }
     n < 128
@@ -93,7 +93,7 @@ pub fn level_grid(cells: f64, q1: f64, length: f64, nx0: usize, ny0: usize) -> (
     let g = gcd(nx0, ny0);
     let (p, q) = (ny0 / g, nx0 / g);
     let ny_of = |n: usize| n.checked_mul(p).map(|m| m / q).unwrap_or(usize::MAX);
-    let fits = |n: usize| n >= need && n.is_multiple_of(q) && ny_of(n) >= 8;
+    let fits = |n: usize| n >= need && n % q == 0 && ny_of(n) >= 8;
     // Every size with both properties is c 2^k with c < 128 5-smooth.
     let n = (1..128usize)
         .filter(|&c| smooth(c))

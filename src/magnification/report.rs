@@ -58,6 +58,10 @@ pub struct LevelResult {
 /// what the theory's known approximations explain.
 pub const DISAGREEMENT_FACTOR: f64 = 2.0;
 
+/// Persson's theory against the cut-off at one speed:
+/// `(speed, [(q1, mu, A/A0)])`.
+pub type PerssonCurve = (f64, Vec<(f64, f64, f64)>);
+
 /// What a study held fixed, for its report.
 #[derive(Debug, Clone)]
 pub struct ReportContext {
@@ -71,7 +75,7 @@ pub struct ReportContext {
     pub document: toml::Table,
     /// Persson's theory on a fine set of cut-offs between the levels, per
     /// speed: `(speed, [(q1, mu, A/A0)])`, drawn as smooth curves.
-    pub persson_curves: Vec<(f64, Vec<(f64, f64, f64)>)>,
+    pub persson_curves: Vec<PerssonCurve>,
 }
 
 /// A finished study.
@@ -87,7 +91,7 @@ pub struct MagnificationReport {
     pub document: toml::Table,
     pub warnings: Vec<String>,
     /// See [`ReportContext::persson_curves`].
-    pub persson_curves: Vec<(f64, Vec<(f64, f64, f64)>)>,
+    pub persson_curves: Vec<PerssonCurve>,
 }
 
 fn ratio_warning(what: &str, persson: f64, bem: f64, at: &str) -> Option<String> {
