@@ -220,5 +220,6 @@ fn creep_section(m: &Material) -> MaterialConfig {
         prony: None,
         poisson: Some(m.poisson),
         file: None,
+        wlf: None,
     }
 }

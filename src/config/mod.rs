@@ -231,6 +231,11 @@ const UNITS: &[(&str, &str)] = &[
     ("mean_pressure", "Pa"),
     ("speed", "m/s"),
     ("xi", "v tau / L, dimensionless"),
+    (
+        "temperature",
+        "C, above T_ref - C2 of the material's WLF constants",
+    ),
+    ("wlf", "[C1, C2 in K, T_ref in C]"),
     ("thickness", "m"),
     ("cell_size", "m"),
 ];
