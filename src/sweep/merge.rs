@@ -17,7 +17,7 @@ use std::path::Path;
 
 use serde::Deserialize;
 
-use super::Point;
+use super::{master, Point};
 
 use crate::config::{self, LoadedConfig};
 use crate::error::{Error, Result};
@@ -29,6 +29,12 @@ use crate::problem::persson::{theory_inputs, TheoryInputs};
 /// One row of `sweep.csv`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MergedRow {
+    /// The `[sweep.vary]` values of the row (empty without them).
+    pub vary: BTreeMap<String, toml::Value>,
+    /// Temperature \[C\] and WLF shift factor `a_T` of the row's
+    /// material, when it has WLF constants (physics.md section 12).
+    pub temperature: Option<f64>,
+    pub shift_factor: Option<f64>,
     pub normal_load: f64,
     pub speed: f64,
     pub xi: Option<f64>,
@@ -50,7 +56,12 @@ pub struct MergedRow {
 }
 
 struct PointResult {
-    /// Grouping keys: the point's planned load (NaN when the config's) and speed.
+    /// Grouping keys: the plan position of the point's `[sweep.vary]`
+    /// combination, its planned load (NaN when the config's) and speed.
+    key_combo: usize,
+    vary: BTreeMap<String, toml::Value>,
+    temperature: Option<f64>,
+    shift_factor: Option<f64>,
     key_load: f64,
     key_speed: f64,
     load: f64,
@@ -94,6 +105,11 @@ struct PointFile {
     persson_friction_coefficient: Option<f64>,
     #[serde(default)]
     persson_contact_area_fraction: Option<f64>,
+    /// Temperature and WLF shift of the point (absent in older versions).
+    #[serde(default)]
+    temperature: Option<f64>,
+    #[serde(default)]
+    shift_factor: Option<f64>,
 }
 
 /// The analysis numbers a merge aggregates.
@@ -124,6 +140,10 @@ fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
         let v: PointFile = serde_json::from_str(&text)
             .map_err(|e| Error::Invalid(format!("{}: not a point result: {e}", path.display())))?;
         out.push(PointResult {
+            key_combo: v.point.index,
+            vary: v.point.vary.clone(),
+            temperature: v.temperature,
+            shift_factor: v.shift_factor,
             key_load: v.point.normal_load.unwrap_or(f64::NAN),
             key_speed: v.point.speed.value(),
             load: v.normal_load,
@@ -145,22 +165,34 @@ fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
             points_dir.display()
         )));
     }
+    // A combination's key: the smallest plan index among its points (the
+    // `[sweep.vary]` values are the outermost axis, so this is plan order).
+    let mut first: Vec<(BTreeMap<String, toml::Value>, usize)> = Vec::new();
+    for p in &out {
+        match first.iter_mut().find(|(v, _)| *v == p.vary) {
+            Some((_, i)) => *i = (*i).min(p.key_combo),
+            None => first.push((p.vary.clone(), p.key_combo)),
+        }
+    }
+    for p in &mut out {
+        p.key_combo = first.iter().find(|(v, _)| *v == p.vary).expect("seen").1;
+    }
     Ok(out)
 }
 
-/// Aggregate the points of `dir` into rows, ordered by planned load, then
-/// speed (the group keys are bit patterns of non-negative floats, whose
-/// order is the numeric order).
+/// Aggregate the points of `dir` into rows, ordered by `[sweep.vary]`
+/// combination (plan order), planned load, then speed (the group keys are
+/// bit patterns of non-negative floats, whose order is the numeric order).
 pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
     let mut points = read_points(dir)?;
-    let key = |p: &PointResult| (p.key_load.to_bits(), p.key_speed.to_bits());
+    let key = |p: &PointResult| (p.key_combo, p.key_load.to_bits(), p.key_speed.to_bits());
     points.sort_by_key(|p| (key(p), p.seed));
-    // Static areas per (planned load, seed) for A / A(0).
+    // Static areas per (combination, planned load, seed) for A / A(0).
     let mut static_area = BTreeMap::new();
     for p in points.iter().filter(|p| p.speed == 0.0) {
-        static_area.insert((p.key_load.to_bits(), p.seed), p.area);
+        static_area.insert((p.key_combo, p.key_load.to_bits(), p.seed), p.area);
     }
-    let mut groups: BTreeMap<(u64, u64), Vec<&PointResult>> = BTreeMap::new();
+    let mut groups: BTreeMap<(usize, u64, u64), Vec<&PointResult>> = BTreeMap::new();
     for p in &points {
         groups.entry(key(p)).or_default().push(p);
     }
@@ -175,6 +207,9 @@ pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
                 v.map(|v| mean_std(&v))
             };
             MergedRow {
+                vary: g[0].vary.clone(),
+                temperature: g[0].temperature,
+                shift_factor: g[0].shift_factor,
                 normal_load: col(&|p| p.load).0,
                 speed: g[0].speed,
                 xi: g[0].xi,
@@ -184,7 +219,7 @@ pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
                 area_fraction: col(&|p| p.area),
                 area_ratio: opt(&|p| {
                     static_area
-                        .get(&(p.key_load.to_bits(), p.seed))
+                        .get(&(p.key_combo, p.key_load.to_bits(), p.seed))
                         .map(|a0| p.area / a0)
                 }),
                 gamma: opt(&|p| p.gamma),
@@ -198,14 +233,22 @@ pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
     Ok(rows)
 }
 
-/// Persson's theory for the sweep in `dir`: its pinned configuration read
-/// back with the recorded directory for relative paths (the sweep
-/// directory itself when none is recorded). `Err` says why not.
-fn theory_for(dir: &Path) -> std::result::Result<TheoryInputs, String> {
+/// Persson's theory for the sweep in `dir` at one combination of its
+/// `[sweep.vary]` values: its pinned configuration read back with the
+/// recorded directory for relative paths (the sweep directory itself when
+/// none is recorded). `Err` says why not.
+fn theory_for(
+    dir: &Path,
+    vary: &BTreeMap<String, toml::Value>,
+) -> std::result::Result<TheoryInputs, String> {
     let path = dir.join(super::CONFIG_FILE);
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let document: toml::Table =
+    let mut document: toml::Table =
         toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    // The combination's `[sweep.vary]` values, set as the sweep set them.
+    for (key, value) in vary {
+        config::set_value(&mut document, key, value.clone())?;
+    }
     let name = path.display().to_string();
     let config = config::parse_document(&document, &name).map_err(|e| e.to_string())?;
     let base_dir = std::fs::read_to_string(dir.join(super::CONFIG_DIR_FILE))
@@ -298,8 +341,10 @@ fn fmt_opt(v: Option<(f64, f64)>) -> (String, String) {
 /// The CSV text of `rows`.
 pub fn csv(rows: &[MergedRow]) -> String {
     let mut out = String::from(
-        "normal_load_n,speed_m_s,xi,realisations,friction_mean,friction_std,friction_dissipation_mean,friction_dissipation_std,area_fraction_mean,area_fraction_std,area_ratio_mean,area_ratio_std,gamma_mean,gamma_std,lambda_mean,lambda_std,persson_friction,persson_area_fraction,persson_area_ratio\n",
+        "normal_load_n,speed_m_s,xi,realisations,friction_mean,friction_std,friction_dissipation_mean,friction_dissipation_std,area_fraction_mean,area_fraction_std,area_ratio_mean,area_ratio_std,gamma_mean,gamma_std,lambda_mean,lambda_std,persson_friction,persson_area_fraction,persson_area_ratio",
     );
+    out.push_str(&master::extra_header(rows));
+    out.push('\n');
     let one = |v: Option<f64>| v.map(|x| format!("{x:.8e}")).unwrap_or_default();
     for r in rows {
         let (arm, ars) = fmt_opt(r.area_ratio);
@@ -321,6 +366,7 @@ pub fn csv(rows: &[MergedRow]) -> String {
             one(r.persson_area_fraction),
             one(r.persson_area_ratio),
         ));
+        out.insert_str(out.len() - 1, &master::extra_fields(rows, r));
     }
     out
 }
@@ -332,47 +378,40 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
     let use_xi = rows.iter().all(|r| r.xi.is_some());
     let x_of = |r: &MergedRow| if use_xi { r.xi.unwrap_or(0.0) } else { r.speed };
     let x_label = if use_xi { "xi = v tau / L" } else { "v [m/s]" };
-    // Loads as planned, to the precision a user types them.
-    let label = |r: &MergedRow| format!("{:.4e}", r.normal_load);
-    let mut loads: Vec<String> = rows.iter().map(label).collect();
-    loads.dedup();
-    // Persson's theory: smooth curves from the pinned configuration, else
-    // the values each point recorded (A/A(0) from the static point's).
-    let curves = match theory_for(dir) {
-        Ok(inputs) => theory_curves(&inputs, &mut rows, &label, use_xi)?,
-        Err(why) => {
-            eprintln!("note: Persson's theory drawn from the points' own values ({why})");
-            let statics: BTreeMap<String, f64> = rows
-                .iter()
-                .filter(|r| r.speed == 0.0)
-                .filter_map(|r| r.persson_area_fraction.map(|a| (label(r), a)))
-                .collect();
-            for r in rows.iter_mut() {
-                if let (Some(a), Some(a0)) = (r.persson_area_fraction, statics.get(&label(r))) {
-                    r.persson_area_ratio = Some(a / a0);
-                }
-            }
-            loads
-                .iter()
-                .map(|l| {
-                    let c: Curve = rows
-                        .iter()
-                        .filter(|r| label(r) == *l && x_of(r) > 0.0)
-                        .filter_map(|r| {
-                            Some((
-                                x_of(r),
-                                r.persson_friction?,
-                                r.persson_area_fraction?,
-                                r.persson_area_ratio.unwrap_or(f64::NAN),
-                            ))
-                        })
-                        .collect();
-                    (l.clone(), c)
-                })
-                .filter(|(_, c)| !c.is_empty())
-                .collect()
+    // Loads as planned, to the precision a user types them, after the
+    // `[sweep.vary]` values of the row.
+    let label = |r: &MergedRow| {
+        let vary = master::vary_text(&r.vary);
+        let load = format!("F_N = {:.4e} N", r.normal_load);
+        if vary.is_empty() {
+            load
+        } else {
+            format!("{vary}, {load}")
         }
     };
+    let mut loads: Vec<String> = rows.iter().map(label).collect();
+    loads.dedup();
+    // Persson's theory per `[sweep.vary]` combination (the rows of one are
+    // contiguous): smooth curves from the pinned configuration, else the
+    // values each point recorded (A/A(0) from the static point's).
+    let mut curves = Vec::new();
+    let mut start = 0;
+    while start < rows.len() {
+        let end = start
+            + rows[start..]
+                .iter()
+                .take_while(|r| r.vary == rows[start].vary)
+                .count();
+        let chunk = &mut rows[start..end];
+        match theory_for(dir, &chunk[0].vary) {
+            Ok(inputs) => curves.extend(theory_curves(&inputs, chunk, &label, use_xi)?),
+            Err(why) => {
+                eprintln!("note: Persson's theory drawn from the points' own values ({why})");
+                curves.extend(recorded_curves(chunk, &label, &x_of));
+            }
+        }
+        start = end;
+    }
     let mut staged = StagedOutput::new(dir)?;
     staged.write("sweep.csv", csv(&rows).as_bytes())?;
     type Pick = fn(&MergedRow) -> Option<(f64, f64)>;
@@ -442,11 +481,7 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
             if sel.is_empty() {
                 continue;
             }
-            let mut s = Series::points(
-                format!("F_N = {load} N"),
-                sel.iter().map(|t| (t.0, t.1)).collect(),
-                c,
-            );
+            let mut s = Series::points(load.clone(), sel.iter().map(|t| (t.0, t.1)).collect(), c);
             s.mark = crate::plot::Mark::LineAndPoints;
             s.errors = Some(sel.iter().map(|t| t.2).collect());
             series.push(s);
@@ -458,7 +493,7 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
                     .filter(|p| p.1.is_finite())
                     .collect();
                 if !pts.is_empty() {
-                    series.push(Series::line(format!("Persson, F_N = {load} N"), pts, c + 3));
+                    series.push(Series::line(format!("Persson, {load}"), pts, c + 3));
                 }
             }
         }
@@ -477,6 +512,56 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
             },
         )?;
     }
+    // Grosch's master curve when the rows span several temperatures.
+    let theory: Vec<(String, Vec<(f64, f64)>)> = if use_xi {
+        Vec::new()
+    } else {
+        curves
+            .iter()
+            .map(|(l, c)| (l.clone(), c.iter().map(|p| (p.0, p.1)).collect()))
+            .collect()
+    };
+    master::master_chart(&mut staged, &rows, &label, &theory)?;
     staged.commit()?;
     Ok(rows)
+}
+
+/// Persson's curves from the values each point recorded (the pinned
+/// configuration cannot be read back), `A/A(0)` from the static point's.
+fn recorded_curves(
+    rows: &mut [MergedRow],
+    label: &dyn Fn(&MergedRow) -> String,
+    x_of: &dyn Fn(&MergedRow) -> f64,
+) -> Vec<(String, Curve)> {
+    let statics: BTreeMap<String, f64> = rows
+        .iter()
+        .filter(|r| r.speed == 0.0)
+        .filter_map(|r| r.persson_area_fraction.map(|a| (label(r), a)))
+        .collect();
+    for r in rows.iter_mut() {
+        if let (Some(a), Some(a0)) = (r.persson_area_fraction, statics.get(&label(r))) {
+            r.persson_area_ratio = Some(a / a0);
+        }
+    }
+    let mut labels: Vec<String> = rows.iter().map(label).collect();
+    labels.dedup();
+    labels
+        .iter()
+        .map(|l| {
+            let c: Curve = rows
+                .iter()
+                .filter(|r| label(r) == *l && x_of(r) > 0.0)
+                .filter_map(|r| {
+                    Some((
+                        x_of(r),
+                        r.persson_friction?,
+                        r.persson_area_fraction?,
+                        r.persson_area_ratio.unwrap_or(f64::NAN),
+                    ))
+                })
+                .collect();
+            (l.clone(), c)
+        })
+        .filter(|(_, c)| !c.is_empty())
+        .collect()
 }
