@@ -146,7 +146,7 @@ pub fn load_material_file(path: &Path, poisson: Option<f64>) -> Result<Material,
 /// `wlf_reference_temperature`, written by `material fit --wlf`) and the
 /// temperature the fitted spectrum describes (`temperature`), when all
 /// three constants are there. Other keys of `[fit]` are not interpreted.
-fn fit_wlf(fit: Option<&toml::Value>) -> Result<Option<(Wlf, Option<f64>)>, String> {
+pub fn fit_wlf(fit: Option<&toml::Value>) -> Result<Option<(Wlf, Option<f64>)>, String> {
     let Some(fit) = fit else { return Ok(None) };
     let number = |key: &str| -> Result<Option<f64>, String> {
         match fit.get(key) {
