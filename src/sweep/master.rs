@@ -7,7 +7,7 @@
 
 use std::collections::BTreeMap;
 
-use super::merge::MergedRow;
+use super::row::MergedRow;
 use crate::error::Result;
 use crate::io::StagedOutput;
 use crate::plot::{xy_chart, Mark, Series, XyChart};

@@ -9,11 +9,14 @@ mod compare;
 mod master;
 mod merge;
 mod plan;
+mod row;
+mod theory;
 
 pub use crate::config::SweepConfig;
 pub use compare::{compare, read_measured, Measured};
-pub use merge::{aggregate, merge, MergedRow};
+pub use merge::{aggregate, merge};
 pub use plan::{Point, Shard, SweepPlan};
+pub use row::MergedRow;
 
 use std::path::{Path, PathBuf};
 
