@@ -310,4 +310,37 @@ fn cli_solve_states_the_temperature_and_refuses_without_writing() {
         serde_json::from_str(&std::fs::read_to_string(good.join("summary.json")).unwrap()).unwrap();
     assert_eq!(s["temperature"], serde_json::json!(7.0));
     assert!(rel(s["shift_factor"].as_f64().unwrap(), shift(7.0)) < 1e-13);
+    // `viscoslide persson` states them too, and its curve at T is the
+    // curve at T_ref at the shifted speeds.
+    let run = |extra: &[&str], dir: &str| -> serde_json::Value {
+        let out = p.parent().unwrap().join(dir);
+        let o = std::process::Command::new(bin)
+            .arg("persson")
+            .arg(&p)
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_str(&std::fs::read_to_string(out.join("persson.json")).unwrap()).unwrap()
+    };
+    let a = shift(7.0);
+    let hot = run(&["--speeds", "1e-3,1e-1,3"], "p_hot");
+    let speeds = format!("{:e},{:e},3", a * 1e-3, a * 1e-1);
+    let reference = run(
+        &["--set", "loading.temperature=17.0", "--speeds", &speeds],
+        "p_ref",
+    );
+    assert_eq!(hot["temperature"], serde_json::json!(7.0));
+    assert!(rel(hot["shift_factor"].as_f64().unwrap(), a) < 1e-13);
+    assert_eq!(reference["shift_factor"], serde_json::json!(1.0));
+    for k in 0..3 {
+        let (m1, m0) = (
+            hot["friction_coefficient"][k].as_f64().unwrap(),
+            reference["friction_coefficient"][k].as_f64().unwrap(),
+        );
+        // The speeds of the reference pass through a decimal string: 1e-9.
+        assert!(rel(m1, m0) < 1e-9, "{m1} {m0}");
+    }
 }
