@@ -158,6 +158,41 @@ impl Problem {
         if self.mesh == MeshKind::Adaptive {
             self.check_adaptive_cells()?;
         }
+        self.check_layer_cells()?;
+        Ok(())
+    }
+
+    /// A layer far below a cell (kernel's `check_layer_cells`): at least
+    /// `kernel::THIN_RATIO_MIN` of a cell on every formulation; the
+    /// tables' local limit also asks for a grid-axis direction, a uniform
+    /// mesh and a compressible or frictionless layer.
+    fn check_layer_cells(&self) -> Result<()> {
+        let Some(layer) = self.layer else {
+            return Ok(());
+        };
+        let (ax, ay) = self.surface.cell();
+        let a = ax.max(ay);
+        if self.formulation == Formulation::Periodic {
+            if layer.thickness < crate::kernel::THIN_RATIO_MIN * a {
+                return Err(invalid(format!(
+                    "[layer] thickness = {:e} m is {:.3e} of a cell ({a:e} m), below the bound of {:e} of a cell; use cells of at most {:e} m or a thicker layer",
+                    layer.thickness,
+                    layer.thickness / a,
+                    crate::kernel::THIN_RATIO_MIN,
+                    layer.thickness / crate::kernel::THIN_RATIO_MIN
+                )));
+            }
+            return Ok(());
+        }
+        let kernel = self.sliding_kernel()?;
+        kernel.check_layer_cells(ax, ay)?;
+        if self.mesh == MeshKind::Adaptive && kernel.is_thin(ax, ay) {
+            return Err(invalid(format!(
+                "[layer] thickness = {:e} m is {:.3e} of a cell: the adaptive mesh needs a layer resolved by its finest cells; use mesh = \"uniform\"",
+                layer.thickness,
+                layer.thickness / a
+            )));
+        }
         Ok(())
     }
 
