@@ -39,10 +39,6 @@ impl Problem {
             .with_loading(&loading)?
             .with_solver_config(&sc)?;
         let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
-        let coarser_side = problem.surface.cell_size.max(problem.surface.cell_size_y);
-        if let Some(w) = layer.and_then(|l| l.resolution_warning(coarser_side)) {
-            eprintln!("warning: {w}");
-        }
         problem.source = source;
         problem.preprocessing = surface_cfg.preprocessing()?;
         problem.layer = layer;
@@ -50,6 +46,10 @@ impl Problem {
         problem.document = cfg.document.clone();
         problem.analysis = cfg.config.analysis.clone();
         problem.check()?;
+        let coarser_side = problem.surface.cell_size.max(problem.surface.cell_size_y);
+        if let Some(w) = layer.and_then(|l| l.resolution_warning(coarser_side)) {
+            eprintln!("warning: {w}");
+        }
         Ok(problem)
     }
 
@@ -62,7 +62,14 @@ impl Problem {
         let area0 = self.surface.length_x() * self.surface.length_y();
         self.control = match (loading.normal_load, loading.mean_pressure, loading.approach) {
             (Some(f), None, None) => Control::Load(f),
-            (None, Some(p), None) => Control::Load(p * area0),
+            (None, Some(p), None) => {
+                if !(p.is_finite() && p > 0.0) {
+                    return Err(invalid(format!(
+                        "[loading] mean_pressure must be positive and finite, got {p} Pa"
+                    )));
+                }
+                Control::Load(p * area0)
+            }
             (None, None, Some(d)) => Control::Approach(d),
             (None, None, None) => {
                 return Err(invalid(
@@ -92,6 +99,29 @@ impl Problem {
             precondition: sc.precondition.unwrap_or(defaults.precondition),
             cascade_levels: sc.cascade_levels.unwrap_or(defaults.cascade_levels),
         };
+        for (key, value, what) in [
+            (
+                "max_matvecs",
+                self.params.max_matvecs,
+                "the budget of operator products",
+            ),
+            (
+                "max_iterations",
+                self.params.max_iterations,
+                "the budget of active-set iterations",
+            ),
+            (
+                "restart",
+                self.params.restart,
+                "the GMRES restart length, default 30",
+            ),
+        ] {
+            if value == 0 {
+                return Err(invalid(format!(
+                    "[solver] {key} = 0: must be at least 1 ({what})"
+                )));
+            }
+        }
         if self.params.cascade_levels == 0 {
             return Err(invalid(
                 "[solver] cascade_levels must be at least 1 (1: the fine grid only)",

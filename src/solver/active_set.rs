@@ -296,9 +296,14 @@ pub(crate) fn solve_owned<B: Backend>(
         let index = backend.index_of(&mask);
         let m = backend.index_len(&index);
         if m == 0 {
-            return Err(SolverError::Invalid(
-                "the contact set is empty: under approach control the surfaces do not touch".into(),
-            ));
+            return Err(SolverError::Invalid(match control {
+                Control::Approach(d) => format!(
+                    "the contact set is empty: under approach control (approach {d:e} m) the surfaces do not touch"
+                ),
+                Control::Load(f) => format!(
+                    "the contact set is empty: the normal load {f:e} N is too small to press any cell into contact in double precision"
+                ),
+            }));
         }
         let load_scale = self_coefficient / (m as f64).sqrt();
         work.resize(backend, m);
