@@ -132,7 +132,6 @@ fn lengths_and_moduli_name_their_bounds() {
 #[test]
 fn loads_are_named_as_given() {
     let tmp = tempfile::tempdir().unwrap();
-    let cfg = config(tmp.path(), "");
     let cfg_p = config(tmp.path(), "");
     let text = std::fs::read_to_string(&cfg_p)
         .unwrap()
