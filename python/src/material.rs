@@ -30,8 +30,12 @@ pub fn section_table(section: &MaterialConfig) -> toml::Table {
 }
 
 impl NativeMaterial {
-    fn build(mut section: MaterialConfig, base_dir: &Path) -> PyResult<Self> {
+    fn build(section: MaterialConfig, base_dir: &Path) -> PyResult<Self> {
         let material = section.build(base_dir).map_err(value_error)?;
+        Self::finish(material, section, base_dir)
+    }
+
+    fn finish(material: Material, mut section: MaterialConfig, base_dir: &Path) -> PyResult<Self> {
         if let Some(file) = &section.file {
             section.file = Some(base_dir.join(file));
         }
@@ -65,7 +69,7 @@ impl NativeMaterial {
             .filter(|p| !p.as_os_str().is_empty())
             .map(Path::to_path_buf)
             .unwrap_or_else(|| PathBuf::from("."));
-        let section: MaterialConfig = match doc.get("material") {
+        let mut section: MaterialConfig = match doc.get("material") {
             Some(toml::Value::Table(t)) => t
                 .clone()
                 .try_into()
@@ -77,7 +81,28 @@ impl NativeMaterial {
                 )))
             }
         };
-        Self::build(section, &base_dir)
+        let mut material = section.build(&base_dir).map_err(value_error)?;
+        // A material.toml fitted with `--wlf` keeps its WLF constants in
+        // `[fit]` (as `model = "file"` reads them).
+        if material.wlf.is_none() {
+            let fit = viscoslide::material::file::fit_wlf(doc.get("fit"))
+                .map_err(|e| value_error(format!("{}: {e}", path.display())))?;
+            if let Some((w, t)) = fit {
+                material = material.with_wlf(w, t);
+                if t.is_none_or(|t| t == w.reference_temperature) {
+                    section.wlf = Some([w.c1, w.c2, w.reference_temperature]);
+                }
+            }
+        }
+        Self::finish(material, section, &base_dir)
+    }
+
+    /// WLF constants `(C1, C2 [K], T_ref [C])` of the material, if any.
+    #[getter]
+    fn wlf(&self) -> Option<(f64, f64, f64)> {
+        self.material
+            .wlf
+            .map(|w| (w.c1, w.c2, w.reference_temperature))
     }
 
     /// Fit a creep spectrum to DMA data (as `viscoslide material fit`):
@@ -140,7 +165,11 @@ impl NativeMaterial {
             shortest_time: None,
         };
         let fit = fit_spectrum(&omega, &measured, &params).map_err(value_error)?;
-        let material = Material::new(fit.creep.clone(), poisson).map_err(value_error)?;
+        let mut material = Material::new(fit.creep.clone(), poisson).map_err(value_error)?;
+        if let Some(w) = wlf {
+            // The fitted spectrum describes `at` (T_ref unless shifted).
+            material = material.with_wlf(w, at);
+        }
         let info = PyDict::new(py);
         let i = &fit.info;
         info.set_item("points", i.points)?;
@@ -152,7 +181,10 @@ impl NativeMaterial {
         info.set_item("max_relative_error_e1", i.max_relative_storage)?;
         info.set_item("max_relative_error_e2", i.max_relative_loss)?;
         info.set_item("temperature", at)?;
-        let section = creep_section(&material);
+        let mut section = creep_section(&material);
+        if let Some(w) = wlf.filter(|w| at.is_none_or(|t| t == w.reference_temperature)) {
+            section.wlf = Some([w.c1, w.c2, w.reference_temperature]);
+        }
         Ok((Self { material, section }, info))
     }
 
@@ -220,5 +252,6 @@ fn creep_section(m: &Material) -> MaterialConfig {
         prony: None,
         poisson: Some(m.poisson),
         file: None,
+        wlf: None,
     }
 }

@@ -17,9 +17,11 @@ use crate::surface::NativeSurface;
 /// Persson's friction coefficient, contact area fraction and `G(q1)` at
 /// `speeds` \[m/s\] for `surface` under `material` at the nominal pressure
 /// of the `[loading]` section (JSON; `speed`/`xi` ignored). Returns
-/// `(mu, A/A0, G(q1), psd kind, nominal pressure, map PSD report as JSON)`,
-/// the report (preprocessing, band, rms-slope check with its warning) for
-/// the radial average of a map only.
+/// `(mu, A/A0, G(q1), psd kind, nominal pressure, map PSD report as JSON,
+/// (temperature, shift factor a_T))`, the report (preprocessing, band,
+/// rms-slope check with its warning) for the radial average of a map only,
+/// the temperature for a material with WLF constants only (the
+/// `[loading] temperature` of the section shifts it).
 #[pyfunction]
 #[allow(clippy::type_complexity)]
 pub fn persson<'py>(
@@ -35,6 +37,7 @@ pub fn persson<'py>(
     &'static str,
     f64,
     Option<String>,
+    Option<(f64, f64)>,
 )> {
     let problem = problem::build(&surface, &material, loading_json, "{}", None)?;
     let (psd, kind, report) = problem.persson_psd_report().map_err(value_error)?;
@@ -66,6 +69,10 @@ pub fn persson<'py>(
         kind,
         sigma0,
         report,
+        problem
+            .material
+            .temperature_shift()
+            .map(|t| (t.temperature, t.shift_factor)),
     ))
 }
 

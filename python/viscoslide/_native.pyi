@@ -33,6 +33,8 @@ class Material:
     @property
     def poisson(self) -> float: ...
     @property
+    def wlf(self) -> Optional[Tuple[float, float, float]]: ...
+    @property
     def creep_spectrum(self) -> List[Tuple[float, float]]: ...
     def section_json(self) -> str: ...
 
@@ -118,7 +120,13 @@ def solve_config(path: str, overrides: List[str], backend: Optional[str], progre
 def persson(
     surface: Surface, material: Material, loading_json: str, speeds: List[float]
 ) -> Tuple[
-    npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], str, float, Optional[str]
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    str,
+    float,
+    Optional[str],
+    Optional[Tuple[float, float]],
 ]: ...
 def kernel_table(
     material: Material,

@@ -8,7 +8,7 @@ from __future__ import annotations
 import itertools
 import json
 import warnings
-from typing import Any, Dict, Optional, Sequence
+from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -32,7 +32,32 @@ COLUMNS = (
     "residual",
     "persson_friction_coefficient",
     "persson_contact_area_fraction",
+    "temperature",
+    "shift_factor",
 )
+
+#: The config keys :func:`sweep` can vary (``vary=``) and the argument of
+#: :func:`solve` each sets; ``surface.generate.*`` keys of a generated
+#: surface regenerate it (:meth:`Surface.generate`).
+VARY_KEYS = {
+    "loading.temperature": "temperature",
+    "loading.direction_deg": "direction_deg",
+    "layer.thickness": "thickness",
+    "layer.base": "layer_base",
+    "solver.formulation": "formulation",
+    "solver.tolerance": "tolerance",
+    "solver.max_iterations": "max_iterations",
+    "solver.max_matvecs": "max_matvecs",
+    "solver.cascade_levels": "cascade_levels",
+    "solver.mesh": "mesh",
+}
+
+#: Arguments of ``VARY_KEYS`` that take a number, and a whole number.
+_NUMBER_ARGS = ("temperature", "direction_deg", "thickness", "tolerance")
+_COUNT_ARGS = ("max_iterations", "max_matvecs", "cascade_levels")
+
+#: Keys the axes of :func:`sweep` set themselves.
+_AXIS_KEYS = ("loading.speed", "loading.xi", "loading.normal_load", "loading.mean_pressure", "loading.approach")
 
 
 def _frame(columns: Dict[str, np.ndarray], as_frame: bool) -> Any:
@@ -54,6 +79,68 @@ def _axis(name: str, values: Any) -> Optional[np.ndarray]:
     return arr
 
 
+def _vary_axes(vary: Any, surf: Surface, options: Dict[str, Any]) -> list:
+    """``vary`` checked: ``[(key, values), ...]`` in key order, as the
+    command line's ``[sweep.vary]`` (one line per refusal)."""
+    if vary is None:
+        return []
+    if not isinstance(vary, Mapping):
+        raise ValueError(f"vary must be a dict of config key -> list of values, got {type(vary).__name__}")
+    axes = []
+    for key in sorted(vary):
+        values = vary[key]
+        if not isinstance(key, str) or "." not in key:
+            raise ValueError(f"vary {key!r}: expected a dotted config key such as 'loading.temperature'")
+        if key in _AXIS_KEYS:
+            raise ValueError(f"vary {key!r} is an axis of sweep already (speed, xi, normal_load, mean_pressure)")
+        if key.startswith("surface.generate."):
+            section = surf.section
+            if section is None or section.get("generate") is None:
+                raise ValueError(f"vary {key!r} needs a generated surface (Surface.generate or Surface.self_affine)")
+        elif key not in VARY_KEYS:
+            raise ValueError(
+                f"vary {key!r}: unknown key; sweep varies {', '.join(sorted(VARY_KEYS))} and surface.generate.* "
+                "(any key of a configuration file: viscoslide sweep with [sweep.vary])"
+            )
+        elif VARY_KEYS[key] in options:
+            raise ValueError(f"vary {key!r} and the argument {VARY_KEYS[key]} both set it: give one")
+        if isinstance(values, (str, bytes)) or not isinstance(values, (Sequence, np.ndarray)):
+            values = [values]
+        values = list(values)
+        if not values:
+            raise ValueError(f"vary {key!r} is empty: give at least one value")
+        values = [v.item() if isinstance(v, np.generic) else v for v in values]
+        arg = VARY_KEYS.get(key)
+        if arg in _NUMBER_ARGS:
+            values = [_checks.number(key, v) for v in values]
+        elif arg in _COUNT_ARGS:
+            values = [_checks.count(key, v) for v in values]
+        axes.append((key, values))
+    return axes
+
+
+def _vary_point(surf: Surface, combo: Dict[str, Any]) -> Tuple[Surface, Dict[str, Any]]:
+    """The surface and :func:`solve` arguments of one ``vary`` combination."""
+    kwargs = {VARY_KEYS[k]: v for k, v in combo.items() if k in VARY_KEYS}
+    generate = {k[len("surface.generate.") :]: v for k, v in combo.items() if k.startswith("surface.generate.")}
+    if generate:
+        keys = dict(surf.section["generate"])
+        for k in generate:
+            if k not in keys and k not in _GENERATE_KEYS:
+                raise ValueError(f"vary 'surface.generate.{k}': unknown key of [surface.generate]")
+        # q1 and scales exclude each other, as rms_height and rms_slope do.
+        for a, b in (("q1", "scales"), ("scales", "q1"), ("rms_slope", "rms_height"), ("rms_height", "rms_slope")):
+            if a in generate:
+                keys.pop(b, None)
+        keys.update(generate)
+        surf = Surface.generate(**keys)
+    return surf, kwargs
+
+
+#: Keys of ``[surface.generate]`` (checked by the library when generating).
+_GENERATE_KEYS = ("n", "ny", "length", "hurst", "scales", "q1", "ql", "rolloff_q0", "rms_slope", "rms_height", "seed")
+
+
 def sweep(
     surface: Any,
     material: Material,
@@ -62,22 +149,31 @@ def sweep(
     xi: Any = None,
     normal_load: Any = None,
     mean_pressure: Any = None,
+    vary: Optional[Mapping[str, Any]] = None,
     progress: Any = None,
     as_frame: bool = False,
     **options: Any,
 ) -> Any:
     """Solve every combination of the given speeds (or ``xi``) and loads
     (``normal_load`` [N] or ``mean_pressure`` [Pa]), one independent solve
-    per point, loads outer, speeds inner.
+    per point, ``vary`` values outermost, then loads, speeds inner.
 
     Each of ``speed``, ``xi``, ``normal_load``, ``mean_pressure`` may be a
     number or a 1-D array; ``options`` are those of :func:`solve`
-    (``formulation``, ``thickness``, ``backend``, ``tolerance``, ...).
-    ``progress=True`` shows a tqdm bar over points; a callable gets a dict
-    per finished point (``point``, ``points`` and the point's columns).
+    (``formulation``, ``thickness``, ``backend``, ``tolerance``,
+    ``temperature``, ...). ``vary`` maps config keys to lists of values,
+    as ``[sweep.vary]`` of ``viscoslide sweep``: ``{"loading.temperature":
+    [7.0, 17.0, 27.0]}``, ``"layer.thickness"``, ``"surface.generate.q1"``
+    (of a generated surface), and the other keys of :data:`VARY_KEYS`;
+    each combination is crossed with the speeds and loads and each key is a
+    column of the result. ``progress=True`` shows a tqdm bar over points;
+    a callable gets a dict per finished point (``point``, ``points`` and
+    the point's columns).
 
-    Returns a dict of 1-D arrays (:data:`COLUMNS`), or a pandas DataFrame
-    with ``as_frame=True``.
+    Returns a dict of 1-D arrays (:data:`COLUMNS` and the varied keys), or
+    a pandas DataFrame with ``as_frame=True``. With ``temperature`` (or
+    ``vary={"loading.temperature": ...}``) the ``temperature`` and
+    ``shift_factor`` columns give ``a_T``: ``mu(v, T) = mu(a_T v, T_ref)``.
     """
     surf = Surface.coerce(surface)
     speeds = _axis("speed", speed)
@@ -92,19 +188,29 @@ def sweep(
         raise ValueError("progress and speed are arguments of sweep itself")
     sliding_key, sliding = ("speed", speeds) if speeds is not None else ("xi", xis)
     load_key, load = ("normal_load", loads) if loads is not None else ("mean_pressure", pressures)
-    grid = list(itertools.product(load, sliding))
-    rows: Dict[str, list] = {c: [] for c in COLUMNS}
+    axes = _vary_axes(vary, surf, options)
+    combos = [dict(zip([k for k, _ in axes], c)) for c in itertools.product(*[v for _, v in axes])]
+    # Every combination is checked before the first solve: its surface and
+    # arguments (a refused sweep solves nothing).
+    prepared = [_vary_point(surf, c) for c in combos]
+    grid = [(p, f, v) for p in range(len(combos)) for f in load for v in sliding]
+    keys = [k for k, _ in axes]
+    rows: Dict[str, list] = {c: [] for c in (*COLUMNS, *keys)}
     with _progress.points(progress, len(grid)) as callback:
-        for k, (f, v) in enumerate(grid):
-            result = solve(surf, material, **{sliding_key: float(v), load_key: float(f)}, **options)
+        for k, (p, f, v) in enumerate(grid):
+            s_p, kwargs = prepared[p]
+            result = solve(s_p, material, **{sliding_key: float(v), load_key: float(f)}, **kwargs, **options)
             s = result.summary
             row = {c: s.get(c) for c in COLUMNS}
             row["normal_load"] = s["normal_load"]
-            for c in COLUMNS:
+            row.update(combos[p])
+            for c in rows:
                 rows[c].append(np.nan if row[c] is None else row[c])
             if callback is not None:
                 callback({"point": k + 1, "points": len(grid), **row})
-    columns = {c: np.asarray(v, dtype=float) for c, v in rows.items()}
+    columns = {c: np.asarray(v, dtype=float) for c, v in rows.items() if c not in keys}
+    for c in keys:
+        columns[c] = np.asarray(rows[c])
     for c in ("iterations", "matvecs"):
         columns[c] = columns[c].astype(np.int64)
     return _frame(columns, as_frame)
@@ -124,7 +230,8 @@ def friction_curve(
 ) -> Any:
     """Friction and contact area against speed at one load: :func:`sweep`
     over ``speeds`` [m/s] (or ``xi``) at ``normal_load`` [N] or
-    ``mean_pressure`` [Pa]."""
+    ``mean_pressure`` [Pa]; ``temperature=`` [C] (among ``options``)
+    shifts the material by its WLF factor as in :func:`solve`."""
     return sweep(
         surface,
         material,
@@ -145,6 +252,7 @@ def persson(
     *,
     normal_load: Optional[float] = None,
     mean_pressure: Optional[float] = None,
+    temperature: Optional[float] = None,
     as_frame: bool = False,
     fill_missing: Optional[bool] = None,
     detrend: Optional[str] = None,
@@ -161,20 +269,24 @@ def persson(
     solve prepares it (a scan: detrended, Hann-windowed, over its trusted
     band; physics.md section 11). ``fill_missing``, ``detrend`` and
     ``window`` prepare a topography-like ``surface`` (see
-    :meth:`Surface.from_array`). Returns a dict of arrays ``speed``,
+    :meth:`Surface.from_array`). ``temperature`` [C] shifts the material
+    by its WLF factor as :func:`solve` does (``mu(v, T) = mu(a_T v,
+    T_ref)``). Returns a dict of arrays ``speed``,
     ``friction_coefficient``, ``contact_area_fraction``, ``g_q1`` and the
-    scalars ``psd`` (which PSD), ``nominal_pressure`` [Pa] and ``map_psd``
+    scalars ``psd`` (which PSD), ``nominal_pressure`` [Pa], ``temperature``
+    [C] and ``shift_factor`` (``a_T``; ``None`` without WLF constants) and ``map_psd``
     (for a map's radial average: preprocessing, band, rms-slope check;
     else ``None``). A PSD whose rms slope differs from the map's real-space
     rms slope by more than 20 % is warned about (``warnings.warn``).
     """
     surf = Surface.coerce(surface, fill_missing=fill_missing, detrend=detrend, window=window)
     v = _axis("speeds", speeds)
-    loading = _loading(0.0, None, normal_load, mean_pressure, None, None)
-    mu, area, g, kind, sigma0, report = _native.persson(
+    loading = _loading(0.0, None, normal_load, mean_pressure, None, None, temperature)
+    mu, area, g, kind, sigma0, report, shift = _native.persson(
         surf._native, material._native, json.dumps(loading), v.tolist()
     )
     map_psd = None if report is None else json.loads(report)
+    temperature_c, a_t = (None, None) if shift is None else shift
     if map_psd is not None and map_psd.get("warning"):
         warnings.warn(map_psd["warning"], stacklevel=2)
     columns: Dict[str, Any] = {
@@ -185,9 +297,11 @@ def persson(
     }
     if as_frame:
         frame = _frame(columns, True)
-        frame.attrs.update(psd=kind, nominal_pressure=sigma0, map_psd=map_psd)
+        frame.attrs.update(psd=kind, nominal_pressure=sigma0, map_psd=map_psd, temperature=temperature_c, shift_factor=a_t)
         return frame
-    columns.update(psd=kind, nominal_pressure=sigma0, map_psd=map_psd)
+    columns.update(
+        psd=kind, nominal_pressure=sigma0, map_psd=map_psd, temperature=temperature_c, shift_factor=a_t
+    )
     return columns
 
 

@@ -42,6 +42,7 @@ class Material:
         creep_time: Optional[float] = None,
         relaxation_time: Optional[float] = None,
         poisson: float = 0.5,
+        wlf: Optional[Tuple[float, float, float]] = None,
     ) -> "Material":
         """A standard linear solid (one creep time; the paper's material).
 
@@ -58,6 +59,10 @@ class Material:
             of ``creep_time`` and ``relaxation_time``.
         poisson : float
             Poisson ratio (default 0.5, incompressible).
+        wlf : (C1, C2, T_ref), optional
+            WLF constants (C2 in K, T_ref in C; ``[material] wlf``) that
+            let a solve ask for another ``temperature``; the spectrum is
+            the one at ``T_ref``.
         """
         return cls._from_section(
             {
@@ -67,6 +72,7 @@ class Material:
                 "creep_time": _checks.optional("creep_time", creep_time),
                 "relaxation_time": _checks.optional("relaxation_time", relaxation_time),
                 "poisson": _checks.number("poisson", poisson),
+                "wlf": _wlf(wlf),
             }
         )
 
@@ -78,6 +84,7 @@ class Material:
         *,
         glassy_modulus: float,
         poisson: float = 0.5,
+        wlf: Optional[Tuple[float, float, float]] = None,
     ) -> "Material":
         """A creep spectrum ``J(t) = 1/E_inf + sum_k C_k (1 - exp(-t/tau_k))``.
 
@@ -91,6 +98,8 @@ class Material:
             ``E_inf`` [Pa].
         poisson : float
             Poisson ratio (default 0.5).
+        wlf : (C1, C2, T_ref), optional
+            WLF constants, as for :meth:`sls`.
         """
         t = _checks.real_array("times", times, 1)
         w = _checks.real_array("weights", weights, 1)
@@ -102,6 +111,7 @@ class Material:
                 "glassy_modulus": _checks.number("glassy_modulus", glassy_modulus),
                 "creep_spectrum": [[float(c), float(tau)] for c, tau in zip(w, t)],
                 "poisson": _checks.number("poisson", poisson),
+                "wlf": _wlf(wlf),
             }
         )
 
@@ -113,6 +123,7 @@ class Material:
         *,
         relaxed_modulus: float,
         poisson: float = 0.5,
+        wlf: Optional[Tuple[float, float, float]] = None,
     ) -> "Material":
         """A generalized Maxwell (Prony) series
         ``E(t) = E0 + sum_j E_j exp(-t/theta_j)``, converted exactly to a
@@ -128,6 +139,8 @@ class Material:
             ``E0`` [Pa].
         poisson : float
             Poisson ratio (default 0.5).
+        wlf : (C1, C2, T_ref), optional
+            WLF constants, as for :meth:`sls`.
         """
         e = _checks.real_array("moduli", moduli, 1)
         t = _checks.real_array("times", times, 1)
@@ -139,6 +152,7 @@ class Material:
                 "relaxed_modulus": _checks.number("relaxed_modulus", relaxed_modulus),
                 "prony": [[float(m), float(theta)] for m, theta in zip(e, t)],
                 "poisson": _checks.number("poisson", poisson),
+                "wlf": _wlf(wlf),
             }
         )
 
@@ -228,6 +242,11 @@ class Material:
         return self._native.glassy_modulus
 
     @property
+    def wlf(self) -> Optional[Tuple[float, float, float]]:
+        """WLF constants ``(C1, C2 [K], T_ref [C])``, or ``None``."""
+        return self._native.wlf
+
+    @property
     def poisson(self) -> float:
         """Poisson ratio."""
         return self._native.poisson
@@ -248,3 +267,13 @@ class Material:
             f"Material(E0={self.relaxed_modulus:.4g} Pa, E_inf={self.glassy_modulus:.4g} Pa, "
             f"{terms} creep term{'s' if terms != 1 else ''}, poisson={self.poisson:g})"
         )
+
+
+def _wlf(wlf: Any) -> Optional[list]:
+    """``(C1, C2, T_ref)`` checked as three numbers, or ``None``."""
+    if wlf is None:
+        return None
+    w = [_checks.number(f"wlf[{i}]", v) for i, v in enumerate(wlf)]
+    if len(w) != 3:
+        raise ValueError(f"wlf must be (C1, C2, T_ref), got {wlf!r}")
+    return w

@@ -124,10 +124,17 @@ def _layer(thickness: Optional[float], layer_base: str) -> Optional[str]:
 
 
 def _loading(
-    speed: Any, xi: Any, normal_load: Any, mean_pressure: Any, approach: Any, direction_deg: Any
+    speed: Any,
+    xi: Any,
+    normal_load: Any,
+    mean_pressure: Any,
+    approach: Any,
+    direction_deg: Any,
+    temperature: Any = None,
 ) -> Dict[str, Any]:
     return _checks.drop_none(
         {
+            "temperature": _checks.optional("temperature", temperature),
             "speed": _checks.optional("speed", speed),
             "xi": _checks.optional("xi", xi),
             "normal_load": _checks.optional("normal_load", normal_load),
@@ -175,6 +182,7 @@ def solve(
     mean_pressure: Optional[float] = None,
     approach: Optional[float] = None,
     direction_deg: Optional[float] = None,
+    temperature: Optional[float] = None,
     formulation: str = "auto",
     thickness: Optional[float] = None,
     layer_base: str = "bonded",
@@ -207,6 +215,14 @@ def solve(
         prescribed rigid approach [m]; exactly one.
     direction_deg : float, optional
         Sliding direction, degrees from +x (default 0).
+    temperature : float, optional
+        Temperature [C] of the isothermal solve (``[loading] temperature``):
+        every creep time is scaled by the WLF shift factor ``a_T``, so
+        ``mu(v, T) = mu(a_T v, T_ref)`` (physics.md section 12). Needs a
+        material with WLF constants (``wlf=`` of :meth:`Material.sls` and
+        the other constructors' ``[material] wlf`` key, or a material.toml
+        fitted with ``--wlf``); ``summary`` states ``temperature`` and
+        ``shift_factor``.
     formulation : str
         ``"nonperiodic"`` (a finite pad, the paper's), ``"periodic"`` (one
         period of a periodic surface), or ``"auto"``: periodic for a
@@ -253,7 +269,7 @@ def solve(
     surf = Surface.coerce(surface, fill_missing=fill_missing, detrend=detrend, window=window)
     if not isinstance(material, Material):
         raise TypeError(f"material must be a viscoslide.Material, got {type(material).__name__}")
-    loading = _loading(speed, xi, normal_load, mean_pressure, approach, direction_deg)
+    loading = _loading(speed, xi, normal_load, mean_pressure, approach, direction_deg, temperature)
     solver = _solver(surf, formulation, tolerance, max_iterations, max_matvecs, cascade_levels, mesh)
     with _progress.iterations(progress) as callback:
         native = _native.solve(

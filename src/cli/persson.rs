@@ -210,8 +210,13 @@ fn report_json(
 ) -> serde_json::Value {
     let s = &inputs.material.spectrum;
     let psd = theory.psd();
+    // The isothermal temperature and its WLF shift factor, as summary.json.
+    let shift = inputs.material.temperature_shift();
     serde_json::json!({
         "version": crate::version::VERSION,
+        "temperature": shift.map(|t| t.temperature),
+        "shift_factor": shift.map(|t| t.shift_factor),
+        "reference_temperature": shift.map(|t| t.reference_temperature),
         "theory": "Persson (J. Chem. Phys. 115, 3840 (2001); J. Phys.: Condens. Matter 18, 7789 (2006))",
         "speed": curve.iter().map(|p| p.speed).collect::<Vec<_>>(),
         "xi": xi,

@@ -19,6 +19,11 @@ pub struct LoadingConfig {
     pub xi: Option<f64>,
     /// Sliding direction, degrees from +x (default 0).
     pub direction_deg: Option<f64>,
+    /// Temperature \[C\] of an isothermal solve: every creep time of the
+    /// material is scaled by its WLF shift factor `a_T` (physics.md section
+    /// 12; needs the material's WLF constants).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub temperature: Option<f64>,
 }
 
 impl LoadingConfig {

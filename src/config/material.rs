@@ -41,4 +41,10 @@ pub struct MaterialConfig {
     pub poisson: Option<f64>,
     /// Path of a `material.toml` (relative to the config file).
     pub file: Option<PathBuf>,
+    /// WLF constants `[C1, C2 (K), T_ref (C)]` of the time-temperature
+    /// shift (any model; for `file`, replaces the file's `[fit]` ones): the
+    /// spectrum is taken at `T_ref` unless the file records its own
+    /// temperature. Needed by `[loading] temperature`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wlf: Option<[f64; 3]>,
 }

@@ -197,11 +197,17 @@ pub fn apply_override(document: &mut toml::Table, arg: &str) -> Result<(), Confi
     let (key, value) = arg
         .split_once('=')
         .ok_or_else(|| err("expected section.key=value".into()))?;
+    set_value(document, key, parse_value(value.trim())).map_err(err)
+}
+
+/// Set the dotted `key` (`section.key`, `surface.generate.q1`) of a TOML
+/// document to `value`, creating the sections on the way: the one path of
+/// `--set` and of a sweep's `[sweep.vary]` values. `Err` says why not.
+pub fn set_value(document: &mut toml::Table, key: &str, value: toml::Value) -> Result<(), String> {
     let parts: Vec<&str> = key.trim().split('.').map(str::trim).collect();
     if parts.iter().any(|p| p.is_empty()) {
-        return Err(err(format!("bad key '{key}'")));
+        return Err(format!("bad key '{key}'"));
     }
-    let value = parse_value(value.trim());
     let mut table = document;
     for part in &parts[..parts.len() - 1] {
         let entry = table
@@ -209,7 +215,7 @@ pub fn apply_override(document: &mut toml::Table, arg: &str) -> Result<(), Confi
             .or_insert_with(|| toml::Value::Table(toml::Table::new()));
         table = match entry {
             toml::Value::Table(t) => t,
-            _ => return Err(err(format!("'{part}' is a value, not a section"))),
+            _ => return Err(format!("'{part}' is a value, not a section")),
         };
     }
     table.insert(parts[parts.len() - 1].to_string(), value);
@@ -240,6 +246,11 @@ const UNITS: &[(&str, &str)] = &[
     ("mean_pressure", "Pa"),
     ("speed", "m/s"),
     ("xi", "v tau / L, dimensionless"),
+    (
+        "temperature",
+        "C, above T_ref - C2 of the material's WLF constants",
+    ),
+    ("wlf", "[C1, C2 in K, T_ref in C]"),
     ("thickness", "m"),
     ("cell_size", "m"),
 ];

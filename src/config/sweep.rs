@@ -1,6 +1,8 @@
 //! `[sweep]`: the axes of a sweep (expanded into points by
 //! `crate::sweep::SweepPlan`).
 
+use std::collections::BTreeMap;
+
 use serde::{Deserialize, Serialize};
 
 /// `[sweep]`: the axes of a sweep. Exactly one speed axis.
@@ -22,4 +24,10 @@ pub struct SweepConfig {
     pub normal_load: Option<Vec<f64>>,
     /// Surface realisations: seeds of `[surface.generate]` (default: its own).
     pub seeds: Option<Vec<u64>>,
+    /// Any other config key, by its dotted name, and the values it takes
+    /// (`"loading.temperature" = [7.0, 17.0, 27.0]`), each applied as
+    /// `--set` applies it; crossed with the other axes (outermost, keys in
+    /// name order).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vary: Option<BTreeMap<String, Vec<toml::Value>>>,
 }

@@ -4,11 +4,11 @@
 use std::path::Path;
 
 use super::file::load_material_file;
-use super::{CreepSpectrum, CreepTerm, Material, MaterialError, PronySeries, PronyTerm};
+use super::{CreepSpectrum, CreepTerm, Material, MaterialError, PronySeries, PronyTerm, Wlf};
 use crate::config::{MaterialConfig, MaterialModel};
 
 /// Each key of `[material]` with the unit its error messages quote.
-const KEYS: [(&str, &str); 8] = [
+const KEYS: [(&str, &str); 9] = [
     ("relaxed_modulus", "E0 in Pa"),
     ("glassy_modulus", "E_inf in Pa"),
     ("creep_time", "s"),
@@ -17,6 +17,7 @@ const KEYS: [(&str, &str); 8] = [
     ("prony", "[[E_j in Pa, theta_j in s], ...]"),
     ("file", "path of a material.toml, relative to the config"),
     ("poisson", "dimensionless, in (-1, 0.5]"),
+    ("wlf", "[C1, C2 in K, T_ref in C]"),
 ];
 
 fn unit(key: &str) -> &'static str {
@@ -42,6 +43,10 @@ impl MaterialConfig {
     /// * `file`: `file` (a `material.toml` from `viscoslide material fit`);
     ///   `poisson` here overrides the file's.
     ///
+    /// `wlf = [C1, C2, T_ref]` (any model) gives the WLF constants of a
+    /// `[loading] temperature` (physics.md section 12); a `file` fitted
+    /// with `--wlf` carries its own.
+    ///
     /// `poisson` defaults to 0.5. A key the model does not use is an error
     /// (it would be silently ignored otherwise), as is any non-finite or
     /// non-positive value.
@@ -63,7 +68,7 @@ impl MaterialConfig {
             MaterialModel::File => &["file"],
         };
         for key in self.present_keys() {
-            if key != "poisson" && !allowed.contains(&key) {
+            if key != "poisson" && key != "wlf" && !allowed.contains(&key) {
                 return Err(MaterialError::Invalid(format!(
                     "[material] model = \"{model}\" does not use `{key}` ({}); remove it (this model takes {})",
                     unit(key),
@@ -116,6 +121,10 @@ impl MaterialConfig {
             Some(v) if v.is_finite() && v > -1.0 && v <= 0.5 => v,
             Some(v) => return Err(invalid("poisson", format!("{v} is outside (-1, 0.5]"))),
         };
+        let wlf = self
+            .wlf
+            .map(|[c1, c2, t]| Wlf::new(c1, c2, t).map_err(|e| invalid("wlf", e.to_string())))
+            .transpose()?;
         let spectrum = match self.model {
             MaterialModel::Sls => {
                 let e0 = positive(
@@ -186,10 +195,21 @@ impl MaterialConfig {
                     ))
                 })?;
                 let path = base_dir.join(rel);
-                return load_material_file(&path, self.poisson.map(|_| nu));
+                let material = load_material_file(&path, self.poisson.map(|_| nu))?;
+                return Ok(match wlf {
+                    Some(w) => {
+                        let t = material.temperature;
+                        material.with_wlf(w, t)
+                    }
+                    None => material,
+                });
             }
         };
-        Material::new(spectrum, nu)
+        let material = Material::new(spectrum, nu)?;
+        Ok(match wlf {
+            Some(w) => material.with_wlf(w, None),
+            None => material,
+        })
     }
 
     /// Names of the keys this table sets (besides `model`).
@@ -208,6 +228,7 @@ impl MaterialConfig {
         add(self.prony.is_some(), "prony");
         add(self.file.is_some(), "file");
         add(self.poisson.is_some(), "poisson");
+        add(self.wlf.is_some(), "wlf");
         k
     }
 

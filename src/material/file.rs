@@ -6,7 +6,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::Material;
+use super::{Material, Wlf};
 use super::{MaterialConfig, MaterialError, MaterialModel};
 
 /// Provenance of a fitted material, stored as `[fit]`.
@@ -52,13 +52,13 @@ struct MaterialFileOut<'a> {
 }
 
 /// The file as read: `[material]` is checked strictly; `[fit]` is provenance
-/// for people and is not interpreted, so files from other versions load.
+/// for people and is not interpreted but for its WLF constants (see
+/// `fit_wlf`), so files from other versions load.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct MaterialFileIn {
     material: MaterialConfig,
-    #[serde(rename = "fit")]
-    _fit: Option<toml::Value>,
+    fit: Option<toml::Value>,
 }
 
 /// The text of a `material.toml` for `material` with optional provenance.
@@ -83,6 +83,7 @@ pub fn material_toml(
         prony: None,
         poisson: Some(material.poisson),
         file: None,
+        wlf: None,
     };
     let doc = MaterialFileOut {
         material: config,
@@ -124,8 +125,51 @@ pub fn load_material_file(path: &Path, poisson: Option<f64>) -> Result<Material,
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    cfg.build(dir).map_err(|e| MaterialError::Data {
-        source_name: name,
+    let material = cfg.build(dir).map_err(|e| MaterialError::Data {
+        source_name: name.clone(),
         message: e.to_string(),
-    })
+    })?;
+    if material.wlf.is_some() {
+        // The file's own `[material] wlf` wins over its provenance.
+        return Ok(material);
+    }
+    match fit_wlf(doc.fit.as_ref()).map_err(|message| MaterialError::Data {
+        source_name: name,
+        message,
+    })? {
+        Some((wlf, t)) => Ok(material.with_wlf(wlf, t)),
+        None => Ok(material),
+    }
+}
+
+/// The WLF constants a `[fit]` table records (`wlf_c1`, `wlf_c2`,
+/// `wlf_reference_temperature`, written by `material fit --wlf`) and the
+/// temperature the fitted spectrum describes (`temperature`), when all
+/// three constants are there. Other keys of `[fit]` are not interpreted.
+pub fn fit_wlf(fit: Option<&toml::Value>) -> Result<Option<(Wlf, Option<f64>)>, String> {
+    let Some(fit) = fit else { return Ok(None) };
+    let number = |key: &str| -> Result<Option<f64>, String> {
+        match fit.get(key) {
+            None => Ok(None),
+            Some(toml::Value::Float(x)) => Ok(Some(*x)),
+            Some(toml::Value::Integer(i)) => Ok(Some(*i as f64)),
+            Some(v) => Err(format!("[fit] {key} = {v} is not a number")),
+        }
+    };
+    let (c1, c2, t_ref) = match (
+        number("wlf_c1")?,
+        number("wlf_c2")?,
+        number("wlf_reference_temperature")?,
+    ) {
+        (Some(c1), Some(c2), Some(t)) => (c1, c2, t),
+        (None, None, None) => return Ok(None),
+        _ => {
+            return Err(
+                "[fit] gives only some of wlf_c1, wlf_c2, wlf_reference_temperature: give all three or none"
+                    .into(),
+            )
+        }
+    };
+    let wlf = Wlf::new(c1, c2, t_ref).map_err(|e| format!("[fit] {e}"))?;
+    Ok(Some((wlf, number("temperature")?)))
 }

@@ -14,7 +14,9 @@
 //! * [`dma`]: DMA data from CSV, WLF shift ([`Wlf`]), NNLS spectrum fit
 //!   ([`fit_spectrum`], solver in [`nnls`]);
 //! * [`mod@file`]: the `material.toml` written by `viscoslide material fit`;
-//! * [`MaterialConfig`]: the `[material]` section of a run config.
+//! * [`MaterialConfig`]: the `[material]` section of a run config;
+//! * `temperature`: the WLF shift of every creep time to a temperature
+//!   ([`Material::at_temperature`], physics.md section 12).
 
 mod config;
 pub mod dma;
@@ -24,6 +26,7 @@ pub mod fit;
 pub mod nnls;
 mod prony;
 mod spectrum;
+mod temperature;
 
 pub use crate::config::{MaterialConfig, MaterialModel};
 pub use dma::{DmaData, DmaPoint, Wlf};
@@ -32,6 +35,7 @@ pub use file::{load_material_file, material_toml, FitRecord};
 pub use fit::{fit_spectrum, FitInfo, FitParams, SpectrumFit};
 pub use prony::{PronySeries, PronyTerm};
 pub use spectrum::{CreepSpectrum, CreepTerm};
+pub use temperature::TemperatureShift;
 
 /// Errors building or fitting a material; each names the offending value.
 #[derive(Debug, thiserror::Error)]
@@ -59,6 +63,12 @@ pub struct Material {
     pub spectrum: CreepSpectrum,
     /// Poisson ratio `nu` (rubber: 0.5).
     pub poisson: f64,
+    /// WLF constants of its time-temperature shift, when known
+    /// (`[material] wlf`, or a `material.toml` fitted with `--wlf`).
+    pub wlf: Option<Wlf>,
+    /// Temperature \[C\] the spectrum describes, when known
+    /// ([`Material::at_temperature`]).
+    pub temperature: Option<f64>,
 }
 
 impl Material {
@@ -69,7 +79,12 @@ impl Material {
                 "poisson = {poisson} is outside (-1, 0.5]"
             )));
         }
-        Ok(Self { spectrum, poisson })
+        Ok(Self {
+            spectrum,
+            poisson,
+            wlf: None,
+            temperature: None,
+        })
     }
 
     /// The composite factor `1 - nu^2` of Eq. 4.

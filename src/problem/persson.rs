@@ -105,7 +105,13 @@ pub fn theory_inputs(
     psd_csv: Option<&Path>,
     window: Option<Window>,
 ) -> Result<TheoryInputs> {
-    let material = cfg.material()?.build(&cfg.base_dir)?;
+    // The material at `[loading] temperature`, as `Problem::with_loading`
+    // shifts it for the solve.
+    let loading = cfg.config.loading.clone().unwrap_or_default();
+    let material = cfg
+        .material()?
+        .build(&cfg.base_dir)?
+        .at(loading.temperature)?;
     let mut notes = Vec::new();
     let mut warnings = Vec::new();
     if cfg.config.layer.is_some() {
@@ -208,7 +214,6 @@ pub fn theory_inputs(
             }
         }
     };
-    let loading = cfg.config.loading.clone().unwrap_or_default();
     let (nominal_pressure, pressure_from) = match (loading.mean_pressure, loading.normal_load) {
         (Some(p), _) => (p, "loading.mean_pressure".to_string()),
         (None, Some(f)) => match sides {

@@ -56,8 +56,9 @@ impl Problem {
     /// The `[loading]` section on this problem: the normal load
     /// (`normal_load`, or `mean_pressure` times the map's area) or the
     /// approach, the speed (`speed`, or `xi` for a single-relaxation
-    /// material) and the direction. Exactly one of the three controls and
-    /// one of the two speeds must be given.
+    /// material) and the direction; `temperature` shifts the material by
+    /// its WLF factor ([`crate::material::Material::at_temperature`]). Exactly one of the three
+    /// controls and one of the two speeds must be given.
     pub fn with_loading(mut self, loading: &LoadingConfig) -> Result<Self> {
         let area0 = self.surface.length_x() * self.surface.length_y();
         self.control = match (loading.normal_load, loading.mean_pressure, loading.approach) {
@@ -80,6 +81,9 @@ impl Problem {
                 "[loading] give only one of normal_load (N), mean_pressure (Pa) and approach (m)",
             )),
         };
+        // The material at the temperature asked for, before `xi` reads its
+        // creep time: the one shift every consumer of the spectrum sees.
+        self.material = self.material.at(loading.temperature)?;
         let sliding = loading.sliding().map_err(invalid)?;
         self.speed = speed_of(sliding, &self.material, &self.surface)?;
         self.direction_rad = loading.direction_deg.unwrap_or(0.0).to_radians();

@@ -298,6 +298,17 @@ impl Solution {
             "persson": persson,
         });
         doc["surface_preprocessing"] = preprocessing;
+        // The isothermal temperature and its WLF shift `a_T` (relative to
+        // `T_ref`; mu(v, T) = mu(a_T v, T_ref), physics.md section 12);
+        // null for a material without WLF constants.
+        let shift = r.material.temperature_shift();
+        doc["temperature"] = json!(shift.map(|s| s.temperature));
+        doc["shift_factor"] = json!(shift.map(|s| s.shift_factor));
+        doc["reference_temperature"] = json!(shift.map(|s| s.reference_temperature));
+        if let Value::Object(p) = &mut doc["persson"] {
+            p.insert("temperature".into(), json!(shift.map(|s| s.temperature)));
+            p.insert("shift_factor".into(), json!(shift.map(|s| s.shift_factor)));
+        }
         // The cell side along y beside `cell_size` (along x): rectangular
         // cells (physics.md section 11).
         doc["cell_size_y"] = json!(r.cell_size_y);

@@ -17,40 +17,21 @@ use std::path::Path;
 
 use serde::Deserialize;
 
-use super::Point;
+use super::row::MergedRow;
+use super::theory::{recorded_curves, theory_curves, theory_for};
+use super::{master, Point};
 
-use crate::config::{self, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::io::StagedOutput;
-use crate::persson::{self, Persson, PerssonParams};
 use crate::plot::{xy_chart, Series, XyChart};
-use crate::problem::persson::{theory_inputs, TheoryInputs};
-
-/// One row of `sweep.csv`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MergedRow {
-    pub normal_load: f64,
-    pub speed: f64,
-    pub xi: Option<f64>,
-    pub realisations: usize,
-    /// `(mean, standard deviation)` of each quantity.
-    pub friction: (f64, f64),
-    pub friction_dissipation: (f64, f64),
-    pub area_fraction: (f64, f64),
-    /// `A / A(v = 0)` of the same realisation and load, when the static point exists.
-    pub area_ratio: Option<(f64, f64)>,
-    pub gamma: Option<(f64, f64)>,
-    pub lambda: Option<(f64, f64)>,
-    /// Persson's `mu` at this speed and load.
-    pub persson_friction: Option<f64>,
-    /// Persson's `A/A0` at this speed and load.
-    pub persson_area_fraction: Option<f64>,
-    /// Persson's `A(v) / A(0)` at this load.
-    pub persson_area_ratio: Option<f64>,
-}
 
 struct PointResult {
-    /// Grouping keys: the point's planned load (NaN when the config's) and speed.
+    /// Grouping keys: the plan position of the point's `[sweep.vary]`
+    /// combination, its planned load (NaN when the config's) and speed.
+    key_combo: usize,
+    vary: BTreeMap<String, toml::Value>,
+    temperature: Option<f64>,
+    shift_factor: Option<f64>,
     key_load: f64,
     key_speed: f64,
     load: f64,
@@ -94,6 +75,11 @@ struct PointFile {
     persson_friction_coefficient: Option<f64>,
     #[serde(default)]
     persson_contact_area_fraction: Option<f64>,
+    /// Temperature and WLF shift of the point (absent in older versions).
+    #[serde(default)]
+    temperature: Option<f64>,
+    #[serde(default)]
+    shift_factor: Option<f64>,
 }
 
 /// The analysis numbers a merge aggregates.
@@ -124,6 +110,10 @@ fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
         let v: PointFile = serde_json::from_str(&text)
             .map_err(|e| Error::Invalid(format!("{}: not a point result: {e}", path.display())))?;
         out.push(PointResult {
+            key_combo: v.point.index,
+            vary: v.point.vary.clone(),
+            temperature: v.temperature,
+            shift_factor: v.shift_factor,
             key_load: v.point.normal_load.unwrap_or(f64::NAN),
             key_speed: v.point.speed.value(),
             load: v.normal_load,
@@ -145,22 +135,34 @@ fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
             points_dir.display()
         )));
     }
+    // A combination's key: the smallest plan index among its points (the
+    // `[sweep.vary]` values are the outermost axis, so this is plan order).
+    let mut first: Vec<(BTreeMap<String, toml::Value>, usize)> = Vec::new();
+    for p in &out {
+        match first.iter_mut().find(|(v, _)| *v == p.vary) {
+            Some((_, i)) => *i = (*i).min(p.key_combo),
+            None => first.push((p.vary.clone(), p.key_combo)),
+        }
+    }
+    for p in &mut out {
+        p.key_combo = first.iter().find(|(v, _)| *v == p.vary).expect("seen").1;
+    }
     Ok(out)
 }
 
-/// Aggregate the points of `dir` into rows, ordered by planned load, then
-/// speed (the group keys are bit patterns of non-negative floats, whose
-/// order is the numeric order).
+/// Aggregate the points of `dir` into rows, ordered by `[sweep.vary]`
+/// combination (plan order), planned load, then speed (the group keys are
+/// bit patterns of non-negative floats, whose order is the numeric order).
 pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
     let mut points = read_points(dir)?;
-    let key = |p: &PointResult| (p.key_load.to_bits(), p.key_speed.to_bits());
+    let key = |p: &PointResult| (p.key_combo, p.key_load.to_bits(), p.key_speed.to_bits());
     points.sort_by_key(|p| (key(p), p.seed));
-    // Static areas per (planned load, seed) for A / A(0).
+    // Static areas per (combination, planned load, seed) for A / A(0).
     let mut static_area = BTreeMap::new();
     for p in points.iter().filter(|p| p.speed == 0.0) {
-        static_area.insert((p.key_load.to_bits(), p.seed), p.area);
+        static_area.insert((p.key_combo, p.key_load.to_bits(), p.seed), p.area);
     }
-    let mut groups: BTreeMap<(u64, u64), Vec<&PointResult>> = BTreeMap::new();
+    let mut groups: BTreeMap<(usize, u64, u64), Vec<&PointResult>> = BTreeMap::new();
     for p in &points {
         groups.entry(key(p)).or_default().push(p);
     }
@@ -175,6 +177,9 @@ pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
                 v.map(|v| mean_std(&v))
             };
             MergedRow {
+                vary: g[0].vary.clone(),
+                temperature: g[0].temperature,
+                shift_factor: g[0].shift_factor,
                 normal_load: col(&|p| p.load).0,
                 speed: g[0].speed,
                 xi: g[0].xi,
@@ -184,7 +189,7 @@ pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
                 area_fraction: col(&|p| p.area),
                 area_ratio: opt(&|p| {
                     static_area
-                        .get(&(p.key_load.to_bits(), p.seed))
+                        .get(&(p.key_combo, p.key_load.to_bits(), p.seed))
                         .map(|a0| p.area / a0)
                 }),
                 gamma: opt(&|p| p.gamma),
@@ -198,97 +203,6 @@ pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
     Ok(rows)
 }
 
-/// Persson's theory for the sweep in `dir`: its pinned configuration read
-/// back with the recorded directory for relative paths (the sweep
-/// directory itself when none is recorded). `Err` says why not.
-fn theory_for(dir: &Path) -> std::result::Result<TheoryInputs, String> {
-    let path = dir.join(super::CONFIG_FILE);
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let document: toml::Table =
-        toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    let name = path.display().to_string();
-    let config = config::parse_document(&document, &name).map_err(|e| e.to_string())?;
-    let base_dir = std::fs::read_to_string(dir.join(super::CONFIG_DIR_FILE))
-        .map(|t| Path::new(t.trim()).to_path_buf())
-        .unwrap_or_else(|_| dir.to_path_buf());
-    let cfg = LoadedConfig {
-        config,
-        path,
-        base_dir,
-        document,
-    };
-    theory_inputs(&cfg, None, None).map_err(|e| e.to_string())
-}
-
-/// The theory's curves per load label: `(x, mu, A/A0, A/A(0))` at 100
-/// speeds over the positive speeds of its rows.
-type Curve = Vec<(f64, f64, f64, f64)>;
-
-/// Fill the Persson columns of `rows` from `inputs` (each load at its
-/// measured nominal pressure) and return the smooth curves per load.
-fn theory_curves(
-    inputs: &TheoryInputs,
-    rows: &mut [MergedRow],
-    label: &dyn Fn(&MergedRow) -> String,
-    use_xi: bool,
-) -> Result<Vec<(String, Curve)>> {
-    let area = inputs.area;
-    let mut loads: Vec<String> = rows.iter().map(label).collect();
-    loads.dedup();
-    let mut curves = Vec::new();
-    for load in loads {
-        let idx: Vec<usize> = (0..rows.len())
-            .filter(|&i| label(&rows[i]) == load)
-            .collect();
-        let sigma0 = match area {
-            Some(a) => idx.iter().map(|&i| rows[i].normal_load).sum::<f64>() / idx.len() as f64 / a,
-            None => inputs.nominal_pressure,
-        };
-        let theory = Persson::new(
-            &inputs.material,
-            &inputs.psd,
-            sigma0,
-            PerssonParams::default(),
-        )?;
-        let a0 = theory.point(0.0)?.contact_area_fraction;
-        let speeds: Vec<f64> = idx.iter().map(|&i| rows[i].speed).collect();
-        for (&i, p) in idx.iter().zip(theory.curve(&speeds)?) {
-            let r = &mut rows[i];
-            r.persson_friction.get_or_insert(p.friction_coefficient);
-            r.persson_area_fraction
-                .get_or_insert(p.contact_area_fraction);
-            r.persson_area_ratio = Some(p.contact_area_fraction / a0);
-        }
-        let pos = speeds.iter().copied().filter(|v| *v > 0.0);
-        let (lo, hi) = (
-            pos.clone().fold(f64::INFINITY, f64::min),
-            pos.fold(0.0, f64::max),
-        );
-        if hi <= 0.0 {
-            continue;
-        }
-        let xi_scale = inputs.xi_scale();
-        let curve = theory
-            .curve(&persson::log_speeds(lo, hi, 100))?
-            .into_iter()
-            .map(|p| {
-                let x = match (use_xi, xi_scale) {
-                    (true, Some(s)) => s.xi(p.speed),
-                    _ => p.speed,
-                };
-                (
-                    x,
-                    p.friction_coefficient,
-                    p.contact_area_fraction,
-                    p.contact_area_fraction / a0,
-                )
-            })
-            .collect();
-        curves.push((load, curve));
-    }
-    Ok(curves)
-}
-
 fn fmt_opt(v: Option<(f64, f64)>) -> (String, String) {
     v.map_or((String::new(), String::new()), |(m, s)| {
         (format!("{m:.8e}"), format!("{s:.8e}"))
@@ -298,8 +212,10 @@ fn fmt_opt(v: Option<(f64, f64)>) -> (String, String) {
 /// The CSV text of `rows`.
 pub fn csv(rows: &[MergedRow]) -> String {
     let mut out = String::from(
-        "normal_load_n,speed_m_s,xi,realisations,friction_mean,friction_std,friction_dissipation_mean,friction_dissipation_std,area_fraction_mean,area_fraction_std,area_ratio_mean,area_ratio_std,gamma_mean,gamma_std,lambda_mean,lambda_std,persson_friction,persson_area_fraction,persson_area_ratio\n",
+        "normal_load_n,speed_m_s,xi,realisations,friction_mean,friction_std,friction_dissipation_mean,friction_dissipation_std,area_fraction_mean,area_fraction_std,area_ratio_mean,area_ratio_std,gamma_mean,gamma_std,lambda_mean,lambda_std,persson_friction,persson_area_fraction,persson_area_ratio",
     );
+    out.push_str(&master::extra_header(rows));
+    out.push('\n');
     let one = |v: Option<f64>| v.map(|x| format!("{x:.8e}")).unwrap_or_default();
     for r in rows {
         let (arm, ars) = fmt_opt(r.area_ratio);
@@ -321,6 +237,7 @@ pub fn csv(rows: &[MergedRow]) -> String {
             one(r.persson_area_fraction),
             one(r.persson_area_ratio),
         ));
+        out.insert_str(out.len() - 1, &master::extra_fields(rows, r));
     }
     out
 }
@@ -332,47 +249,40 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
     let use_xi = rows.iter().all(|r| r.xi.is_some());
     let x_of = |r: &MergedRow| if use_xi { r.xi.unwrap_or(0.0) } else { r.speed };
     let x_label = if use_xi { "xi = v tau / L" } else { "v [m/s]" };
-    // Loads as planned, to the precision a user types them.
-    let label = |r: &MergedRow| format!("{:.4e}", r.normal_load);
-    let mut loads: Vec<String> = rows.iter().map(label).collect();
-    loads.dedup();
-    // Persson's theory: smooth curves from the pinned configuration, else
-    // the values each point recorded (A/A(0) from the static point's).
-    let curves = match theory_for(dir) {
-        Ok(inputs) => theory_curves(&inputs, &mut rows, &label, use_xi)?,
-        Err(why) => {
-            eprintln!("note: Persson's theory drawn from the points' own values ({why})");
-            let statics: BTreeMap<String, f64> = rows
-                .iter()
-                .filter(|r| r.speed == 0.0)
-                .filter_map(|r| r.persson_area_fraction.map(|a| (label(r), a)))
-                .collect();
-            for r in rows.iter_mut() {
-                if let (Some(a), Some(a0)) = (r.persson_area_fraction, statics.get(&label(r))) {
-                    r.persson_area_ratio = Some(a / a0);
-                }
-            }
-            loads
-                .iter()
-                .map(|l| {
-                    let c: Curve = rows
-                        .iter()
-                        .filter(|r| label(r) == *l && x_of(r) > 0.0)
-                        .filter_map(|r| {
-                            Some((
-                                x_of(r),
-                                r.persson_friction?,
-                                r.persson_area_fraction?,
-                                r.persson_area_ratio.unwrap_or(f64::NAN),
-                            ))
-                        })
-                        .collect();
-                    (l.clone(), c)
-                })
-                .filter(|(_, c)| !c.is_empty())
-                .collect()
+    // Loads as planned, to the precision a user types them, after the
+    // `[sweep.vary]` values of the row.
+    let label = |r: &MergedRow| {
+        let vary = master::vary_text(&r.vary);
+        let load = format!("F_N = {:.4e} N", r.normal_load);
+        if vary.is_empty() {
+            load
+        } else {
+            format!("{vary}, {load}")
         }
     };
+    let mut loads: Vec<String> = rows.iter().map(label).collect();
+    loads.dedup();
+    // Persson's theory per `[sweep.vary]` combination (the rows of one are
+    // contiguous): smooth curves from the pinned configuration, else the
+    // values each point recorded (A/A(0) from the static point's).
+    let mut curves = Vec::new();
+    let mut start = 0;
+    while start < rows.len() {
+        let end = start
+            + rows[start..]
+                .iter()
+                .take_while(|r| r.vary == rows[start].vary)
+                .count();
+        let chunk = &mut rows[start..end];
+        match theory_for(dir, &chunk[0].vary) {
+            Ok(inputs) => curves.extend(theory_curves(&inputs, chunk, &label, use_xi)?),
+            Err(why) => {
+                eprintln!("note: Persson's theory drawn from the points' own values ({why})");
+                curves.extend(recorded_curves(chunk, &label, &x_of));
+            }
+        }
+        start = end;
+    }
     let mut staged = StagedOutput::new(dir)?;
     staged.write("sweep.csv", csv(&rows).as_bytes())?;
     type Pick = fn(&MergedRow) -> Option<(f64, f64)>;
@@ -442,11 +352,7 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
             if sel.is_empty() {
                 continue;
             }
-            let mut s = Series::points(
-                format!("F_N = {load} N"),
-                sel.iter().map(|t| (t.0, t.1)).collect(),
-                c,
-            );
+            let mut s = Series::points(load.clone(), sel.iter().map(|t| (t.0, t.1)).collect(), c);
             s.mark = crate::plot::Mark::LineAndPoints;
             s.errors = Some(sel.iter().map(|t| t.2).collect());
             series.push(s);
@@ -458,7 +364,7 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
                     .filter(|p| p.1.is_finite())
                     .collect();
                 if !pts.is_empty() {
-                    series.push(Series::line(format!("Persson, F_N = {load} N"), pts, c + 3));
+                    series.push(Series::line(format!("Persson, {load}"), pts, c + 3));
                 }
             }
         }
@@ -477,6 +383,16 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
             },
         )?;
     }
+    // Grosch's master curve when the rows span several temperatures.
+    let theory: Vec<(String, Vec<(f64, f64)>)> = if use_xi {
+        Vec::new()
+    } else {
+        curves
+            .iter()
+            .map(|(l, c)| (l.clone(), c.iter().map(|p| (p.0, p.1)).collect()))
+            .collect()
+    };
+    master::master_chart(&mut staged, &rows, &label, &theory)?;
     staged.commit()?;
     Ok(rows)
 }

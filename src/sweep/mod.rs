@@ -1,24 +1,29 @@
-//! Sweeps over speed, load and surface realisation that survive interruption
+//! Sweeps over speed, load, surface realisation and any other config key
+//! (`[sweep.vary]`) that survive interruption
 //! and scale out: every point is solved independently and written atomically
 //! to `DIR/points/<id>.json`; a rerun skips finished points; `--shard K/N`
 //! runs a deterministic subset; [`merge`] aggregates the points into
 //! `DIR/sweep.csv` (mean and standard deviation over realisations) and plots.
 
 mod compare;
+mod master;
 mod merge;
 mod plan;
+mod row;
+mod theory;
 
 pub use crate::config::SweepConfig;
 pub use compare::{compare, read_measured, Measured};
-pub use merge::{aggregate, merge, MergedRow};
+pub use merge::{aggregate, merge};
 pub use plan::{Point, Shard, SweepPlan};
+pub use row::MergedRow;
 
 use std::path::{Path, PathBuf};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::Value;
 
-use crate::config::LoadedConfig;
+use crate::config::{self, Config, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic;
 use crate::problem::{Executor, Problem};
@@ -59,10 +64,17 @@ pub fn run_sweep(
         ))
     })?;
     let plan = SweepPlan::new(&sweep)?;
-    // Every check before any output: the points differ only in speed, load
-    // and seed, each already checked by the plan, so a first point that
-    // builds means they all do; a refused sweep creates nothing.
-    if let Some(first) = plan.points.first() {
+    // Every check before any output: within one combination of the
+    // `[sweep.vary]` values the points differ only in speed, load and
+    // seed, each already checked by the plan, so the first point of every
+    // combination that builds means they all do; a refused sweep creates
+    // nothing.
+    for combo in plan.vary_combinations() {
+        let first = plan
+            .points
+            .iter()
+            .find(|p| &p.vary == combo)
+            .expect("a combination has points");
         point_problem(cfg, first)?;
     }
     crate::io::check_output_dir(dir)?;
@@ -135,7 +147,7 @@ pub fn solve_point(cfg: &LoadedConfig, point: &Point) -> Result<Value> {
 /// The problem of one point: the base configuration with the point's
 /// speed, load and seed substituted, checked whole.
 fn point_problem(cfg: &LoadedConfig, point: &Point) -> Result<Problem> {
-    let mut config = cfg.config.clone();
+    let mut config = point_config(cfg, point)?;
     config.sweep = None;
     let loading = config.loading.get_or_insert_with(Default::default);
     loading.set_sliding(point.speed);
@@ -164,6 +176,38 @@ fn point_problem(cfg: &LoadedConfig, point: &Point) -> Result<Problem> {
         document,
     };
     Problem::from_config(&point_cfg)
+}
+
+/// The configuration of `point` before its speed, load and seed: the
+/// base document with each `[sweep.vary]` value set as `--set` sets it
+/// ([`config::set_value`]) and typed again. A key the configuration does
+/// not have, or a value of the wrong type, is refused in one line naming
+/// the key and the value.
+pub fn point_config(cfg: &LoadedConfig, point: &Point) -> Result<Config> {
+    if point.vary.is_empty() {
+        return Ok(cfg.config.clone());
+    }
+    let mut document = cfg.document.clone();
+    let name = cfg.path.display().to_string();
+    for (key, value) in &point.vary {
+        let what = || format!("{name}: [sweep.vary] \"{key}\" = {value}");
+        config::set_value(&mut document, key, value.clone())
+            .map_err(|e| Error::Invalid(format!("{}: {e}", what())))?;
+        // Typed after each key, so that an error names the key that made it.
+        if let Err(e) = config::parse_document(&document, &name) {
+            let message = match e {
+                config::ConfigError::Parse { message, .. } => message,
+                other => other.to_string(),
+            };
+            // "line N, key `k`: ..." names a line of the merged document.
+            let message = match message.split_once(", ") {
+                Some((head, rest)) if head.starts_with("line ") => rest.to_string(),
+                _ => message,
+            };
+            return Err(Error::Invalid(format!("{}: {message}", what())));
+        }
+    }
+    Ok(config::parse_document(&document, &name)?)
 }
 
 fn point_path(points_dir: &Path, point: &Point) -> PathBuf {

@@ -1,7 +1,9 @@
-//! The points of a sweep: speeds (a list or a log range of `v` or `xi`,
-//! each a typed [`Sliding`]) x
+//! The points of a sweep: the values of `[sweep.vary]` keys x speeds (a
+//! list or a log range of `v` or `xi`, each a typed [`Sliding`]) x
 //! normal loads x surface realisations (seeds), in a fixed order, and the
 //! deterministic split into shards.
+
+use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
@@ -18,9 +20,15 @@ pub struct Point {
     pub speed: Sliding,
     pub normal_load: Option<f64>,
     pub seed: Option<u64>,
+    /// The value of each `[sweep.vary]` key at this point (empty without
+    /// one).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub vary: BTreeMap<String, toml::Value>,
 }
 
-/// All points of a sweep, in plan order (load, then speed, then seed).
+/// All points of a sweep, in plan order (the `[sweep.vary]` values, then
+/// load, then speed, then seed; without `vary` the order and indices are
+/// those of speed, load and seed alone).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SweepPlan {
     pub points: Vec<Point>,
@@ -128,13 +136,18 @@ impl SweepPlan {
             Some(s) => s.iter().map(|&x| Some(x)).collect(),
             None => vec![None],
         };
+        let vary = vary_axes(cfg)?;
+        let combos = vary
+            .iter()
+            .try_fold(1u64, |acc, (_, v)| acc.checked_mul(v.len() as u64))
+            .unwrap_or(u64::MAX);
         let total = [loads.len(), speeds.len(), seeds.len()]
             .iter()
-            .try_fold(1u64, |acc, &k| acc.checked_mul(k as u64))
+            .try_fold(combos, |acc, &k| acc.checked_mul(k as u64))
             .unwrap_or(u64::MAX);
         check_points(
             &format!(
-                "sweep of {} loads x {} speeds x {} seeds",
+                "sweep of {combos} [sweep.vary] values x {} loads x {} speeds x {} seeds",
                 loads.len(),
                 speeds.len(),
                 seeds.len()
@@ -142,26 +155,106 @@ impl SweepPlan {
             total,
         )?;
         let mut points = Vec::with_capacity(total as usize);
-        for &normal_load in &loads {
-            for &v in &speeds {
-                for &seed in &seeds {
-                    let index = points.len();
-                    points.push(Point {
-                        index,
-                        id: format!("p{index:04}"),
-                        speed: if xi {
-                            Sliding::Xi(v)
-                        } else {
-                            Sliding::Speed(v)
-                        },
-                        normal_load,
-                        seed,
-                    });
+        for combo in combinations(&vary) {
+            for &normal_load in &loads {
+                for &v in &speeds {
+                    for &seed in &seeds {
+                        let index = points.len();
+                        points.push(Point {
+                            index,
+                            id: format!("p{index:04}"),
+                            speed: if xi {
+                                Sliding::Xi(v)
+                            } else {
+                                Sliding::Speed(v)
+                            },
+                            normal_load,
+                            seed,
+                            vary: combo.clone(),
+                        });
+                    }
                 }
             }
         }
         Ok(Self { points })
     }
+
+    /// The distinct `[sweep.vary]` combinations, in plan order.
+    pub fn vary_combinations(&self) -> Vec<&BTreeMap<String, toml::Value>> {
+        let mut out: Vec<&BTreeMap<String, toml::Value>> = Vec::new();
+        for p in &self.points {
+            if out.last() != Some(&&p.vary) {
+                out.push(&p.vary);
+            }
+        }
+        out
+    }
+}
+
+/// The `[sweep.vary]` keys and their values, checked: dotted keys of a
+/// section, non-empty lists, and no key that the sweep's own axes set (the
+/// speed always; the load with `normal_load`; the seed with `seeds`) or of
+/// `[sweep]` itself. Whether a key exists and takes such a value is the
+/// configuration's to say, when each point is built.
+fn vary_axes(cfg: &SweepConfig) -> Result<Vec<(String, Vec<toml::Value>)>> {
+    let Some(vary) = &cfg.vary else {
+        return Ok(Vec::new());
+    };
+    let mut taken = vec!["loading.speed", "loading.xi"];
+    if cfg.normal_load.is_some() {
+        taken.extend([
+            "loading.normal_load",
+            "loading.mean_pressure",
+            "loading.approach",
+        ]);
+    }
+    if cfg.seeds.is_some() {
+        taken.push("surface.generate.seed");
+    }
+    let mut out = Vec::new();
+    for (key, values) in vary {
+        let k = key.trim();
+        if !k.contains('.') || k.split('.').any(|p| p.trim().is_empty()) {
+            return Err(Error::Invalid(format!(
+                "[sweep.vary] \"{key}\": expected a dotted config key such as \"loading.temperature\""
+            )));
+        }
+        if k == "sweep" || k.starts_with("sweep.") {
+            return Err(Error::Invalid(format!(
+                "[sweep.vary] \"{key}\": the sweep's own keys cannot be varied"
+            )));
+        }
+        if taken.contains(&k) {
+            return Err(Error::Invalid(format!(
+                "[sweep.vary] \"{key}\" is an axis of [sweep] already (speed, xi, normal_load, seeds): give its values there"
+            )));
+        }
+        if values.is_empty() {
+            return Err(Error::Invalid(format!(
+                "[sweep.vary] \"{key}\" is empty: give at least one value"
+            )));
+        }
+        out.push((k.to_string(), values.clone()));
+    }
+    Ok(out)
+}
+
+/// Every combination of the `vary` values, the last key fastest.
+fn combinations(vary: &[(String, Vec<toml::Value>)]) -> Vec<BTreeMap<String, toml::Value>> {
+    let mut out = vec![BTreeMap::new()];
+    for (key, values) in vary {
+        out = out
+            .into_iter()
+            .flat_map(|c| {
+                values.iter().map(move |v| {
+                    let mut c = c.clone();
+                    c.insert(key.clone(), v.clone());
+                    c
+                })
+            })
+            .collect();
+    }
+    out
 }
 
 /// `K/N`: this job runs the points whose index is `K` modulo `N`
@@ -247,6 +340,62 @@ mod tests {
         assert!("3/3".parse::<Shard>().is_err());
         assert!("1/0".parse::<Shard>().is_err());
         assert!("a/2".parse::<Shard>().is_err());
+    }
+
+    #[test]
+    fn vary_values_are_crossed_outermost() {
+        let base = plan();
+        let mut vary = BTreeMap::new();
+        vary.insert(
+            "loading.temperature".to_string(),
+            vec![toml::Value::Float(7.0), toml::Value::Float(27.0)],
+        );
+        vary.insert(
+            "layer.thickness".to_string(),
+            vec![toml::Value::Float(1e-3)],
+        );
+        let p = SweepPlan::new(&SweepConfig {
+            xi_range: Some([1e-4, 1e-1, 7.0]),
+            normal_load: Some(vec![0.1, 0.3]),
+            seeds: Some(vec![1, 2, 3]),
+            vary: Some(vary),
+            ..Default::default()
+        })
+        .unwrap();
+        assert_eq!(p.points.len(), 2 * base.points.len());
+        assert_eq!(p.vary_combinations().len(), 2);
+        let n = base.points.len();
+        for (k, b) in base.points.iter().enumerate() {
+            for (c, t) in [7.0, 27.0].iter().enumerate() {
+                let q = &p.points[c * n + k];
+                assert_eq!(
+                    (q.speed, q.normal_load, q.seed),
+                    (b.speed, b.normal_load, b.seed)
+                );
+                assert_eq!(q.vary["loading.temperature"], toml::Value::Float(*t));
+                assert_eq!(q.vary["layer.thickness"], toml::Value::Float(1e-3));
+            }
+        }
+        // Keys the axes set, of [sweep] itself, undotted or empty: refused.
+        for (key, values) in [
+            ("loading.speed", vec![toml::Value::Float(1.0)]),
+            ("surface.generate.seed", vec![toml::Value::Integer(1)]),
+            ("sweep.seeds", vec![toml::Value::Integer(1)]),
+            ("temperature", vec![toml::Value::Float(1.0)]),
+            ("loading.temperature", vec![]),
+        ] {
+            let mut vary = BTreeMap::new();
+            vary.insert(key.to_string(), values);
+            let e = SweepPlan::new(&SweepConfig {
+                speed: Some(vec![1.0]),
+                seeds: Some(vec![1]),
+                vary: Some(vary),
+                ..Default::default()
+            })
+            .unwrap_err()
+            .to_string();
+            assert!(e.contains(key) && !e.contains('\n'), "{e}");
+        }
     }
 
     #[test]

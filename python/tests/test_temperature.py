@@ -1,0 +1,108 @@
+"""Temperature (WLF shift of every creep time, physics.md section 12) and
+sweeps over config keys (``vary=``) from Python: the same identities,
+numbers and refusals as the command line."""
+
+import math
+
+import numpy as np
+import pytest
+
+import viscoslide as vs
+
+WLF = (8.86, 101.6, 17.0)
+
+
+def shift(t):
+    """``a_T`` written out: ``log10 a_T = -C1 (T - T_ref) / (C2 + T - T_ref)``."""
+    dt = t - 17.0
+    return 10.0 ** (-8.86 * dt / (101.6 + dt))
+
+
+@pytest.fixture(scope="module")
+def small():
+    return vs.Surface.self_affine(32, 0.01, 0.8, scales=4, rms_slope=0.02, seed=3)
+
+
+@pytest.fixture(scope="module")
+def warm_rubber():
+    return vs.Material.sls(relaxed_modulus=1e7 / 3, glassy_modulus=1e7, creep_time=0.01, wlf=WLF)
+
+
+def rel(a, b):
+    return abs(a - b) / abs(b)
+
+
+def test_solve_at_temperature_equals_the_shifted_speed(small, warm_rubber):
+    # As the Rust test: the problems differ only in where a_T multiplies;
+    # 1e-9 relative leaves room for rounding (solves converged to 1e-10).
+    for formulation in ("nonperiodic", "periodic"):
+        for t in (7.0, 37.0):
+            a = shift(t)
+            hot = vs.solve(small, warm_rubber, speed=0.05, mean_pressure=3000.0, temperature=t,
+                           formulation=formulation, tolerance=1e-10, backend="cpu")
+            ref = vs.solve(small, warm_rubber, speed=a * 0.05, mean_pressure=3000.0,
+                           formulation=formulation, tolerance=1e-10, backend="cpu")
+            assert rel(hot.friction_coefficient, ref.friction_coefficient) < 1e-9
+            assert rel(hot.friction_coefficient_dissipation, ref.friction_coefficient_dissipation) < 1e-9
+            assert rel(hot.contact_area_fraction, ref.contact_area_fraction) < 1e-9
+            assert hot.summary["temperature"] == t
+            assert rel(hot.summary["shift_factor"], a) < 1e-13
+            assert ref.summary["temperature"] == 17.0 and ref.summary["shift_factor"] == 1.0
+
+
+def test_persson_and_friction_curve_take_the_temperature(small, warm_rubber):
+    speeds = np.logspace(-4, 1, 6)
+    t = 7.0
+    a = shift(t)
+    hot = vs.persson(small, warm_rubber, speeds, mean_pressure=3000.0, temperature=t)
+    ref = vs.persson(small, warm_rubber, a * speeds, mean_pressure=3000.0)
+    np.testing.assert_allclose(hot["friction_coefficient"], ref["friction_coefficient"], rtol=1e-9, atol=0)
+    np.testing.assert_allclose(hot["contact_area_fraction"], ref["contact_area_fraction"], rtol=1e-9, atol=0)
+    assert hot["temperature"] == t and rel(hot["shift_factor"], a) < 1e-13
+    curve = vs.friction_curve(small, warm_rubber, [0.05], mean_pressure=3000.0, temperature=t, backend="cpu")
+    one = vs.solve(small, warm_rubber, speed=0.05, mean_pressure=3000.0, temperature=t, backend="cpu")
+    assert curve["friction_coefficient"][0] == one.friction_coefficient
+    assert curve["temperature"][0] == t and rel(curve["shift_factor"][0], a) < 1e-13
+
+
+def test_sweep_vary_crosses_keys_with_speeds(small, warm_rubber):
+    out = vs.sweep(small, warm_rubber, speed=[0.05, 0.5], mean_pressure=3000.0,
+                   vary={"loading.temperature": [7.0, 27.0], "surface.generate.rms_slope": [0.01, 0.02]},
+                   backend="cpu")
+    assert len(out["speed"]) == 8
+    # Keys in name order, the last fastest, then speeds.
+    assert out["loading.temperature"].tolist() == [7.0] * 4 + [27.0] * 4
+    assert out["surface.generate.rms_slope"].tolist() == [0.01, 0.01, 0.02, 0.02] * 2
+    np.testing.assert_allclose(out["shift_factor"], [shift(t) for t in out["temperature"]], rtol=1e-13)
+    other = vs.Surface.self_affine(32, 0.01, 0.8, scales=4, rms_slope=0.01, seed=3)
+    one = vs.solve(other, warm_rubber, speed=0.5, mean_pressure=3000.0, temperature=27.0, backend="cpu")
+    assert out["friction_coefficient"][5] == one.friction_coefficient
+
+
+def test_refusals_are_one_line(small, rubber, warm_rubber):
+    cases = [
+        (lambda: vs.solve(small, rubber, speed=0.05, mean_pressure=3000.0, temperature=20.0), "WLF"),
+        (lambda: vs.solve(small, warm_rubber, speed=0.05, mean_pressure=3000.0, temperature=-90.0), "T_ref - C2"),
+        (lambda: vs.persson(small, rubber, [1e-3], mean_pressure=3000.0, temperature=20.0), "WLF"),
+        (lambda: vs.sweep(small, warm_rubber, speed=[0.05], mean_pressure=3000.0,
+                          vary={"loading.temprature": [7.0]}), "temprature"),
+        (lambda: vs.sweep(small, warm_rubber, speed=[0.05], mean_pressure=3000.0,
+                          vary={"loading.temperature": ["hot"]}), "temperature"),
+        (lambda: vs.sweep(small, warm_rubber, speed=[0.05], mean_pressure=3000.0,
+                          vary={"loading.speed": [1.0]}), "loading.speed"),
+        (lambda: vs.sweep(small, warm_rubber, speed=[0.05], mean_pressure=3000.0,
+                          vary={"surface.generate.colour": [1.0]}), "colour"),
+        (lambda: vs.sweep(small, warm_rubber, speed=[0.05], mean_pressure=3000.0,
+                          vary={"loading.temperature": []}), "empty"),
+    ]
+    for call, needle in cases:
+        with pytest.raises(ValueError) as e:
+            call()
+        assert needle in str(e.value) and "\n" not in str(e.value), str(e.value)
+
+
+def test_material_toml_fitted_with_wlf_carries_its_constants(repo):
+    m = vs.Material.from_toml(repo / "configs" / "data" / "sbr_like_material.toml")
+    assert m.wlf == WLF
+    assert vs.Material.from_toml(repo / "configs" / "material_sbr_like.toml").wlf == WLF
+    assert not math.isnan(shift(7.0))

@@ -1,0 +1,131 @@
+//! Time-temperature superposition of an isothermal solve (physics.md
+//! sections 2 and 12): with the WLF shift factor
+//! `log10 a_T = -C1 (T - T_ref) / (C2 + T - T_ref)` every creep time scales
+//! as `tau_k(T) = a_T tau_k(T_ref)`, so `E(w, T) = E(a_T w, T_ref)`. The
+//! material is shifted once, where a problem is built, so every consumer
+//! of its spectrum (the kernel of both formulations, the GPU coefficient
+//! tables, Persson's theory) sees the same rubber. No vertical shift `b_T`:
+//! with it the exact collapse `mu(v, T) = mu(a_T v, T_ref)` would not hold.
+
+use super::{Material, MaterialError, Wlf};
+
+/// The temperature a material describes and its WLF shift, as reported in
+/// `summary.json`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TemperatureShift {
+    /// Temperature \[C\].
+    pub temperature: f64,
+    /// WLF reference temperature `T_ref` \[C\].
+    pub reference_temperature: f64,
+    /// `a_T` relative to `T_ref`: `mu(v, T) = mu(a_T v, T_ref)`.
+    pub shift_factor: f64,
+}
+
+impl Material {
+    /// The same material with WLF constants: its spectrum is taken to
+    /// describe `temperature` \[C\], or `T_ref` when `None`.
+    pub fn with_wlf(mut self, wlf: Wlf, temperature: Option<f64>) -> Self {
+        self.wlf = Some(wlf);
+        self.temperature = Some(temperature.unwrap_or(wlf.reference_temperature));
+        self
+    }
+
+    /// The temperature this material describes and its shift factor, when
+    /// it has WLF constants.
+    pub fn temperature_shift(&self) -> Option<TemperatureShift> {
+        let wlf = self.wlf?;
+        let t = self.temperature?;
+        Some(TemperatureShift {
+            temperature: t,
+            reference_temperature: wlf.reference_temperature,
+            shift_factor: wlf.shift_factor(t).ok()?,
+        })
+    }
+
+    /// The material at `temperature` \[C\]: every creep time multiplied by
+    /// `a_T(T) / a_T(T0)`, `T0` the temperature its spectrum describes
+    /// (usually `T_ref`, where the factor is `a_T(T)` itself). Moduli are
+    /// unchanged (no `b_T`). A material without WLF constants, or a
+    /// temperature at or below `T_ref - C2` (the pole of the WLF form), is
+    /// refused in one line naming the remedy or the bound.
+    pub fn at_temperature(&self, temperature: f64) -> Result<Material, MaterialError> {
+        let wlf = self.wlf.ok_or_else(|| {
+            MaterialError::Invalid(format!(
+                "[loading] temperature = {temperature} C needs the material's WLF constants: give [material] wlf = [C1, C2 (K), T_ref (C)] or a material.toml fitted with `material fit --wlf`"
+            ))
+        })?;
+        let bound = wlf.reference_temperature - wlf.c2;
+        if !(temperature.is_finite() && temperature > bound) {
+            return Err(MaterialError::Invalid(format!(
+                "[loading] temperature = {temperature} C is at or below T_ref - C2 = {bound} C ({} - {} K), where the WLF shift is undefined; give a temperature above {bound} C",
+                wlf.reference_temperature, wlf.c2
+            )));
+        }
+        let from = self.temperature.unwrap_or(wlf.reference_temperature);
+        let log_ratio = wlf.log10_shift(temperature)? - wlf.log10_shift(from)?;
+        let ratio = 10f64.powf(log_ratio);
+        let mut shifted = self.clone();
+        for term in &mut shifted.spectrum.terms {
+            term.time *= ratio;
+        }
+        shifted.temperature = Some(temperature);
+        Ok(shifted)
+    }
+
+    /// [`Material::at_temperature`] when a temperature is given, else the
+    /// material unchanged.
+    pub fn at(&self, temperature: Option<f64>) -> Result<Material, MaterialError> {
+        match temperature {
+            Some(t) => self.at_temperature(t),
+            None => Ok(self.clone()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::CreepSpectrum;
+
+    fn sls() -> Material {
+        Material::new(
+            CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
+            0.5,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn times_scale_by_the_wlf_factor() {
+        let wlf = Wlf::new(8.86, 101.6, 17.0).unwrap();
+        let m = sls().with_wlf(wlf, None);
+        let cold = m.at_temperature(7.0).unwrap();
+        // log10 a_T = -8.86 (-10) / (101.6 - 10), computed independently.
+        let a = 10f64.powf(88.6 / 91.6);
+        assert!((cold.spectrum.terms[0].time / 0.01 / a - 1.0).abs() < 1e-14);
+        let s = cold.temperature_shift().unwrap();
+        assert_eq!(s.temperature, 7.0);
+        assert!((s.shift_factor / a - 1.0).abs() < 1e-14);
+        // Moduli unchanged (no vertical shift).
+        assert_eq!(
+            cold.spectrum.terms[0].compliance,
+            m.spectrum.terms[0].compliance
+        );
+        assert_eq!(cold.spectrum.glassy_modulus, m.spectrum.glassy_modulus);
+        // From a spectrum at another temperature: the ratio of the factors.
+        let warm = m.at_temperature(27.0).unwrap();
+        let back = warm.at_temperature(7.0).unwrap();
+        assert!((back.spectrum.terms[0].time / cold.spectrum.terms[0].time - 1.0).abs() < 1e-13);
+    }
+
+    #[test]
+    fn refusals_are_one_line_and_name_the_bound() {
+        let e = sls().at_temperature(20.0).unwrap_err().to_string();
+        assert!(e.contains("WLF") && !e.contains('\n'), "{e}");
+        let m = sls().with_wlf(Wlf::new(8.86, 101.6, 17.0).unwrap(), None);
+        let e = m.at_temperature(17.0 - 101.6).unwrap_err().to_string();
+        assert!(e.contains("-84.6") && !e.contains('\n'), "{e}");
+        assert!(m.at_temperature(-84.5).is_ok());
+        assert!(m.at_temperature(f64::NAN).is_err());
+    }
+}

@@ -1,0 +1,33 @@
+//! One row of a merged sweep (`sweep.csv`): the data type shared by the
+//! merge, its theory curves and the master curve.
+
+use std::collections::BTreeMap;
+
+/// One row of `sweep.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MergedRow {
+    /// The `[sweep.vary]` values of the row (empty without them).
+    pub vary: BTreeMap<String, toml::Value>,
+    /// Temperature \[C\] and WLF shift factor `a_T` of the row's
+    /// material, when it has WLF constants (physics.md section 12).
+    pub temperature: Option<f64>,
+    pub shift_factor: Option<f64>,
+    pub normal_load: f64,
+    pub speed: f64,
+    pub xi: Option<f64>,
+    pub realisations: usize,
+    /// `(mean, standard deviation)` of each quantity.
+    pub friction: (f64, f64),
+    pub friction_dissipation: (f64, f64),
+    pub area_fraction: (f64, f64),
+    /// `A / A(v = 0)` of the same realisation and load, when the static point exists.
+    pub area_ratio: Option<(f64, f64)>,
+    pub gamma: Option<(f64, f64)>,
+    pub lambda: Option<(f64, f64)>,
+    /// Persson's `mu` at this speed and load.
+    pub persson_friction: Option<f64>,
+    /// Persson's `A/A0` at this speed and load.
+    pub persson_area_fraction: Option<f64>,
+    /// Persson's `A(v) / A(0)` at this load.
+    pub persson_area_ratio: Option<f64>,
+}
