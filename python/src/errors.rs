@@ -24,6 +24,7 @@ pub fn to_py(py: Python<'_>, e: Error) -> PyErr {
             matvecs,
             residual,
             history,
+            ..
         }) => convergence_error(py, message, history, iterations, matvecs, residual),
         Error::Solver(SolverError::Cancelled) => PyKeyboardInterrupt::new_err(message),
         Error::Io { .. } | Error::Output(_) => PyOSError::new_err(message),

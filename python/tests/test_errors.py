@@ -53,3 +53,50 @@ def test_repr(pad, rubber):
     assert repr(r).startswith("Result(64 x 64, friction_coefficient=")
     assert "64 x 64 cells" in repr(pad)
     assert "creep term" in repr(rubber)
+
+
+def test_a_layer_far_below_a_cell_raises_and_the_interpreter_lives_on(pad, rubber):
+    # 1e-12 m on 156 um cells grew to 24 GB and killed the interpreter.
+    with pytest.raises(ValueError, match=r"of a cell.*1e-3"):
+        vs.solve(pad, rubber, xi=1.17e-2, normal_load=0.3, thickness=1e-12, backend="cpu")
+    with pytest.raises(ValueError, match=r"lap p"):
+        vs.solve(pad, rubber, xi=1.17e-2, normal_load=0.3, thickness=1e-6, backend="cpu")
+    r = vs.solve(pad, rubber, xi=1.17e-2, normal_load=0.3, thickness=1e-6, layer_base="frictionless", backend="cpu")
+    assert r.friction_coefficient > 0
+
+
+def test_arguments_are_named_in_their_errors(pad, rubber):
+    with pytest.raises(ValueError, match="speed must be a real number, got the boolean True"):
+        vs.solve(pad, rubber, speed=True, normal_load=0.3, backend="cpu")
+    with pytest.raises(ValueError, match=r"n = 1180591620717411303424 is too large"):
+        vs.Surface.self_affine(2**70, 0.01, 0.8, scales=8, rms_slope=0.02)
+    with pytest.raises(ValueError, match=r"seed = 1180591620717411303424 is too large"):
+        vs.Surface.self_affine(64, 0.01, 0.8, scales=8, rms_slope=0.02, seed=2**70)
+    tiny = vs.Surface.from_array([[0.0, 1e-6], [2e-6, 0.0]], 1e-3)
+    with pytest.raises(ValueError, match=r"2 x 2 grid is too small"):
+        vs.solve(tiny, rubber, speed=1e-3, normal_load=1e-6, backend="cpu")
+
+
+def test_solve_config_takes_set_as_the_command_line_writes_it(repo):
+    cfg = repo / "configs" / "default.toml"
+    small = {"surface.generate.n": 32, "surface.generate.scales": 4, "surface.generate.rolloff_q0": 1000}
+    a = vs.solve_config(cfg, set=small, backend="cpu")
+    b = vs.solve_config(cfg, set=[f"{k}={v}" for k, v in small.items()], backend="cpu")
+    assert a.friction_coefficient == b.friction_coefficient
+    with pytest.raises(ValueError, match="colour"):
+        vs.solve_config(cfg, set="loading.colour=1.0", backend="cpu")
+    with pytest.raises(TypeError, match="set must be a mapping"):
+        vs.solve_config(cfg, set=3, backend="cpu")
+
+
+def test_a_topography_without_a_unit_is_taken_as_metres_with_a_warning():
+    class Topo:
+        physical_sizes = (0.01, 0.01)
+
+        def heights(self):
+            import numpy as np
+
+            return np.random.default_rng(1).normal(size=(16, 16)) * 1e-6
+
+    with pytest.warns(UserWarning, match="no unit"):
+        vs.Surface.from_topography(Topo())

@@ -51,7 +51,9 @@ def real_array(name: str, value: Any, ndim: int, allow_nan: bool = False) -> np.
 
 def number(name: str, value: Any) -> float:
     """A finite real number."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+    if isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be a real number, got the boolean {value!r}")
+    if not isinstance(value, numbers.Real):
         if isinstance(value, numbers.Complex):
             raise ValueError(f"{name} must be real, got the complex number {value!r}")
         if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "fiu":
@@ -83,7 +85,13 @@ def count(name: str, value: Any, minimum: int = 1) -> int:
         raise ValueError(f"{name} must be a whole number, got {value!r}")
     if int(value) < minimum:
         raise ValueError(f"{name} must be at least {minimum}, got {value}")
+    if int(value) > COUNT_MAX:
+        raise ValueError(f"{name} = {value} is too large: at most 2**63 - 1")
     return int(value)
+
+
+#: The largest whole number the native module takes (a 64-bit count or seed).
+COUNT_MAX = 2**63 - 1
 
 
 def drop_none(d: dict) -> dict:

@@ -311,7 +311,7 @@ def _toml_value(value: Any) -> str:
 
 def solve_config(
     path: "os.PathLike[str] | str",
-    set: Optional[Mapping[str, Any]] = None,
+    set: "Optional[Mapping[str, Any] | str | Sequence[str]]" = None,
     backend: Optional[str] = None,
     progress: Any = None,
 ) -> Result:
@@ -324,9 +324,10 @@ def solve_config(
     ----------
     path : path-like
         TOML configuration.
-    set : mapping, optional
+    set : mapping, str or list of str, optional
         Overrides by ``"section.key"``, e.g. ``{"loading.xi": 1e-3,
-        "surface.generate.n": 512}`` (the command's ``--set``).
+        "surface.generate.n": 512}``, or as the command's ``--set`` writes
+        them: ``"loading.xi=1e-3"`` or a list of such strings.
     backend : str, optional
         ``"auto"``, ``"cpu"`` or ``"gpu"``; default ``VISCOSLIDE_BACKEND``,
         else ``"auto"`` (as the command line without ``--backend``).
@@ -336,7 +337,17 @@ def solve_config(
     path = os.fspath(path)
     if not os.path.exists(path):
         raise FileNotFoundError(f"{path}: no such file")
-    overrides = [f"{key}={_toml_value(value)}" for key, value in (set or {}).items()]
+    if isinstance(set, str):
+        # One override as the command line writes it.
+        overrides = [set]
+    elif isinstance(set, (list, tuple)) and all(isinstance(s, str) for s in set):
+        overrides = list(set)
+    elif set is None or isinstance(set, Mapping):
+        overrides = [f"{key}={_toml_value(value)}" for key, value in (set or {}).items()]
+    else:
+        raise TypeError(
+            f"set must be a mapping {{'section.key': value}}, a 'section.key=value' string or a list of them, got {type(set).__name__}"
+        )
     with _progress.iterations(progress) as callback:
         native = _native.solve_config(path, overrides, backend, callback)
     return _warned(Result(native))

@@ -205,7 +205,12 @@ class Surface:
         converted with its ``to_unit("m")``; its missing (masked) points are
         an error unless ``fill_missing``."""
         unit = getattr(topography, "unit", None)
-        if unit is not None and unit != "m":
+        if unit is None:
+            warnings.warn(
+                "the topography carries no unit: its heights and physical_sizes are taken as metres",
+                stacklevel=2,
+            )
+        elif unit != "m":
             if not callable(getattr(topography, "to_unit", None)):
                 raise ValueError(f"the topography's unit is {unit!r}; heights and sizes must be in m")
             topography = topography.to_unit("m")

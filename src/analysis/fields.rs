@@ -86,6 +86,18 @@ pub fn analyze(
         _ => (nx.min(ny) / 2) as f64,
     };
     if zeta2 <= params.zeta1 {
+        if params.zeta2.is_none() {
+            // The default band ends at the grid's Nyquist wavenumber.
+            return Err(param(
+                "zeta2",
+                zeta2,
+                &format!(
+                    "a {nx} x {ny} grid is too small for the anisotropy analysis: its band ends at zeta2 = min(nx, ny) / 2, not above zeta1 = {}; use at least {} cells per side",
+                    params.zeta1,
+                    2 * (params.zeta1.floor() as usize + 1)
+                ),
+            ));
+        }
         return Err(param("zeta2", zeta2, "must exceed zeta1"));
     }
     let def = deformed_anisotropy(&psd, params.zeta1, zeta2);

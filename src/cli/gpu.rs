@@ -36,7 +36,7 @@ pub struct PlanArgs {
     #[arg(long, default_value_t = 48)]
     pub shared_kib: u64,
     /// Memory bandwidth of the prediction [TB/s] (H100 SXM: about 3).
-    #[arg(long, default_value_t = 3.0)]
+    #[arg(long, default_value_t = 3.0, allow_negative_numbers = true)]
     pub bandwidth: f64,
     /// List every dispatch of the default path.
     #[arg(long)]
@@ -70,7 +70,20 @@ pub fn run(args: GpuArgs) -> Result<()> {
 }
 
 fn plan(args: PlanArgs) -> Result<()> {
-    let (nx, ny) = (args.n.max(1), args.ny.unwrap_or(args.n).max(1));
+    if args.n == 0 || args.ny == Some(0) {
+        return Err(Error::Invalid(format!(
+            "--n {} / --ny {}: a grid needs at least one cell per side",
+            args.n,
+            args.ny.unwrap_or(args.n)
+        )));
+    }
+    if !(args.bandwidth.is_finite() && args.bandwidth > 0.0) {
+        return Err(Error::Invalid(format!(
+            "--bandwidth {} TB/s must be positive and finite",
+            args.bandwidth
+        )));
+    }
+    let (nx, ny) = (args.n, args.ny.unwrap_or(args.n));
     crate::backend::gpu::fft_plan::check_plan_size(nx, ny).map_err(Error::Invalid)?;
     let path = Path::for_limits(args.shared_kib.saturating_mul(1024));
     let new = MatvecPlan::new(nx, ny, path);

@@ -84,6 +84,7 @@ pub fn run(args: KernelArgs) -> Result<()> {
     });
     let a = args.cell_size;
     SlidingKernel::check_cell(a, a)?;
+    kernel.check_layer_cells(a, a)?;
     if let Some(w) = layer.and_then(|l| l.resolution_warning(a)) {
         eprintln!("warning: {w}");
     }

@@ -68,7 +68,7 @@ pub struct CompareArgs {
     pub measured: PathBuf,
     /// Interfacial (Coulomb) friction measured at vanishing speed, subtracted
     /// from the measurements.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub coulomb: f64,
 }
 

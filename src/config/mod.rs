@@ -147,23 +147,32 @@ fn blame_override(text: &str, name: &str, overrides: &[String], err: ConfigError
     let Ok(mut document) = toml::from_str::<toml::Table>(text) else {
         return err;
     };
+    // A section that a `--set` starts may be completed by a later one
+    // (`layer.thickness`, then `layer.base`): a missing field is blamed
+    // only when no later `--set` breaks the document otherwise.
+    let mut incomplete: Option<ConfigError> = None;
     for arg in overrides {
         if apply_override(&mut document, arg).is_err() {
             return err;
         }
         if let Err(ConfigError::Parse { message, .. }) = parse_document(&document, name) {
             // "line N, key `k`: ..." names a line of the merged document.
+            let missing = message.contains("missing field `");
             let message = match message.split_once(", ") {
                 Some((head, rest)) if head.starts_with("line ") => rest.to_string(),
                 _ => message,
             };
-            return ConfigError::Override {
+            let blamed = ConfigError::Override {
                 arg: arg.clone(),
                 message,
             };
+            if !missing {
+                return blamed;
+            }
+            incomplete.get_or_insert(blamed);
         }
     }
-    err
+    incomplete.unwrap_or(err)
 }
 
 /// Type-check a TOML document as a [`Config`].

@@ -30,6 +30,8 @@ mod progress;
 pub mod quad;
 mod table;
 pub mod thickness;
+mod thin;
+pub use thin::THIN_RATIO_MIN;
 
 use std::sync::Arc;
 
@@ -107,6 +109,8 @@ pub struct SlidingKernel {
     e: (f64, f64),
     theta: Option<Arc<ThetaTable>>,
     rule: ThetaRule,
+    /// Whether layers far below a cell take the local limit ([`thin`]).
+    local: bool,
 }
 
 /// A source cell's precomputed pieces: Love's rectangle and, on a layer with
@@ -115,6 +119,8 @@ pub struct SlidingKernel {
 pub(crate) struct Cell {
     pub(crate) love: LoveRect,
     pub(crate) layer: Option<LayerCell>,
+    /// The local limit of a layer much thinner than the cell ([`thin`]).
+    pub(crate) thin: Option<Arc<thin::ThinProfile>>,
 }
 
 /// Relative tolerance asked of the adaptive line integrals on a half-space.
@@ -167,6 +173,7 @@ impl SlidingKernel {
             e: (snap(c), snap(s)),
             theta,
             rule: ThetaRule::default(),
+            local: true,
         })
     }
 
@@ -174,6 +181,14 @@ impl SlidingKernel {
     /// [`ThetaRule::CellIntegral`]; no effect on a half-space).
     pub fn with_theta_rule(mut self, rule: ThetaRule) -> Self {
         self.rule = rule;
+        self
+    }
+
+    /// The same kernel without the local limit of layers far below a cell
+    /// (the general cell integral at every thickness: the reference of the
+    /// local limit's tests, slow and memory-hungry for very thin layers).
+    pub fn without_local_limit(mut self) -> Self {
+        self.local = false;
         self
     }
 
@@ -189,13 +204,15 @@ impl SlidingKernel {
 
     /// A source cell `ax x ay` with its rules.
     pub(crate) fn cell(&self, ax: f64, ay: f64) -> Cell {
+        let thin = self.thin_profile(ax, ay);
         let layer = match (&self.theta, self.rule) {
-            (Some(t), ThetaRule::CellIntegral) => Some(LayerCell::new(t, ax, ay)),
+            (Some(t), ThetaRule::CellIntegral) if thin.is_none() => Some(LayerCell::new(t, ax, ay)),
             _ => None,
         };
         Cell {
             love: LoveRect::new(ax, ay),
             layer,
+            thin,
         }
     }
 
@@ -286,6 +303,9 @@ impl SlidingKernel {
     }
 
     pub(crate) fn coefficient_with(&self, cell: &Cell, dx: f64, dy: f64) -> Coefficient {
+        if let Some(p) = &cell.thin {
+            return self.thin_coefficient(p, cell, dx, dy);
+        }
         if self.out_of_reach(cell, dx, dy, 0.0) {
             return Coefficient::default();
         }
@@ -323,6 +343,9 @@ impl SlidingKernel {
     }
 
     pub(crate) fn derivative_with(&self, cell: &Cell, dx: f64, dy: f64, axis: Axis) -> f64 {
+        if let Some(p) = &cell.thin {
+            return self.thin_derivative(p, cell, dx, dy, axis);
+        }
         let (ax, ay) = (cell.love.ax, cell.love.ay);
         match axis {
             Axis::X => {

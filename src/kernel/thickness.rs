@@ -70,7 +70,7 @@ impl Layer {
     pub fn resolution_warning(&self, cell: f64) -> Option<String> {
         (self.thickness < cell).then(|| {
             format!(
-                "[layer] thickness = {} m is thinner than one cell ({} m, {:.2} cells): the grid does not resolve the layer; refine the grid to at least one cell per thickness",
+                "[layer] thickness = {} m is thinner than one cell ({} m, {:.3e} cells): the grid does not resolve the layer; refine the grid to at least one cell per thickness",
                 self.thickness,
                 cell,
                 self.thickness / cell

@@ -27,6 +27,10 @@ fn unit(key: &str) -> &'static str {
         .unwrap_or("")
 }
 
+/// The moduli accepted \[Pa\]: beyond them the compliances leave the
+/// range the solver's double precision carries.
+pub const MODULUS_RANGE: (f64, f64) = (1e-3, 1e15);
+
 impl MaterialConfig {
     /// Build the material; `base_dir` resolves relative file paths.
     ///
@@ -46,6 +50,7 @@ impl MaterialConfig {
     /// `poisson` defaults to 0.5. A key the model does not use is an error
     /// (it would be silently ignored otherwise), as is any non-finite or
     /// non-positive value.
+    /// Builds the material; moduli must lie in [`MODULUS_RANGE`].
     pub fn build(&self, base_dir: &Path) -> Result<Material, MaterialError> {
         let model = self.model_name();
         let invalid = |key: &str, what: String| {
@@ -80,10 +85,16 @@ impl MaterialConfig {
             })
         };
         let positive = |v: f64, key: &str| {
-            if v.is_finite() && v > 0.0 {
-                Ok(v)
-            } else {
+            let (lo, hi) = MODULUS_RANGE;
+            if !(v.is_finite() && v > 0.0) {
                 Err(invalid(key, format!("{v} must be positive and finite")))
+            } else if key.ends_with("_modulus") && !(lo..=hi).contains(&v) {
+                Err(invalid(
+                    key,
+                    format!("{v:e} Pa is outside [{lo:e}, {hi:e}] Pa, the moduli of solids (gels to diamond) with room on both sides"),
+                ))
+            } else {
+                Ok(v)
             }
         };
         let pairs = |list: &Option<Vec<[f64; 2]>>, key: &str| {

@@ -84,7 +84,7 @@ impl Problem {
         );
         let (solution, info) = match (result, failure) {
             (Err(_), Some(e)) => return Err(e),
-            (result, _) => result?,
+            (result, _) => result.map_err(|e| self.advise(e))?,
         };
         Ok((solution, info, t.elapsed().as_secs_f64()))
     }

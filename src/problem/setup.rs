@@ -39,10 +39,6 @@ impl Problem {
             .with_loading(&loading)?
             .with_solver_config(&sc)?;
         let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
-        let coarser_side = problem.surface.cell_size.max(problem.surface.cell_size_y);
-        if let Some(w) = layer.and_then(|l| l.resolution_warning(coarser_side)) {
-            eprintln!("warning: {w}");
-        }
         problem.source = source;
         problem.preprocessing = surface_cfg.preprocessing()?;
         problem.layer = layer;
@@ -50,6 +46,10 @@ impl Problem {
         problem.document = cfg.document.clone();
         problem.analysis = cfg.config.analysis.clone();
         problem.check()?;
+        let coarser_side = problem.surface.cell_size.max(problem.surface.cell_size_y);
+        if let Some(w) = layer.and_then(|l| l.resolution_warning(coarser_side)) {
+            eprintln!("warning: {w}");
+        }
         Ok(problem)
     }
 
@@ -63,7 +63,14 @@ impl Problem {
         let area0 = self.surface.length_x() * self.surface.length_y();
         self.control = match (loading.normal_load, loading.mean_pressure, loading.approach) {
             (Some(f), None, None) => Control::Load(f),
-            (None, Some(p), None) => Control::Load(p * area0),
+            (None, Some(p), None) => {
+                if !(p.is_finite() && p > 0.0) {
+                    return Err(invalid(format!(
+                        "[loading] mean_pressure must be positive and finite, got {p} Pa"
+                    )));
+                }
+                Control::Load(p * area0)
+            }
             (None, None, Some(d)) => Control::Approach(d),
             (None, None, None) => {
                 return Err(invalid(
@@ -96,6 +103,29 @@ impl Problem {
             precondition: sc.precondition.unwrap_or(defaults.precondition),
             cascade_levels: sc.cascade_levels.unwrap_or(defaults.cascade_levels),
         };
+        for (key, value, what) in [
+            (
+                "max_matvecs",
+                self.params.max_matvecs,
+                "the budget of operator products",
+            ),
+            (
+                "max_iterations",
+                self.params.max_iterations,
+                "the budget of active-set iterations",
+            ),
+            (
+                "restart",
+                self.params.restart,
+                "the GMRES restart length, default 30",
+            ),
+        ] {
+            if value == 0 {
+                return Err(invalid(format!(
+                    "[solver] {key} = 0: must be at least 1 ({what})"
+                )));
+            }
+        }
         if self.params.cascade_levels == 0 {
             return Err(invalid(
                 "[solver] cascade_levels must be at least 1 (1: the fine grid only)",
@@ -161,6 +191,41 @@ impl Problem {
         self.adaptive.check().map_err(invalid)?;
         if self.mesh == MeshKind::Adaptive {
             self.check_adaptive_cells()?;
+        }
+        self.check_layer_cells()?;
+        Ok(())
+    }
+
+    /// A layer far below a cell (kernel's `check_layer_cells`): at least
+    /// `kernel::THIN_RATIO_MIN` of a cell on every formulation; the
+    /// tables' local limit also asks for a grid-axis direction, a uniform
+    /// mesh and a compressible or frictionless layer.
+    fn check_layer_cells(&self) -> Result<()> {
+        let Some(layer) = self.layer else {
+            return Ok(());
+        };
+        let (ax, ay) = self.surface.cell();
+        let a = ax.max(ay);
+        if self.formulation == Formulation::Periodic {
+            if layer.thickness < crate::kernel::THIN_RATIO_MIN * a {
+                return Err(invalid(format!(
+                    "[layer] thickness = {:e} m is {:.3e} of a cell ({a:e} m), below the bound of {:e} of a cell; use cells of at most {:e} m or a thicker layer",
+                    layer.thickness,
+                    layer.thickness / a,
+                    crate::kernel::THIN_RATIO_MIN,
+                    layer.thickness / crate::kernel::THIN_RATIO_MIN
+                )));
+            }
+            return Ok(());
+        }
+        let kernel = self.sliding_kernel()?;
+        kernel.check_layer_cells(ax, ay)?;
+        if self.mesh == MeshKind::Adaptive && kernel.is_thin(ax, ay) {
+            return Err(invalid(format!(
+                "[layer] thickness = {:e} m is {:.3e} of a cell: the adaptive mesh needs a layer resolved by its finest cells; use mesh = \"uniform\"",
+                layer.thickness,
+                layer.thickness / a
+            )));
         }
         Ok(())
     }

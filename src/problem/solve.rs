@@ -140,6 +140,36 @@ impl Problem {
             start,
             observer,
         )
+        .map_err(|e| self.advise(e))
+    }
+
+    /// A stalled solve's error with what to do for this problem: the
+    /// non-periodic formulation where the periodic one stalled (it
+    /// converged on every stalled periodic case of the robustness study,
+    /// BENCHMARKS.md).
+    pub(super) fn advise(&self, e: SolverError) -> SolverError {
+        match e {
+            SolverError::NoConvergence {
+                iterations,
+                matvecs,
+                residual,
+                history,
+                mut cause,
+            } if cause.contains("stalled") => {
+                cause.push_str(match self.formulation {
+                    Formulation::Periodic => "; solve it with formulation = \"non_periodic\", which converges on such problems",
+                    Formulation::NonPeriodic => "; try a finer grid, a lower load or a larger solver.restart",
+                });
+                SolverError::NoConvergence {
+                    iterations,
+                    matvecs,
+                    residual,
+                    history,
+                    cause,
+                }
+            }
+            e => e,
+        }
     }
 
     /// [`Problem::iterate`] over the whole grid at the problem's tolerance,

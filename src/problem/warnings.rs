@@ -12,6 +12,23 @@ use super::{Problem, ShortestWavelength};
 /// warns.
 pub const FRICTION_ROUTES_TOLERANCE: f64 = 0.02;
 
+/// The rms slope beyond which the small-slope model is warned about.
+const RMS_SLOPE_LIMIT: f64 = 1.0;
+
+/// Friction coefficients below this are zero to round-off.
+const FRICTION_ROUND_OFF: f64 = 1e-14;
+
+/// A relative difference as a percentage, in scientific notation beyond
+/// 1e4 % (a difference against a value near zero).
+fn percent(diff: f64) -> String {
+    let p = 100.0 * diff;
+    if p < 1e4 {
+        format!("{p:.1} %")
+    } else {
+        format!("{p:.2e} %")
+    }
+}
+
 /// Cells per shortest surface wavelength below which a disagreement of
 /// the friction routes is blamed on the surface's resolution (every solve
 /// warns below [`super::MIN_CELLS_PER_WAVELENGTH`] in any case).
@@ -39,15 +56,31 @@ impl Problem {
                 "the mean pressure {p0:.3e} Pa exceeds the relaxed modulus E0 = {e0:.3e} Pa: strains are not small and the linear small-strain model does not hold there; lower the load"
             ));
         }
+        let (s, heights) = (&self.surface, &self.surface.heights);
+        let slope = crate::surface::rms_slope_real(s.nx, s.ny, s.cell_size, s.cell_size_y, heights);
+        if slope > RMS_SLOPE_LIMIT {
+            out.push(format!(
+                "the rms slope of the surface is {slope:.3e}, beyond {RMS_SLOPE_LIMIT}: the small-slope theory of the model (paper Eq. 1-4, surfaces nearly flat) does not hold there; lower rms_slope or check the heights' unit"
+            ));
+        }
+        if self.material.spectrum.terms.is_empty() {
+            out.push(format!(
+                "the material has no creep or relaxation terms (an empty prony or creep_spectrum list): it is elastic with E = {:.4e} Pa at every speed, and its friction is zero",
+                self.material.spectrum.relaxed_modulus()
+            ));
+        }
         let diff = if mu_d != 0.0 {
             (mu - mu_d).abs() / mu_d.abs()
         } else {
             (mu - mu_d).abs()
         };
-        if diff > FRICTION_ROUTES_TOLERANCE {
+        // Both zero to round-off (a speed far below the relaxation): no
+        // friction to compare.
+        let zero = mu.abs().max(mu_d.abs()) < FRICTION_ROUND_OFF;
+        if diff > FRICTION_ROUTES_TOLERANCE && !zero {
             out.push(format!(
-                "the two friction routes differ by {:.1} % (Eq. 9: {mu:.4e}, dissipation: {mu_d:.4e}); likely cause: {}",
-                100.0 * diff,
+                "the two friction routes differ by {} (Eq. 9: {mu:.4e}, dissipation: {mu_d:.4e}); likely cause: {}",
+                percent(diff),
                 self.likely_causes().join("; ")
             ));
         }

@@ -7,7 +7,8 @@ use super::initial_guess::initial_guess;
 use super::{
     check_problem, tolerances, ContactSolution, Control, Observer, SolveInfo, SolverError,
     SolverParams, WarmStart, FAST_FALL, FLOOR_TOGGLES, INNER_FLOOR, PRECONDITIONED_BUDGET,
-    ROUNDING_FLOOR, STAGNANT_ACCEPT, STAGNANT_ITERATIONS, STAGNATION,
+    ROUNDING_FLOOR, STAGNANT_ACCEPT, STAGNANT_ITERATIONS, STAGNATION, STALL_ABOVE, STALL_GAIN,
+    STALL_ITERATIONS,
 };
 use crate::backend::Backend;
 
@@ -282,6 +283,10 @@ pub(crate) fn solve_owned<B: Backend>(
     let mut sharp = tight;
     let mut stagnant = 0usize;
     let mut best_residual = f64::INFINITY;
+    // Iterations since the best residual last fell by STALL_GAIN, each
+    // with an inner solve that ran out of its budget.
+    let mut stall = (0usize, f64::INFINITY);
+    let mut cause = String::new();
     // A preconditioner that does not help (an approximate inverse far from
     // the operator, e.g. the circulant of a layer much thinner than a cell)
     // is dropped after one inner solve that reaches neither its tolerance
@@ -296,9 +301,14 @@ pub(crate) fn solve_owned<B: Backend>(
         let index = backend.index_of(&mask);
         let m = backend.index_len(&index);
         if m == 0 {
-            return Err(SolverError::Invalid(
-                "the contact set is empty: under approach control the surfaces do not touch".into(),
-            ));
+            return Err(SolverError::Invalid(match control {
+                Control::Approach(d) => format!(
+                    "the contact set is empty: under approach control (approach {d:e} m) the surfaces do not touch"
+                ),
+                Control::Load(f) => format!(
+                    "the contact set is empty: the normal load {f:e} N is too small to press any cell into contact in double precision"
+                ),
+            }));
         }
         let load_scale = self_coefficient / (m as f64).sqrt();
         work.resize(backend, m);
@@ -459,6 +469,20 @@ pub(crate) fn solve_owned<B: Backend>(
         }
         last_changes = changes;
         contact_cells = size;
+        if residual < STALL_GAIN * stall.1 {
+            stall = (0, residual);
+        } else if !outcome.converged {
+            stall.0 += 1;
+        }
+        if stall.0 >= STALL_ITERATIONS && residual > STALL_ABOVE {
+            cause = format!(
+                "; stalled: the residual has not fallen below {:.3e} for {} iterations, each inner solve at its budget, with {:.1} % of the cells in contact (the constrained iteration cycles on a strongly non-symmetric operator)",
+                stall.1,
+                stall.0,
+                100.0 * size as f64 / n as f64
+            );
+            break;
+        }
         if matvecs >= params.max_matvecs {
             break;
         }
@@ -468,5 +492,6 @@ pub(crate) fn solve_owned<B: Backend>(
         matvecs,
         residual,
         history,
+        cause,
     })
 }

@@ -74,6 +74,7 @@ pub fn solve_full_contact<B: Backend>(
             matvecs,
             residual: f64::NAN,
             history: vec![],
+            cause: String::new(),
         });
     }
     let delta = match control {

@@ -74,5 +74,6 @@ pub fn solve_dense(
         matvecs: 0,
         residual: f64::NAN,
         history: vec![],
+        cause: String::new(),
     })
 }

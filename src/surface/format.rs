@@ -80,6 +80,37 @@ pub struct ReadOptions {
 /// Read a surface file into a [`Topography`] (heights in metres, sizes,
 /// missing points handled by `opts.missing`). Errors are one line and
 /// name the file.
+/// Instruments' formats this crate does not read, by extension.
+const FOREIGN: &[(&str, &str)] = &[
+    ("di", "a Bruker/Veeco Nanoscope (.di)"),
+    ("opd", "a Wyko/Veeco Vision (.opd)"),
+    ("datx", "a Zygo (.datx)"),
+    ("sur", "a Digital Surf (.sur)"),
+    ("plu", "a Sensofar (.plu)"),
+    ("ibw", "an Igor binary wave (.ibw)"),
+    ("mi", "an Agilent/Keysight (.mi)"),
+    ("sdf", "a surface data (.sdf)"),
+    ("spm", "a scanning probe (.spm)"),
+];
+
+/// The message for a file read as text that holds binary data: the
+/// instrument format its extension names (if known) and how to read it.
+fn not_text(path: &Path, name: &str) -> String {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    let what = FOREIGN
+        .iter()
+        .find(|(e, _)| *e == ext)
+        .map_or("binary data, not a text matrix".to_string(), |(_, w)| {
+            format!("{w} file, a format viscoslide does not read")
+        });
+    format!(
+        "{name}: {what}; read it with SurfaceTopography in Python (`viscoslide.Surface.from_topography(SurfaceTopography.read_topography(path))`) or convert it to .x3p, .gwy, .npy or a text matrix"
+    )
+}
+
 pub fn read_topography(path: &Path, opts: &ReadOptions) -> Result<Topography, SurfaceError> {
     let name = path.display().to_string();
     let format = opts
@@ -93,9 +124,15 @@ pub fn read_topography(path: &Path, opts: &ReadOptions) -> Result<Topography, Su
                 let a = npy::read(path)?;
                 (a.shape, a.data)
             } else {
-                let text = std::fs::read_to_string(path).map_err(|source| SurfaceError::Io {
-                    path: name.clone(),
-                    source,
+                let text = std::fs::read_to_string(path).map_err(|source| {
+                    if source.kind() == std::io::ErrorKind::InvalidData {
+                        SurfaceError::Invalid(not_text(path, &name))
+                    } else {
+                        SurfaceError::Io {
+                            path: name.clone(),
+                            source,
+                        }
+                    }
                 })?;
                 super::io::text_matrix(&text, &name)?
             };

@@ -76,6 +76,9 @@ pub struct GenerateParams {
     pub anisotropy: Option<Anisotropy>,
 }
 
+/// The side lengths accepted \[m\].
+pub const LENGTH_RANGE: (f64, f64) = (1e-9, 1e3);
+
 impl Default for GenerateParams {
     /// The paper's surface (Section III): `L = 0.01 m`, `N = 64` scales,
     /// `H = 0.8`, on a 512 x 512 grid; rms height 10 um (the paper does not
@@ -212,6 +215,14 @@ impl GenerateParams {
                 "length",
                 p.length,
                 "must be a finite length > 0 (m)",
+            ));
+        }
+        let (lo, hi) = LENGTH_RANGE;
+        if !(lo..=hi).contains(&p.length) {
+            return Err(SurfaceError::param(
+                "length",
+                format!("{:e}", p.length),
+                format!("must lie in [{lo:e}, {hi:e}] m (a nanometre to a kilometre: beyond, the heights, gaps and loads leave double precision's useful range)"),
             ));
         }
         if !(p.hurst.is_finite() && p.hurst > 0.0 && p.hurst <= 1.0) {

@@ -1,0 +1,261 @@
+//! Layers far below a cell (physics.md section 3, "Finite thickness"): the
+//! local limit of the kernel against the thin-layer compliances, against
+//! the general cell integral where both apply, inside a solve against the
+//! exact local contact, and the bound below which layers are refused.
+
+mod common;
+
+use std::time::Instant;
+
+use common::*;
+use viscoslide::backend::CpuBackend;
+use viscoslide::kernel::{
+    Axis, KernelParams, Layer, LayerBase, SlidingKernel, ThetaTable, THIN_RATIO_MIN,
+};
+use viscoslide::material::{CreepSpectrum, Material};
+use viscoslide::operator::{OffsetTable, ToeplitzFft};
+use viscoslide::solver::{self, Control, SolverParams};
+
+fn material(nu: f64) -> Material {
+    Material::new(
+        CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap(),
+        nu,
+    )
+    .unwrap()
+}
+
+fn kernel(m: &Material, h: f64, base: LayerBase, speed: f64) -> SlidingKernel {
+    SlidingKernel::new(
+        m,
+        KernelParams {
+            speed,
+            layer: Some(Layer { thickness: h, base }),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
+/// At rest the self coefficient of a layer of 1e-3 of a cell is the
+/// thin-layer compliance `2 (1 - nu^2) S'(0) h / E0`: oedometric
+/// `h (1+nu)(1-2nu) / ((1-nu) E0)` bonded, `h (1 - nu^2) / E0` frictionless;
+/// every other coefficient is zero (the reach of `Theta`, ~25 thicknesses,
+/// stays inside the cell). The curve of `Theta` is exact to ~1e-13 and is
+/// cut where `|Theta| < 1e-13`: 1e-9 relative is a wide margin.
+#[test]
+fn thin_layer_at_rest_is_the_oedometric_compliance() {
+    let a = 1e-4;
+    let h = THIN_RATIO_MIN * a;
+    let e0 = 1e7 / 3.0;
+    for (base, nu, expected) in [
+        (LayerBase::Bonded, 0.3, h * 1.3 * 0.4 / (0.7 * e0)),
+        (LayerBase::Bonded, 0.45, h * 1.45 * 0.1 / (0.55 * e0)),
+        (LayerBase::Frictionless, 0.5, h * 0.75 / e0),
+        (LayerBase::Frictionless, 0.3, h * 0.91 / e0),
+    ] {
+        let m = material(nu);
+        let k = kernel(&m, h, base, 0.0);
+        k.check_layer_cells(a, a).unwrap();
+        let t = k.table(5, 5, a);
+        let s = t.get(0, 0);
+        assert!(
+            (s - expected).abs() < 1e-9 * expected,
+            "{base:?} nu = {nu}: {s:e} vs {expected:e}"
+        );
+        for (i, j) in [(1, 0), (-1, 0), (0, 1), (2, -3)] {
+            assert_eq!(t.get(i, j), 0.0, "{base:?} ({i}, {j})");
+        }
+    }
+}
+
+/// Where both apply (the reach of `Theta` just inside half a cell), the
+/// local limit reproduces the general cell integral of Eq. 5 while sliding:
+/// `K` to 1e-8 of the self coefficient (both exact to their quadrature:
+/// ~1e-10 for the general rules), the friction stencil's `D_x` to 1e-3 of
+/// its largest value (measured 1e-4: the local limit's width average takes
+/// the edge profile of the cell itself, a change of shape of relative size
+/// h/a = 2 % confined to the edges, module docs of `kernel::thin`).
+#[test]
+fn local_limit_matches_the_general_cell_integral() {
+    let a = 1e-4;
+    for (base, nu) in [(LayerBase::Frictionless, 0.5), (LayerBase::Bonded, 0.3)] {
+        let m = material(nu);
+        let reach = ThetaTable::new(
+            Layer {
+                thickness: 1.0,
+                base,
+            },
+            nu,
+        )
+        .unwrap()
+        .rho_end();
+        // Half a cell over the reach, a hair inside.
+        let h = 0.499 * a / reach;
+        // v tau = 0.3 a: the memory reaches the trailing neighbours.
+        for speed in [0.3 * a / 0.01] {
+            let local = kernel(&m, h, base, speed);
+            let general = kernel(&m, h, base, speed).without_local_limit();
+            assert!(local.is_thin(a, a) && !general.is_thin(a, a));
+            let k0 = general.coefficient(0.0, 0.0, a, a).total();
+            for (i, j) in [(0, 0), (-1, 0), (-2, 0), (1, 0), (0, 1)] {
+                let (x, y) = (i as f64 * a, j as f64 * a);
+                let l = local.coefficient(x, y, a, a).total();
+                let g = general.coefficient(x, y, a, a).total();
+                assert!(
+                    (l - g).abs() < 1e-8 * k0,
+                    "{base:?} v = {speed} K({i}, {j}): local {l:e} general {g:e}"
+                );
+            }
+            let d: Vec<(f64, f64)> = [(0, 0), (-1, 0), (1, 0), (0, 1), (-1, 1)]
+                .iter()
+                .map(|&(i, j)| {
+                    let (x, y) = (i as f64 * a, j as f64 * a);
+                    (
+                        local.derivative(x, y, a, a, Axis::X),
+                        general.derivative(x, y, a, a, Axis::X),
+                    )
+                })
+                .collect();
+            let dmax = d.iter().map(|p| p.1.abs()).fold(0.0, f64::max);
+            for (n, (l, g)) in d.iter().enumerate() {
+                eprintln!(
+                    "{base:?} D_x #{n}: {:.2e} of the largest",
+                    (l - g).abs() / dmax
+                );
+                assert!(
+                    (l - g).abs() < 1e-3 * dmax,
+                    "{base:?} v = {speed} D_x #{n}: local {l:e} general {g:e}"
+                );
+            }
+        }
+    }
+}
+
+/// A bonded incompressible layer far below a cell has no compliance at the
+/// cell centres (its thin limit `w = -(h^3/E) lap p` vanishes inside a
+/// uniformly loaded cell): the general cell integral there is below 1e-9
+/// of the half-space's self coefficient, and the layer is refused with a
+/// message that says why.
+#[test]
+fn thin_bonded_incompressible_layer_is_refused() {
+    let a = 1e-4;
+    let m = paper_material();
+    let reach = ThetaTable::new(
+        Layer {
+            thickness: 1.0,
+            base: LayerBase::Bonded,
+        },
+        0.5,
+    )
+    .unwrap()
+    .rho_end();
+    let h = 0.499 * a / reach;
+    let general = kernel(&m, h, LayerBase::Bonded, 0.0).without_local_limit();
+    let half_space = SlidingKernel::new(&m, KernelParams::default()).unwrap();
+    let s = general.coefficient(0.0, 0.0, a, a).total();
+    let s_half = half_space.coefficient(0.0, 0.0, a, a).total();
+    assert!(s.abs() < 1e-9 * s_half, "{s:e} vs {s_half:e}");
+    let e = kernel(&m, h, LayerBase::Bonded, 0.0)
+        .check_layer_cells(a, a)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("lap p") && e.contains("refine the grid"), "{e}");
+    // Thicker than half a cell over the reach, the general path is used.
+    kernel(&m, 0.6 * a / reach, LayerBase::Bonded, 0.0)
+        .check_layer_cells(a, a)
+        .unwrap();
+}
+
+/// Below 1e-3 of a cell: one line naming the ratio and the bound, at once,
+/// and no allocation for any thickness (the local limit's cost does not
+/// depend on it).
+#[test]
+fn below_the_bound_is_one_line_and_fast() {
+    let a = 1.5625e-4;
+    let m = paper_material();
+    for h in [1e-12, 1e-300, 0.9 * THIN_RATIO_MIN * a] {
+        let t = Instant::now();
+        let k = kernel(&m, h, LayerBase::Bonded, 0.0117);
+        let e = k.check_layer_cells(a, a).unwrap_err().to_string();
+        assert!(
+            e.contains("of a cell") && e.contains("1e-3") && !e.contains('\n'),
+            "{e}"
+        );
+        // The tables themselves neither abort nor hang below the bound.
+        let tab = k.table(8, 8, a);
+        assert!(tab.values.iter().all(|v| v.is_finite()));
+        assert!(t.elapsed().as_secs_f64() < 5.0, "{:?}", t.elapsed());
+    }
+}
+
+/// At rest a layer far below a cell is a local (Winkler) foundation: the
+/// contact is `p = max(0, delta - g) / c` with `c` the thin-layer
+/// compliance and `delta` set by the load, computed here by bisection.
+/// The solver on the local table reproduces it to its tolerance; a 64 x 64
+/// table of `K` and `D_x` at 1e-3 of a cell takes well under a second
+/// (bounded at 10 s for a loaded machine).
+#[test]
+fn thin_frictionless_layer_solve_is_the_local_contact() {
+    let m = paper_material();
+    let (n, length) = (32, 0.01);
+    let a = length / n as f64;
+    let h = THIN_RATIO_MIN * a * 2.0;
+    let z = trig_surface(n, length, 8, 0.8, 0.02, 21);
+    let g = gap_of(&z);
+    let load = 3e3 * length * length;
+    let k = kernel(&m, h, LayerBase::Frictionless, 0.0);
+    let table = k.table(n, n, a);
+    let tab = OffsetTable {
+        nx: n,
+        ny: n,
+        values: &table.values,
+    };
+    let c = 0.75 * h / (1e7 / 3.0);
+    assert!((tab.get(0, 0) - c).abs() < 1e-9 * c);
+    let mut be = CpuBackend::new(ToeplitzFft::new(tab));
+    let params = SolverParams {
+        tolerance: 1e-10,
+        ..SolverParams::default()
+    };
+    let (sol, _) = solver::solve(
+        &mut be,
+        &g,
+        a * a,
+        tab.get(0, 0),
+        Control::Load(load),
+        &params,
+        &mut solver::Silent,
+    )
+    .unwrap();
+    // Exact local contact by bisection on delta.
+    let force = |d: f64| g.iter().map(|&gi| (d - gi).max(0.0) / c).sum::<f64>() * a * a;
+    let (mut lo, mut hi) = (0.0, g.iter().cloned().fold(0.0, f64::max));
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if force(mid) < load {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    let exact: Vec<f64> = g.iter().map(|&gi| (lo - gi).max(0.0) / c).collect();
+    let pmax = exact.iter().cloned().fold(0.0, f64::max);
+    let err = sol
+        .pressure
+        .iter()
+        .zip(&exact)
+        .map(|(p, e)| (p - e).abs())
+        .fold(0.0, f64::max);
+    // The solver stops at a relative residual of 1e-10: 1e-6 of the peak
+    // pressure leaves room for the conditioning of the load constraint.
+    assert!(err < 1e-6 * pmax, "max |p - p_exact| = {err:e} of {pmax:e}");
+
+    let t = Instant::now();
+    let ks = kernel(&m, THIN_RATIO_MIN * a, LayerBase::Frictionless, 1.17e-2);
+    let kt = ks.table(64, 64, a);
+    let dt = ks.derivative_table(64, 64, a, Axis::X);
+    let secs = t.elapsed().as_secs_f64();
+    eprintln!("64 x 64 K and D_x tables at h/a = 1e-3: {secs:.3} s");
+    assert!(kt.values.iter().chain(&dt.values).all(|v| v.is_finite()));
+    assert!(secs < 10.0, "{secs} s");
+}
