@@ -50,7 +50,7 @@ impl MaterialConfig {
     /// `poisson` defaults to 0.5. A key the model does not use is an error
     /// (it would be silently ignored otherwise), as is any non-finite or
     /// non-positive value.
-    /// Builds the material; moduli must lie in [`MODULUS_RANGE`].
+    /// Builds the material; moduli must lie in 1e-3 .. 1e15 Pa (`MODULUS_RANGE`).
     pub fn build(&self, base_dir: &Path) -> Result<Material, MaterialError> {
         let model = self.model_name();
         let invalid = |key: &str, what: String| {
