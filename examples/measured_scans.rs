@@ -80,6 +80,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ny: 512,
             length,
             seed,
+            q1: None,
         },
     )?;
     let low = crop(&coarse, 100, 180, 256, (2e-3, -1e-3), 5e-8, 1);
@@ -97,6 +98,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ny: 2048,
             length,
             seed,
+            q1: None,
         },
     )?;
     let mut high = crop(&fine, 700, 900, 256, (-1e-3, 3e-3), 1e-8, 2);

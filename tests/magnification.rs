@@ -11,7 +11,7 @@ use std::process::Command;
 use num_complex::Complex64;
 use serde_json::Value;
 use viscoslide::config;
-use viscoslide::magnification::{self, LevelSpec, MagnificationParams, Quiet, Study};
+use viscoslide::magnification::{self, LevelSpec, LevelSurface, MagnificationParams, Quiet, Study};
 use viscoslide::problem::{Executor, Problem};
 use viscoslide::solver::Silent;
 use viscoslide::surface::{generate_with_target, HeightMap};
@@ -140,14 +140,17 @@ fn every_level_holds_the_same_psd_and_the_same_fourier_modes() {
     let s = study(&path, vec![2.5 * ql(), 4.0 * ql(), 8.0 * ql()]);
     let mut maps = Vec::new();
     for level in &s.levels {
-        let (map, target) = generate_with_target(&level.params).unwrap();
+        let LevelSurface::SelfAffine(params) = &level.params else {
+            panic!("a self-affine study")
+        };
+        let (map, target) = generate_with_target(params).unwrap();
         // The generator, given the reported rms slope, lands on the study's C0.
         assert!(
-            rel(target.c0, s.psd.c0_m4) < 1e-12,
+            rel(target.c0, s.psd.c0_m4().unwrap()) < 1e-12,
             "q1 = {}: C0 {} vs {}",
             level.q1,
             target.c0,
-            s.psd.c0_m4
+            s.psd.c0_m4().unwrap()
         );
         maps.push(map);
     }
@@ -229,7 +232,7 @@ fn persson_per_level_is_its_own_integral_over_the_truncated_psd() {
     let run = magnification::run(&s, &Executor::Cpu, None, Shard::ALL, &mut Quiet).unwrap();
     let report = run.report.unwrap();
     for l in &report.levels {
-        let (mu, area) = brute_force(s.psd.c0_m4, 0.8, l.q1, 3.0e3, 0.01);
+        let (mu, area) = brute_force(s.psd.c0_m4().unwrap(), 0.8, l.q1, 3.0e3, 0.01);
         // The module's quadrature is good to about 1e-9; the brute force's
         // trapezoid in ln q (2e4 steps over at most ln 8) to about 1e-8.
         assert!(
@@ -497,5 +500,171 @@ fn the_configs_own_grid_need_not_carry_its_q1() {
     for (x, y) in a.levels.iter().zip(&b.levels) {
         assert_eq!((x.n, x.rms_slope), (y.n, y.rms_slope));
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The paper's SLS and loading of [`CONFIG`] on a surface synthesised from
+/// a PSD table (`table.csv`, written by [`write_table_config`]).
+const TABLE_CONFIG: &str = r#"
+[material]
+model = "sls"
+relaxed_modulus = 3.3333333333333335e6
+glassy_modulus = 1.0e7
+creep_time = 0.01
+
+[surface.generate]
+n = 64
+length = 0.01
+psd = "table.csv"
+seed = 3
+
+[loading]
+mean_pressure = 3.0e3
+speed = 0.01
+
+[solver]
+formulation = "periodic"
+"#;
+
+/// `C0` of the power law `C0 (q / q_L)^(-2(H+1))`, H = 0.8, with rms slope
+/// 0.02 over `[q_L, 8 q_L]` (continuum: `2 pi C0 q_L^3.6 (q1^0.4 - q_L^0.4) / 0.4`).
+fn table_c0() -> f64 {
+    let (ql, q1) = (ql(), 8.0 * ql());
+    0.02f64.powi(2) * 0.4 / (2.0 * PI * ql.powf(3.6) * (q1.powf(0.4) - ql.powf(0.4)))
+}
+
+/// A config on a four-row table of the power law of [`table_c0`], from
+/// below `q_L` to `8 q_L` (log-log interpolation is exact on a power law,
+/// so [`brute_force`] is its integral).
+fn write_table_config(dir: &Path) -> PathBuf {
+    let path = write_config(dir, TABLE_CONFIG);
+    let mut csv = String::from("q,C\n");
+    for q in [300.0, 1.0e3, 3.0e3, 8.0 * ql()] {
+        let c = table_c0() * (q / ql()).powf(-3.6);
+        csv.push_str(&format!("{q:e},{c:e}\n"));
+    }
+    std::fs::write(dir.join("table.csv"), csv).unwrap();
+    path
+}
+
+#[test]
+fn a_table_level_is_the_separate_solve_with_q1_and_n() {
+    let dir = tmp("table-identity");
+    let path = write_table_config(&dir);
+    let s = study(&path, vec![3.0 * ql(), 5.0 * ql(), 8.0 * ql()]);
+    assert!(s.psd.c0_m4().is_none());
+    let run = magnification::run(&s, &Executor::Cpu, None, Shard::ALL, &mut Quiet).unwrap();
+    let report = run.report.unwrap();
+    assert_eq!(report.levels.len(), 3);
+    assert!(report.levels[0].rms_slope < report.levels[2].rms_slope);
+    for (l, plan) in report.levels.iter().zip(&s.levels) {
+        assert!(l.cells_per_shortest_wavelength >= 4.0);
+        // A table has no amplitude key: q1 and n only.
+        let sets = vec![
+            format!("surface.generate.q1={:?}", l.q1),
+            format!("surface.generate.n={}", l.n),
+        ];
+        let cfg = config::load(&path, &sets).unwrap();
+        let problem = Problem::from_config(&cfg).unwrap();
+        // The reported rms height is the map's (Parseval: round-off only).
+        let h = &problem.surface.heights;
+        let ms = h.iter().map(|v| v * v).sum::<f64>() / h.len() as f64;
+        assert!(rel(l.rms_height, ms.sqrt()) < 1e-10, "q1 = {}", l.q1);
+        // Persson's PSD of `solve` / `persson` is the level's truncated table.
+        let (psd, kind) = problem.persson_psd().unwrap();
+        assert_eq!(kind, "generated_table");
+        for k in [0, 2] {
+            assert!(rel(psd.moment(k), plan.psd.moment(k)) < 1e-12, "moment {k}");
+        }
+        assert!(rel(psd.q_max(), l.q1) < 1e-15);
+        let solution = problem.solve(&Executor::Cpu, &mut Silent).unwrap();
+        // Identical inputs, identical arithmetic: only the order of
+        // floating-point sums inside threaded code may differ, far below
+        // 1e-9.
+        for (a, b, what) in [
+            (l.friction_coefficient, solution.friction_coefficient, "mu"),
+            (
+                l.friction_coefficient_dissipation,
+                solution.friction_coefficient_dissipation,
+                "mu (dissipation)",
+            ),
+            (
+                l.contact_area_fraction,
+                solution.stats.contact_area_fraction,
+                "A/A0",
+            ),
+        ] {
+            assert!(rel(a, b) < 1e-9, "q1 = {}: {what} {a} vs solve {b}", l.q1);
+        }
+        assert_eq!(l.matvecs, solution.info.matvecs);
+        // Persson per level: the independent integral over the power law
+        // the table holds, cut at q1 (tolerances as for the self-affine
+        // study above).
+        let (mu, area) = brute_force(table_c0(), 0.8, l.q1, 3.0e3, 0.01);
+        assert!(
+            rel(l.persson_friction_coefficient, mu) < 1e-6,
+            "q1 = {}: mu {} vs {mu}",
+            l.q1,
+            l.persson_friction_coefficient
+        );
+        assert!(
+            rel(l.persson_contact_area_fraction, area) < 1e-6,
+            "q1 = {}: A {} vs {area}",
+            l.q1,
+            l.persson_contact_area_fraction
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_q1_cut_of_the_table_synthesis_keeps_the_lower_modes_and_removes_the_upper() {
+    let dir = tmp("table-cut");
+    let path = write_table_config(&dir);
+    let load = |sets: &[String]| {
+        let cfg = config::load(&path, sets).unwrap();
+        cfg.surface().unwrap().load(&cfg.base_dir).unwrap()
+    };
+    let n = ["surface.generate.n=32".to_string()];
+    let full = load(&n);
+    let q1 = 4.5 * ql();
+    let cut = load(&[n[0].clone(), format!("surface.generate.q1={q1:?}")]);
+    let big = full.heights.iter().map(|h| h.abs()).fold(0.0, f64::max);
+    let (mut kept, mut removed) = (0, 0);
+    for kx in -15i64..=16 {
+        for ky in -15i64..=16 {
+            let q = ql() * ((kx * kx + ky * ky) as f64).sqrt();
+            let (a, b) = (mode(&full, kx, ky), mode(&cut, kx, ky));
+            // The same amplitude and phase, through the same inverse FFT and
+            // a direct sum: round-off only.
+            if q <= q1 * (1.0 - 1e-12) {
+                assert!((a - b).norm() <= 1e-12 * big, "({kx}, {ky}): {a} vs {b}");
+                kept += usize::from(a.norm() > 1e-6 * big);
+            } else if q > q1 * (1.0 + 1e-12) {
+                assert!(b.norm() <= 1e-12 * big, "({kx}, {ky}) kept: {b}");
+                removed += usize::from(a.norm() > 1e-6 * big);
+            }
+        }
+    }
+    assert!(kept > 40 && removed > 40, "{kept} kept, {removed} removed");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_table_level_above_the_table_is_refused() {
+    let dir = tmp("table-refusal");
+    let path = write_table_config(&dir);
+    let out = dir.join("out");
+    let q1 = format!("--q1={:e}", 9.0 * ql());
+    let (ok, _, err) = viscoslide(&[
+        "magnification",
+        path.to_str().unwrap(),
+        &q1,
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok && err.contains("largest q of the PSD table"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "one line, got {err}");
+    assert!(!out.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }

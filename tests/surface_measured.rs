@@ -167,6 +167,7 @@ fn stitching_a_crop_and_a_decimation_matches_the_large_surface() {
             ny: n,
             length: l,
             seed: 11,
+            q1: None,
         },
     )
     .unwrap();
@@ -181,6 +182,7 @@ fn stitching_a_crop_and_a_decimation_matches_the_large_surface() {
             ny: n / 4,
             length: l,
             seed: 11,
+            q1: None,
         },
     )
     .unwrap();
@@ -241,6 +243,7 @@ fn synthesis_follows_the_table_and_its_rms() {
                 ny: n,
                 length: l,
                 seed,
+                q1: None,
             },
         )
         .unwrap();
@@ -296,6 +299,7 @@ fn cli_stats_stitch_and_generate_from_psd() {
             ny: n,
             length: l,
             seed: 2,
+            q1: None,
         },
     )
     .unwrap();

@@ -19,7 +19,9 @@
 //! anisotropy = { ratio = 2.0, angle_deg = 30.0 }   # optional
 //!
 //! # ... or a surface following a tabulated PSD (q 1/m, C m^4 columns):
-//! # [surface.generate] with n, ny, length, seed and psd = "psd.csv" only
+//! # [surface.generate] with n, ny, length, seed and psd = "psd.csv" only,
+//! # and optionally q1 (1/m): modes above it get zero amplitude, the others
+//! # are unchanged (the same realisation cut at q1; magnification studies)
 //! ```
 //!
 //! A `file` may be `.x3p`, `.gwy` (sizes from the file; `length` optional),
@@ -118,7 +120,9 @@ pub struct GenerateConfig {
     pub hurst: Option<f64>,
     /// Number of scales `N` (`q1 = N q_L`); exclusive with `q1`.
     pub scales: Option<f64>,
-    /// Upper cut-off [1/m]; exclusive with `scales`.
+    /// Upper cut-off [1/m]; exclusive with `scales`. With `psd`: modes
+    /// with `|q| > q1` are left out of the synthesis and every other mode
+    /// is unchanged (the same surface cut at `q1`).
     pub q1: Option<f64>,
     /// Lower cut-off `q_L` [1/m]; default `2 pi / length`.
     pub ql: Option<f64>,
@@ -134,7 +138,7 @@ pub struct GenerateConfig {
     pub anisotropy: Option<AnisotropyConfig>,
     /// A tabulated PSD (CSV, q \[1/m\], C \[m^4\]) to follow instead of the
     /// self-affine formula (relative to the config's directory); only `n`,
-    /// `ny`, `length` and `seed` go with it.
+    /// `ny`, `length`, `seed` and the optional cut-off `q1` go with it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub psd: Option<PathBuf>,
 }

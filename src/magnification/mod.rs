@@ -4,8 +4,10 @@
 //!
 //! The PSD `C(q)` of the configuration's `[surface.generate]` is held fixed:
 //! its rms slope (or height) sets the continuum plateau `C0` over the whole
-//! band `[q_L, q1]` of the configuration, and each level cuts it at its own
-//! `q1` (at most the configuration's). Each level is generated on the
+//! band `[q_L, q1]` of the configuration, or a tabulated (measured,
+//! stitched) PSD `psd = "table.csv"` is taken as it is, and each level cuts
+//! it at its own `q1` (at most the configuration's, or the table's largest
+//! `q`). Each level is generated on the
 //! FFT-friendly grid with `K` cells per shortest wavelength, with the same
 //! seed and the same `C0`, so every level holds exactly the same Fourier
 //! modes below its cut-off; its `rms_slope` is the one with which `viscoslide
@@ -18,10 +20,14 @@
 //! writes `magnification.json`, `magnification.csv` and
 //! `magnification.png` together.
 
+pub mod grid;
 pub mod plan;
 pub mod report;
 
-pub use plan::{level_grid, parse_list, FixedPsd, LevelPlan, LevelSpec};
+pub use grid::level_grid;
+pub use plan::{
+    parse_list, FixedPsd, LevelPlan, LevelSpec, LevelSurface, SelfAffineBand, TableBand,
+};
 pub use report::{LevelResult, MagnificationReport, PerssonCurve, ReportContext};
 
 use std::path::{Path, PathBuf};
@@ -228,7 +234,7 @@ impl Study {
         q1s.dedup();
         let mut curves: Vec<PerssonCurve> = self.speeds.iter().map(|&v| (v, Vec::new())).collect();
         for &q1 in &q1s {
-            let psd = plan::truncated_psd(&self.psd, q1)?;
+            let psd = self.psd.truncated(q1)?;
             let theory = Persson::new(
                 &self.material,
                 &psd,
@@ -403,10 +409,10 @@ pub fn run(
                 levels,
                 ReportContext {
                     speeds: study.speeds.clone(),
-                    psd: study.psd,
+                    psd: study.psd.clone(),
                     cells_per_wavelength: study.params.cells_per_wavelength,
                     nominal_pressure: study.nominal_pressure,
-                    seed: study.levels[0].params.seed,
+                    seed: study.levels[0].params.seed(),
                     document: study.cfg.document.clone(),
                     persson_curves: study.persson_curves()?,
                 },

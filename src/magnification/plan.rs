@@ -5,16 +5,19 @@
 //! one `viscoslide solve` takes for that surface.
 
 use std::f64::consts::TAU;
+use std::path::PathBuf;
 
 use serde::Serialize;
 
+use super::grid::level_grid;
 use crate::config::{Formulation, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::persson::psd::{continuum_self_affine, self_affine_table};
 use crate::problem::check_memory;
 use crate::solver::SolverParams;
 use crate::surface::{
-    lattice_moments, GenerateParams, Normalisation, SelfAffinePsd, TabulatedPsd, UpperCutoff,
+    lattice_moments, table_lattice_moments, GenerateParams, Normalisation, SelfAffinePsd,
+    SynthParams, TabulatedPsd, UpperCutoff,
 };
 
 fn invalid(msg: impl Into<String>) -> Error {
@@ -50,60 +53,6 @@ pub fn parse_list(flag: &str, text: &str) -> Result<Vec<f64>> {
 /// The default number of cells per shortest wavelength `2 pi / q1`.
 pub const DEFAULT_CELLS_PER_WAVELENGTH: f64 = 4.0;
 
-/// Whether `n` has no prime factor above 5 (a size the FFTs handle with
-/// their fastest radices).
-fn smooth(mut n: usize) -> bool {
-    for p in [2, 3, 5] {
-        while n % p == 0 {
-            n /= p;
-        }
-    }
-    n == 1
-}
-
-/// Whether the solver's coarse-to-fine cascade, which halves a grid while
-/// its side is even and the half at least 64 cells, reaches a grid of
-/// fewer than 128 cells from `n` (a 4050 grid stops at 2025 and solves
-/// most of its contact there: several times slower than 4096).
-fn cascades_down(mut n: usize) -> bool {
-    while n % 2 == 0 && n / 2 >= 64 {
-        n /= 2;
-    }
-    n < 128
-}
-
-fn gcd(a: usize, b: usize) -> usize {
-    if b == 0 {
-        a
-    } else {
-        gcd(b, a % b)
-    }
-}
-
-/// The grid `(nx, ny)` of a level: the smallest FFT-friendly `nx` (no
-/// prime factor above 5, halving down to fewer than 128 cells for the
-/// solver's cascade; any multiple of the aspect's denominator when no such
-/// size is one) with at least `cells` cells per shortest wavelength
-/// `2 pi / q1` on a side `length`, and `ny` keeping the configuration's
-/// side along y exactly (`ny / nx` of the configuration), both at least 8.
-pub fn level_grid(cells: f64, q1: f64, length: f64, nx0: usize, ny0: usize) -> (usize, usize) {
-    // A hair below the exact count so that round-off in K q1 L / (2 pi)
-    // does not add a cell.
-    let need = (cells * q1 * length / TAU * (1.0 - 1e-12)).ceil().max(8.0) as usize;
-    let g = gcd(nx0, ny0);
-    let (p, q) = (ny0 / g, nx0 / g);
-    let ny_of = |n: usize| n.checked_mul(p).map(|m| m / q).unwrap_or(usize::MAX);
-    let fits = |n: usize| n >= need && n % q == 0 && ny_of(n) >= 8;
-    // Every size with both properties is c 2^k with c < 128 5-smooth.
-    let n = (1..128usize)
-        .filter(|&c| smooth(c))
-        .flat_map(|c| (0..48u32).filter_map(move |k| c.checked_mul(1usize << k)))
-        .filter(|&n| fits(n) && cascades_down(n) && cascades_down(ny_of(n)))
-        .min()
-        .unwrap_or_else(|| need.div_ceil(q).max(8usize.div_ceil(p.max(1))) * q);
-    (n, ny_of(n))
-}
-
 /// One level of the study, planned (nothing solved).
 #[derive(Debug, Clone, Serialize)]
 pub struct LevelPlan {
@@ -117,7 +66,8 @@ pub struct LevelPlan {
     /// Spectral rms height `sqrt(C0 sum C dq^2)` of the level's surface \[m\].
     pub rms_height: f64,
     /// Spectral rms slope `sqrt(C0 sum |q|^2 C dq^2)` of the level's
-    /// surface: the `rms_slope` with which `solve` generates exactly it.
+    /// surface: the `rms_slope` with which `solve` generates exactly it
+    /// (with a PSD table, reported only: the table sets the amplitude).
     pub rms_slope: f64,
     /// rms height of the continuum PSD over `[q_L, q1]` \[m\].
     pub rms_height_continuum: f64,
@@ -128,13 +78,32 @@ pub struct LevelPlan {
     pub psd: TabulatedPsd,
     /// The level's `[surface.generate]` parameters.
     #[serde(skip)]
-    pub params: GenerateParams,
+    pub params: LevelSurface,
 }
 
-/// The fixed PSD of a study: `C(q) = C0` on `[q_L, q0)`,
+/// How a level's surface is generated.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LevelSurface {
+    /// Self-affine, with the level's `rms_slope`.
+    SelfAffine(GenerateParams),
+    /// Synthesised from the PSD table, cut at the level's `q1`.
+    Table(SynthParams),
+}
+
+impl LevelSurface {
+    /// Seed of the random phases.
+    pub fn seed(&self) -> u64 {
+        match self {
+            LevelSurface::SelfAffine(p) => p.seed,
+            LevelSurface::Table(p) => p.seed,
+        }
+    }
+}
+
+/// The fixed self-affine PSD of a study: `C(q) = C0` on `[q_L, q0)`,
 /// `C0 (q/q0)^(-2(H+1))` on `[q0, q1]` of the configuration.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct FixedPsd {
+pub struct SelfAffineBand {
     pub hurst: f64,
     pub ql_per_m: f64,
     pub rolloff_q0_per_m: f64,
@@ -145,9 +114,54 @@ pub struct FixedPsd {
     pub c0_m4: f64,
 }
 
-/// The fixed PSD cut at `q1` (`q0 < q1`), as a table for Persson's
+/// The PSD table `[surface.generate] psd` of a study, held fixed: each
+/// level synthesises it cut at its `q1`, and Persson's theory takes it over
+/// `[2 pi / L, q1]`, as `solve` and `persson` do for that level.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TableBand {
+    /// The table's file.
+    pub path: String,
+    pub rows: usize,
+    /// Lowest wavenumber of the grid, `2 pi / L` [1/m].
+    pub ql_per_m: f64,
+    pub q_min_per_m: f64,
+    pub q_max_per_m: f64,
+    /// The most any level may take: the table's largest `q`, or the
+    /// configuration's `q1` below it [1/m].
+    pub q1_per_m: f64,
+    #[serde(skip)]
+    pub table: TabulatedPsd,
+}
+
+/// The fixed PSD of a study (physics.md section 12).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum FixedPsd {
+    SelfAffine(SelfAffineBand),
+    Table(TableBand),
+}
+
+impl FixedPsd {
+    /// `C0` \[m^4\] of a self-affine PSD; `None` for a table.
+    pub fn c0_m4(&self) -> Option<f64> {
+        match self {
+            FixedPsd::SelfAffine(b) => Some(b.c0_m4),
+            FixedPsd::Table(_) => None,
+        }
+    }
+
+    /// The PSD cut at `q1`, as a table for Persson's theory.
+    pub fn truncated(&self, q1: f64) -> Result<TabulatedPsd> {
+        match self {
+            FixedPsd::SelfAffine(b) => truncated_psd(b, q1),
+            FixedPsd::Table(t) => Ok(t.table.within(t.ql_per_m, q1, &t.path)?),
+        }
+    }
+}
+
+/// The self-affine PSD cut at `q1` (`q0 < q1`), as a table for Persson's
 /// theory.
-pub fn truncated_psd(fixed: &FixedPsd, q1: f64) -> Result<TabulatedPsd> {
+pub fn truncated_psd(fixed: &SelfAffineBand, q1: f64) -> Result<TabulatedPsd> {
     Ok(self_affine_table(&SelfAffinePsd {
         ql: fixed.ql_per_m,
         q0: fixed.rolloff_q0_per_m,
@@ -158,19 +172,36 @@ pub fn truncated_psd(fixed: &FixedPsd, q1: f64) -> Result<TabulatedPsd> {
     })?)
 }
 
-/// The generator parameters of the configuration's surface, or why a
-/// magnification study cannot be made of it.
-pub fn config_params(cfg: &LoadedConfig) -> Result<GenerateParams> {
+/// The surface a study is made of.
+#[derive(Debug, Clone)]
+pub enum BaseSurface {
+    /// A self-affine `[surface.generate]`.
+    SelfAffine(GenerateParams),
+    /// `[surface.generate] psd`: the table (read from `path`) and its
+    /// synthesis parameters.
+    Table {
+        path: PathBuf,
+        table: TabulatedPsd,
+        params: SynthParams,
+    },
+}
+
+/// The surface of the configuration, or why a magnification study cannot
+/// be made of it.
+pub fn config_params(cfg: &LoadedConfig) -> Result<BaseSurface> {
     let surface = cfg.surface()?;
-    if surface.generate.as_ref().is_some_and(|g| g.psd.is_some()) {
-        return Err(invalid(format!(
-            "{}: a magnification study of a surface synthesised from a PSD table ([surface.generate] psd) is not supported; use a self-affine [surface.generate] (hurst, q1 or scales, rms_slope or rms_height)",
-            cfg.path.display()
-        )));
+    if let Some(g) = surface.generate.as_ref().filter(|g| g.psd.is_some()) {
+        let (table, params) = g.synth_params(surface.length)?.expect("a psd table");
+        let path = cfg.base_dir.join(table);
+        return Ok(BaseSurface::Table {
+            table: TabulatedPsd::from_csv(&path)?,
+            path,
+            params,
+        });
     }
     let params = surface.generate_params()?.ok_or_else(|| {
         invalid(format!(
-            "{}: a magnification study needs a generated self-affine surface ([surface.generate]); a surface file or a sphere has no PSD to cut at several q1",
+            "{}: a magnification study needs a generated self-affine surface or a PSD table ([surface.generate]); a surface file or a sphere has no PSD to cut at several q1",
             cfg.path.display()
         ))
     })?;
@@ -180,7 +211,36 @@ pub fn config_params(cfg: &LoadedConfig) -> Result<GenerateParams> {
             cfg.path.display()
         )));
     }
-    Ok(params)
+    Ok(BaseSurface::SelfAffine(params))
+}
+
+/// The fixed PSD of a self-affine configuration and its grid `(length,
+/// nx, ny)`.
+fn self_affine_psd(mut base: GenerateParams) -> Result<(SelfAffineBand, f64, usize, usize)> {
+    // The configuration's own grid need not carry its q1 (each level has
+    // its own grid): check the PSD on one that does.
+    let ql = base.ql.unwrap_or(TAU / base.length);
+    let q1_config = match base.upper {
+        UpperCutoff::Scales(n) => n * ql,
+        UpperCutoff::Q1(q) => q,
+    };
+    let (nx, ny) = (base.nx, base.ny);
+    if q1_config.is_finite() && q1_config > 0.0 {
+        (base.nx, base.ny) = level_grid(2.0, q1_config, base.length, base.nx, base.ny);
+    }
+    let (_, target) = continuum_self_affine(&base)?;
+    Ok((
+        SelfAffineBand {
+            hurst: target.hurst,
+            ql_per_m: target.ql,
+            rolloff_q0_per_m: target.q0,
+            q1_per_m: target.q1,
+            c0_m4: target.c0,
+        },
+        base.length,
+        nx,
+        ny,
+    ))
 }
 
 /// The fixed PSD and the planned levels of `spec` at `cells` cells per
@@ -196,24 +256,63 @@ pub fn plan_levels(
             "--cells-per-wavelength must be at least 2 (the Nyquist limit), got {cells}"
         )));
     }
-    let mut base = config_params(cfg)?;
-    // The configuration's own grid need not carry its q1 (each level has
-    // its own grid): check the PSD on one that does.
-    let ql = base.ql.unwrap_or(TAU / base.length);
-    let q1_config = match base.upper {
-        UpperCutoff::Scales(n) => n * ql,
-        UpperCutoff::Q1(q) => q,
+    let base = config_params(cfg)?;
+    let (fixed, length, nx0, ny0) = match &base {
+        BaseSurface::SelfAffine(p) => {
+            let (band, length, nx, ny) = self_affine_psd(p.clone())?;
+            (FixedPsd::SelfAffine(band), length, nx, ny)
+        }
+        BaseSurface::Table {
+            path,
+            table,
+            params,
+        } => {
+            if !(params.length.is_finite() && params.length > 0.0) {
+                return Err(invalid(format!(
+                    "[surface.generate] length must be a finite length > 0 (m), got {}",
+                    params.length
+                )));
+            }
+            let band = TableBand {
+                path: path.display().to_string(),
+                rows: table.q().len(),
+                ql_per_m: TAU / params.length,
+                q_min_per_m: table.q_min(),
+                q_max_per_m: table.q_max(),
+                q1_per_m: params.highest_q(table),
+                table: table.clone(),
+            };
+            (FixedPsd::Table(band), params.length, params.nx, params.ny)
+        }
     };
-    if q1_config.is_finite() && q1_config > 0.0 {
-        (base.nx, base.ny) = level_grid(2.0, q1_config, base.length, base.nx, base.ny);
-    }
-    let (_, target) = continuum_self_affine(&base)?;
-    let fixed = FixedPsd {
-        hurst: target.hurst,
-        ql_per_m: target.ql,
-        rolloff_q0_per_m: target.q0,
-        q1_per_m: target.q1,
-        c0_m4: target.c0,
+    // The cut-offs a level must lie between, and q_L for `--scales`.
+    let (ql, floor, floor_name, top, top_name) = match &fixed {
+        FixedPsd::SelfAffine(b) => (
+            b.ql_per_m,
+            b.rolloff_q0_per_m,
+            if b.rolloff_q0_per_m > b.ql_per_m {
+                "roll-off q0"
+            } else {
+                "lower cut-off q_L"
+            },
+            b.q1_per_m,
+            "the configuration's q1",
+        ),
+        FixedPsd::Table(t) => (
+            t.ql_per_m,
+            t.ql_per_m.max(t.q_min_per_m),
+            if t.q_min_per_m > t.ql_per_m {
+                "PSD table's smallest q"
+            } else {
+                "lowest wavenumber 2 pi / L"
+            },
+            t.q1_per_m,
+            if t.q1_per_m < t.q_max_per_m {
+                "the configuration's q1"
+            } else {
+                "the largest q of the PSD table"
+            },
+        ),
     };
     let (flag, values) = match spec {
         LevelSpec::Q1(v) => ("--q1", v),
@@ -224,7 +323,7 @@ pub fn plan_levels(
     }
     let q1s: Vec<f64> = match spec {
         LevelSpec::Q1(v) => v.clone(),
-        LevelSpec::Scales(v) => v.iter().map(|n| n * target.ql).collect(),
+        LevelSpec::Scales(v) => v.iter().map(|n| n * ql).collect(),
     };
     for (w, v) in q1s.windows(2).zip(values.windows(2)) {
         if w[1] <= w[0] {
@@ -239,45 +338,57 @@ pub fn plan_levels(
     let formulation: Formulation = sc.formulation.unwrap_or_default();
     let mut levels = Vec::with_capacity(q1s.len());
     for (&q1, &given) in q1s.iter().zip(values) {
-        if q1 > target.q1 * (1.0 + 1e-12) {
+        if q1 > top * (1.0 + 1e-12) {
+            let hint = match &fixed {
+                FixedPsd::SelfAffine(_) => "raise [surface.generate] q1 (the PSD is extended with the same C0) or cut lower",
+                FixedPsd::Table(_) => "cut lower, or extend the table",
+            };
             return Err(invalid(format!(
-                "{flag} {given}: q1 = {q1:.6e} 1/m exceeds the configuration's q1 = {:.6e} 1/m, the end of the PSD it defines; raise [surface.generate] q1 (the PSD is extended with the same C0) or cut lower",
-                target.q1
+                "{flag} {given}: q1 = {q1:.6e} 1/m exceeds {top_name} = {top:.6e} 1/m, the end of the PSD it defines; {hint}"
             )));
         }
-        if q1 <= target.q0 {
+        if q1 <= floor {
             return Err(invalid(format!(
-                "{flag} {given}: q1 = {q1:.6e} 1/m must exceed the PSD's {} = {:.6e} 1/m",
-                if target.q0 > target.ql {
-                    "roll-off q0"
-                } else {
-                    "lower cut-off q_L"
-                },
-                target.q0
+                "{flag} {given}: q1 = {q1:.6e} 1/m must exceed the PSD's {floor_name} = {floor:.6e} 1/m"
             )));
         }
-        let q1 = q1.min(target.q1);
-        let (n, ny) = level_grid(cells, q1, base.length, base.nx, base.ny);
+        let q1 = q1.min(top);
+        let (n, ny) = level_grid(cells, q1, length, nx0, ny0);
         check_memory(n, ny, restart, formulation)
             .map_err(|e| invalid(format!("{flag} {given}: {e}")))?;
-        let mut params = GenerateParams {
-            nx: n,
-            ny,
-            upper: UpperCutoff::Q1(q1),
-            normalisation: Normalisation::RmsSlope(1.0),
-            ..base.clone()
+        let psd = fixed.truncated(q1)?;
+        let (m0, m2, params) = match &base {
+            BaseSurface::SelfAffine(b) => {
+                let c0 = fixed.c0_m4().expect("self-affine");
+                let mut params = GenerateParams {
+                    nx: n,
+                    ny,
+                    upper: UpperCutoff::Q1(q1),
+                    normalisation: Normalisation::RmsSlope(1.0),
+                    ..b.clone()
+                };
+                let (m0, m2) = lattice_moments(&params)?;
+                params.normalisation = Normalisation::RmsSlope((c0 * m2).sqrt());
+                (c0 * m0, c0 * m2, LevelSurface::SelfAffine(params))
+            }
+            BaseSurface::Table { table, params, .. } => {
+                let params = SynthParams {
+                    nx: n,
+                    ny,
+                    q1: Some(q1),
+                    ..*params
+                };
+                let (m0, m2) = table_lattice_moments(table, &params);
+                (m0, m2, LevelSurface::Table(params))
+            }
         };
-        let (m0, m2) = lattice_moments(&params)?;
-        let rms_slope = (target.c0 * m2).sqrt();
-        params.normalisation = Normalisation::RmsSlope(rms_slope);
-        let psd = truncated_psd(&fixed, q1)?;
         levels.push(LevelPlan {
             q1,
             n,
             ny,
-            cells_per_shortest_wavelength: TAU / q1 / (base.length / n as f64),
-            rms_height: (target.c0 * m0).sqrt(),
-            rms_slope,
+            cells_per_shortest_wavelength: TAU / q1 / (length / n as f64),
+            rms_height: m0.sqrt(),
+            rms_slope: m2.sqrt(),
             rms_height_continuum: psd.moment(0).sqrt(),
             rms_slope_continuum: psd.moment(2).sqrt(),
             psd,
@@ -289,7 +400,8 @@ pub fn plan_levels(
 
 /// The configuration of one level at `speed` \[m/s\] (`None`: the
 /// configuration's): the study's with `surface.generate.q1 = q1`, `n` (and
-/// `ny`), `rms_slope` of the level (`scales` and `rms_height` removed), the
+/// `ny`), `rms_slope` of the level (`scales` and `rms_height` removed; with
+/// a PSD table only `q1`, `n` and `ny` are set), the
 /// speed set and `[sweep]` removed: what `viscoslide solve` reads to solve
 /// exactly this level.
 pub fn level_config(
@@ -309,9 +421,13 @@ pub fn level_config(
         generate.ny = Some(level.ny);
     }
     generate.q1 = Some(level.q1);
-    generate.scales = None;
-    generate.rms_slope = Some(level.rms_slope);
-    generate.rms_height = None;
+    // A table has no amplitude key: the table itself sets the level's
+    // amplitude, cut at q1.
+    if generate.psd.is_none() {
+        generate.scales = None;
+        generate.rms_slope = Some(level.rms_slope);
+        generate.rms_height = None;
+    }
     if let Some(v) = speed {
         config
             .loading
@@ -330,31 +446,4 @@ pub fn level_config(
         base_dir: cfg.base_dir.clone(),
         document,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn grids_are_fft_friendly_and_resolve_k_cells() {
-        // Paper experiment: L = 2 pi / 2.51e4.
-        let l = 2.5032990e-4;
-        for (q1, want) in [(2.51e5, 45), (2.82e6, 480), (6.31e6, 1024)] {
-            let (n, ny) = level_grid(4.0, q1, l, 1024, 1024);
-            assert_eq!((n, ny), (want, want), "q1 = {q1}");
-            assert!(TAU / q1 / (l / n as f64) >= 4.0);
-        }
-        // Exactly 40 cells needed: no extra cell from round-off.
-        let q1 = 40.0 * TAU / l / 4.0;
-        assert_eq!(level_grid(4.0, q1, l, 64, 64).0, 40);
-        // 16 cells at the experiment's q1: 4096, not 4050 (= 2 x 2025).
-        assert_eq!(level_grid(16.0, 6.31e6, l, 64, 64).0, 4096);
-        assert!(cascades_down(4096) && cascades_down(120) && !cascades_down(4050));
-        // Aspect 3:2 kept exactly.
-        let (n, ny) = level_grid(4.0, 2.51e5, l, 96, 64);
-        assert_eq!(n * 2, ny * 3);
-        assert!(smooth(n) && n >= 40);
-        assert!(smooth(1024) && smooth(450) && !smooth(14));
-    }
 }

@@ -48,7 +48,7 @@ pub enum PsdSource {
     Table { path: String, rows: usize },
     /// The table `[surface.generate] psd` follows, over the band the grid
     /// synthesises in every direction: `2 pi / L` to the Nyquist
-    /// wavenumber `pi / a`.
+    /// wavenumber `pi / a`, or to the synthesis' cut-off `q1` below it.
     GeneratedTable {
         path: String,
         rows: usize,
@@ -169,7 +169,7 @@ pub fn theory_inputs(
                 let path = cfg.base_dir.join(table);
                 let full = TabulatedPsd::from_csv(&path)?;
                 let cell = sp.length / sp.nx as f64;
-                let (lo, hi) = (TAU / sp.length, PI / cell);
+                let (lo, hi) = (TAU / sp.length, (PI / cell).min(sp.highest_q(&full)));
                 let t = full.within(lo, hi, &path.display().to_string())?;
                 let (q_min_per_m, q_max_per_m) = (t.q_min(), t.q_max());
                 (
@@ -291,12 +291,16 @@ impl Problem {
             SurfaceSource::Sphere(_) => {
                 Err("Persson's theory is for randomly rough surfaces, not a sphere".to_string())
             }
-            SurfaceSource::Synthesised { table, path, .. } => {
+            SurfaceSource::Synthesised {
+                table,
+                path,
+                params,
+            } => {
                 let a = self.surface.cell_size;
                 table
                     .within(
                         TAU / self.surface.length_x(),
-                        PI / a,
+                        (PI / a).min(params.highest_q(table)),
                         &path.display().to_string(),
                     )
                     .map(|t| (t, "generated_table", None))

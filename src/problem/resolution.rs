@@ -46,11 +46,11 @@ impl Problem {
                 .resolve()
                 .ok()
                 .map(|psd| ShortestWavelength::UpperCutoff(std::f64::consts::TAU / psd.q1)),
-            SurfaceSource::Synthesised { table, .. }
-                if table.q_max() < std::f64::consts::PI / a =>
+            SurfaceSource::Synthesised { table, params, .. }
+                if params.highest_q(table) < std::f64::consts::PI / a =>
             {
                 Some(ShortestWavelength::UpperCutoff(
-                    std::f64::consts::TAU / table.q_max(),
+                    std::f64::consts::TAU / params.highest_q(table),
                 ))
             }
             SurfaceSource::File(_) | SurfaceSource::Given | SurfaceSource::Synthesised { .. } => {

@@ -36,9 +36,10 @@ impl SphereConfig {
 }
 
 impl GenerateConfig {
-    /// With `psd` set: the table's path and the grid and seed of the
-    /// synthesis ([`super::generate_from_table`]); `None` without `psd`.
-    /// The self-affine keys cannot be combined with `psd`.
+    /// With `psd` set: the table's path and the grid, seed and optional
+    /// cut-off `q1` of the synthesis ([`super::generate_from_table`]);
+    /// `None` without `psd`. The other self-affine keys cannot be combined
+    /// with `psd`.
     pub fn synth_params(
         &self,
         fallback_length: Option<f64>,
@@ -49,7 +50,6 @@ impl GenerateConfig {
         let extra: Vec<&str> = [
             (self.hurst.is_some(), "hurst"),
             (self.scales.is_some(), "scales"),
-            (self.q1.is_some(), "q1"),
             (self.ql.is_some(), "ql"),
             (self.rolloff_q0.is_some(), "rolloff_q0"),
             (self.rms_height.is_some(), "rms_height"),
@@ -79,6 +79,7 @@ impl GenerateConfig {
                 ny: self.ny.unwrap_or(n),
                 length,
                 seed: self.seed.unwrap_or(0),
+                q1: self.q1,
             },
         )))
     }

@@ -54,7 +54,7 @@ pub use resample::{
     resample, resample_grid, ResampleGrid, ResampleMethod, ResampleTarget, MAX_RESAMPLE_CELLS,
 };
 pub use stitch::{stitch, ScanPsd, StitchedPsd};
-pub use synth::{generate_from_table, SynthParams};
+pub use synth::{generate_from_table, table_lattice_moments, SynthParams};
 pub use topography::{MissingData, Topography};
 pub use x3p::{decode_x3p, encode_x3p, read_x3p, X3pType};
 

@@ -23,6 +23,22 @@ pub struct SynthParams {
     pub length: f64,
     /// Seed of the random phases.
     pub seed: u64,
+    /// Optional upper cut-off `q1` [1/m]: modes with `|q| > q1` get zero
+    /// amplitude, every other mode is unchanged (same amplitude, same
+    /// phase), so a surface cut at `q1` holds exactly the long waves of
+    /// the uncut one (physics.md section 12). `None`: the table's whole
+    /// range.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub q1: Option<f64>,
+}
+
+impl SynthParams {
+    /// The largest wavenumber the synthesis of `table` gives an amplitude
+    /// to (before the grid's Nyquist limit): the table's largest `q`, or
+    /// the cut-off `q1` below it [1/m].
+    pub fn highest_q(&self, table: &TabulatedPsd) -> f64 {
+        table.q_max().min(self.q1.unwrap_or(f64::INFINITY))
+    }
 }
 
 /// The phase `2 pi u`, `u` uniform in `[0, 1)`, of the mode with signed
@@ -100,7 +116,8 @@ pub(super) fn random_phase_spectrum(
 }
 
 /// A random-phase periodic surface whose radial PSD follows `table`
-/// (log-log interpolated, zero outside its range): every mode
+/// (log-log interpolated, zero outside its range and above the optional
+/// cut-off [`SynthParams::q1`]): every mode
 /// `q = (2 pi kx / Lx, 2 pi ky / Ly)` gets the amplitude
 /// `sqrt(C(|q|) dqx dqy)` and a phase that depends only on the seed and
 /// the mode (see the phase rule above); `H(-q) = conj H(q)` (real
@@ -127,13 +144,28 @@ pub fn generate_from_table(
             "must be a finite length > 0 (m)",
         ));
     }
+    if let Some(q1) = p.q1 {
+        if !(q1.is_finite() && q1 > 0.0) {
+            return Err(SurfaceError::param(
+                "q1",
+                q1,
+                "must be a finite cut-off > 0 (1/m)",
+            ));
+        }
+    }
+    let cut = p.q1.unwrap_or(f64::INFINITY);
     let (nx, ny) = (p.nx, p.ny);
     let a = p.length / nx as f64;
     let dqx = 2.0 * PI / (nx as f64 * a);
     let dqy = 2.0 * PI / (ny as f64 * a);
     let sqrt_dq2 = (dqx * dqy).sqrt();
     let spec = random_phase_spectrum(nx, ny, dqx, dqy, p.seed, |qx, qy| {
-        table.eval((qx * qx + qy * qy).sqrt()).sqrt() * sqrt_dq2
+        let q = (qx * qx + qy * qy).sqrt();
+        if q > cut {
+            0.0
+        } else {
+            table.eval(q).sqrt() * sqrt_dq2
+        }
     });
     if spec.iter().all(|v| v.norm_sqr() == 0.0) {
         return Err(SurfaceError::Invalid(format!(
@@ -155,6 +187,40 @@ pub fn generate_from_table(
     })
 }
 
+/// The lattice moments `(sum C dq^2, sum |q|^2 C dq^2)` over the modes
+/// [`generate_from_table`] gives an amplitude on the grid of `p` (cut at
+/// `p.q1` when set): the mean square height and the spectral mean square
+/// slope of the surface it synthesises (Parseval; physics.md section 8).
+pub fn table_lattice_moments(table: &TabulatedPsd, p: &SynthParams) -> (f64, f64) {
+    let (nx, ny) = (p.nx, p.ny);
+    let a = p.length / nx as f64;
+    let dqx = 2.0 * PI / (nx as f64 * a);
+    let dqy = 2.0 * PI / (ny as f64 * a);
+    let cut = p.q1.unwrap_or(f64::INFINITY);
+    // Signed indices as the synthesis uses them: (-n/2, n/2] for even n.
+    let signed = |k: usize, n: usize| {
+        if k <= n / 2 {
+            k as f64
+        } else {
+            k as f64 - n as f64
+        }
+    };
+    let mut m = (0.0, 0.0);
+    for ky in 0..ny {
+        let qy = signed(ky, ny) * dqy;
+        for kx in 0..nx {
+            let qx = signed(kx, nx) * dqx;
+            let q2 = qx * qx + qy * qy;
+            let q = q2.sqrt();
+            if q <= cut {
+                let c = table.eval(q) * dqx * dqy;
+                m = (m.0 + c, m.1 + q2 * c);
+            }
+        }
+    }
+    m
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -172,6 +238,7 @@ mod tests {
                 ny: 24,
                 length: l,
                 seed: 5,
+                q1: None,
             },
         )
         .unwrap();
@@ -182,6 +249,7 @@ mod tests {
                 ny: 48,
                 length: l,
                 seed: 5,
+                q1: None,
             },
         )
         .unwrap();
@@ -205,5 +273,65 @@ mod tests {
             }
         }
         assert!(checked > 300);
+    }
+
+    fn table() -> TabulatedPsd {
+        let q = vec![100.0, 1e3, 2e4];
+        let c = vec![1e-20, 1e-20, 1e-20 * 20f64.powf(-3.6)];
+        TabulatedPsd::new(q, c, "t").unwrap()
+    }
+
+    #[test]
+    fn a_cut_keeps_the_lower_modes_and_removes_the_upper_ones() {
+        let (n, ny, l) = (32, 24, 0.01);
+        let p = SynthParams {
+            nx: n,
+            ny,
+            length: l,
+            seed: 9,
+            q1: None,
+        };
+        let q1 = 6.5 * 2.0 * PI / l;
+        let full = generate_from_table(&table(), &p).unwrap();
+        let cut = generate_from_table(&table(), &SynthParams { q1: Some(q1), ..p }).unwrap();
+        let ff = height_fft::forward(&full.heights, n, ny).unwrap();
+        let fc = height_fft::forward(&cut.heights, n, ny).unwrap();
+        let big = ff.iter().map(|v| v.norm()).fold(0.0, f64::max);
+        let (dqx, dqy) = (2.0 * PI / l, 2.0 * PI / (ny as f64 * l / n as f64));
+        let (mut kept, mut removed) = (0, 0);
+        for ky in 0..height_fft::half_len(ny) {
+            for kx in 0..n {
+                let sx = if kx <= n / 2 {
+                    kx as f64
+                } else {
+                    kx as f64 - n as f64
+                };
+                let q = ((sx * dqx).powi(2) + (ky as f64 * dqy).powi(2)).sqrt();
+                let (a, b) = (ff[ky * n + kx], fc[ky * n + kx]);
+                // Same mode amplitudes and phases, through two inverse and
+                // forward transforms: round-off only.
+                if q <= q1 {
+                    assert!((a - b).norm() <= 1e-12 * big, "({sx}, {ky}): {a} vs {b}");
+                    kept += usize::from(a.norm() > 1e-6 * big);
+                } else {
+                    assert!(b.norm() <= 1e-12 * big, "({sx}, {ky}) not removed: {b}");
+                    removed += usize::from(a.norm() > 1e-6 * big);
+                }
+            }
+        }
+        assert!(kept > 50 && removed > 50, "{kept} kept, {removed} removed");
+        // The lattice moments are the mean square height (Parseval) and
+        // slope of the cut surface.
+        let (m0, _) = table_lattice_moments(&table(), &SynthParams { q1: Some(q1), ..p });
+        let ms = cut.heights.iter().map(|h| h * h).sum::<f64>() / (n * ny) as f64;
+        assert!((m0 - ms).abs() <= 1e-12 * ms, "{m0} vs {ms}");
+        let bad = generate_from_table(
+            &table(),
+            &SynthParams {
+                q1: Some(-1.0),
+                ..p
+            },
+        );
+        assert!(bad.is_err());
     }
 }

@@ -205,7 +205,7 @@ fn run_from_table(
     let band_lo = table
         .q_min()
         .max(2.0 * std::f64::consts::PI / map.length_x().max(map.length_y()));
-    let band_hi = table.q_max().min(qn);
+    let band_hi = sp.highest_q(&table).min(qn);
     let json = serde_json::json!({
         "version": crate::version::VERSION,
         "seed": sp.seed,
