@@ -40,10 +40,7 @@ struct Progress {
 
 impl Observer for Progress {
     fn iteration(&mut self, iteration: usize, matvecs: usize, residual: f64, contact_cells: usize) {
-        self.bar.set_message(format!(
-            "active-set iteration {iteration}: {contact_cells} cells in contact, residual {residual:.2e}, {matvecs} matvecs"
-        ));
-        self.bar.tick();
+        super::solve::show_iteration(&self.bar, iteration, matvecs, residual, contact_cells);
     }
 }
 

@@ -27,11 +27,23 @@ struct Spinner(ProgressBar);
 
 impl Observer for Spinner {
     fn iteration(&mut self, iteration: usize, matvecs: usize, residual: f64, contact_cells: usize) {
-        self.0.set_message(format!(
-            "active-set iteration {iteration}: {contact_cells} cells in contact, residual {residual:.2e}, {matvecs} matvecs"
-        ));
-        self.0.tick();
+        show_iteration(&self.0, iteration, matvecs, residual, contact_cells);
     }
+}
+
+/// The spinner line of one active-set iteration (solve, refine and
+/// magnification show the same).
+pub(super) fn show_iteration(
+    bar: &ProgressBar,
+    iteration: usize,
+    matvecs: usize,
+    residual: f64,
+    contact_cells: usize,
+) {
+    bar.set_message(format!(
+        "active-set iteration {iteration}: {contact_cells} cells in contact, residual {residual:.2e}, {matvecs} matvecs"
+    ));
+    bar.tick();
 }
 
 pub fn run(args: SolveArgs) -> Result<()> {
