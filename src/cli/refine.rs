@@ -76,12 +76,7 @@ impl RefineObserver for Progress {
             l.matvecs,
             l.wall_time_s
         );
-        self.bar.suspend(|| {
-            eprintln!("{line}");
-            for w in &l.warnings {
-                eprintln!("  warning: {w}");
-            }
-        });
+        super::solve::show_finished(&self.bar, &line, &l.warnings);
     }
 
     fn solver(&mut self) -> &mut dyn Observer {

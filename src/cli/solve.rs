@@ -46,6 +46,17 @@ pub(super) fn show_iteration(
     bar.tick();
 }
 
+/// A finished level's line and its warnings, printed above the spinner
+/// (refine and magnification).
+pub(super) fn show_finished(bar: &ProgressBar, line: &str, warnings: &[String]) {
+    bar.suspend(|| {
+        eprintln!("{line}");
+        for w in warnings {
+            eprintln!("  warning: {w}");
+        }
+    });
+}
+
 pub fn run(args: SolveArgs) -> Result<()> {
     let cfg = args.config.load()?;
     // Refuse an output place that cannot be written before solving.
