@@ -11,8 +11,10 @@ use std::process::Command;
 use num_complex::Complex64;
 use serde_json::Value;
 use viscoslide::config;
-use viscoslide::magnification::{self, LevelSpec, LevelSurface, MagnificationParams, Quiet, Study};
-use viscoslide::problem::{Executor, Problem};
+use viscoslide::magnification::{
+    self, LevelResult, LevelSpec, LevelSurface, MagnificationParams, Quiet, Study,
+};
+use viscoslide::problem::{Executor, Problem, Solution};
 use viscoslide::solver::Silent;
 use viscoslide::surface::{generate_with_target, HeightMap};
 use viscoslide::sweep::Shard;
@@ -59,6 +61,45 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(1e-300)
 }
 
+/// A level against the separate `solve` of its keys. Identical inputs,
+/// identical arithmetic: only the order of floating-point sums inside
+/// threaded code may differ, far below 1e-9.
+fn assert_level_is_the_solve(l: &LevelResult, solution: &Solution) {
+    for (a, b, what) in [
+        (l.friction_coefficient, solution.friction_coefficient, "mu"),
+        (
+            l.friction_coefficient_dissipation,
+            solution.friction_coefficient_dissipation,
+            "mu (dissipation)",
+        ),
+        (
+            l.contact_area_fraction,
+            solution.stats.contact_area_fraction,
+            "A/A0",
+        ),
+    ] {
+        assert!(rel(a, b) < 1e-9, "q1 = {}: {what} {a} vs solve {b}", l.q1);
+    }
+    assert_eq!(l.matvecs, solution.info.matvecs);
+}
+
+/// A level's Persson friction and area against the independent integral
+/// (`brute_force`), to 1e-6 (the tolerance is justified at its callers).
+fn assert_persson_is(l: &LevelResult, mu: f64, area: f64) {
+    assert!(
+        rel(l.persson_friction_coefficient, mu) < 1e-6,
+        "q1 = {}: mu {} vs {mu}",
+        l.q1,
+        l.persson_friction_coefficient
+    );
+    assert!(
+        rel(l.persson_contact_area_fraction, area) < 1e-6,
+        "q1 = {}: A {} vs {area}",
+        l.q1,
+        l.persson_contact_area_fraction
+    );
+}
+
 fn ql() -> f64 {
     2.0 * PI / 0.01
 }
@@ -90,25 +131,7 @@ fn a_level_is_the_separate_solve_of_its_reported_keys() {
         let cfg = config::load(&path, &sets).unwrap();
         let problem = Problem::from_config(&cfg).unwrap();
         let solution = problem.solve(&Executor::Cpu, &mut Silent).unwrap();
-        // Identical inputs, identical arithmetic: only the order of
-        // floating-point sums inside threaded code may differ, far below
-        // 1e-9.
-        for (a, b, what) in [
-            (l.friction_coefficient, solution.friction_coefficient, "mu"),
-            (
-                l.friction_coefficient_dissipation,
-                solution.friction_coefficient_dissipation,
-                "mu (dissipation)",
-            ),
-            (
-                l.contact_area_fraction,
-                solution.stats.contact_area_fraction,
-                "A/A0",
-            ),
-        ] {
-            assert!(rel(a, b) < 1e-9, "q1 = {}: {what} {a} vs solve {b}", l.q1);
-        }
-        assert_eq!(l.matvecs, solution.info.matvecs);
+        assert_level_is_the_solve(l, &solution);
     }
     // The finest level at the config's own q1 carries the config's rms
     // slope in the continuum (C0 is defined there).
@@ -235,18 +258,7 @@ fn persson_per_level_is_its_own_integral_over_the_truncated_psd() {
         let (mu, area) = brute_force(s.psd.c0_m4().unwrap(), 0.8, l.q1, 3.0e3, 0.01);
         // The module's quadrature is good to about 1e-9; the brute force's
         // trapezoid in ln q (2e4 steps over at most ln 8) to about 1e-8.
-        assert!(
-            rel(l.persson_friction_coefficient, mu) < 1e-6,
-            "q1 = {}: mu {} vs {mu}",
-            l.q1,
-            l.persson_friction_coefficient
-        );
-        assert!(
-            rel(l.persson_contact_area_fraction, area) < 1e-6,
-            "q1 = {}: A {} vs {area}",
-            l.q1,
-            l.persson_contact_area_fraction
-        );
+        assert_persson_is(l, mu, area);
     }
     // Friction grows and area falls with the cut-off (physics.md section 12).
     let theory: Vec<(f64, f64)> = report
@@ -578,41 +590,12 @@ fn a_table_level_is_the_separate_solve_with_q1_and_n() {
         }
         assert!(rel(psd.q_max(), l.q1) < 1e-15);
         let solution = problem.solve(&Executor::Cpu, &mut Silent).unwrap();
-        // Identical inputs, identical arithmetic: only the order of
-        // floating-point sums inside threaded code may differ, far below
-        // 1e-9.
-        for (a, b, what) in [
-            (l.friction_coefficient, solution.friction_coefficient, "mu"),
-            (
-                l.friction_coefficient_dissipation,
-                solution.friction_coefficient_dissipation,
-                "mu (dissipation)",
-            ),
-            (
-                l.contact_area_fraction,
-                solution.stats.contact_area_fraction,
-                "A/A0",
-            ),
-        ] {
-            assert!(rel(a, b) < 1e-9, "q1 = {}: {what} {a} vs solve {b}", l.q1);
-        }
-        assert_eq!(l.matvecs, solution.info.matvecs);
+        assert_level_is_the_solve(l, &solution);
         // Persson per level: the independent integral over the power law
         // the table holds, cut at q1 (tolerances as for the self-affine
         // study above).
         let (mu, area) = brute_force(table_c0(), 0.8, l.q1, 3.0e3, 0.01);
-        assert!(
-            rel(l.persson_friction_coefficient, mu) < 1e-6,
-            "q1 = {}: mu {} vs {mu}",
-            l.q1,
-            l.persson_friction_coefficient
-        );
-        assert!(
-            rel(l.persson_contact_area_fraction, area) < 1e-6,
-            "q1 = {}: A {} vs {area}",
-            l.q1,
-            l.persson_contact_area_fraction
-        );
+        assert_persson_is(l, mu, area);
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
