@@ -116,6 +116,17 @@ struct Columns<U>(*mut Complex<U>);
 unsafe impl<U> Send for Columns<U> {}
 unsafe impl<U> Sync for Columns<U> {}
 
+impl<U> Columns<U> {
+    /// `width` values from `offset`.
+    ///
+    /// # Safety
+    /// In bounds, and no other task touches them while the slice lives.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn run(&self, offset: usize, width: usize) -> &mut [Complex<U>] {
+        std::slice::from_raw_parts_mut(self.0.add(offset), width)
+    }
+}
+
 /// `y = F^-1 [m F [x padded]]` restricted to the input block, the
 /// transforms in precision `T`.
 pub(crate) struct SpectralEngine<T: Real = f64> {
@@ -379,7 +390,6 @@ fn convolve<U: Real, T: Real>(
     let (fwd, inv) = (&plans.fwd, &plans.inv);
     let base = Columns(spec.as_mut_ptr());
     pool.par_iter_mut().enumerate().for_each(|(g, s)| {
-        let base = base;
         let (c0, c1) = (g * cols_per, ((g + 1) * cols_per).min(myh));
         let columns = view::<U>(&mut s.columns, COLUMN_BLOCK * mx);
         let scratch = scratch_of::<U>(&mut s.fft);
@@ -388,7 +398,7 @@ fn convolve<U: Real, T: Real>(
             let width = COLUMN_BLOCK.min(c1 - c);
             for r in 0..nx {
                 // SAFETY: columns c..c + width of row r belong to this task.
-                let src = unsafe { std::slice::from_raw_parts(base.0.add(r * myh + c), width) };
+                let src = unsafe { base.run(r * myh + c, width) };
                 for (k, v) in src.iter().enumerate() {
                     columns[k * mx + r] = *v;
                 }
@@ -404,7 +414,7 @@ fn convolve<U: Real, T: Real>(
             }
             for r in 0..nx {
                 // SAFETY: as above.
-                let dst = unsafe { std::slice::from_raw_parts_mut(base.0.add(r * myh + c), width) };
+                let dst = unsafe { base.run(r * myh + c, width) };
                 for (k, v) in dst.iter_mut().enumerate() {
                     *v = columns[k * mx + r];
                 }

@@ -102,6 +102,7 @@ impl Problem {
             restart: sc.restart.unwrap_or(defaults.restart),
             precondition: sc.precondition.unwrap_or(defaults.precondition),
             cascade_levels: sc.cascade_levels.unwrap_or(defaults.cascade_levels),
+            precision: sc.precision.unwrap_or(defaults.precision),
         };
         for (key, value, what) in [
             (

@@ -12,7 +12,7 @@ use serde::Serialize;
 use serde_json::{json, Value};
 
 use crate::analysis::{self, AnalysisInputs, AnalysisParams, AnalysisReport, ContactStatistics};
-use crate::config::{AnalysisConfig, Formulation};
+use crate::config::{AnalysisConfig, Formulation, Precision};
 use crate::error::Result;
 use crate::io::{npy, StagedOutput};
 use crate::material::Material;
@@ -47,6 +47,7 @@ struct Record {
     seed: Option<u64>,
     preprocessing: Option<Preprocessing>,
     formulation: Formulation,
+    precision: Precision,
     material: Material,
     document: toml::Table,
     analysis: Option<AnalysisConfig>,
@@ -122,6 +123,7 @@ impl Solution {
                 seed: problem.seed,
                 preprocessing: problem.preprocessing,
                 formulation: problem.formulation,
+                precision: problem.params.precision,
                 material: problem.material.clone(),
                 document: problem.document.clone(),
                 analysis: problem.analysis.clone(),
@@ -298,6 +300,7 @@ impl Solution {
             "persson": persson,
         });
         doc["surface_preprocessing"] = preprocessing;
+        doc["precision"] = json!(r.precision);
         // The isothermal temperature and its WLF shift `a_T` (relative to
         // `T_ref`; mu(v, T) = mu(a_T v, T_ref), physics.md section 12);
         // null for a material without WLF constants.

@@ -11,11 +11,12 @@ use std::time::Instant;
 use crate::backend::gpu::engine::Engine;
 use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuLevelTables, GpuOptions};
 use crate::backend::{Backend, CpuBackend};
-use crate::config::{Formulation, MeshKind};
+use crate::config::{Formulation, MeshKind, Precision};
 use crate::error::{Error, Result};
 use crate::kernel::SlidingKernel;
 use crate::operator::{
-    AdaptiveOperator, LevelTables, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
+    AdaptiveOperator, LevelTables, OffsetTable, PeriodicResponse, Real, SpectralPeriodic,
+    ToeplitzFft,
 };
 use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, WarmStart};
 
@@ -92,6 +93,11 @@ impl Problem {
                     self.surface.ny
                 )));
             }
+        }
+        if self.params.precision == Precision::Mixed && kind == Discretisation::Adaptive {
+            return Err(invalid(
+                "[solver] precision = \"mixed\" applies to uniform and periodic grids; the adaptive mesh solves in f64 (use precision = \"f64\" or mesh = \"uniform\")",
+            ));
         }
         let raw = match (kind, executor) {
             (Discretisation::Periodic, Executor::Cpu) => self.periodic_cpu(start, observer)?,
@@ -188,8 +194,22 @@ impl Problem {
         Ok((solution, info, t.elapsed().as_secs_f64()))
     }
 
-    /// Uniform grid on the CPU: the host coefficient table, Toeplitz-FFT.
+    /// Uniform grid on the CPU in the precision of `[solver] precision`.
     fn uniform_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
+        match self.params.precision {
+            Precision::F64 => self.uniform_cpu_in::<f64>(start, observer),
+            Precision::Mixed => self.uniform_cpu_in::<f32>(start, observer),
+        }
+    }
+
+    /// Uniform grid on the CPU: the host coefficient table, Toeplitz-FFT
+    /// with its spectra and transforms in `T` (f32: with f64 products for
+    /// the refinement, [`Backend::refines`]).
+    fn uniform_cpu_in<T: Real>(
+        &self,
+        start: Option<&WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Raw> {
         let t0 = Instant::now();
         let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
@@ -208,10 +228,10 @@ impl Problem {
                 values: &table.values,
             };
             let l00 = tab.get(0, 0);
-            Ok((
-                CpuBackend::new(ToeplitzFft::new(tab).with_preconditioner()),
-                l00,
-            ))
+            let op = ToeplitzFft::<T>::in_precision(tab)
+                .with_preconditioner()
+                .with_exact();
+            Ok((CpuBackend::new(op), l00))
         };
         let (solution, info, t_iter) = if self.cascades(start) {
             self.iterate_cascade(observer, build)?
@@ -314,11 +334,23 @@ impl Problem {
     /// A periodic cell solved spectrally (paper Appendix, Eq. A1-A2) on the
     /// CPU: the same iteration on the [`SpectralPeriodic`] operator.
     fn periodic_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
+        match self.params.precision {
+            Precision::F64 => self.periodic_cpu_in::<f64>(start, observer),
+            Precision::Mixed => self.periodic_cpu_in::<f32>(start, observer),
+        }
+    }
+
+    /// [`Problem::periodic_cpu`] with the multiplier and transforms in `T`.
+    fn periodic_cpu_in<T: Real>(
+        &self,
+        start: Option<&WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Raw> {
         let t0 = Instant::now();
         let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let (m, params) = (&self.material, self.kernel_params());
         let build = |nx, ny, cell| {
-            let op = SpectralPeriodic::with_cells(
+            let op = SpectralPeriodic::<T>::in_precision(
                 nx,
                 ny,
                 cell,
@@ -326,7 +358,8 @@ impl Problem {
                 &params,
                 PeriodicResponse::Displacement,
             )
-            .with_preconditioner();
+            .with_preconditioner()
+            .with_exact();
             let l00 = op.self_coefficient();
             Ok((CpuBackend::new(op), l00))
         };

@@ -45,6 +45,7 @@ pub use cascade::{solve_cascade, CascadeLevel, LevelInfo};
 pub use full_contact::solve_full_contact;
 
 use crate::backend::Backend;
+pub use crate::config::Precision;
 
 /// What is prescribed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -76,6 +77,9 @@ pub struct SolverParams {
     /// for callers that run one ([`cascade::cascade_shapes`]; 1: none).
     /// [`solve_from`] itself solves on one grid.
     pub cascade_levels: usize,
+    /// Precision of the operator the caller builds (the solver follows the
+    /// backend: [`Backend::refines`]).
+    pub precision: Precision,
 }
 
 impl Default for SolverParams {
@@ -87,6 +91,7 @@ impl Default for SolverParams {
             restart: 30,
             precondition: true,
             cascade_levels: 8,
+            precision: Precision::F64,
         }
     }
 }
