@@ -39,6 +39,11 @@ pub struct SolverConfig {
     /// Grids of the coarse-to-fine cascade at most, the fine one included
     /// (default 8; 1: solve on the fine grid only; uniform CPU grids).
     pub cascade_levels: Option<usize>,
+    /// Refine a uniform-grid GPU solve (f32 on the device) in f64 on the
+    /// host from the device's answer, so that it meets the tolerance like
+    /// the CPU path (default true; false: the device's f32 answer, residual
+    /// about 1e-5 to 1e-4).
+    pub gpu_refine: Option<bool>,
 }
 
 /// The mesh the non-periodic problem is solved on.
