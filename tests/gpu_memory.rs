@@ -10,10 +10,13 @@ use viscoslide::kernel::{KernelParams, SlidingKernel};
 use viscoslide::operator::OffsetTable;
 use viscoslide::solver::{self, Control, SolverParams};
 
+/// `(label, buffers, bytes)` per array.
+type Allocations = Vec<(String, usize, u64)>;
+
 /// A rough-patch solve (3 kPa on L = 1 cm, rms slope 0.02, the paper's
 /// material at xi = 1.17e-2) on an `n x n` device grid; the engine's
 /// allocations afterwards.
-fn allocations(ctx: gpu::GpuContext, n: usize) -> (Vec<(String, usize, u64)>, (usize, usize)) {
+fn allocations(ctx: gpu::GpuContext, n: usize) -> (Allocations, (usize, usize)) {
     let length = 0.01;
     let a = length / n as f64;
     let material = common::paper_material();
