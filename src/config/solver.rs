@@ -67,6 +67,11 @@ pub struct SolverConfig {
     /// Krylov products with f64 refinement (uniform and periodic CPU grids;
     /// physics.md section 13).
     pub precision: Option<Precision>,
+    /// Refine a uniform-grid GPU solve (f32 on the device) in f64 on the
+    /// host from the device's answer, so that it meets the tolerance like
+    /// the CPU path (default true; false: the device's f32 answer, residual
+    /// about 1e-5 to 1e-4).
+    pub gpu_refine: Option<bool>,
 }
 
 /// The mesh the non-periodic problem is solved on.

@@ -132,6 +132,7 @@ impl Problem {
                 "[solver] cascade_levels must be at least 1 (1: the fine grid only)",
             ));
         }
+        self.gpu_refine = sc.gpu_refine.unwrap_or(true);
         self.formulation = sc.formulation.unwrap_or_default();
         self.mesh = sc.mesh.unwrap_or_default();
         let ad = AdaptiveParams::default();

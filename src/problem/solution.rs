@@ -20,6 +20,7 @@ use crate::plot;
 use crate::solver::{ContactSolution, SolveInfo, WarmStart};
 use crate::surface::{Preprocessing, Window};
 
+use super::gpu_refine::GpuRefinement;
 use super::persson::PerssonEstimate;
 use super::{MeshReport, Problem};
 
@@ -78,6 +79,9 @@ pub struct Solution {
     /// Persson's theory at the same speed and nominal pressure
     /// ([`Problem::persson_estimate`]), or why it does not apply.
     pub persson: std::result::Result<PerssonEstimate, String>,
+    /// The two stages of a GPU solve refined in f64 on the host
+    /// (`None` for every other path).
+    pub gpu_refinement: Option<GpuRefinement>,
     record: Record,
 }
 
@@ -111,6 +115,7 @@ impl Solution {
             mesh,
             warnings,
             persson,
+            gpu_refinement: None,
             record: Record {
                 nx: problem.surface.nx,
                 ny: problem.surface.ny,
@@ -315,6 +320,9 @@ impl Solution {
         // The cell side along y beside `cell_size` (along x): rectangular
         // cells (physics.md section 11).
         doc["cell_size_y"] = json!(r.cell_size_y);
+        // The device (f32) and host (f64) stages of a refined GPU solve;
+        // null for every other path.
+        doc["gpu_refinement"] = json!(self.gpu_refinement);
         doc
     }
 

@@ -21,6 +21,7 @@ use crate::operator::{
 use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, WarmStart};
 
 use super::adaptive::{solve_adaptive, AdaptiveError, AdaptiveParams, MeshReport};
+use super::gpu_refine::GpuRefinement;
 use super::{invalid, Executor, Problem, Solution, Timings};
 
 /// The operator a problem is solved with: formulation x mesh.
@@ -47,6 +48,8 @@ pub(super) struct Raw {
     pub t_setup: Option<f64>,
     /// Iteration \[s\].
     pub t_iter: f64,
+    /// The stages of a GPU solve refined on the host.
+    pub refinement: Option<GpuRefinement>,
 }
 
 impl Problem {
@@ -248,13 +251,16 @@ impl Problem {
             t_coeff,
             t_setup: Some(t_setup),
             t_iter,
+            refinement: None,
         })
     }
 
     /// Uniform grid on the GPU (f32 on the device): the coefficient table
     /// of a half-space computed on the device (`shaders/coefficients.wgsl`,
     /// about 4e-7 relative to the host table; a finite layer's table on the
-    /// host), its spectrum on the host in f64.
+    /// host), its spectrum on the host in f64; then, unless
+    /// `gpu_refine = false`, the f64 refinement on the host from the
+    /// device's answer ([`super::gpu_refine`]).
     fn uniform_gpu(
         &self,
         ctx: GpuContext,
@@ -314,20 +320,34 @@ impl Problem {
             Ok((backend, l00))
         };
         let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
-        let (solution, info, t_iter) = if self.cascades(start) {
+        let device = if self.cascades(start) {
             self.iterate_cascade(observer, build)?
         } else {
             let (mut backend, l00) = build(nx, ny, cell)?;
             self.iterate_grid(&mut backend, l00, start, observer)?
         };
+        // The f64 refinement on the host (physics.md section 13), unless
+        // the device's f32 answer was asked for.
+        let (solution, info, t_iter, refinement) = if self.gpu_refine {
+            let (s, i, t, r) = self.refine_on_host(device, observer)?;
+            (s, i, t, Some(r))
+        } else {
+            let (s, i, t) = device;
+            (s, i, t, None)
+        };
+        let backend = match refinement {
+            Some(_) => format!("{name}, refined in f64 on the host"),
+            None => name,
+        };
         Ok(Raw {
             solution,
             info,
-            backend: name,
+            backend,
             mesh: None,
             t_coeff,
             t_setup: Some(t_setup),
             t_iter,
+            refinement,
         })
     }
 
@@ -378,6 +398,7 @@ impl Problem {
             t_coeff: 0.0,
             t_setup: Some(t_setup),
             t_iter,
+            refinement: None,
         })
     }
 
@@ -498,6 +519,7 @@ impl Problem {
             t_coeff,
             t_setup: None,
             t_iter,
+            refinement: None,
         })
     }
 
@@ -521,7 +543,7 @@ impl Problem {
             analysis_s: t_an,
             total_s: total,
         };
-        Ok(Solution::new(
+        let mut solution = Solution::new(
             self,
             raw.solution,
             raw.info,
@@ -532,7 +554,9 @@ impl Problem {
             unknowns,
             raw.mesh,
             warnings,
-        ))
+        );
+        solution.gpu_refinement = raw.refinement;
+        Ok(solution)
     }
 }
 
