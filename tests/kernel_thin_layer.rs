@@ -259,3 +259,74 @@ fn thin_frictionless_layer_solve_is_the_local_contact() {
     assert!(kt.values.iter().chain(&dt.values).all(|v| v.is_finite()));
     assert!(secs < 10.0, "{secs} s");
 }
+
+/// The friction stencil's derivative across the sliding direction in the
+/// local limit (sliding along y, `D_x`): finite (it was NaN), equal to the
+/// general cell integral where both apply (both exact to their
+/// quadratures, ~1e-10: 1e-7 of the largest value), and at rest its sum
+/// over the rows of the neighbouring column is minus half the thin-layer
+/// compliance per cell width (the displacement at a loaded strip's edge
+/// is half the local compliance; exact for any profile of the edge).
+#[test]
+fn local_limit_derivative_across_the_sliding_direction() {
+    let a = 1e-4;
+    let (base, nu) = (LayerBase::Frictionless, 0.5);
+    let m = material(nu);
+    let reach = ThetaTable::new(
+        Layer {
+            thickness: 1.0,
+            base,
+        },
+        nu,
+    )
+    .unwrap()
+    .rho_end();
+    let h = 0.499 * a / reach;
+    let across = |k: SlidingKernel| {
+        SlidingKernel::new(
+            &m,
+            KernelParams {
+                direction_rad: std::f64::consts::FRAC_PI_2,
+                ..*k.params()
+            },
+        )
+        .unwrap()
+    };
+    let speed = 0.3 * a / 0.01;
+    let local = across(kernel(&m, h, base, speed));
+    let general = across(kernel(&m, h, base, speed)).without_local_limit();
+    assert!(local.is_thin(a, a));
+    let offsets = [(1, 0), (-1, 0), (1, -1), (-1, 1), (0, 0)];
+    let t = Instant::now();
+    let d: Vec<(f64, f64)> = offsets
+        .iter()
+        .map(|&(i, j)| {
+            let (x, y) = (i as f64 * a, j as f64 * a);
+            (
+                local.derivative(x, y, a, a, Axis::X),
+                general.derivative(x, y, a, a, Axis::X),
+            )
+        })
+        .collect();
+    eprintln!("general D_x across: {:.1} s", t.elapsed().as_secs_f64());
+    let dmax = d.iter().map(|p| p.1.abs()).fold(0.0, f64::max);
+    for ((i, j), (l, g)) in offsets.iter().zip(&d) {
+        eprintln!("D_x({i}, {j}): local {l:e} general {g:e}");
+        assert!(
+            l.is_finite() && (l - g).abs() < 1e-7 * dmax,
+            "D_x({i}, {j}): local {l:e} general {g:e}"
+        );
+    }
+    let rest = across(kernel(&m, h, base, 0.0));
+    let c = 0.75 * h / (1e7 / 3.0);
+    let sum: f64 = (-3..=3)
+        .map(|j| rest.derivative(a, j as f64 * a, a, a, Axis::X))
+        .sum();
+    assert!(
+        (sum + 0.5 * c / a).abs() < 1e-9 * 0.5 * c / a,
+        "{sum:e} vs {:e}",
+        -0.5 * c / a
+    );
+    let tab = local.derivative_table(8, 8, a, Axis::X);
+    assert!(tab.values.iter().all(|v| v.is_finite()));
+}

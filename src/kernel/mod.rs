@@ -31,6 +31,7 @@ pub mod quad;
 mod table;
 pub mod thickness;
 mod thin;
+mod thin_cross;
 pub use thin::THIN_RATIO_MIN;
 
 use std::sync::Arc;
