@@ -32,6 +32,7 @@ mod table;
 pub mod thickness;
 mod thin;
 mod thin_cross;
+mod window;
 pub use thin::THIN_RATIO_MIN;
 
 use std::sync::Arc;
