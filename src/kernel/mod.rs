@@ -379,7 +379,7 @@ impl SlidingKernel {
 
     /// `Kbar` [m/Pa]: `K` averaged across the target cell's width transverse
     /// to `axis`, at the point `(x, y)`.
-    fn kbar(&self, cell: &Cell, x: f64, y: f64, axis: Axis) -> f64 {
+    pub(super) fn kbar(&self, cell: &Cell, x: f64, y: f64, axis: Axis) -> f64 {
         let (ax, ay) = (cell.love.ax, cell.love.ay);
         if self.out_of_reach(cell, x, y, ax.max(ay)) {
             return 0.0;

@@ -127,37 +127,63 @@ pub(super) fn windowed(
             k.memory_terms(&cell, x, y, derivative)
         })
         .collect();
-    let half = match derivative {
-        Some(Axis::X) => (0.5 * ax, 0.0),
-        Some(Axis::Y) => (0.0, 0.5 * ay),
-        None => (0.0, 0.0),
-    };
     let along = |x: f64, y: f64| x * ex + y * ey;
-    let progress = Progress::new("coefficient table (layer window)", wx as u64);
+    let row_of = |i: usize, j: usize| match slide_axis {
+        Axis::X => j,
+        Axis::Y => i,
+    };
     let mut out = vec![0.0; wx * wy];
-    out.par_chunks_mut(wy).enumerate().for_each(|(i, row)| {
+    let Some(axis) = derivative else {
+        let progress = Progress::new("coefficient table (layer window)", wx as u64);
+        out.par_chunks_mut(wy).enumerate().for_each(|(i, row)| {
+            for (j, v) in row.iter_mut().enumerate() {
+                let (x, y) = pos(i, j);
+                let p = along(x, y);
+                *v = if p <= s_ref {
+                    k.extrapolate(&refs[row_of(i, j)], p, s_ref)
+                } else {
+                    k.coefficient_with(&cell, x, y).total()
+                };
+            }
+            progress.inc();
+        });
+        progress.finish();
+        return out;
+    };
+    // `Kbar` at the target edges `pos - a/2` (index m) and `pos + a/2`
+    // (m + 1) along `axis`, each shared by two neighbouring targets.
+    let (kx, ky, a) = match axis {
+        Axis::X => (wx + 1, wy, ax),
+        Axis::Y => (wx, wy + 1, ay),
+    };
+    let progress = Progress::new("friction-stencil table (layer window)", kx as u64);
+    let mut kbar = vec![0.0; kx * ky];
+    kbar.par_chunks_mut(ky).enumerate().for_each(|(i, row)| {
         for (j, v) in row.iter_mut().enumerate() {
             let (x, y) = pos(i, j);
-            let r = match slide_axis {
-                Axis::X => j,
-                Axis::Y => i,
+            let (x, y) = match axis {
+                Axis::X => (x - 0.5 * ax, y),
+                Axis::Y => (x, y - 0.5 * ay),
             };
-            let (p_hi, p_lo) = (along(x + half.0, y + half.1), along(x - half.0, y - half.1));
-            let upstream = p_hi.max(p_lo) <= s_ref;
-            *v = match (derivative, upstream) {
-                (None, true) => k.extrapolate(&refs[r], p_hi, s_ref),
-                (None, false) => k.coefficient_with(&cell, x, y).total(),
-                (Some(_), true) => {
-                    let a = if half.0 > 0.0 { ax } else { ay };
-                    (k.extrapolate(&refs[r], along(x + half.0, y + half.1), s_ref)
-                        - k.extrapolate(&refs[r], along(x - half.0, y - half.1), s_ref))
-                        / a
-                }
-                (Some(axis), false) => k.derivative_with(&cell, x, y, axis),
+            let p = along(x, y);
+            let r = row_of(i.min(wx - 1), j.min(wy - 1));
+            *v = if p <= s_ref {
+                k.extrapolate(&refs[r], p, s_ref)
+            } else {
+                k.kbar(&cell, x, y, axis)
             };
         }
         progress.inc();
     });
+    for i in 0..wx {
+        for j in 0..wy {
+            let (lo, hi) = match axis {
+                Axis::X => (i * ky + j, (i + 1) * ky + j),
+                Axis::Y => (i * ky + j, i * ky + j + 1),
+            };
+            out[i * wy + j] = (kbar[hi] - kbar[lo]) / a;
+        }
+    }
     progress.finish();
     out
 }
