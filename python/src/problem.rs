@@ -42,6 +42,7 @@ pub fn build(
         map.ny,
         restart,
         solver.formulation.unwrap_or_default(),
+        solver.precision.unwrap_or_default(),
     )
     .map_err(value_error)?;
     let mut problem = Problem::new(

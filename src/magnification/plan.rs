@@ -354,8 +354,14 @@ pub fn plan_levels(
         }
         let q1 = q1.min(top);
         let (n, ny) = level_grid(cells, q1, length, nx0, ny0);
-        check_memory(n, ny, restart, formulation)
-            .map_err(|e| invalid(format!("{flag} {given}: {e}")))?;
+        check_memory(
+            n,
+            ny,
+            restart,
+            formulation,
+            sc.precision.unwrap_or_default(),
+        )
+        .map_err(|e| invalid(format!("{flag} {given}: {e}")))?;
         let psd = fixed.truncated(q1)?;
         let (m0, m2, params) = match &base {
             BaseSurface::SelfAffine(b) => {

@@ -105,6 +105,7 @@ impl Problem {
             matvecs: info.matvecs + host.matvecs,
             preconditioner_applications: info.preconditioner_applications
                 + host.preconditioner_applications,
+            exact_matvecs: info.exact_matvecs + host.exact_matvecs,
             levels: info.levels,
             residual: host.residual,
             load_error: host.load_error,

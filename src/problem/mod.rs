@@ -152,6 +152,7 @@ impl Problem {
             surface.ny,
             SolverParams::default().restart,
             Formulation::default(),
+            SolverParams::default().precision,
         )?;
         let map = crate::surface::generate(&surface)?;
         let mut problem = Self::new(material, map, control, speed);
@@ -206,7 +207,13 @@ impl Problem {
     pub fn with_grid(&self, n: usize) -> Result<Self> {
         let (nx, ny) = (self.surface.nx, self.surface.ny);
         let ny_new = ((ny as f64) * n as f64 / nx as f64).round().max(1.0) as usize;
-        setup::check_memory(n, ny_new, self.params.restart, self.formulation)?;
+        setup::check_memory(
+            n,
+            ny_new,
+            self.params.restart,
+            self.formulation,
+            self.params.precision,
+        )?;
         let (surface, source) = match &self.source {
             SurfaceSource::Generated(p) => {
                 let p = GenerateParams {

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use crate::config::{
-    Formulation, LoadedConfig, LoadingConfig, MeshKind, SolverConfig, SurfaceConfig,
+    Formulation, LoadedConfig, LoadingConfig, MeshKind, Precision, SolverConfig, SurfaceConfig,
 };
 use crate::error::Result;
 use crate::solver::{Control, SolverParams};
@@ -21,12 +21,13 @@ impl Problem {
         let sc = cfg.config.solver.clone().unwrap_or_default();
         let restart = sc.restart.unwrap_or(SolverParams::default().restart);
         let formulation = sc.formulation.unwrap_or_default();
+        let precision = sc.precision.unwrap_or_default();
         // Refuse grids that cannot fit before generating them.
         if let Some(gp) = surface_cfg.generate_params()? {
-            check_memory(gp.nx, gp.ny, restart, formulation)?;
+            check_memory(gp.nx, gp.ny, restart, formulation, precision)?;
         }
         let surface = surface_cfg.load(&cfg.base_dir)?;
-        check_memory(surface.nx, surface.ny, restart, formulation)?;
+        check_memory(surface.nx, surface.ny, restart, formulation, precision)?;
         let seed = surface_cfg.generate.as_ref().map(|g| g.seed.unwrap_or(0));
         let source = SurfaceSource::of(surface_cfg, &cfg.base_dir)?;
         let loading = cfg.config.loading.clone().ok_or_else(|| {
@@ -276,26 +277,45 @@ impl SurfaceSource {
     }
 }
 
-/// Bytes the CPU path needs for an `nx x ny` grid, roughly. Non-periodic:
-/// padded FFT buffers and coefficient tables (about 40 grid vectors) plus
-/// the Krylov basis of `restart + 1` vectors. Periodic: the unpadded
-/// transform with its operator and preconditioner spectra, the iteration's
-/// and the solution's grid vectors (about 20; measured 18 at 4096^2) plus
-/// a Krylov basis over a contact set of up to a quarter of the grid (the
-/// cascade starts the fine grid near its final set).
-pub fn memory_estimate(nx: usize, ny: usize, restart: usize, formulation: Formulation) -> u64 {
+/// Bytes the CPU path needs for an `nx x ny` grid, by array (B/cell,
+/// BENCHMARKS.md "Mixed precision"): the operator's spectra and spectrum
+/// buffer (periodic: multiplier and inverse, 8 + 8 in f64, 4 + 4 in mixed
+/// precision, and an 8 B buffer; non-periodic: twice as many modes on the
+/// padded transform, T. Chan's circulant and the coefficient table during
+/// set-up); the iteration's seven f64 grid vectors (56); the heights and
+/// the gap profile (16); and a Krylov basis of `restart + 3` f64 vectors
+/// over a contact set of up to a quarter of the grid (the cascade starts
+/// the fine grid near its final set).
+pub fn memory_estimate(
+    nx: usize,
+    ny: usize,
+    restart: usize,
+    formulation: Formulation,
+    precision: Precision,
+) -> u64 {
     let n = (nx as u64).saturating_mul(ny as u64);
-    let vectors = match formulation {
-        Formulation::NonPeriodic => 48 + restart as u64,
-        Formulation::Periodic => 20 + (restart as u64 + 1).div_ceil(4),
+    let spectra: u64 = match (formulation, precision) {
+        (Formulation::Periodic, Precision::F64) => 24,
+        (Formulation::Periodic, Precision::Mixed) => 16,
+        // Set-up: table (32), wrapped kernel (32) and its f64 spectrum
+        // (32) beside the engine being built.
+        (Formulation::NonPeriodic, Precision::F64) => 112 + 32,
+        (Formulation::NonPeriodic, Precision::Mixed) => 68 + 64,
     };
-    n.saturating_mul(8 * vectors)
+    let basis = (8 * (restart as u64 + 3)).div_ceil(4);
+    n.saturating_mul(spectra + 56 + 16 + basis)
 }
 
 /// Refuse an `nx x ny` grid whose [`memory_estimate`] exceeds the memory
 /// available now (read from `/proc/meminfo`; no check where it is absent).
-pub fn check_memory(nx: usize, ny: usize, restart: usize, formulation: Formulation) -> Result<()> {
-    let need = memory_estimate(nx, ny, restart, formulation);
+pub fn check_memory(
+    nx: usize,
+    ny: usize,
+    restart: usize,
+    formulation: Formulation,
+    precision: Precision,
+) -> Result<()> {
+    let need = memory_estimate(nx, ny, restart, formulation, precision);
     crate::io::memory::check_fits(|| format!("{nx} x {ny} grid"), need)
         .map_err(|e| invalid(e.to_string()))
 }

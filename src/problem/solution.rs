@@ -306,6 +306,7 @@ impl Solution {
         });
         doc["surface_preprocessing"] = preprocessing;
         doc["precision"] = json!(r.precision);
+        doc["exact_matvecs"] = json!(self.info.exact_matvecs);
         // The isothermal temperature and its WLF shift `a_T` (relative to
         // `T_ref`; mu(v, T) = mu(a_T v, T_ref), physics.md section 12);
         // null for a material without WLF constants.

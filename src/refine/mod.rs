@@ -103,8 +103,14 @@ pub fn check_level_memory(problem: &Problem, levels: &[usize]) -> Result<()> {
     let (nx, ny) = (problem.surface.nx, problem.surface.ny);
     for &n in levels {
         let ny_n = ((ny as f64) * n as f64 / nx as f64).round().max(1.0) as usize;
-        check_memory(n, ny_n, problem.params.restart, problem.formulation)
-            .map_err(|e| invalid(format!("--levels {n}: {e}")))?;
+        check_memory(
+            n,
+            ny_n,
+            problem.params.restart,
+            problem.formulation,
+            problem.params.precision,
+        )
+        .map_err(|e| invalid(format!("--levels {n}: {e}")))?;
     }
     Ok(())
 }

@@ -298,6 +298,7 @@ pub(crate) fn solve_owned<B: Backend>(
 
     let mut matvecs = 0usize;
     let mut preconditioner_applications = 0usize;
+    let mut exact_matvecs = 0usize;
     let mut history = Vec::new();
     let mut contact_history = Vec::new();
     let mut last_changes = usize::MAX;
@@ -392,6 +393,7 @@ pub(crate) fn solve_owned<B: Backend>(
         }
         matvecs += op.matvecs;
         preconditioner_applications += op.preconditioner_applications;
+        exact_matvecs += op.exact_matvecs;
         if preconditioned && !outcome.reached {
             precondition = false;
         }
@@ -464,27 +466,34 @@ pub(crate) fn solve_owned<B: Backend>(
                 Control::Load(f) => (cell_area * backend.sum(&p_full) - f).abs() / f,
                 Control::Approach(_) => 0.0,
             };
-            let mut out = |v: &B::Vector| {
+            // The work vectors go before the fields come to the host (on
+            // the largest grids each is hundreds of MB), each field's
+            // storage as soon as it is copied.
+            drop((work, rhs, full_in, full_out, mask, gv, index));
+            let mut out = |v: B::Vector| {
                 let mut h = vec![0.0; n];
-                backend.download(v, &mut h);
+                backend.download(&v, &mut h);
                 h
             };
+            let pressure = out(p_full);
+            // The cells carrying pressure: the set of this solve (the
+            // updated mask differs by the toggling cells).
+            let contact = pressure
+                .iter()
+                .map(|&p| if p > 0.0 { 1.0 } else { 0.0 })
+                .collect();
             return Ok((
                 ContactSolution {
-                    pressure: out(&p_full),
-                    displacement: out(&u),
-                    gap: out(&gap),
-                    // The cells carrying pressure: the set of this solve
-                    // (the updated mask differs by the toggling cells).
-                    contact: out(&p_full)
-                        .into_iter()
-                        .map(|p| if p > 0.0 { 1.0 } else { 0.0 })
-                        .collect(),
+                    pressure,
+                    displacement: out(u),
+                    gap: out(gap),
+                    contact,
                     approach: delta,
                 },
                 SolveInfo {
                     iterations: iteration,
                     matvecs,
+                    exact_matvecs,
                     preconditioner_applications,
                     levels: Vec::new(),
                     residual,

@@ -152,7 +152,7 @@ where
     }
     let fine_cells = (fx * fy) as f64;
     let mut levels = Vec::with_capacity(shapes.len());
-    let mut scaled = (0.0, 0.0);
+    let mut scaled = (0.0, 0.0, 0.0);
     let mut warm: Option<WarmStart> = start.cloned();
     let last = shapes.len() - 1;
     for (k, &(nx, ny)) in shapes.iter().enumerate() {
@@ -184,6 +184,7 @@ where
         let weight = (nx * ny) as f64 / fine_cells;
         scaled.0 += weight * info.matvecs as f64;
         scaled.1 += weight * info.preconditioner_applications as f64;
+        scaled.2 += weight * info.exact_matvecs as f64;
         levels.push(LevelInfo {
             nx,
             ny,
@@ -196,6 +197,7 @@ where
             let info = SolveInfo {
                 matvecs: scaled.0.ceil() as usize,
                 preconditioner_applications: scaled.1.ceil() as usize,
+                exact_matvecs: scaled.2.ceil() as usize,
                 levels,
                 ..info
             };

@@ -110,6 +110,7 @@ pub fn solve_full_contact<B: Backend>(
             iterations: 1,
             matvecs,
             preconditioner_applications: 0,
+            exact_matvecs: 0,
             levels: Vec::new(),
             residual,
             load_error,

@@ -105,6 +105,10 @@ pub struct SolveInfo {
     /// ([`solve_cascade`]) the fine-grid equivalent (an application on a
     /// grid of a quarter of the cells counts 1/4), rounded up.
     pub matvecs: usize,
+    /// Of `matvecs`, the f64 products of the GMRES restarts of mixed
+    /// precision (iterative refinement, [`Backend::refines`]; 0 in f64),
+    /// counted like `matvecs`.
+    pub exact_matvecs: usize,
     /// Applications of the preconditioner (an approximate inverse of the
     /// operator, [`Backend::precondition`]), counted like `matvecs`.
     pub preconditioner_applications: usize,
