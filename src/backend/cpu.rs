@@ -1,5 +1,8 @@
 //! CPU executor: f64 vectors, rayon-parallel kernels, the operator applied by
-//! [`crate::operator::GridOperator`] (FFT or dense). This is the reference
+//! [`crate::operator::GridOperator`] (FFT or dense). With an operator whose
+//! transforms run in f32 the Krylov products and the preconditioner are
+//! f32 and [`Backend::apply`] is the operator's f64 product (mixed
+//! precision, [`Backend::refines`]). This is the reference
 //! path; the GPU executor implements the same [`Backend`] trait.
 
 use rayon::prelude::*;
@@ -72,7 +75,11 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
     }
 
     fn apply(&mut self, x: &Vec<f64>, y: &mut Vec<f64>) {
-        self.op.apply(x, y);
+        self.op.apply_exact(x, y);
+    }
+
+    fn refines(&self) -> bool {
+        self.op.epsilon() > f64::EPSILON
     }
 
     fn has_preconditioner(&self) -> bool {

@@ -36,9 +36,19 @@ pub trait Backend {
     fn download(&mut self, src: &Self::Vector, host: &mut [f64]);
     /// `dst = src`.
     fn copy(&mut self, src: &Self::Vector, dst: &mut Self::Vector);
-    /// `y = L x` on grid vectors, the influence operator (paper Eq. 7).
+    /// `y = L x` on grid vectors, the influence operator (paper Eq. 7), to
+    /// the rounding of the vectors ([`Backend::epsilon`]).
     fn apply(&mut self, x: &Self::Vector, y: &mut Self::Vector);
-    /// `short = (L x)[index]`: the operator's rows on a contact set only.
+    /// Whether the Krylov products ([`Backend::apply_rows`]) and the
+    /// preconditioner run in a lower precision than [`Backend::apply`]
+    /// (mixed precision, physics.md section 13): the solver then computes
+    /// the residual of every GMRES restart with [`Backend::apply`]
+    /// (iterative refinement). Default: no.
+    fn refines(&self) -> bool {
+        false
+    }
+    /// `short = (L x)[index]`: the operator's rows on a contact set only, in
+    /// the working precision of the Krylov solves ([`Backend::refines`]).
     /// The default applies `L` on the whole grid into `full` and gathers;
     /// executors whose cost scales with the rows evaluated override it
     /// (`full` is then left unspecified).

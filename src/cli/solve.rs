@@ -100,6 +100,19 @@ pub fn run(args: SolveArgs) -> Result<()> {
         solution.info.residual,
         solution.timings.total_s
     );
+    if let Some(r) = &solution.gpu_refinement {
+        println!(
+            "stages: device (f32) {} iterations, {} matvecs, residual {:.2e}, {:.2} s; host refinement (f64) {} iterations, {} matvecs, residual {:.2e}, {:.2} s",
+            r.device.iterations,
+            r.device.matvecs,
+            r.device.residual,
+            r.device.time_s,
+            r.host.iterations,
+            r.host.matvecs,
+            r.host.residual,
+            r.host.time_s
+        );
+    }
     match &solution.persson {
         Ok(p) => println!(
             "Persson's theory at this speed and {:.4e} Pa: friction coefficient {:.6e}, contact area fraction {:.5} ({} PSD)",

@@ -23,7 +23,7 @@ pub use analysis::AnalysisConfig;
 pub use layer::{LayerBase, LayerConfig};
 pub use loading::{LoadingConfig, Sliding, XiScale};
 pub use material::{MaterialConfig, MaterialModel};
-pub use solver::{AdaptiveConfig, Formulation, MeshKind, SolverConfig};
+pub use solver::{AdaptiveConfig, Formulation, MeshKind, Precision, SolverConfig};
 pub use surface::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceConfig};
 pub use sweep::SweepConfig;
 

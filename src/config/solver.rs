@@ -15,6 +15,30 @@ pub enum Formulation {
     Periodic,
 }
 
+/// Arithmetic of the contact iteration (physics.md section 13).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Precision {
+    /// Every product and vector in f64.
+    #[default]
+    F64,
+    /// Spectra, FFT buffers and the preconditioner in f32 for the Krylov
+    /// products; the residual of every GMRES restart, the gap, the contact
+    /// decisions and the load balance in f64 (GMRES-IR): the f64 answer of
+    /// the operator with its spectrum rounded to f32 (about 1e-7 relative).
+    Mixed,
+}
+
+impl Precision {
+    /// The name used in configurations and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::F64 => "f64",
+            Self::Mixed => "mixed",
+        }
+    }
+}
+
 /// `[solver]`: iteration controls.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
@@ -39,6 +63,15 @@ pub struct SolverConfig {
     /// Grids of the coarse-to-fine cascade at most, the fine one included
     /// (default 8; 1: solve on the fine grid only; uniform CPU grids).
     pub cascade_levels: Option<usize>,
+    /// `"f64"` (default) or `"mixed"`: f32 spectra and transforms for the
+    /// Krylov products with f64 refinement (uniform and periodic CPU grids;
+    /// physics.md section 13).
+    pub precision: Option<Precision>,
+    /// Refine a uniform-grid GPU solve (f32 on the device) in f64 on the
+    /// host from the device's answer, so that it meets the tolerance like
+    /// the CPU path (default true; false: the device's f32 answer, residual
+    /// about 1e-5 to 1e-4).
+    pub gpu_refine: Option<bool>,
 }
 
 /// The mesh the non-periodic problem is solved on.

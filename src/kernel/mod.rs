@@ -31,6 +31,8 @@ pub mod quad;
 mod table;
 pub mod thickness;
 mod thin;
+mod thin_cross;
+mod window;
 pub use thin::THIN_RATIO_MIN;
 
 use std::sync::Arc;
@@ -377,7 +379,7 @@ impl SlidingKernel {
 
     /// `Kbar` [m/Pa]: `K` averaged across the target cell's width transverse
     /// to `axis`, at the point `(x, y)`.
-    fn kbar(&self, cell: &Cell, x: f64, y: f64, axis: Axis) -> f64 {
+    pub(super) fn kbar(&self, cell: &Cell, x: f64, y: f64, axis: Axis) -> f64 {
         let (ax, ay) = (cell.love.ax, cell.love.ay);
         if self.out_of_reach(cell, x, y, ax.max(ay)) {
             return 0.0;

@@ -6,15 +6,19 @@
 //! kernel's thin limit, the tables come from the row march
 //! ([`super::march`]): the canonical `+x` problem, mirrored and/or
 //! transposed onto the grid's offsets (with the sign of the derivative
-//! flipped under a mirror). Other directions, derivatives transverse to
-//! `e_v` and thinner layers are evaluated per offset (correct, much slower:
-//! ~20-40 us per offset for `K` on a half-space, ~0.2 ms for `D`).
+//! flipped under a mirror). Layers below that limit (and above the local
+//! limit of [`super::thin`]) evaluate only the offsets within the layer's
+//! reach and carry the rest of each row by its memory terms
+//! ([`super::window`]). Other directions and derivatives transverse to
+//! `e_v` are evaluated per offset (correct, much slower: ~20-40 us per
+//! offset for `K` on a half-space, ~0.2 ms for `D`).
 
 use rayon::prelude::*;
 
 use super::march::canonical;
 use super::progress::Progress;
-use super::{Axis, SlidingKernel};
+use super::window::{windowed, Offsets};
+use super::{Axis, SlidingKernel, ThetaRule};
 
 /// Values for all offsets of an `nx x ny` grid.
 ///
@@ -98,19 +102,23 @@ impl VertexTable {
 /// kernel's thin limit.
 fn march_plan(k: &SlidingKernel, cell: f64) -> Option<(Axis, f64)> {
     // `cell`: the longer side (a panel of the march is at most that long).
+    let thin = match (k.theta(), k.thin_limit()) {
+        (Some(t), Some(limit)) => t.layer.thickness < limit * cell,
+        _ => false,
+    };
+    orientation(k).filter(|_| !thin)
+}
+
+/// The orientation of `e_v` along a grid axis (axis, sign), if it is.
+fn orientation(k: &SlidingKernel) -> Option<(Axis, f64)> {
     let (ex, ey) = k.e;
-    let orient = match (ex, ey) {
+    match (ex, ey) {
         (x, y) if x == 1.0 && y == 0.0 => Some((Axis::X, 1.0)),
         (x, y) if x == -1.0 && y == 0.0 => Some((Axis::X, -1.0)),
         (x, y) if x == 0.0 && y == 1.0 => Some((Axis::Y, 1.0)),
         (x, y) if x == 0.0 && y == -1.0 => Some((Axis::Y, -1.0)),
         _ => None,
-    };
-    let thin = match (k.theta(), k.thin_limit()) {
-        (Some(t), Some(limit)) => t.layer.thickness < limit * cell,
-        _ => false,
-    };
-    orient.filter(|_| !thin)
+    }
 }
 
 /// Offsets of a table: `(i + s) a_x, (j + s) a_y` with `s = 0` (cell centres,
@@ -158,7 +166,24 @@ fn values(
         Some((slide_axis, sign)) if derivative.is_none_or(|d| d == slide_axis) => {
             marched(k, lat, a, derivative.is_some(), slide_axis, sign)
         }
-        _ => per_offset(k, lat, a, derivative),
+        _ => match orientation(k) {
+            // A layer below the march's limit, above the local limit.
+            Some((slide_axis, _))
+                if !force_per_offset
+                    && k.theta().is_some()
+                    && k.theta_rule() == ThetaRule::CellIntegral
+                    && !k.is_thin(a.0, a.1)
+                    && derivative.is_none_or(|d| d == slide_axis) =>
+            {
+                let offsets = Offsets {
+                    first: lat.first(),
+                    width: lat.width(),
+                    shift: lat.shift(),
+                };
+                windowed(k, offsets, a, derivative, slide_axis)
+            }
+            _ => per_offset(k, lat, a, derivative),
+        },
     }
 }
 

@@ -50,7 +50,7 @@ pub(crate) struct ThinProfile {
     /// `t log t` kink), weights, and `1 - F(t)` there.
     nodes: Vec<(f64, f64, f64)>,
     /// Start of the first panel.
-    t_min: f64,
+    pub t_min: f64,
 }
 
 /// Integrals of `Theta` over `[lo, hi]` (16-point Gauss-Legendre on panels
@@ -160,6 +160,14 @@ impl ThinProfile {
     }
 }
 
+impl ThinProfile {
+    /// `sum_n w_n (1 - F(t_n)) g(t_n)`: the integral of `(1 - F) g` over
+    /// `[t_min, R]` (the nodes of the edge profile).
+    pub(crate) fn profile_sum(&self, mut g: impl FnMut(f64) -> f64) -> f64 {
+        self.nodes.iter().map(|&(t, w, f)| w * f * g(t)).sum()
+    }
+}
+
 type ProfileCache = Mutex<Vec<((LayerBase, u64), Arc<ThinProfile>)>>;
 
 /// The profile of `theta`'s (base, nu), computed once per process.
@@ -186,7 +194,7 @@ pub(crate) fn profile(theta: &ThetaTable) -> Arc<ThinProfile> {
 /// Where a point lies against one pair of the source cell's edges at
 /// `+-half`: the value of the smooth step there (1 inside, 0 outside,
 /// 1/2 on an edge), or `None` within the reach of an edge but off it.
-fn step_value(x: f64, half: f64, reach: f64) -> Option<f64> {
+pub(super) fn step_value(x: f64, half: f64, reach: f64) -> Option<f64> {
     let d = half - x.abs();
     if d.abs() <= 1e-9 * half {
         Some(0.5)
@@ -213,7 +221,7 @@ impl SlidingKernel {
 
     /// `(along, across, a_along, a_across)` of the offset `(dx, dy)` in the
     /// frame of `e_v` (along a grid axis; `None` otherwise).
-    fn frame(&self, dx: f64, dy: f64, ax: f64, ay: f64) -> Option<(f64, f64, f64, f64)> {
+    pub(super) fn frame(&self, dx: f64, dy: f64, ax: f64, ay: f64) -> Option<(f64, f64, f64, f64)> {
         match self.e {
             (x, 0.0) if x.abs() == 1.0 => Some((x * dx, dy, ax, ay)),
             (0.0, y) if y.abs() == 1.0 => Some((y * dy, dx, ay, ax)),
@@ -304,7 +312,7 @@ impl SlidingKernel {
 
     /// The cell-averaged derivative along `e_v`'s axis in the local limit:
     /// `Kbar` of the strip (`a_t m0 h - c2 h^2`) and of its two neighbours
-    /// (`c2 h^2 / 2`); NaN for the transverse axis.
+    /// (`c2 h^2 / 2`); the transverse axis by [`super::thin_cross`].
     pub(crate) fn thin_derivative(
         &self,
         p: &ThinProfile,
@@ -319,7 +327,7 @@ impl SlidingKernel {
             _ => Axis::Y,
         };
         if axis != along_axis {
-            return f64::NAN;
+            return self.thin_cross_derivative(p, cell, dx, dy, axis);
         }
         let (ex, ey, a) = match axis {
             Axis::X => (0.5 * ax, 0.0, ax),

@@ -3,87 +3,221 @@
 //! larger: [`super::ToeplitzFft`]; the same size: [`super::SpectralPeriodic`]),
 //! multiplied mode by mode by a fixed spectrum.
 //!
-//! Layout: row r2c transforms (`my / 2 + 1` bins per row), then complex
-//! column FFTs on a column-major copy, the pointwise product and the inverse
-//! column FFTs in the same pass, then c2r on the first `nx` rows only. Rows
-//! of the padding are zero and are neither transformed nor read back. Plans,
-//! the multiplier and every work buffer are built once; `apply` allocates
-//! nothing and runs its transforms with rayon. (The one-shot transforms of
-//! height maps are the surface layer's, `surface/height_fft.rs`.)
+//! Layout: row r2c transforms of the block's `nx` rows (`my / 2 + 1` bins
+//! per row) into the spectrum buffer; then, a few columns at a time, complex
+//! column FFTs of length `mx` (the padding rows are zero and never stored),
+//! the pointwise product and the inverse column FFTs, written back in place;
+//! then c2r of the `nx` rows. The only full-size buffer is the block's
+//! spectrum (`nx (my / 2 + 1)` complex values); rows and column blocks are
+//! transformed in small per-task buffers. Plans, the multiplier and every
+//! buffer are built once; `apply` allocates nothing and runs its transforms
+//! with rayon.
+//!
+//! Precision (physics.md section 13): the multipliers, the transforms and
+//! the spectrum are held in the engine's [`Real`] type, f64 or f32; inputs
+//! and outputs are f64 either way. An f32 engine halves the bytes stored
+//! and moved; its [`SpectralEngine::apply_exact`] repeats the convolution
+//! with f64 transforms (in the same buffer, which is sized for f64) and the
+//! f32 multiplier, for the residuals of iterative refinement.
+//! (The one-shot transforms of height maps are the surface layer's,
+//! `surface/height_fft.rs`.)
 
 use std::sync::Arc;
 
-use num_complex::Complex64;
+use num_complex::{Complex, Complex64};
 use rayon::prelude::*;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
-use rustfft::{Fft, FftPlanner};
+use rustfft::num_traits::NumAssign;
+use rustfft::{Fft, FftNum, FftPlanner};
 
-/// Rows per rayon task when copying into the padded buffer.
-const ROWS_PER_TASK: usize = 16;
+/// Columns transformed together by one task (a contiguous run of bins in
+/// each spectrum row, read and written as a block).
+const COLUMN_BLOCK: usize = 8;
 
-/// `y = F^-1 [m F [x padded]]` restricted to the input block.
-pub(crate) struct SpectralEngine {
+/// The storage precision of a [`SpectralEngine`]: f64 or f32.
+pub trait Real: FftNum + NumAssign + Default + bytemuck::Pod {
+    /// Bytes of one value.
+    const BYTES: usize;
+    /// Relative rounding unit.
+    const ROUNDING: f64;
+    /// `v` rounded to this precision.
+    fn of(v: f64) -> Self;
+    /// The value in f64.
+    fn wide(self) -> f64;
+}
+
+impl Real for f64 {
+    const BYTES: usize = 8;
+    const ROUNDING: f64 = f64::EPSILON;
+    #[inline]
+    fn of(v: f64) -> Self {
+        v
+    }
+    #[inline]
+    fn wide(self) -> f64 {
+        self
+    }
+}
+
+impl Real for f32 {
+    const BYTES: usize = 4;
+    const ROUNDING: f64 = f32::EPSILON as f64;
+    #[inline]
+    fn of(v: f64) -> Self {
+        v as f32
+    }
+    #[inline]
+    fn wide(self) -> f64 {
+        f64::from(self)
+    }
+}
+
+/// The four transforms of one precision.
+struct Plans<U: Real> {
+    r2c: Arc<dyn RealToComplex<U>>,
+    c2r: Arc<dyn ComplexToReal<U>>,
+    fwd: Arc<dyn Fft<U>>,
+    inv: Arc<dyn Fft<U>>,
+}
+
+impl<U: Real> Plans<U> {
+    fn new(mx: usize, my: usize) -> Self {
+        let mut rp = RealFftPlanner::<U>::new();
+        let mut cp = FftPlanner::<U>::new();
+        Self {
+            r2c: rp.plan_fft_forward(my),
+            c2r: rp.plan_fft_inverse(my),
+            fwd: cp.plan_fft_forward(mx),
+            inv: cp.plan_fft_inverse(mx),
+        }
+    }
+
+    fn scratch_len(&self) -> usize {
+        self.r2c
+            .get_scratch_len()
+            .max(self.c2r.get_scratch_len())
+            .max(self.fwd.get_inplace_scratch_len())
+            .max(self.inv.get_inplace_scratch_len())
+            .max(1)
+    }
+}
+
+/// Per-task work space, sized for f64 (an f32 pass uses the front half).
+struct Scratch {
+    fft: Vec<Complex64>,
+    row: Vec<f64>,
+    columns: Vec<Complex64>,
+}
+
+/// A raw view of the spectrum buffer for tasks that write disjoint columns.
+#[derive(Clone, Copy)]
+struct Columns<U>(*mut Complex<U>);
+// SAFETY: each task reads and writes only its own columns.
+unsafe impl<U> Send for Columns<U> {}
+unsafe impl<U> Sync for Columns<U> {}
+
+impl<U> Columns<U> {
+    /// `width` values from `offset`.
+    ///
+    /// # Safety
+    /// In bounds, and no other task touches them while the slice lives.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn run(&self, offset: usize, width: usize) -> &mut [Complex<U>] {
+        std::slice::from_raw_parts_mut(self.0.add(offset), width)
+    }
+}
+
+/// `y = F^-1 [m F [x padded]]` restricted to the input block, the
+/// transforms in precision `T`.
+pub(crate) struct SpectralEngine<T: Real = f64> {
     nx: usize,
     ny: usize,
     mx: usize,
     my: usize,
     /// `my / 2 + 1` complex bins per row after the real transform.
     myh: usize,
-    r2c: Arc<dyn RealToComplex<f64>>,
-    c2r: Arc<dyn ComplexToReal<f64>>,
-    fwd: Arc<dyn Fft<f64>>,
-    inv: Arc<dyn Fft<f64>>,
+    plans: Plans<T>,
+    /// f64 transforms for [`SpectralEngine::apply_exact`] (f32 engines).
+    exact: Option<Plans<f64>>,
     /// Multiplier, column-major (`myh` columns of length `mx`), scaled by
     /// `1 / (mx my)` (the unnormalised inverse transforms).
-    multiplier_t: Vec<Complex64>,
+    multiplier_t: Vec<Complex<T>>,
     /// Optional second multiplier with the same layout and scaling:
     /// the approximate inverse applied by [`SpectralEngine::apply_inverse`].
-    inverse_t: Option<Vec<Complex64>>,
-    rows: Vec<f64>,
+    inverse_t: Option<Vec<Complex<T>>>,
+    /// The block's spectrum, `nx` rows of `myh` bins, sized for f64.
     spec: Vec<Complex64>,
-    spec_t: Vec<Complex64>,
-    pool: Vec<Vec<Complex64>>,
+    pool: Vec<Scratch>,
 }
 
-impl SpectralEngine {
+/// The first `len` values of `buf` viewed as `Complex<U>` (`buf` holds at
+/// least `len` of them).
+fn view<U: Real>(buf: &mut [Complex64], len: usize) -> &mut [Complex<U>] {
+    let all: &mut [Complex<U>] = bytemuck::cast_slice_mut(buf);
+    &mut all[..len]
+}
+
+/// A whole per-task FFT scratch viewed as `Complex<U>`.
+fn scratch_of<U: Real>(buf: &mut [Complex64]) -> &mut [Complex<U>] {
+    bytemuck::cast_slice_mut(buf)
+}
+
+/// The first `len` reals of `buf` viewed as `U`.
+fn view_real<U: Real>(buf: &mut [f64], len: usize) -> &mut [U] {
+    let all: &mut [U] = bytemuck::cast_slice_mut(buf);
+    &mut all[..len]
+}
+
+impl<T: Real> SpectralEngine<T> {
     /// Plans and buffers for an `nx x ny` block in an `mx x my` transform;
     /// the multiplier starts at zero ([`Self::set_multiplier`]).
     pub(crate) fn new(nx: usize, ny: usize, mx: usize, my: usize) -> Self {
         assert!(nx > 0 && ny > 0, "grid must be non-empty");
         assert!(mx >= nx && my >= ny, "the transform must hold the block");
         let myh = my / 2 + 1;
-        let mut rp = RealFftPlanner::<f64>::new();
-        let r2c = rp.plan_fft_forward(my);
-        let c2r = rp.plan_fft_inverse(my);
-        let mut cp = FftPlanner::<f64>::new();
-        let fwd = cp.plan_fft_forward(mx);
-        let inv = cp.plan_fft_inverse(mx);
-        let groups = 4 * rayon::current_num_threads().max(1);
-        let scratch_len = r2c
-            .get_scratch_len()
-            .max(c2r.get_scratch_len())
-            .max(fwd.get_inplace_scratch_len())
-            .max(inv.get_inplace_scratch_len())
-            .max(1);
-        Self {
+        let plans = Plans::<T>::new(mx, my);
+        let mut engine = Self {
             nx,
             ny,
             mx,
             my,
             myh,
-            r2c,
-            c2r,
-            fwd,
-            inv,
-            multiplier_t: vec![Complex64::default(); myh * mx],
+            plans,
+            exact: None,
+            multiplier_t: vec![Complex::<T>::default(); myh * mx],
             inverse_t: None,
-            rows: vec![0.0; mx * my],
-            spec: vec![Complex64::default(); mx * myh],
-            spec_t: vec![Complex64::default(); myh * mx],
-            pool: (0..groups)
-                .map(|_| vec![Complex64::default(); scratch_len])
-                .collect(),
+            spec: vec![Complex64::default(); (nx * myh * T::BYTES).div_ceil(8)],
+            pool: Vec::new(),
+        };
+        engine.size_pool();
+        engine
+    }
+
+    /// Also plan f64 transforms for [`Self::apply_exact`] (the spectrum
+    /// buffer grows to f64 size; an f64 engine has them already).
+    pub(crate) fn with_exact(mut self) -> Self {
+        if T::BYTES < 8 {
+            self.exact = Some(Plans::<f64>::new(self.mx, self.my));
+            self.spec.resize(self.nx * self.myh, Complex64::default());
+            self.size_pool();
         }
+        self
+    }
+
+    fn size_pool(&mut self) {
+        let groups = 4 * rayon::current_num_threads().max(1);
+        let mut fft = self.plans.scratch_len();
+        if let Some(e) = &self.exact {
+            fft = fft.max(e.scratch_len());
+        }
+        let (mx, my) = (self.mx, self.my);
+        self.pool = (0..groups)
+            .map(|_| Scratch {
+                fft: vec![Complex64::default(); fft],
+                row: vec![0.0; my],
+                columns: vec![Complex64::default(); COLUMN_BLOCK * mx],
+            })
+            .collect();
     }
 
     /// Block shape `(nx, ny)`.
@@ -96,51 +230,46 @@ impl SpectralEngine {
         (self.mx, self.my)
     }
 
-    /// The unnormalised half spectrum of a real `mx x my` array (row-major),
-    /// column-major like the multiplier: e.g. a wrapped offset table.
-    pub(crate) fn spectrum_of(&mut self, full: &[f64]) -> Vec<Complex64> {
-        assert_eq!(full.len(), self.mx * self.my, "array of the transform size");
-        self.rows.copy_from_slice(full);
-        self.forward_rows(self.mx);
-        let (mx, myh) = (self.mx, self.myh);
-        let spec = &self.spec;
-        let fwd = &self.fwd;
-        let cols_per = myh.div_ceil(self.pool.len()).max(1);
-        self.spec_t
-            .par_chunks_mut(cols_per * mx)
-            .enumerate()
-            .zip(self.pool.par_iter_mut())
-            .for_each(|((g, cols), scratch)| {
-                for (k, col) in cols.chunks_exact_mut(mx).enumerate() {
-                    let c = g * cols_per + k;
-                    for (r, v) in col.iter_mut().enumerate() {
-                        *v = spec[r * myh + c];
-                    }
-                    fwd.process_with_scratch(col, scratch);
-                }
-            });
-        self.spec_t.clone()
+    /// Bytes held by the multipliers and the spectrum buffer (the per-task
+    /// buffers are a few rows and columns).
+    pub(crate) fn bytes(&self) -> usize {
+        let mult = 2 * T::BYTES * self.multiplier_t.len();
+        mult * (1 + usize::from(self.inverse_t.is_some())) + 16 * self.spec.len()
     }
 
     /// Set the multiplier from its column-major half spectrum (`myh`
-    /// columns of `mx` modes), unnormalised: the engine divides by `mx my`.
-    pub(crate) fn set_multiplier(&mut self, mut multiplier_t: Vec<Complex64>) {
+    /// columns of `mx` modes, [`half_spectrum`]), unnormalised: the engine
+    /// divides by `mx my`, then rounds to its precision.
+    pub(crate) fn set_multiplier(&mut self, multiplier_t: Vec<Complex64>) {
         assert_eq!(multiplier_t.len(), self.myh * self.mx, "one value per mode");
         let scale = 1.0 / (self.mx * self.my) as f64;
-        multiplier_t.par_iter_mut().for_each(|m| *m *= scale);
-        self.multiplier_t = multiplier_t;
+        self.multiplier_t = multiplier_t
+            .par_iter()
+            .map(|m| Complex::new(T::of(m.re * scale), T::of(m.im * scale)))
+            .collect();
     }
 
-    /// Row r2c transforms of the first `count` rows of `rows` into `spec`.
     /// Set the second multiplier to the regularised inverse of the first:
     /// `1 / m` where `|m| > floor max |m|`; `1 / max |m|` where `m = 0` (a
     /// mode the operator does not see, e.g. `q = 0` of the periodic cell:
     /// the stiffness of the longest wave, so that the inverse stays
     /// positive definite); `1 / (floor max |m|)` in the direction of `m` in
-    /// between.
+    /// between ([`inverse_multiplier`], in f64 from the stored multiplier).
     pub(crate) fn set_inverse_multiplier(&mut self, floor: f64) {
         let points = self.mx * self.my;
-        self.inverse_t = Some(inverse_multiplier(&self.multiplier_t, points, floor));
+        let wide: Vec<Complex64> = self
+            .multiplier_t
+            .par_iter()
+            .map(|m| Complex64::new(m.re.wide(), m.im.wide()))
+            .collect();
+        let inverse = inverse_multiplier(&wide, points, floor);
+        drop(wide);
+        self.inverse_t = Some(
+            inverse
+                .par_iter()
+                .map(|m| Complex::new(T::of(m.re), T::of(m.im)))
+                .collect(),
+        );
     }
 
     /// Whether [`SpectralEngine::set_inverse_multiplier`] was called.
@@ -148,123 +277,210 @@ impl SpectralEngine {
         self.inverse_t.is_some()
     }
 
-    fn forward_rows(&mut self, count: usize) {
-        let (my, myh) = (self.my, self.myh);
-        let r2c = &self.r2c;
-        let rows_per = count.div_ceil(self.pool.len()).max(1);
-        self.rows[..count * my]
-            .par_chunks_mut(rows_per * my)
-            .zip(self.spec[..count * myh].par_chunks_mut(rows_per * myh))
-            .zip(self.pool.par_iter_mut())
-            .for_each(|((rin, sout), scratch)| {
-                for (r, s) in rin.chunks_exact_mut(my).zip(sout.chunks_exact_mut(myh)) {
-                    r2c.process_with_scratch(r, s, scratch)
-                        .expect("buffer sizes match the plan");
-                }
-            });
-    }
-
     /// `y = F^-1 [m F [x]]` on the `nx x ny` block (C order).
     pub(crate) fn apply(&mut self, x: &[f64], y: &mut [f64]) {
-        self.convolve(x, y, false);
+        let dims = self.dims();
+        convolve(
+            dims,
+            &self.plans,
+            &self.multiplier_t,
+            &mut self.spec,
+            &mut self.pool,
+            x,
+            y,
+        );
     }
 
     /// `y = F^-1 [m^-1 F [x padded]]` with the inverse multiplier (panics
     /// when none was set).
     pub(crate) fn apply_inverse(&mut self, x: &[f64], y: &mut [f64]) {
-        assert!(self.inverse_t.is_some(), "no inverse multiplier was set");
-        self.convolve(x, y, true);
+        let dims = self.dims();
+        let m = self
+            .inverse_t
+            .as_deref()
+            .expect("no inverse multiplier was set");
+        convolve(dims, &self.plans, m, &mut self.spec, &mut self.pool, x, y);
     }
 
-    fn convolve(&mut self, x: &[f64], y: &mut [f64], inverse: bool) {
-        let (nx, ny, mx, my, myh) = (self.nx, self.ny, self.mx, self.my, self.myh);
-        assert_eq!(x.len(), nx * ny);
-        assert_eq!(y.len(), nx * ny);
-        let groups = self.pool.len();
-        if my == ny {
-            self.rows[..nx * ny].copy_from_slice(x);
-        } else {
-            self.rows[..nx * my]
-                .par_chunks_mut(my)
-                .zip(x.par_chunks(ny))
-                .with_min_len(ROWS_PER_TASK)
-                .for_each(|(r, xr)| {
-                    r[..ny].copy_from_slice(xr);
-                    r[ny..].fill(0.0);
-                });
+    /// [`Self::apply`] with f64 transforms and the stored multiplier: the
+    /// product of the operator this engine holds, to f64 rounding (needs
+    /// [`Self::with_exact`] on an f32 engine).
+    pub(crate) fn apply_exact(&mut self, x: &[f64], y: &mut [f64]) {
+        let dims = self.dims();
+        match &self.exact {
+            Some(plans) => convolve(
+                dims,
+                plans,
+                &self.multiplier_t,
+                &mut self.spec,
+                &mut self.pool,
+                x,
+                y,
+            ),
+            None => {
+                assert_eq!(T::BYTES, 8, "an f32 engine needs with_exact");
+                self.apply(x, y);
+            }
         }
-        self.forward_rows(nx);
-        // Column FFTs (padding rows are zero), multiplier, inverse column FFTs.
-        let spec = &self.spec;
-        let (fwd, inv) = (&self.fwd, &self.inv);
-        let cols_per = myh.div_ceil(groups).max(1);
-        self.spec_t
-            .par_chunks_mut(cols_per * mx)
-            .zip(
-                if inverse {
-                    self.inverse_t.as_deref().expect("checked by the caller")
-                } else {
-                    &self.multiplier_t
-                }
-                .par_chunks(cols_per * mx),
-            )
-            .enumerate()
-            .zip(self.pool.par_iter_mut())
-            .for_each(|((g, (cols, ms)), scratch)| {
-                for (k, (col, m)) in cols
-                    .chunks_exact_mut(mx)
-                    .zip(ms.chunks_exact(mx))
-                    .enumerate()
-                {
-                    let c = g * cols_per + k;
-                    for (r, v) in col[..nx].iter_mut().enumerate() {
-                        *v = spec[r * myh + c];
-                    }
-                    col[nx..].fill(Complex64::default());
-                    fwd.process_with_scratch(col, scratch);
-                    for (v, mv) in col.iter_mut().zip(m) {
-                        *v *= mv;
-                    }
-                    inv.process_with_scratch(col, scratch);
-                }
-            });
-        // Back to rows for the first nx rows only, then c2r.
-        let spec_t = &self.spec_t;
-        let c2r = &self.c2r;
-        let rows_per = nx.div_ceil(groups).max(1);
-        self.spec[..nx * myh]
-            .par_chunks_mut(rows_per * myh)
-            .enumerate()
-            .zip(self.rows[..nx * my].par_chunks_mut(rows_per * my))
-            .zip(self.pool.par_iter_mut())
-            .zip(y.par_chunks_mut(rows_per * ny))
-            .for_each(|((((g, srows), rrows), scratch), yrows)| {
-                for (k, ((s, r), yr)) in srows
-                    .chunks_exact_mut(myh)
-                    .zip(rrows.chunks_exact_mut(my))
-                    .zip(yrows.chunks_exact_mut(ny))
-                    .enumerate()
-                {
-                    let row = g * rows_per + k;
-                    for (c, v) in s.iter_mut().enumerate() {
-                        *v = spec_t[c * mx + row];
-                    }
-                    // The imaginary parts of the DC and Nyquist bins are
-                    // round-off for a real signal; c2r requires them zero.
-                    s[0].im = 0.0;
-                    if my % 2 == 0 {
-                        s[myh - 1].im = 0.0;
-                    }
-                    // Without padding the row is the output row.
-                    let out = if my == ny { &mut *yr } else { &mut *r };
-                    c2r.process_with_scratch(s, out, scratch)
-                        .expect("buffer sizes match the plan");
-                    if my != ny {
-                        yr.copy_from_slice(&r[..ny]);
-                    }
-                }
-            });
     }
+
+    fn dims(&self) -> Dims {
+        Dims {
+            nx: self.nx,
+            ny: self.ny,
+            mx: self.mx,
+            my: self.my,
+            myh: self.myh,
+        }
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Dims {
+    nx: usize,
+    ny: usize,
+    mx: usize,
+    my: usize,
+    myh: usize,
+}
+
+/// `y = F^-1 [m F [x padded]]` with the transforms of precision `U` and a
+/// multiplier of precision `T` (widened or rounded to `U` per mode).
+fn convolve<U: Real, T: Real>(
+    d: Dims,
+    plans: &Plans<U>,
+    multiplier_t: &[Complex<T>],
+    spec_buf: &mut [Complex64],
+    pool: &mut [Scratch],
+    x: &[f64],
+    y: &mut [f64],
+) {
+    let Dims {
+        nx,
+        ny,
+        mx,
+        my,
+        myh,
+    } = d;
+    assert_eq!(x.len(), nx * ny);
+    assert_eq!(y.len(), nx * ny);
+    let groups = pool.len();
+    let spec = view::<U>(spec_buf, nx * myh);
+    // Rows: pad, r2c.
+    let rows_per = nx.div_ceil(groups).max(1);
+    let r2c = &plans.r2c;
+    spec.par_chunks_mut(rows_per * myh)
+        .zip(x.par_chunks(rows_per * ny))
+        .zip(pool.par_iter_mut())
+        .for_each(|((srows, xrows), s)| {
+            let row = view_real::<U>(&mut s.row, my);
+            let scratch = scratch_of::<U>(&mut s.fft);
+            for (sr, xr) in srows.chunks_exact_mut(myh).zip(xrows.chunks_exact(ny)) {
+                for (r, &v) in row.iter_mut().zip(xr) {
+                    *r = U::of(v);
+                }
+                row[ny..].fill(U::zero());
+                r2c.process_with_scratch(row, sr, scratch)
+                    .expect("buffer sizes match the plan");
+            }
+        });
+    // Columns: a block at a time, padded to mx, transformed, multiplied,
+    // transformed back, and written over the first nx rows.
+    let cols_per = myh.div_ceil(groups).max(1);
+    let (fwd, inv) = (&plans.fwd, &plans.inv);
+    let base = Columns(spec.as_mut_ptr());
+    pool.par_iter_mut().enumerate().for_each(|(g, s)| {
+        let (c0, c1) = (g * cols_per, ((g + 1) * cols_per).min(myh));
+        let columns = view::<U>(&mut s.columns, COLUMN_BLOCK * mx);
+        let scratch = scratch_of::<U>(&mut s.fft);
+        let mut c = c0;
+        while c < c1 {
+            let width = COLUMN_BLOCK.min(c1 - c);
+            for r in 0..nx {
+                // SAFETY: columns c..c + width of row r belong to this task.
+                let src = unsafe { base.run(r * myh + c, width) };
+                for (k, v) in src.iter().enumerate() {
+                    columns[k * mx + r] = *v;
+                }
+            }
+            for (k, col) in columns.chunks_exact_mut(mx).take(width).enumerate() {
+                col[nx..].fill(Complex::default());
+                fwd.process_with_scratch(col, scratch);
+                let m = &multiplier_t[(c + k) * mx..(c + k + 1) * mx];
+                for (v, mv) in col.iter_mut().zip(m) {
+                    *v *= Complex::new(U::of(mv.re.wide()), U::of(mv.im.wide()));
+                }
+                inv.process_with_scratch(col, scratch);
+            }
+            for r in 0..nx {
+                // SAFETY: as above.
+                let dst = unsafe { base.run(r * myh + c, width) };
+                for (k, v) in dst.iter_mut().enumerate() {
+                    *v = columns[k * mx + r];
+                }
+            }
+            c += width;
+        }
+    });
+    // Rows: c2r, the block's columns out.
+    let c2r = &plans.c2r;
+    spec.par_chunks_mut(rows_per * myh)
+        .zip(y.par_chunks_mut(rows_per * ny))
+        .zip(pool.par_iter_mut())
+        .for_each(|((srows, yrows), s)| {
+            let row = view_real::<U>(&mut s.row, my);
+            let scratch = scratch_of::<U>(&mut s.fft);
+            for (sr, yr) in srows.chunks_exact_mut(myh).zip(yrows.chunks_exact_mut(ny)) {
+                // The imaginary parts of the DC and Nyquist bins are
+                // round-off for a real signal; c2r requires them zero.
+                sr[0].im = U::zero();
+                if my % 2 == 0 {
+                    sr[myh - 1].im = U::zero();
+                }
+                c2r.process_with_scratch(sr, row, scratch)
+                    .expect("buffer sizes match the plan");
+                for (o, v) in yr.iter_mut().zip(row.iter()) {
+                    *o = v.wide();
+                }
+            }
+        });
+}
+
+/// The unnormalised half spectrum of a real `mx x my` array (row-major),
+/// in f64, column-major like a multiplier (`my / 2 + 1` columns of `mx`
+/// modes): e.g. a wrapped offset table, or a field whose power is summed.
+pub(crate) fn half_spectrum(full: &[f64], mx: usize, my: usize) -> Vec<Complex64> {
+    assert_eq!(full.len(), mx * my, "array of the transform size");
+    let myh = my / 2 + 1;
+    let plans = Plans::<f64>::new(mx, my);
+    let groups = 4 * rayon::current_num_threads().max(1);
+    let scratch_len = plans.scratch_len();
+    let mut rows = vec![Complex64::default(); mx * myh];
+    let rows_per = mx.div_ceil(groups).max(1);
+    rows.par_chunks_mut(rows_per * myh)
+        .zip(full.par_chunks(rows_per * my))
+        .for_each(|(srows, frows)| {
+            let mut row = vec![0.0; my];
+            let mut scratch = vec![Complex64::default(); scratch_len];
+            for (sr, fr) in srows.chunks_exact_mut(myh).zip(frows.chunks_exact(my)) {
+                row.copy_from_slice(fr);
+                plans
+                    .r2c
+                    .process_with_scratch(&mut row, sr, &mut scratch)
+                    .expect("buffer sizes match the plan");
+            }
+        });
+    let mut out = vec![Complex64::default(); myh * mx];
+    out.par_chunks_mut(mx).enumerate().for_each_init(
+        || vec![Complex64::default(); scratch_len],
+        |scratch, (c, col)| {
+            for (r, v) in col.iter_mut().enumerate() {
+                *v = rows[r * myh + c];
+            }
+            plans.fwd.process_with_scratch(col, scratch);
+        },
+    );
+    out
 }
 
 /// The regularised inverse of a multiplier stored times `1 / points` (the

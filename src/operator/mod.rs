@@ -17,7 +17,8 @@ mod toeplitz;
 
 pub use adaptive::{AdaptiveOperator, LevelTables};
 pub use dense::DenseOperator;
-pub(crate) use fft_convolution::SpectralEngine;
+pub(crate) use fft_convolution::half_spectrum;
+pub use fft_convolution::Real;
 pub(crate) use periodic::{column_weight, multiplier_half_spectrum};
 pub use periodic::{
     periodic_multiplier, periodic_multiplier_cells, PeriodicResponse, SpectralPeriodic,
@@ -28,8 +29,21 @@ pub use toeplitz::{chan_kernel, fast_size, ToeplitzFft, CHAN_FRACTION};
 pub trait GridOperator: Send + Sync {
     /// `(nx, ny)` of the grid.
     fn shape(&self) -> (usize, usize);
-    /// `y = L x`.
+    /// `y = L x`, in the operator's working precision
+    /// ([`GridOperator::epsilon`]).
     fn apply(&mut self, x: &[f64], y: &mut [f64]);
+    /// `y = L x` to f64 rounding, for the outer residuals of iterative
+    /// refinement (physics.md section 13); the default is
+    /// [`GridOperator::apply`], which is exact for f64 operators.
+    fn apply_exact(&mut self, x: &[f64], y: &mut [f64]) {
+        self.apply(x, y);
+    }
+    /// Relative rounding unit of [`GridOperator::apply`] and
+    /// [`GridOperator::precondition`] (`f64::EPSILON` unless the transforms
+    /// run in f32).
+    fn epsilon(&self) -> f64 {
+        f64::EPSILON
+    }
     /// `out[k] = (L x)[rows[k]]`. The default applies `L` on the whole grid
     /// into `scratch` and picks the rows; pairwise operators evaluate only
     /// the rows asked for.

@@ -47,7 +47,7 @@
 use num_complex::Complex64;
 use rayon::prelude::*;
 
-use super::fft_convolution::SpectralEngine;
+use super::fft_convolution::{Real, SpectralEngine};
 use super::GridOperator;
 use crate::kernel::thickness::compliance_ratio;
 use crate::kernel::KernelParams;
@@ -64,9 +64,11 @@ pub enum PeriodicResponse {
     SlidingSlope,
 }
 
-/// Periodic viscoelastic half-space operator applied by real FFTs.
-pub struct SpectralPeriodic {
-    engine: SpectralEngine,
+/// Periodic viscoelastic half-space operator applied by real FFTs, the
+/// transforms in precision `T` (f64, or f32 for the inner solves of mixed
+/// precision).
+pub struct SpectralPeriodic<T: Real = f64> {
+    engine: SpectralEngine<T>,
     /// Diagonal entry of the operator.
     diagonal: f64,
 }
@@ -242,11 +244,27 @@ impl SpectralPeriodic {
         params: &KernelParams,
         response: PeriodicResponse,
     ) -> Self {
+        Self::in_precision(nx, ny, cell, material, params, response)
+    }
+}
+
+impl<T: Real> SpectralPeriodic<T> {
+    /// [`SpectralPeriodic::with_cells`] with transforms and multiplier in
+    /// precision `T` (the multiplier is evaluated in f64, then rounded; the
+    /// diagonal is the f64 one).
+    pub fn in_precision(
+        nx: usize,
+        ny: usize,
+        cell: (f64, f64),
+        material: &Material,
+        params: &KernelParams,
+        response: PeriodicResponse,
+    ) -> Self {
         assert!(nx > 0 && ny > 0, "grid must be non-empty");
         for a in [cell.0, cell.1] {
             assert!(a > 0.0 && a.is_finite(), "cell side must be positive");
         }
-        let mut engine = SpectralEngine::new(nx, ny, nx, ny);
+        let mut engine = SpectralEngine::<T>::new(nx, ny, nx, ny);
         let multiplier_t = multiplier_half_spectrum(material, params, nx, ny, cell, response);
         // Diagonal: (1/N) sum over all modes.
         let diag: f64 = multiplier_t
@@ -277,6 +295,18 @@ impl SpectralPeriodic {
     pub fn with_preconditioner(mut self) -> Self {
         self.engine.set_inverse_multiplier(0.0);
         self
+    }
+
+    /// Also plan f64 transforms for [`GridOperator::apply_exact`]: the
+    /// product with the stored (rounded) multiplier to f64 rounding.
+    pub fn with_exact(mut self) -> Self {
+        self.engine = self.engine.with_exact();
+        self
+    }
+
+    /// Bytes held by the multipliers and the spectrum buffer.
+    pub fn bytes(&self) -> usize {
+        self.engine.bytes()
     }
 }
 
@@ -314,13 +344,21 @@ pub(crate) fn column_weight(j: usize, ny: usize) -> f64 {
     }
 }
 
-impl GridOperator for SpectralPeriodic {
+impl<T: Real> GridOperator for SpectralPeriodic<T> {
     fn shape(&self) -> (usize, usize) {
         self.engine.shape()
     }
 
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
         self.engine.apply(x, y);
+    }
+
+    fn apply_exact(&mut self, x: &[f64], y: &mut [f64]) {
+        self.engine.apply_exact(x, y);
+    }
+
+    fn epsilon(&self) -> f64 {
+        T::ROUNDING
     }
 
     fn has_preconditioner(&self) -> bool {

@@ -17,18 +17,19 @@
 
 use rayon::prelude::*;
 
-use super::fft_convolution::SpectralEngine;
+use super::fft_convolution::{half_spectrum, Real, SpectralEngine};
 use super::{GridOperator, OffsetTable};
 
-/// `u = L p` by padded FFT convolution.
-pub struct ToeplitzFft {
-    engine: SpectralEngine,
+/// `u = L p` by padded FFT convolution, the transforms in precision `T`
+/// (f64, or f32 for the inner solves of mixed precision).
+pub struct ToeplitzFft<T: Real = f64> {
+    engine: SpectralEngine<T>,
     /// First row of T. Chan's optimal circulant ([`chan_kernel`]), kept
     /// until its inverse is first needed (one value per cell).
     chan_kernel: Option<Vec<f64>>,
     /// The `nx x ny` circulant engine holding the inverse of T. Chan's
     /// circulant, built on demand.
-    chan: Option<SpectralEngine>,
+    chan: Option<SpectralEngine<T>>,
     /// Whether [`GridOperator::precondition`] applies the optimal
     /// circulant's inverse (set by [`GridOperator::set_contact_fraction`]).
     use_chan: bool,
@@ -94,8 +95,16 @@ pub fn fast_size(n: usize) -> usize {
 }
 
 impl ToeplitzFft {
-    /// Plan the transforms and transform the kernel once.
+    /// Plan the transforms and transform the kernel once (f64).
     pub fn new(table: OffsetTable<'_>) -> Self {
+        Self::in_precision(table)
+    }
+}
+
+impl<T: Real> ToeplitzFft<T> {
+    /// [`ToeplitzFft::new`] with transforms and spectra in precision `T`
+    /// (the kernel spectrum is computed in f64, then rounded).
+    pub fn in_precision(table: OffsetTable<'_>) -> Self {
         table.check();
         let (nx, ny) = (table.nx, table.ny);
         let (mx, my) = (fast_size(2 * nx - 1), fast_size(2 * ny - 1));
@@ -109,7 +118,8 @@ impl ToeplitzFft {
                 wrapped[r * my + c] = table.get(di, dj);
             }
         }
-        let spectrum = engine.spectrum_of(&wrapped);
+        let spectrum = half_spectrum(&wrapped, mx, my);
+        drop(wrapped);
         engine.set_multiplier(spectrum);
         Self {
             engine,
@@ -132,19 +142,41 @@ impl ToeplitzFft {
         self
     }
 
+    /// Also plan f64 transforms for [`GridOperator::apply_exact`]: the
+    /// product with the stored (rounded) spectrum to f64 rounding.
+    pub fn with_exact(mut self) -> Self {
+        self.engine = self.engine.with_exact();
+        self
+    }
+
     /// Padded transform sizes `(mx, my)`.
     pub fn padded_shape(&self) -> (usize, usize) {
         self.engine.padded_shape()
     }
+
+    /// Bytes held by the spectra and the spectrum buffers.
+    pub fn bytes(&self) -> usize {
+        self.engine.bytes()
+            + self.chan.as_ref().map_or(0, SpectralEngine::bytes)
+            + 8 * self.chan_kernel.as_ref().map_or(0, Vec::len)
+    }
 }
 
-impl GridOperator for ToeplitzFft {
+impl<T: Real> GridOperator for ToeplitzFft<T> {
     fn shape(&self) -> (usize, usize) {
         self.engine.shape()
     }
 
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
         self.engine.apply(x, y);
+    }
+
+    fn apply_exact(&mut self, x: &[f64], y: &mut [f64]) {
+        self.engine.apply_exact(x, y);
+    }
+
+    fn epsilon(&self) -> f64 {
+        T::ROUNDING
     }
 
     fn has_preconditioner(&self) -> bool {
@@ -156,8 +188,8 @@ impl GridOperator for ToeplitzFft {
         if self.use_chan && self.chan.is_none() {
             let kernel = self.chan_kernel.take().expect("kept by new");
             let (nx, ny) = self.engine.shape();
-            let mut chan = SpectralEngine::new(nx, ny, nx, ny);
-            let spectrum = chan.spectrum_of(&kernel);
+            let mut chan = SpectralEngine::<T>::new(nx, ny, nx, ny);
+            let spectrum = half_spectrum(&kernel, nx, ny);
             chan.set_multiplier(spectrum);
             chan.set_inverse_multiplier(1e-6);
             self.chan = Some(chan);

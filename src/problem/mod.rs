@@ -11,6 +11,7 @@
 //! - [`solve`]: the one path through a solve: the operator chosen by
 //!   formulation x mesh, the executor by backend, one call of the iteration.
 //! - [`adaptive`]: the solve-certify-refine loop of the adaptive mesh.
+//! - [`gpu_refine`]: the host f64 refinement of a uniform-grid GPU solve.
 //! - [`solution`]: the result, its summary, analysis and files.
 //! - [`warnings`]: what a solution says about its own validity.
 //! - [`persson`]: Persson's theory for a configuration or a problem, the
@@ -26,6 +27,7 @@ pub mod adaptive;
 mod cascade;
 pub mod executor;
 mod friction;
+pub mod gpu_refine;
 pub mod persson;
 pub mod resolution;
 pub mod setup;
@@ -90,6 +92,9 @@ pub struct Problem {
     pub direction_rad: f64,
     pub layer: Option<Layer>,
     pub params: SolverParams,
+    /// Refine a uniform-grid GPU solve (f32) in f64 on the host
+    /// ([`gpu_refine`]; default true, `[solver] gpu_refine`).
+    pub gpu_refine: bool,
     pub formulation: Formulation,
     /// Uniform grid or adaptive quadtree (non-periodic formulation).
     pub mesh: MeshKind,
@@ -123,6 +128,7 @@ impl Problem {
             direction_rad: 0.0,
             layer: None,
             params: SolverParams::default(),
+            gpu_refine: true,
             formulation: Formulation::default(),
             mesh: MeshKind::default(),
             adaptive: AdaptiveParams::default(),

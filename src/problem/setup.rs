@@ -102,6 +102,7 @@ impl Problem {
             restart: sc.restart.unwrap_or(defaults.restart),
             precondition: sc.precondition.unwrap_or(defaults.precondition),
             cascade_levels: sc.cascade_levels.unwrap_or(defaults.cascade_levels),
+            precision: sc.precision.unwrap_or(defaults.precision),
         };
         for (key, value, what) in [
             (
@@ -131,6 +132,7 @@ impl Problem {
                 "[solver] cascade_levels must be at least 1 (1: the fine grid only)",
             ));
         }
+        self.gpu_refine = sc.gpu_refine.unwrap_or(true);
         self.formulation = sc.formulation.unwrap_or_default();
         self.mesh = sc.mesh.unwrap_or_default();
         let ad = AdaptiveParams::default();

@@ -12,7 +12,7 @@ use serde::Serialize;
 use serde_json::{json, Value};
 
 use crate::analysis::{self, AnalysisInputs, AnalysisParams, AnalysisReport, ContactStatistics};
-use crate::config::{AnalysisConfig, Formulation};
+use crate::config::{AnalysisConfig, Formulation, Precision};
 use crate::error::Result;
 use crate::io::{npy, StagedOutput};
 use crate::material::Material;
@@ -20,6 +20,7 @@ use crate::plot;
 use crate::solver::{ContactSolution, SolveInfo, WarmStart};
 use crate::surface::{Preprocessing, Window};
 
+use super::gpu_refine::GpuRefinement;
 use super::persson::PerssonEstimate;
 use super::{MeshReport, Problem};
 
@@ -47,6 +48,7 @@ struct Record {
     seed: Option<u64>,
     preprocessing: Option<Preprocessing>,
     formulation: Formulation,
+    precision: Precision,
     material: Material,
     document: toml::Table,
     analysis: Option<AnalysisConfig>,
@@ -77,6 +79,9 @@ pub struct Solution {
     /// Persson's theory at the same speed and nominal pressure
     /// ([`Problem::persson_estimate`]), or why it does not apply.
     pub persson: std::result::Result<PerssonEstimate, String>,
+    /// The two stages of a GPU solve refined in f64 on the host
+    /// (`None` for every other path).
+    pub gpu_refinement: Option<GpuRefinement>,
     record: Record,
 }
 
@@ -110,6 +115,7 @@ impl Solution {
             mesh,
             warnings,
             persson,
+            gpu_refinement: None,
             record: Record {
                 nx: problem.surface.nx,
                 ny: problem.surface.ny,
@@ -122,6 +128,7 @@ impl Solution {
                 seed: problem.seed,
                 preprocessing: problem.preprocessing,
                 formulation: problem.formulation,
+                precision: problem.params.precision,
                 material: problem.material.clone(),
                 document: problem.document.clone(),
                 analysis: problem.analysis.clone(),
@@ -298,6 +305,7 @@ impl Solution {
             "persson": persson,
         });
         doc["surface_preprocessing"] = preprocessing;
+        doc["precision"] = json!(r.precision);
         // The isothermal temperature and its WLF shift `a_T` (relative to
         // `T_ref`; mu(v, T) = mu(a_T v, T_ref), physics.md section 12);
         // null for a material without WLF constants.
@@ -312,6 +320,9 @@ impl Solution {
         // The cell side along y beside `cell_size` (along x): rectangular
         // cells (physics.md section 11).
         doc["cell_size_y"] = json!(r.cell_size_y);
+        // The device (f32) and host (f64) stages of a refined GPU solve;
+        // null for every other path.
+        doc["gpu_refinement"] = json!(self.gpu_refinement);
         doc
     }
 

@@ -11,15 +11,17 @@ use std::time::Instant;
 use crate::backend::gpu::engine::Engine;
 use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuLevelTables, GpuOptions};
 use crate::backend::{Backend, CpuBackend};
-use crate::config::{Formulation, MeshKind};
+use crate::config::{Formulation, MeshKind, Precision};
 use crate::error::{Error, Result};
 use crate::kernel::SlidingKernel;
 use crate::operator::{
-    AdaptiveOperator, LevelTables, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
+    AdaptiveOperator, LevelTables, OffsetTable, PeriodicResponse, Real, SpectralPeriodic,
+    ToeplitzFft,
 };
 use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, WarmStart};
 
 use super::adaptive::{solve_adaptive, AdaptiveError, AdaptiveParams, MeshReport};
+use super::gpu_refine::GpuRefinement;
 use super::{invalid, Executor, Problem, Solution, Timings};
 
 /// The operator a problem is solved with: formulation x mesh.
@@ -46,6 +48,8 @@ pub(super) struct Raw {
     pub t_setup: Option<f64>,
     /// Iteration \[s\].
     pub t_iter: f64,
+    /// The stages of a GPU solve refined on the host.
+    pub refinement: Option<GpuRefinement>,
 }
 
 impl Problem {
@@ -92,6 +96,11 @@ impl Problem {
                     self.surface.ny
                 )));
             }
+        }
+        if self.params.precision == Precision::Mixed && kind == Discretisation::Adaptive {
+            return Err(invalid(
+                "[solver] precision = \"mixed\" applies to uniform and periodic grids; the adaptive mesh solves in f64 (use precision = \"f64\" or mesh = \"uniform\")",
+            ));
         }
         let raw = match (kind, executor) {
             (Discretisation::Periodic, Executor::Cpu) => self.periodic_cpu(start, observer)?,
@@ -188,8 +197,22 @@ impl Problem {
         Ok((solution, info, t.elapsed().as_secs_f64()))
     }
 
-    /// Uniform grid on the CPU: the host coefficient table, Toeplitz-FFT.
+    /// Uniform grid on the CPU in the precision of `[solver] precision`.
     fn uniform_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
+        match self.params.precision {
+            Precision::F64 => self.uniform_cpu_in::<f64>(start, observer),
+            Precision::Mixed => self.uniform_cpu_in::<f32>(start, observer),
+        }
+    }
+
+    /// Uniform grid on the CPU: the host coefficient table, Toeplitz-FFT
+    /// with its spectra and transforms in `T` (f32: with f64 products for
+    /// the refinement, [`Backend::refines`]).
+    fn uniform_cpu_in<T: Real>(
+        &self,
+        start: Option<&WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Raw> {
         let t0 = Instant::now();
         let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
@@ -208,10 +231,10 @@ impl Problem {
                 values: &table.values,
             };
             let l00 = tab.get(0, 0);
-            Ok((
-                CpuBackend::new(ToeplitzFft::new(tab).with_preconditioner()),
-                l00,
-            ))
+            let op = ToeplitzFft::<T>::in_precision(tab)
+                .with_preconditioner()
+                .with_exact();
+            Ok((CpuBackend::new(op), l00))
         };
         let (solution, info, t_iter) = if self.cascades(start) {
             self.iterate_cascade(observer, build)?
@@ -228,13 +251,16 @@ impl Problem {
             t_coeff,
             t_setup: Some(t_setup),
             t_iter,
+            refinement: None,
         })
     }
 
     /// Uniform grid on the GPU (f32 on the device): the coefficient table
     /// of a half-space computed on the device (`shaders/coefficients.wgsl`,
     /// about 4e-7 relative to the host table; a finite layer's table on the
-    /// host), its spectrum on the host in f64.
+    /// host), its spectrum on the host in f64; then, unless
+    /// `gpu_refine = false`, the f64 refinement on the host from the
+    /// device's answer ([`super::gpu_refine`]).
     fn uniform_gpu(
         &self,
         ctx: GpuContext,
@@ -294,31 +320,57 @@ impl Problem {
             Ok((backend, l00))
         };
         let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
-        let (solution, info, t_iter) = if self.cascades(start) {
+        let device = if self.cascades(start) {
             self.iterate_cascade(observer, build)?
         } else {
             let (mut backend, l00) = build(nx, ny, cell)?;
             self.iterate_grid(&mut backend, l00, start, observer)?
         };
+        // The f64 refinement on the host (physics.md section 13), unless
+        // the device's f32 answer was asked for.
+        let (solution, info, t_iter, refinement) = if self.gpu_refine {
+            let (s, i, t, r) = self.refine_on_host(device, observer)?;
+            (s, i, t, Some(r))
+        } else {
+            let (s, i, t) = device;
+            (s, i, t, None)
+        };
+        let backend = match refinement {
+            Some(_) => format!("{name}, refined in f64 on the host"),
+            None => name,
+        };
         Ok(Raw {
             solution,
             info,
-            backend: name,
+            backend,
             mesh: None,
             t_coeff,
             t_setup: Some(t_setup),
             t_iter,
+            refinement,
         })
     }
 
     /// A periodic cell solved spectrally (paper Appendix, Eq. A1-A2) on the
     /// CPU: the same iteration on the [`SpectralPeriodic`] operator.
     fn periodic_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
+        match self.params.precision {
+            Precision::F64 => self.periodic_cpu_in::<f64>(start, observer),
+            Precision::Mixed => self.periodic_cpu_in::<f32>(start, observer),
+        }
+    }
+
+    /// [`Problem::periodic_cpu`] with the multiplier and transforms in `T`.
+    fn periodic_cpu_in<T: Real>(
+        &self,
+        start: Option<&WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Raw> {
         let t0 = Instant::now();
         let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let (m, params) = (&self.material, self.kernel_params());
         let build = |nx, ny, cell| {
-            let op = SpectralPeriodic::with_cells(
+            let op = SpectralPeriodic::<T>::in_precision(
                 nx,
                 ny,
                 cell,
@@ -326,7 +378,8 @@ impl Problem {
                 &params,
                 PeriodicResponse::Displacement,
             )
-            .with_preconditioner();
+            .with_preconditioner()
+            .with_exact();
             let l00 = op.self_coefficient();
             Ok((CpuBackend::new(op), l00))
         };
@@ -345,6 +398,7 @@ impl Problem {
             t_coeff: 0.0,
             t_setup: Some(t_setup),
             t_iter,
+            refinement: None,
         })
     }
 
@@ -465,6 +519,7 @@ impl Problem {
             t_coeff,
             t_setup: None,
             t_iter,
+            refinement: None,
         })
     }
 
@@ -488,7 +543,7 @@ impl Problem {
             analysis_s: t_an,
             total_s: total,
         };
-        Ok(Solution::new(
+        let mut solution = Solution::new(
             self,
             raw.solution,
             raw.info,
@@ -499,7 +554,9 @@ impl Problem {
             unknowns,
             raw.mesh,
             warnings,
-        ))
+        );
+        solution.gpu_refinement = raw.refinement;
+        Ok(solution)
     }
 }
 

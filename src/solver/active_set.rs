@@ -81,6 +81,8 @@ pub(crate) struct Bordered<'a, B: Backend> {
     pub(crate) load_scale: f64,
     pub(crate) bordered: bool,
     pub(crate) matvecs: usize,
+    /// Of `matvecs`, the exact (f64) products of mixed precision.
+    pub(crate) exact_matvecs: usize,
     /// `K_II 1` and `1.K_II 1` when preconditioned.
     pub(crate) schur: Option<(B::Vector, f64)>,
     pub(crate) preconditioner_applications: usize,
@@ -108,6 +110,7 @@ impl<'a, B: Backend> Bordered<'a, B> {
             load_scale,
             bordered,
             matvecs: 0,
+            exact_matvecs: 0,
             schur: None,
             preconditioner_applications: 0,
         };
@@ -121,6 +124,17 @@ impl<'a, B: Backend> Bordered<'a, B> {
             op.schur = Some((k1, sigma));
         }
         op
+    }
+
+    /// The approach column and the load row of the bordered product, added
+    /// to `y.v = L_II x_v`.
+    fn border(&self, backend: &mut B, x_v: &B::Vector, x_s: f64, y: &mut AugVec<B::Vector>) {
+        if self.bordered {
+            backend.add_scalar(-self.delta_scale * x_s, &mut y.v);
+            y.s = self.load_scale * backend.sum(x_v);
+        } else {
+            y.s = 0.0;
+        }
     }
 
     /// `y = K_II x` on short vectors.
@@ -137,12 +151,25 @@ impl<B: Backend> AugOperator<B> for Bordered<'_, B> {
         backend.scatter(self.index, x_v, self.full_in);
         backend.apply_rows(self.full_in, self.index, self.full_out, &mut y.v);
         self.matvecs += 1;
-        if self.bordered {
-            backend.add_scalar(-self.delta_scale * x_s, &mut y.v);
-            y.s = self.load_scale * backend.sum(x_v);
-        } else {
-            y.s = 0.0;
+        self.border(backend, x_v, x_s, y);
+    }
+
+    fn apply_exact(
+        &mut self,
+        backend: &mut B,
+        x_v: &B::Vector,
+        x_s: f64,
+        y: &mut AugVec<B::Vector>,
+    ) {
+        if !backend.refines() {
+            return self.apply(backend, x_v, x_s, y);
         }
+        backend.scatter(self.index, x_v, self.full_in);
+        backend.apply(self.full_in, self.full_out);
+        backend.gather(self.index, self.full_out, &mut y.v);
+        self.matvecs += 1;
+        self.exact_matvecs += 1;
+        self.border(backend, x_v, x_s, y);
     }
 
     fn bordered(&self) -> bool {

@@ -4,7 +4,10 @@
 //! dot-product sets and a norm). Vectors may carry one extra host scalar, so
 //! the same routine solves the bordered system of load control. An operator
 //! may supply a right preconditioner `M` (GMRES then runs on `A M` and
-//! minimises the true residual).
+//! minimises the true residual). Where the operator's products run in a
+//! lower precision ([`AugOperator::apply_exact`]) the residual of each
+//! restart is the exact one, so the restarts refine the solution to the
+//! precision of the vectors.
 
 use super::Observer;
 use crate::backend::Backend;
@@ -19,6 +22,18 @@ pub struct AugVec<V> {
 pub trait AugOperator<B: Backend> {
     /// `y = A (x_v, x_s)`.
     fn apply(&mut self, backend: &mut B, x_v: &B::Vector, x_s: f64, y: &mut AugVec<B::Vector>);
+    /// `y = A (x_v, x_s)` to the rounding of the vectors: the residual at
+    /// every restart (iterative refinement where [`AugOperator::apply`]
+    /// runs in a lower precision; default: [`AugOperator::apply`]).
+    fn apply_exact(
+        &mut self,
+        backend: &mut B,
+        x_v: &B::Vector,
+        x_s: f64,
+        y: &mut AugVec<B::Vector>,
+    ) {
+        self.apply(backend, x_v, x_s, y);
+    }
     /// Whether the bordering scalar is an unknown.
     fn bordered(&self) -> bool;
     /// Whether [`AugOperator::precondition`] applies a right preconditioner.
@@ -143,8 +158,11 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
         if observer.cancelled() {
             return stopped;
         }
-        // r0 = rhs - A x, stored in basis[0] (the operator writes into w).
-        op.apply(backend, &x.v, x.s, &mut work.w);
+        // r0 = rhs - A x, stored in basis[0] (the operator writes into w),
+        // with the exact product: in mixed precision each restart is a step
+        // of iterative refinement (GMRES-IR, physics.md section 13), the
+        // cycle a correction computed with the f32 products.
+        op.apply_exact(backend, &x.v, x.s, &mut work.w);
         matvecs += 1;
         backend.copy(&rhs.v, &mut work.basis[0]);
         backend.axpy(-1.0, &work.w.v, &mut work.basis[0]);

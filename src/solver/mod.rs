@@ -52,6 +52,7 @@ pub use cascade::{solve_cascade, CascadeLevel, LevelInfo};
 pub use full_contact::solve_full_contact;
 
 use crate::backend::Backend;
+pub use crate::config::Precision;
 
 /// What is prescribed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -83,6 +84,9 @@ pub struct SolverParams {
     /// for callers that run one ([`cascade::cascade_shapes`]; 1: none).
     /// [`solve_from`] itself solves on one grid.
     pub cascade_levels: usize,
+    /// Precision of the operator the caller builds (the solver follows the
+    /// backend: [`Backend::refines`]).
+    pub precision: Precision,
 }
 
 impl Default for SolverParams {
@@ -94,6 +98,7 @@ impl Default for SolverParams {
             restart: 30,
             precondition: true,
             cascade_levels: 8,
+            precision: Precision::F64,
         }
     }
 }

@@ -34,7 +34,7 @@ use rustfft::FftPlanner;
 use crate::kernel::thickness::compliance_ratio;
 use crate::kernel::{KernelParams, Layer};
 use crate::material::{CreepSpectrum, Material};
-use crate::operator::{column_weight, multiplier_half_spectrum, PeriodicResponse, SpectralEngine};
+use crate::operator::{column_weight, half_spectrum, multiplier_half_spectrum, PeriodicResponse};
 
 /// Alias images summed on each side in each direction.
 const ALIASES: i32 = 3;
@@ -354,8 +354,7 @@ pub fn friction_force_periodic_cells(
     }
     // |P|^2 and column_weight * Re[i q_v m(q)] on the half spectrum, both
     // column-major (`ny / 2 + 1` columns of `nx` modes).
-    let power: Vec<f64> = SpectralEngine::new(nx, ny, nx, ny)
-        .spectrum_of(pressure)
+    let power: Vec<f64> = half_spectrum(pressure, nx, ny)
         .iter()
         .map(|c| c.norm_sqr())
         .collect();

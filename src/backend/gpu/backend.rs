@@ -226,6 +226,13 @@ impl GpuBackend {
         }
     }
 
+    /// Device buffers created by this backend's engine, by array:
+    /// `(label, buffers, bytes)` ([`Engine::allocations`]); after a solve
+    /// the grid vectors' count is the most the iteration held at once.
+    pub fn allocations(&self) -> Vec<(String, usize, u64)> {
+        self.engine.allocations()
+    }
+
     /// The adapter the backend runs on.
     pub fn adapter(&self) -> &super::AdapterSummary {
         &self.engine.ctx.adapter

@@ -180,6 +180,9 @@ pub struct Engine {
     commands: Vec<Command>,
     staging: Option<Buf>,
     next_id: u64,
+    /// Buffers created, by label: count and bytes (the device memory of
+    /// the engine's arrays; [`Engine::allocations`]).
+    allocated: std::collections::BTreeMap<String, (usize, u64)>,
     /// Complex elements of the workgroup block of the shared-memory FFT
     /// kernels (`FFT_SHARED` in `shared/fft_block.wgsl`), from the
     /// device's workgroup storage limit.
@@ -220,6 +223,7 @@ impl Engine {
             binds: HashMap::new(),
             ring,
             stride,
+            allocated: std::collections::BTreeMap::new(),
             staged: Vec::new(),
             commands: Vec::new(),
             staging: None,
@@ -249,9 +253,13 @@ impl Engine {
 
     /// A new labelled buffer (zero-initialised by wgpu).
     pub fn create_buffer(&mut self, label: &str, size: u64, usage: wgpu::BufferUsages) -> Buf {
+        let size = size.max(4).next_multiple_of(4);
+        let entry = self.allocated.entry(label.to_string()).or_default();
+        entry.0 += 1;
+        entry.1 += size;
         let buffer = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
-            size: size.max(4).next_multiple_of(4),
+            size,
             usage,
             mapped_at_creation: false,
         });
@@ -260,6 +268,19 @@ impl Engine {
             id: self.next_id,
             buffer,
         }
+    }
+
+    /// Every buffer this engine created (the parameter ring aside; the
+    /// readback staging buffer at each size it grew to), by label:
+    /// `(label, buffers, bytes)`. Grid vectors are recycled by their pool, not freed, so
+    /// their count is the most held at once; a buffer dropped early (the
+    /// device coefficient table, read back before the operator is built)
+    /// is counted too.
+    pub fn allocations(&self) -> Vec<(String, usize, u64)> {
+        self.allocated
+            .iter()
+            .map(|(label, &(count, bytes))| (label.clone(), count, bytes))
+            .collect()
     }
 
     /// A storage buffer holding `data`.

@@ -1,0 +1,98 @@
+//! The GPU path's host f64 refinement (physics.md section 13): a solve of a
+//! `configs/default.toml`-like problem on the device, refined on the host
+//! from the device's answer, gives the CPU path's f64 answer; with
+//! `solver.gpu_refine = false` it keeps the device's f32 answer. Skips with
+//! a reason without an adapter; fails under `REQUIRE_GPU=1`.
+
+use std::path::Path;
+
+use viscoslide::backend::gpu;
+use viscoslide::problem::{Executor, Problem, Solution};
+use viscoslide::solver::Silent;
+
+/// `configs/default.toml` (32 scales, 8 cells per shortest wavelength at
+/// 256^2) on a 128^2 grid: 16 scales, a few hundred contact cells in many
+/// spots, a few seconds on lavapipe.
+fn problem(extra: &[&str]) -> Problem {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/default.toml");
+    let mut overrides = vec!["surface.generate.n=128".to_string()];
+    overrides.extend(extra.iter().map(|s| s.to_string()));
+    let cfg = viscoslide::config::load(&path, &overrides).expect("config loads");
+    Problem::from_config(&cfg).expect("problem builds")
+}
+
+fn relative(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+fn differing_cells(a: &Solution, b: &Solution) -> usize {
+    a.fields
+        .contact
+        .iter()
+        .zip(&b.fields.contact)
+        .filter(|(x, y)| x != y)
+        .count()
+}
+
+#[test]
+fn refined_gpu_solve_equals_the_cpu_f64_solve() {
+    let Some(ctx) = gpu::context_for_tests() else {
+        return;
+    };
+    let p = problem(&[]);
+    assert!(p.gpu_refine, "the refinement is the GPU path's default");
+    let cpu = p.solve(&Executor::Cpu, &mut Silent).unwrap();
+    let gpu = p.solve(&Executor::Gpu(ctx.clone()), &mut Silent).unwrap();
+    let stages = gpu
+        .gpu_refinement
+        .expect("a refined solve reports its stages");
+    let (mu_c, mu_g) = (cpu.friction_coefficient, gpu.friction_coefficient);
+    let (a_c, a_g) = (
+        cpu.stats.contact_area_fraction,
+        gpu.stats.contact_area_fraction,
+    );
+    println!(
+        "cpu: mu {mu_c:.9e}, area {a_c:.7}, {} matvecs; gpu: mu {mu_g:.9e}, area {a_g:.7}; stages {stages:?}",
+        cpu.info.matvecs
+    );
+    // Both are f64 solves of the same operator to the tolerance 1e-8 (the
+    // host table of the CPU path; the two iterations differ only in their
+    // starts), so the friction agrees far below 1e-7 (measured at 256^2:
+    // 4.5e-11) and the contact sets are the same cells.
+    assert!(relative(mu_g, mu_c) <= 1e-7, "friction {mu_g} vs {mu_c}");
+    assert_eq!(differing_cells(&gpu, &cpu), 0, "contact sets differ");
+    assert!(relative(a_g, a_c) <= 1e-7, "area {a_g} vs {a_c}");
+    // The host stage met the tolerance from the device's start; the
+    // device stage stopped at its f32 floor, above it.
+    assert!(gpu.info.residual <= 1e-8, "{}", gpu.info.residual);
+    assert_eq!(stages.host.residual, gpu.info.residual);
+    assert!(stages.device.residual > 1e-8, "{stages:?}");
+    assert_eq!(
+        gpu.info.matvecs,
+        stages.device.matvecs + stages.host.matvecs,
+        "the report sums both stages"
+    );
+    assert!(gpu.backend.contains("refined in f64 on the host"));
+    let summary = gpu.summary();
+    assert_eq!(
+        summary["gpu_refinement"]["host"]["matvecs"],
+        stages.host.matvecs
+    );
+}
+
+#[test]
+fn unrefined_gpu_solve_keeps_the_device_answer() {
+    let Some(ctx) = gpu::context_for_tests() else {
+        return;
+    };
+    // The option as `--set` gives it (the config path of CLI and Python).
+    let p = problem(&["solver.gpu_refine=false"]);
+    assert!(!p.gpu_refine);
+    let gpu = p.solve(&Executor::Gpu(ctx), &mut Silent).unwrap();
+    assert!(gpu.gpu_refinement.is_none());
+    assert!(gpu.summary()["gpu_refinement"].is_null());
+    assert!(!gpu.backend.contains("refined"));
+    // The f32 iteration stops at its rounding floor, above the requested
+    // 1e-8 (measured 1.3e-5 at 256^2).
+    assert!(gpu.info.residual > 1e-8, "{}", gpu.info.residual);
+}
