@@ -282,7 +282,8 @@ impl SurfaceSource {
 /// buffer (periodic: multiplier and inverse, 8 + 8 in f64, 4 + 4 in mixed
 /// precision, and an 8 B buffer; non-periodic: twice as many modes on the
 /// padded transform, T. Chan's circulant and the coefficient table during
-/// set-up); the iteration's seven f64 grid vectors (56); the heights and
+/// set-up); the iteration's nine f64 grid vectors (72; two of them the
+/// previous iterate of the line search); the heights and
 /// the gap profile (16); and a Krylov basis of `restart + 3` f64 vectors
 /// over a contact set of up to a quarter of the grid (the cascade starts
 /// the fine grid near its final set).
@@ -303,7 +304,7 @@ pub fn memory_estimate(
         (Formulation::NonPeriodic, Precision::Mixed) => 68 + 64,
     };
     let basis = (8 * (restart as u64 + 3)).div_ceil(4);
-    n.saturating_mul(spectra + 56 + 16 + basis)
+    n.saturating_mul(spectra + 72 + 16 + basis)
 }
 
 /// Refuse an `nx x ny` grid whose [`memory_estimate`] exceeds the memory

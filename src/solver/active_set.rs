@@ -4,6 +4,8 @@
 
 use super::gmres::{gmres, AugOperator, AugVec, GmresWork};
 use super::initial_guess::initial_guess;
+use super::inner_mode::InnerMode;
+use super::line_search::{update_set, Previous};
 use super::{
     check_problem, tolerances, ContactSolution, Control, Observer, SolveInfo, SolverError,
     SolverParams, WarmStart, FAST_FALL, FLOOR_TOGGLES, INNER_FLOOR, PRECONDITIONED_BUDGET,
@@ -317,10 +319,12 @@ pub(crate) fn solve_owned<B: Backend>(
     let mut cause = String::new();
     // A preconditioner that does not help (an approximate inverse far from
     // the operator, e.g. the circulant of a layer much thinner than a cell)
-    // is dropped after one inner solve that reaches neither its tolerance
+    // is dropped after an inner solve that reaches neither its tolerance
     // nor its inexact-Newton reduction within PRECONDITIONED_BUDGET
-    // restarts; the iteration goes on without it.
-    let mut precondition = params.precondition;
+    // restarts, and taken up again once plain solves cost more per decade.
+    let mut mode = InnerMode::new(params.precondition && backend.has_preconditioner());
+    // The previous iterate, for the line search along the Newton step.
+    let mut previous = Previous::new(backend, n);
     for iteration in 1..=params.max_iterations {
         if observer.cancelled() {
             return Err(SolverError::Cancelled);
@@ -366,7 +370,7 @@ pub(crate) fn solve_owned<B: Backend>(
             delta_scale,
             load_scale,
             bordered,
-            precondition,
+            mode.precondition(),
         );
         let preconditioned = op.preconditioned();
         let mut budget = params.max_matvecs.saturating_sub(matvecs).max(1);
@@ -394,9 +398,7 @@ pub(crate) fn solve_owned<B: Backend>(
         matvecs += op.matvecs;
         preconditioner_applications += op.preconditioner_applications;
         exact_matvecs += op.exact_matvecs;
-        if preconditioned && !outcome.reached {
-            precondition = false;
-        }
+        mode.record(op.matvecs, outcome.reduction, outcome.reached);
         if bordered {
             delta = p.s * delta_scale;
         }
@@ -405,7 +407,19 @@ pub(crate) fn solve_owned<B: Backend>(
         backend.apply(&p_full, &mut u);
         matvecs += 1;
         backend.gap(&gv, &u, delta, &mut gap);
-        let (r2, p2) = backend.complementarity(&p_full, &gap, stiffness);
+        let merit = backend.complementarity(&p_full, &gap, stiffness);
+        let step = previous.damp(
+            backend,
+            &gv,
+            stiffness,
+            &mut p_full,
+            &mut u,
+            &mut delta,
+            &mut gap,
+            merit,
+            (&mut full_in, &mut full_out),
+        );
+        let (r2, p2) = step.merit;
         residual = if p2 > 0.0 {
             (r2 / p2).sqrt()
         } else {
@@ -421,7 +435,15 @@ pub(crate) fn solve_owned<B: Backend>(
         };
         let previous_residual = history.last().copied().unwrap_or(f64::INFINITY);
         stalled = residual >= previous_residual;
-        let (changes, size) = backend.update_active_set(&p_full, &gap, &mut mask);
+        let (changes, size) = update_set(
+            backend,
+            step.t,
+            &p_full,
+            &gap,
+            stiffness,
+            &mut mask,
+            (&mut full_in, &mut full_out),
+        );
         // A full inner solve that did not help (a stalled residual, or none
         // better than the best so far) or that left the residual above the
         // target on an unchanged set is limited by the inner tolerance:
@@ -469,7 +491,7 @@ pub(crate) fn solve_owned<B: Backend>(
             // The work vectors go before the fields come to the host (on
             // the largest grids each is hundreds of MB), each field's
             // storage as soon as it is copied.
-            drop((work, rhs, full_in, full_out, mask, gv, index));
+            drop((work, rhs, full_in, full_out, mask, gv, index, previous));
             let mut out = |v: B::Vector| {
                 let mut h = vec![0.0; n];
                 backend.download(&v, &mut h);

@@ -63,6 +63,9 @@ pub struct GmresOutcome {
     /// Whether the observer stopped the solve ([`Observer::cancelled`]);
     /// `x` is then a partial update.
     pub cancelled: bool,
+    /// The true residual at the end over the one at the start (0 for a
+    /// zero right-hand side, NaN when cancelled).
+    pub reduction: f64,
 }
 
 /// Work space for [`gmres`]: `restart + 1` basis vectors and scratch.
@@ -134,6 +137,7 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
             converged: true,
             reached: true,
             cancelled: false,
+            reduction: 0.0,
         };
     }
     let mut cs = vec![0.0; m];
@@ -148,6 +152,7 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
         converged: false,
         reached: false,
         cancelled: true,
+        reduction: f64::NAN,
     };
     loop {
         if observer.cancelled() {
@@ -173,6 +178,7 @@ pub fn gmres<B: Backend, A: AugOperator<B>>(
                 converged: rel <= tol,
                 reached: rel <= tol || reduced,
                 cancelled: false,
+                reduction: beta / beta0,
             };
         }
         backend.scale(1.0 / beta, &mut work.basis[0]);

@@ -14,6 +14,11 @@
 //! convergence of this iteration on the viscoelastic operator is demonstrated
 //! by the tests against the dense direct solver.
 //!
+//! The iteration is globalised (module `line_search`): where a full step does not
+//! lower the complementarity merit `|min(p, k gap)|^2`, the step is damped
+//! by backtracking (the undamped iteration cycled near full contact on the
+//! periodic operator far from symmetric, `E_inf / E0 ~ 80`).
+//!
 //! Three things keep the work nearly independent of the grid:
 //! - the inner solves are right-preconditioned, where the backend has one,
 //!   with the restriction to `I` of an approximate inverse of `L` (the
@@ -38,6 +43,8 @@ pub mod cascade;
 mod full_contact;
 mod gmres;
 mod initial_guess;
+mod inner_mode;
+mod line_search;
 pub mod reference;
 
 pub use active_set::solve_from;
@@ -243,9 +250,10 @@ pub(crate) const STAGNATION: f64 = 0.99;
 /// nor completes its inner solve counts towards a stall.
 pub(crate) const STALL_GAIN: f64 = 0.9;
 /// Consecutive such iterations after which the solve stops as stalled
-/// (the iteration cycles: measured on the periodic formulation near full
-/// contact with `E_inf / E0 ~ 80`, residual flat at 0.3-0.4 for 100,000
-/// matvecs).
+/// (before the line search, the undamped iteration cycled on the periodic
+/// formulation near full contact with `E_inf / E0 ~ 80`, residual flat at
+/// 0.3-0.4 for 100,000 matvecs; kept as a guard against cycles it does not
+/// break).
 pub(crate) const STALL_ITERATIONS: usize = 15;
 /// A stall is only declared above this residual (below, the floor logic
 /// of the iteration takes over).
@@ -265,8 +273,8 @@ pub(crate) const STAGNANT_ITERATIONS: usize = 3;
 /// 512^2, 1.3e-4 at 1024^2); above it a stagnant solve is an error.
 pub(crate) const STAGNANT_ACCEPT: f64 = 1e-3;
 /// GMRES restart cycles one preconditioned inner solve may take before the
-/// preconditioner is judged useless and dropped (preconditioned inner solves
-/// on the experiment take one or two cycles).
+/// next solve runs without the preconditioner (preconditioned inner solves
+/// on the experiment take one or two cycles; module `inner_mode`).
 pub(crate) const PRECONDITIONED_BUDGET: usize = 10;
 
 /// `(outer, inner)` tolerances: the requested outer tolerance and
