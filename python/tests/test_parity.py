@@ -32,8 +32,12 @@ def assert_close(a, b, path="summary"):
 
 @pytest.mark.parametrize(
     "overrides",
-    [{}, {"loading.xi": 1e-3, "surface.generate.n": 64, "solver.formulation": "periodic"}],
-    ids=["default", "set"],
+    [
+        {},
+        {"loading.xi": 1e-3, "surface.generate.n": 64, "solver.formulation": "periodic"},
+        {"surface.generate.n": 64, "solver.precision": "mixed"},
+    ],
+    ids=["default", "set", "mixed"],
 )
 def test_solve_config_equals_the_command_line(cli, repo, tmp_path, overrides):
     config = repo / "configs" / "default.toml"
@@ -68,3 +72,20 @@ def test_write_produces_the_command_line_files(repo, tmp_path):
     names = {p.rsplit("/", 1)[-1] for p in written}
     assert {"summary.json", "pressure.npy", "contact.npy", "analysis.json"} <= names
     assert np.array_equal(np.load(tmp_path / "out" / "pressure.npy"), result.pressure)
+
+
+def test_mixed_precision_matches_f64(pad, rubber):
+    """``precision="mixed"`` (f32 Krylov products, f64 refinement) gives the
+    f64 answer of the f32-rounded operator: friction and area within 1e-6
+    (tests/mixed_precision.rs pins the same on more cases), the same contact
+    set, and says so in the summary; a bad name is refused."""
+    kw = dict(xi=1.17e-2, normal_load=0.3, backend="cpu", tolerance=1e-10)
+    f = vs.solve(pad, rubber, **kw)
+    m = vs.solve(pad, rubber, precision="mixed", **kw)
+    assert f.summary["precision"] == "f64" and m.summary["precision"] == "mixed"
+    assert m.summary["exact_matvecs"] > 0 and f.summary["exact_matvecs"] == 0
+    assert math.isclose(m.friction_coefficient, f.friction_coefficient, rel_tol=1e-6)
+    assert math.isclose(m.contact_area_fraction, f.contact_area_fraction, rel_tol=1e-6)
+    assert np.array_equal(m.contact, f.contact)
+    with pytest.raises(ValueError, match="precision"):
+        vs.solve(pad, rubber, precision="f16", **kw)

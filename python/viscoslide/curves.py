@@ -50,6 +50,7 @@ VARY_KEYS = {
     "solver.max_matvecs": "max_matvecs",
     "solver.cascade_levels": "cascade_levels",
     "solver.mesh": "mesh",
+    "solver.precision": "precision",
 }
 
 #: Arguments of ``VARY_KEYS`` that take a number, and a whole number.

@@ -153,6 +153,7 @@ def _solver(
     max_matvecs: Any,
     cascade_levels: Any,
     mesh: Optional[str],
+    precision: Optional[str] = None,
 ) -> Dict[str, Any]:
     if formulation == "auto":
         form = "periodic" if surface.periodic else "non_periodic"
@@ -160,6 +161,8 @@ def _solver(
         form = FORMULATIONS[formulation]
     else:
         raise ValueError(f"formulation {formulation!r}: expected 'auto', 'periodic' or 'nonperiodic'")
+    if precision is not None and precision not in ("f64", "mixed"):
+        raise ValueError(f"precision {precision!r}: expected 'f64' or 'mixed'")
     return _checks.drop_none(
         {
             "formulation": form,
@@ -168,6 +171,7 @@ def _solver(
             "max_matvecs": None if max_matvecs is None else _checks.count("max_matvecs", max_matvecs),
             "cascade_levels": None if cascade_levels is None else _checks.count("cascade_levels", cascade_levels),
             "mesh": mesh,
+            "precision": precision,
         }
     )
 
@@ -192,6 +196,7 @@ def solve(
     max_matvecs: Optional[int] = None,
     cascade_levels: Optional[int] = None,
     mesh: Optional[str] = None,
+    precision: Optional[str] = None,
     progress: Any = None,
     fill_missing: Optional[bool] = None,
     detrend: Optional[str] = None,
@@ -240,6 +245,11 @@ def solve(
         Solver controls (``[solver]`` keys).
     mesh : str, optional
         ``"uniform"`` (default) or ``"adaptive"``.
+    precision : str, optional
+        ``"f64"`` (default) or ``"mixed"``: f32 spectra and transforms for
+        the inner Krylov products with every restart's residual, the gap
+        and the contact decisions in f64 (``[solver] precision``; physics.md
+        section 13); ``summary["precision"]`` states it.
     progress : None, True or callable
         ``True`` shows a tqdm bar; a callable is called after every outer
         iteration with a dict (``iteration``, ``matvecs``, ``residual``,
@@ -270,7 +280,7 @@ def solve(
     if not isinstance(material, Material):
         raise TypeError(f"material must be a viscoslide.Material, got {type(material).__name__}")
     loading = _loading(speed, xi, normal_load, mean_pressure, approach, direction_deg, temperature)
-    solver = _solver(surf, formulation, tolerance, max_iterations, max_matvecs, cascade_levels, mesh)
+    solver = _solver(surf, formulation, tolerance, max_iterations, max_matvecs, cascade_levels, mesh, precision)
     with _progress.iterations(progress) as callback:
         native = _native.solve(
             surf._native,
