@@ -270,12 +270,13 @@ fn sub_cell_layers_are_refused_or_solved_fast() {
 }
 
 /// One of the random valid solves that stalled at residual 0.19 after
-/// 50,002 matvecs (periodic, E_inf / E0 = 83, 85 % contact) now stops as
-/// soon as it has cycled for 15 iterations (12,000 matvecs, ~2 s) and says
-/// why and what to do; the non-periodic formulation it points to converges
-/// (823 matvecs measured).
+/// 50,002 matvecs (periodic, E_inf / E0 = 83, 85 % contact) converges from
+/// the command line since the active-set step is damped by a line search
+/// (2,427 matvecs measured; tests/solver_stalled_cases.rs checks the
+/// answer against an independent full-contact solve), and so does the
+/// non-periodic formulation (823 matvecs measured).
 #[test]
-fn a_stalled_periodic_solve_stops_early_and_explains_itself() {
+fn a_once_stalled_periodic_solve_converges() {
     let tmp = tempfile::tempdir().unwrap();
     let cfg = tmp.path().join("s.toml");
     std::fs::write(
@@ -287,19 +288,15 @@ fn a_stalled_periodic_solve_stops_early_and_explains_itself() {
     .unwrap();
     let t = Instant::now();
     let o = solve(tmp.path(), &cfg, &[]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(
-        err.contains("stalled") && err.contains("formulation = \"non_periodic\""),
-        "{err}"
-    );
-    let matvecs: usize = err
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let matvecs: usize = out
         .split(" matvecs")
         .next()
         .and_then(|s| s.rsplit(' ').next())
         .and_then(|s| s.parse().ok())
         .unwrap();
-    assert!(matvecs < 30_000, "{matvecs}");
+    assert!(matvecs < 5_000, "{matvecs}");
     assert!(t.elapsed().as_secs_f64() < 60.0, "{:?}", t.elapsed());
     let o = solve(tmp.path(), &cfg, &["solver.formulation=\"non_periodic\""]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
