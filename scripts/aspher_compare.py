@@ -67,6 +67,7 @@ poisson = {POISSON}
 [surface]
 file = "{heights}"
 length = {LENGTH!r}
+detrend = "none"   # the generated periodic heights as they are, as ASPHER reads them
 
 [loading]
 mean_pressure = {PRESSURE!r}

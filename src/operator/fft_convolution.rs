@@ -34,7 +34,7 @@ use rustfft::{Fft, FftNum, FftPlanner};
 /// each spectrum row, read and written as a block).
 const COLUMN_BLOCK: usize = 8;
 
-/// The storage precision of a [`SpectralEngine`]: f64 or f32.
+/// The storage precision of the FFT engine's spectra and transforms: f64 or f32.
 pub trait Real: FftNum + NumAssign + Default + bytemuck::Pod {
     /// Bytes of one value.
     const BYTES: usize;
