@@ -1,9 +1,11 @@
 //! Who runs the iteration: the CPU reference path or a GPU device, and the
-//! choice between them for `--backend auto | gpu | cpu`.
+//! choice between them for `--backend auto | gpu | cpu`; the CPU backend of
+//! a uniform grid.
 
 use crate::backend::gpu::{GpuBackend, GpuContext};
-use crate::backend::BackendChoice;
+use crate::backend::{BackendChoice, CpuBackend};
 use crate::error::Result;
+use crate::operator::{OffsetTable, Real, ToeplitzFft};
 
 use super::Problem;
 
@@ -56,4 +58,20 @@ impl Executor {
             },
         })
     }
+}
+
+/// The CPU backend of a uniform `nx x ny` grid from its offset table
+/// (`values` as in [`OffsetTable`]): the Toeplitz-FFT operator with its
+/// preconditioners and exact products in precision `T`, and the self
+/// coefficient `L_00`.
+pub(super) fn toeplitz_backend<T: Real>(
+    nx: usize,
+    ny: usize,
+    values: &[f64],
+) -> (CpuBackend<ToeplitzFft<T>>, f64) {
+    let tab = OffsetTable { nx, ny, values };
+    let op = ToeplitzFft::<T>::in_precision(tab)
+        .with_preconditioner()
+        .with_exact();
+    (CpuBackend::new(op), tab.get(0, 0))
 }

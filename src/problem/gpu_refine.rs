@@ -12,11 +12,10 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::backend::CpuBackend;
 use crate::error::Result;
-use crate::operator::{OffsetTable, ToeplitzFft};
 use crate::solver::{ContactSolution, Observer, SolveInfo, WarmStart};
 
+use super::executor::toeplitz_backend;
 use super::Problem;
 
 /// One stage of a refined GPU solve.
@@ -74,27 +73,13 @@ impl Problem {
         let t = Instant::now();
         let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let table = self.sliding_kernel()?.table_rect(nx, ny, cell.0, cell.1);
-        let tab = OffsetTable {
-            nx,
-            ny,
-            values: &table.values,
-        };
-        let l00 = tab.get(0, 0);
-        let mut backend = CpuBackend::new(ToeplitzFft::new(tab).with_preconditioner());
+        let (mut backend, l00) = toeplitz_backend::<f64>(nx, ny, &table.values);
         let start = WarmStart {
             contact: solution.contact,
             pressure: solution.pressure,
             approach: solution.approach,
         };
-        let g = self.gap_profile();
-        let (refined, host) = self.iterate(
-            &mut backend,
-            &g,
-            l00,
-            self.params.tolerance,
-            Some(&start),
-            observer,
-        )?;
+        let (refined, host, _) = self.iterate_grid(&mut backend, l00, Some(&start), observer)?;
         let t_host = t.elapsed().as_secs_f64();
         let report = GpuRefinement {
             device: StageReport::of(&info, t_device),

@@ -16,11 +16,11 @@ use crate::error::{Error, Result};
 use crate::kernel::SlidingKernel;
 use crate::operator::{
     AdaptiveOperator, LevelTables, OffsetTable, PeriodicResponse, Real, SpectralPeriodic,
-    ToeplitzFft,
 };
 use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, WarmStart};
 
 use super::adaptive::{solve_adaptive, AdaptiveError, AdaptiveParams, MeshReport};
+use super::executor::toeplitz_backend;
 use super::gpu_refine::GpuRefinement;
 use super::{invalid, Executor, Problem, Solution, Timings};
 
@@ -183,7 +183,7 @@ impl Problem {
 
     /// [`Problem::iterate`] over the whole grid at the problem's tolerance,
     /// timed.
-    fn iterate_grid<B: Backend>(
+    pub(super) fn iterate_grid<B: Backend>(
         &self,
         backend: &mut B,
         l00: f64,
@@ -225,16 +225,7 @@ impl Problem {
                 Some(t) if t.nx == nx && t.ny == ny => t,
                 _ => kernel.table_rect(nx, ny, ax, ay),
             };
-            let tab = OffsetTable {
-                nx,
-                ny,
-                values: &table.values,
-            };
-            let l00 = tab.get(0, 0);
-            let op = ToeplitzFft::<T>::in_precision(tab)
-                .with_preconditioner()
-                .with_exact();
-            Ok((CpuBackend::new(op), l00))
+            Ok(toeplitz_backend::<T>(nx, ny, &table.values))
         };
         let (solution, info, t_iter) = if self.cascades(start) {
             self.iterate_cascade(observer, build)?
