@@ -27,50 +27,14 @@ use std::sync::Arc;
 use num_complex::{Complex, Complex64};
 use rayon::prelude::*;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
-use rustfft::num_traits::NumAssign;
-use rustfft::{Fft, FftNum, FftPlanner};
+use rustfft::{Fft, FftPlanner};
+
+use super::field::{Field, FieldMut};
+pub use super::real::Real;
 
 /// Columns transformed together by one task (a contiguous run of bins in
 /// each spectrum row, read and written as a block).
 const COLUMN_BLOCK: usize = 8;
-
-/// The storage precision of the FFT engine's spectra and transforms: f64 or f32.
-pub trait Real: FftNum + NumAssign + Default + bytemuck::Pod {
-    /// Bytes of one value.
-    const BYTES: usize;
-    /// Relative rounding unit.
-    const ROUNDING: f64;
-    /// `v` rounded to this precision.
-    fn of(v: f64) -> Self;
-    /// The value in f64.
-    fn wide(self) -> f64;
-}
-
-impl Real for f64 {
-    const BYTES: usize = 8;
-    const ROUNDING: f64 = f64::EPSILON;
-    #[inline]
-    fn of(v: f64) -> Self {
-        v
-    }
-    #[inline]
-    fn wide(self) -> f64 {
-        self
-    }
-}
-
-impl Real for f32 {
-    const BYTES: usize = 4;
-    const ROUNDING: f64 = f32::EPSILON as f64;
-    #[inline]
-    fn of(v: f64) -> Self {
-        v as f32
-    }
-    #[inline]
-    fn wide(self) -> f64 {
-        f64::from(self)
-    }
-}
 
 /// The four transforms of one precision.
 struct Plans<U: Real> {
@@ -125,6 +89,17 @@ impl<U> Columns<U> {
     unsafe fn run(&self, offset: usize, width: usize) -> &mut [Complex<U>] {
         std::slice::from_raw_parts_mut(self.0.add(offset), width)
     }
+}
+
+/// Which of a [`SpectralEngine`]'s products.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Product {
+    /// The multiplier, transforms in the engine's precision.
+    Working,
+    /// The inverse multiplier ([`SpectralEngine::set_inverse_multiplier`]).
+    Inverse,
+    /// The multiplier, transforms in f64 ([`SpectralEngine::with_exact`]).
+    Exact,
 }
 
 /// `y = F^-1 [m F [x padded]]` restricted to the input block, the
@@ -279,48 +254,45 @@ impl<T: Real> SpectralEngine<T> {
 
     /// `y = F^-1 [m F [x]]` on the `nx x ny` block (C order).
     pub(crate) fn apply(&mut self, x: &[f64], y: &mut [f64]) {
-        let dims = self.dims();
-        convolve(
-            dims,
-            &self.plans,
-            &self.multiplier_t,
-            &mut self.spec,
-            &mut self.pool,
-            x,
-            y,
-        );
+        self.product(Product::Working, Field::Grid(x), FieldMut::Grid(y));
     }
 
     /// `y = F^-1 [m^-1 F [x padded]]` with the inverse multiplier (panics
     /// when none was set).
     pub(crate) fn apply_inverse(&mut self, x: &[f64], y: &mut [f64]) {
-        let dims = self.dims();
-        let m = self
-            .inverse_t
-            .as_deref()
-            .expect("no inverse multiplier was set");
-        convolve(dims, &self.plans, m, &mut self.spec, &mut self.pool, x, y);
+        self.product(Product::Inverse, Field::Grid(x), FieldMut::Grid(y));
     }
 
     /// [`Self::apply`] with f64 transforms and the stored multiplier: the
     /// product of the operator this engine holds, to f64 rounding (needs
     /// [`Self::with_exact`] on an f32 engine).
     pub(crate) fn apply_exact(&mut self, x: &[f64], y: &mut [f64]) {
+        self.product(Product::Exact, Field::Grid(x), FieldMut::Grid(y));
+    }
+
+    /// One of the engine's products between fields on the whole block or
+    /// on sets of its cells ([`Field`]).
+    pub(crate) fn product(&mut self, which: Product, x: Field<'_>, y: FieldMut<'_>) {
         let dims = self.dims();
-        match &self.exact {
-            Some(plans) => convolve(
-                dims,
-                plans,
-                &self.multiplier_t,
-                &mut self.spec,
-                &mut self.pool,
-                x,
-                y,
-            ),
-            None => {
-                assert_eq!(T::BYTES, 8, "an f32 engine needs with_exact");
-                self.apply(x, y);
+        let (spec, pool) = (&mut self.spec, &mut self.pool);
+        match which {
+            Product::Working => {
+                convolve(dims, &self.plans, &self.multiplier_t, spec, pool, x, y);
             }
+            Product::Inverse => {
+                let m = self
+                    .inverse_t
+                    .as_deref()
+                    .expect("no inverse multiplier was set");
+                convolve(dims, &self.plans, m, spec, pool, x, y);
+            }
+            Product::Exact => match &self.exact {
+                Some(plans) => convolve(dims, plans, &self.multiplier_t, spec, pool, x, y),
+                None => {
+                    assert_eq!(T::BYTES, 8, "an f32 engine needs with_exact");
+                    convolve(dims, &self.plans, &self.multiplier_t, spec, pool, x, y);
+                }
+            },
         }
     }
 
@@ -345,15 +317,18 @@ struct Dims {
 }
 
 /// `y = F^-1 [m F [x padded]]` with the transforms of precision `U` and a
-/// multiplier of precision `T` (widened or rounded to `U` per mode).
+/// multiplier of precision `T` (widened or rounded to `U` per mode). A
+/// set's input rows without a listed cell are zero (their transform is
+/// skipped), and only the rows holding an output cell are transformed back.
+#[allow(clippy::too_many_arguments)]
 fn convolve<U: Real, T: Real>(
     d: Dims,
     plans: &Plans<U>,
     multiplier_t: &[Complex<T>],
     spec_buf: &mut [Complex64],
     pool: &mut [Scratch],
-    x: &[f64],
-    y: &mut [f64],
+    x: Field<'_>,
+    y: FieldMut<'_>,
 ) {
     let Dims {
         nx,
@@ -362,26 +337,29 @@ fn convolve<U: Real, T: Real>(
         my,
         myh,
     } = d;
-    assert_eq!(x.len(), nx * ny);
-    assert_eq!(y.len(), nx * ny);
     let groups = pool.len();
     let spec = view::<U>(spec_buf, nx * myh);
     // Rows: pad, r2c.
     let rows_per = nx.div_ceil(groups).max(1);
+    let inputs = x.runs(nx, ny, rows_per);
     let r2c = &plans.r2c;
     spec.par_chunks_mut(rows_per * myh)
-        .zip(x.par_chunks(rows_per * ny))
+        .zip(inputs.into_par_iter())
         .zip(pool.par_iter_mut())
-        .for_each(|((srows, xrows), s)| {
+        .enumerate()
+        .for_each(|(run, ((srows, xrows), s))| {
             let row = view_real::<U>(&mut s.row, my);
             let scratch = scratch_of::<U>(&mut s.fft);
-            for (sr, xr) in srows.chunks_exact_mut(myh).zip(xrows.chunks_exact(ny)) {
-                for (r, &v) in row.iter_mut().zip(xr) {
-                    *r = U::of(v);
+            let first = run * rows_per;
+            let mut cursor = 0;
+            for (k, sr) in srows.chunks_exact_mut(myh).enumerate() {
+                if xrows.fill(first + k, ny, first, &mut cursor, row) {
+                    row[ny..].fill(U::zero());
+                    r2c.process_with_scratch(row, sr, scratch)
+                        .expect("buffer sizes match the plan");
+                } else {
+                    sr.fill(Complex::default());
                 }
-                row[ny..].fill(U::zero());
-                r2c.process_with_scratch(row, sr, scratch)
-                    .expect("buffer sizes match the plan");
             }
         });
     // Columns: a block at a time, padded to mx, transformed, multiplied,
@@ -423,14 +401,22 @@ fn convolve<U: Real, T: Real>(
         }
     });
     // Rows: c2r, the block's columns out.
+    let outputs = y.runs(nx, ny, rows_per);
     let c2r = &plans.c2r;
     spec.par_chunks_mut(rows_per * myh)
-        .zip(y.par_chunks_mut(rows_per * ny))
+        .zip(outputs.into_par_iter())
         .zip(pool.par_iter_mut())
-        .for_each(|((srows, yrows), s)| {
+        .enumerate()
+        .for_each(|(run, ((srows, mut yrows), s))| {
             let row = view_real::<U>(&mut s.row, my);
             let scratch = scratch_of::<U>(&mut s.fft);
-            for (sr, yr) in srows.chunks_exact_mut(myh).zip(yrows.chunks_exact_mut(ny)) {
+            let first = run * rows_per;
+            let mut cursor = 0;
+            for (k, sr) in srows.chunks_exact_mut(myh).enumerate() {
+                let r = first + k;
+                if !yrows.wants(r, ny, cursor) {
+                    continue;
+                }
                 // The imaginary parts of the DC and Nyquist bins are
                 // round-off for a real signal; c2r requires them zero.
                 sr[0].im = U::zero();
@@ -439,9 +425,7 @@ fn convolve<U: Real, T: Real>(
                 }
                 c2r.process_with_scratch(sr, row, scratch)
                     .expect("buffer sizes match the plan");
-                for (o, v) in yr.iter_mut().zip(row.iter()) {
-                    *o = v.wide();
-                }
+                yrows.store(r, ny, first, &mut cursor, row);
             }
         });
 }

@@ -11,6 +11,8 @@
 mod adaptive;
 mod dense;
 mod fft_convolution;
+mod field;
+mod real;
 pub(crate) use fft_convolution::inverse_multiplier;
 mod periodic;
 mod toeplitz;
@@ -53,6 +55,40 @@ pub trait GridOperator: Send + Sync {
             *o = scratch[r];
         }
     }
+    /// `out = (L x)[cells]` for `x` zero off `cells` (`x[k]` on
+    /// `cells[k]`, sorted), in the working precision. The default scatters
+    /// into grid-size work vectors of `work`; operators that transform row
+    /// by row read and write the set's values directly ([`field`]).
+    fn apply_set(&mut self, cells: &[usize], x: &[f64], out: &mut [f64], work: &mut GridWork) {
+        let (full, product) = work.scatter(self.shape(), cells, x);
+        self.apply_rows(full, cells, product, out);
+    }
+    /// [`GridOperator::apply_set`] to f64 rounding
+    /// ([`GridOperator::apply_exact`]).
+    fn apply_set_exact(
+        &mut self,
+        cells: &[usize],
+        x: &[f64],
+        out: &mut [f64],
+        work: &mut GridWork,
+    ) {
+        let (full, product) = work.scatter(self.shape(), cells, x);
+        self.apply_exact(full, product);
+        gather(cells, product, out);
+    }
+    /// `out = (K x)[cells]` for `x` zero off `cells`
+    /// ([`GridOperator::precondition`]).
+    fn precondition_set(
+        &mut self,
+        cells: &[usize],
+        x: &[f64],
+        out: &mut [f64],
+        work: &mut GridWork,
+    ) {
+        let (full, product) = work.scatter(self.shape(), cells, x);
+        self.precondition(full, product);
+        gather(cells, product, out);
+    }
     /// Whether [`GridOperator::precondition`] applies an approximate
     /// inverse (default: no).
     fn has_preconditioner(&self) -> bool {
@@ -66,6 +102,42 @@ pub trait GridOperator: Send + Sync {
     /// (the identity unless [`GridOperator::has_preconditioner`]).
     fn precondition(&mut self, x: &[f64], y: &mut [f64]) {
         y.copy_from_slice(x);
+    }
+}
+
+/// Grid-size work vectors for the set products of operators that need the
+/// whole field ([`GridOperator::apply_set`]'s default): allocated at the
+/// first such product, never by the FFT operators.
+#[derive(Debug, Default)]
+pub struct GridWork {
+    full: Vec<f64>,
+    product: Vec<f64>,
+}
+
+impl GridWork {
+    /// The set's values scattered into a zeroed grid vector of `shape`, and
+    /// a second grid vector for the product.
+    fn scatter(
+        &mut self,
+        shape: (usize, usize),
+        cells: &[usize],
+        x: &[f64],
+    ) -> (&mut [f64], &mut [f64]) {
+        let n = shape.0 * shape.1;
+        self.full.clear();
+        self.full.resize(n, 0.0);
+        self.product.resize(n, 0.0);
+        for (&c, &v) in cells.iter().zip(x) {
+            self.full[c] = v;
+        }
+        (&mut self.full, &mut self.product)
+    }
+}
+
+/// `out[k] = full[cells[k]]`.
+fn gather(cells: &[usize], full: &[f64], out: &mut [f64]) {
+    for (o, &c) in out.iter_mut().zip(cells) {
+        *o = full[c];
     }
 }
 
