@@ -138,9 +138,10 @@ fn vector_kernels_match_cpu_twins() {
         .iter()
         .map(|&u| if u < 0.3 { 1.0 } else { 0.0 })
         .collect();
-    let gm = up(&mut g, &mask);
+    let gm = g.mask_from(&mask);
     let gi = g.index_of(&gm);
-    let ci = c.index_of(&mask);
+    let cmask0 = c.mask_from(&mask);
+    let ci = c.index_of(&cmask0);
     assert_eq!(g.index_len(&gi), ci.len());
     let m = ci.len();
     let mut gs = g.zeros(m);
@@ -177,13 +178,24 @@ fn vector_kernels_match_cpu_twins() {
     let p = f32_round(&random(n, 7, -1e4, 1e5));
     let gp = up(&mut g, &p);
     // Use the device gap on both sides so that signs agree exactly.
-    let mut cmask = mask.clone();
-    let mut gmask = up(&mut g, &mask);
+    let flags = |m: Vec<f64>| m.iter().map(|&v| u8::from(v > 0.5)).collect::<Vec<u8>>();
+    let mut cmask = c.mask_from(&mask);
+    let mut gmask = g.mask_from(&mask);
     let counts_g = g.update_active_set(&gp, &ggap, &mut gmask);
     let counts_c = c.update_active_set(&p, &gap_h, &mut cmask);
     assert_eq!(counts_g, counts_c, "update_active_set counts");
-    assert!(down(&mut g, &gmask) == cmask, "update_active_set mask");
+    assert!(
+        flags(down(&mut g, &gmask)) == cmask,
+        "update_active_set mask"
+    );
     let k = 8e10;
+    // The damped step's rule {p > k gap}, from the same start.
+    let mut cmask = c.mask_from(&mask);
+    let mut gmask = g.mask_from(&mask);
+    let counts_g = g.newton_set(&gp, &ggap, k, &mut gmask);
+    let counts_c = c.newton_set(&p, &gap_h, k, &mut cmask);
+    assert_eq!(counts_g, counts_c, "newton_set counts");
+    assert!(flags(down(&mut g, &gmask)) == cmask, "newton_set mask");
     let (rg, pg) = g.complementarity(&gp, &ggap, k);
     let (rc, pc) = c.complementarity(&p, &gap_h, k);
     assert!(

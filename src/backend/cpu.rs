@@ -8,7 +8,7 @@
 use rayon::prelude::*;
 
 use super::Backend;
-use crate::operator::GridOperator;
+use crate::operator::{GridOperator, GridWork};
 
 /// Vectors below this length are processed serially (rayon overhead).
 const PAR_MIN: usize = 1 << 14;
@@ -17,12 +17,19 @@ const PAR_MIN: usize = 1 << 14;
 pub struct CpuBackend<Op: GridOperator> {
     op: Op,
     n: usize,
+    /// Work vectors of operators without set products of their own
+    /// ([`GridOperator::apply_set`]); empty for the FFT operators.
+    work: GridWork,
 }
 
 impl<Op: GridOperator> CpuBackend<Op> {
     pub fn new(op: Op) -> Self {
         let (nx, ny) = op.shape();
-        Self { op, n: nx * ny }
+        Self {
+            op,
+            n: nx * ny,
+            work: GridWork::default(),
+        }
     }
 
     /// The wrapped operator.
@@ -45,6 +52,8 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 impl<Op: GridOperator> Backend for CpuBackend<Op> {
     type Vector = Vec<f64>;
     type Index = Vec<usize>;
+    /// One byte per cell (1: in the set).
+    type Mask = Vec<u8>;
 
     fn name(&self) -> String {
         format!("cpu ({} threads)", rayon::current_num_threads())
@@ -52,6 +61,12 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
 
     fn grid_len(&self) -> usize {
         self.n
+    }
+
+    fn reserve(&mut self, count: usize, len: usize) -> Result<(), String> {
+        let bytes = (count as u64).saturating_mul(len as u64).saturating_mul(8);
+        crate::io::memory::check_fits(|| format!("{count} vectors of {len} values"), bytes)
+            .map_err(|e| e.to_string())
     }
 
     fn zeros(&mut self, len: usize) -> Vec<f64> {
@@ -68,6 +83,21 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
 
     fn download(&mut self, src: &Vec<f64>, host: &mut [f64]) {
         host.copy_from_slice(src);
+    }
+
+    fn adopt(&mut self, host: Vec<f64>) -> Vec<f64> {
+        host
+    }
+
+    fn take_host(&mut self, v: Vec<f64>) -> Vec<f64> {
+        v
+    }
+
+    fn mask_from(&mut self, host: &[f64]) -> Vec<u8> {
+        host.par_iter()
+            .with_min_len(PAR_MIN)
+            .map(|&m| u8::from(m > 0.5))
+            .collect()
     }
 
     fn copy(&mut self, src: &Vec<f64>, dst: &mut Vec<f64>) {
@@ -92,6 +122,18 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
 
     fn precondition(&mut self, x: &Vec<f64>, y: &mut Vec<f64>) {
         self.op.precondition(x, y);
+    }
+
+    fn apply_set(&mut self, index: &Vec<usize>, x: &Vec<f64>, y: &mut Vec<f64>) {
+        self.op.apply_set(index, x, y, &mut self.work);
+    }
+
+    fn apply_set_exact(&mut self, index: &Vec<usize>, x: &Vec<f64>, y: &mut Vec<f64>) {
+        self.op.apply_set_exact(index, x, y, &mut self.work);
+    }
+
+    fn precondition_set(&mut self, index: &Vec<usize>, x: &Vec<f64>, y: &mut Vec<f64>) {
+        self.op.precondition_set(index, x, y, &mut self.work);
     }
 
     fn dot(&mut self, a: &Vec<f64>, b: &Vec<f64>) -> f64 {
@@ -145,26 +187,16 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
         x.par_chunks(4096).map(|c| c.iter().sum::<f64>()).sum()
     }
 
-    fn index_of(&mut self, mask: &Vec<f64>) -> Vec<usize> {
+    fn index_of(&mut self, mask: &Vec<u8>) -> Vec<usize> {
         mask.iter()
             .enumerate()
-            .filter(|(_, &m)| m > 0.5)
+            .filter(|(_, &m)| m != 0)
             .map(|(i, _)| i)
             .collect()
     }
 
     fn index_len(&self, index: &Vec<usize>) -> usize {
         index.len()
-    }
-
-    fn apply_rows(
-        &mut self,
-        x: &Vec<f64>,
-        index: &Vec<usize>,
-        full: &mut Vec<f64>,
-        short: &mut Vec<f64>,
-    ) {
-        self.op.apply_rows(x, index, full, short);
     }
 
     fn gather(&mut self, index: &Vec<usize>, full: &Vec<f64>, short: &mut Vec<f64>) {
@@ -191,19 +223,45 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
             .for_each(|(o, (gi, ui))| *o = gi - delta + ui);
     }
 
+    fn to_gap(&mut self, g: &Vec<f64>, delta: f64, x: &mut Vec<f64>) {
+        x.par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .zip(g.par_iter())
+            .for_each(|(xi, gi)| *xi += gi - delta);
+    }
+
     fn update_active_set(
         &mut self,
         p: &Vec<f64>,
         gap: &Vec<f64>,
-        mask: &mut Vec<f64>,
+        mask: &mut Vec<u8>,
     ) -> (usize, usize) {
         mask.par_iter_mut()
             .with_min_len(PAR_MIN)
             .zip(p.par_iter().zip(gap.par_iter()))
             .map(|(m, (pi, gi))| {
-                let was = *m > 0.5;
+                let was = *m != 0;
                 let now = if was { *pi > 0.0 } else { *gi < 0.0 };
-                *m = if now { 1.0 } else { 0.0 };
+                *m = u8::from(now);
+                (usize::from(was != now), usize::from(now))
+            })
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+    }
+
+    fn newton_set(
+        &mut self,
+        p: &Vec<f64>,
+        gap: &Vec<f64>,
+        stiffness: f64,
+        mask: &mut Vec<u8>,
+    ) -> (usize, usize) {
+        mask.par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .zip(p.par_iter().zip(gap.par_iter()))
+            .map(|(m, (pi, gi))| {
+                let was = *m != 0;
+                let now = *pi > stiffness * gi;
+                *m = u8::from(now);
                 (usize::from(was != now), usize::from(now))
             })
             .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))

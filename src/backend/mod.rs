@@ -15,6 +15,8 @@ pub trait Backend {
     type Vector;
     /// Positions of the cells of a contact set.
     type Index;
+    /// Which grid cells are in the contact set (one flag per cell).
+    type Mask;
 
     /// Executor name for reports (e.g. `cpu (2 threads)` or the adapter).
     fn name(&self) -> String;
@@ -26,12 +28,34 @@ pub trait Backend {
     fn epsilon(&self) -> f64 {
         f64::EPSILON
     }
+    /// Whether `count` more vectors of `len` entries fit in the memory the
+    /// vectors live in; an error names what does not fit. Default: yes (a
+    /// device's vectors come from its fixed pool).
+    fn reserve(&mut self, count: usize, len: usize) -> Result<(), String> {
+        let _ = (count, len);
+        Ok(())
+    }
     /// A new zero vector of `len` entries.
     fn zeros(&mut self, len: usize) -> Self::Vector;
     /// Change the length of `v` to `len` (contents unspecified).
     fn resize(&mut self, v: &mut Self::Vector, len: usize);
     /// Host -> vector (lengths equal).
     fn upload(&mut self, host: &[f64], dst: &mut Self::Vector);
+    /// A vector holding `host`, which is consumed (an executor whose
+    /// vectors live on the host keeps the allocation: no copy).
+    fn adopt(&mut self, host: Vec<f64>) -> Self::Vector {
+        let mut v = self.zeros(host.len());
+        self.upload(&host, &mut v);
+        v
+    }
+    /// A grid vector's values on the host, the vector consumed.
+    fn take_host(&mut self, v: Self::Vector) -> Vec<f64> {
+        let mut host = vec![0.0; self.grid_len()];
+        self.download(&v, &mut host);
+        host
+    }
+    /// The mask of the cells where `host > 0.5` (one value per grid cell).
+    fn mask_from(&mut self, host: &[f64]) -> Self::Mask;
     /// Vector -> host (lengths equal).
     fn download(&mut self, src: &Self::Vector, host: &mut [f64]);
     /// `dst = src`.
@@ -47,21 +71,17 @@ pub trait Backend {
     fn refines(&self) -> bool {
         false
     }
-    /// `short = (L x)[index]`: the operator's rows on a contact set only, in
-    /// the working precision of the Krylov solves ([`Backend::refines`]).
-    /// The default applies `L` on the whole grid into `full` and gathers;
-    /// executors whose cost scales with the rows evaluated override it
-    /// (`full` is then left unspecified).
-    fn apply_rows(
-        &mut self,
-        x: &Self::Vector,
-        index: &Self::Index,
-        full: &mut Self::Vector,
-        short: &mut Self::Vector,
-    ) {
-        self.apply(x, full);
-        self.gather(index, full, short);
-    }
+    /// `y = (L x)[index]` for `x` on the contact set `index` (zero off
+    /// it): the operator's rows on a contact set, in the working precision
+    /// of the Krylov solves ([`Backend::refines`]). Short vectors in, short
+    /// vectors out: whether grid-size work vectors are needed is the
+    /// executor's business (the CPU's FFT operators need none).
+    fn apply_set(&mut self, index: &Self::Index, x: &Self::Vector, y: &mut Self::Vector);
+    /// [`Backend::apply_set`] to the rounding of [`Backend::apply`] (the
+    /// residuals of iterative refinement).
+    fn apply_set_exact(&mut self, index: &Self::Index, x: &Self::Vector, y: &mut Self::Vector);
+    /// `y = (K x)[index]` for `x` on the set ([`Backend::precondition`]).
+    fn precondition_set(&mut self, index: &Self::Index, x: &Self::Vector, y: &mut Self::Vector);
     /// Whether [`Backend::precondition`] applies an approximate inverse of
     /// the operator (default: no; the iteration then runs unpreconditioned).
     fn has_preconditioner(&self) -> bool {
@@ -91,8 +111,8 @@ pub trait Backend {
     fn add_scalar(&mut self, alpha: f64, x: &mut Self::Vector);
     /// `sum x`.
     fn sum(&mut self, x: &Self::Vector) -> f64;
-    /// The cells where `mask > 0.5`.
-    fn index_of(&mut self, mask: &Self::Vector) -> Self::Index;
+    /// The cells of a mask.
+    fn index_of(&mut self, mask: &Self::Mask) -> Self::Index;
     /// Number of cells in an index.
     fn index_len(&self, index: &Self::Index) -> usize;
     /// `short[k] = full[index[k]]`.
@@ -101,6 +121,12 @@ pub trait Backend {
     fn scatter(&mut self, index: &Self::Index, short: &Self::Vector, full: &mut Self::Vector);
     /// `out = g - delta + u`: the gap of physics.md section 1.
     fn gap(&mut self, g: &Self::Vector, u: &Self::Vector, delta: f64, out: &mut Self::Vector);
+    /// [`Backend::gap`] in place: `x = g - delta + x` (the displacement
+    /// `x` becomes the gap; the iteration keeps no displacement vector).
+    fn to_gap(&mut self, g: &Self::Vector, delta: f64, x: &mut Self::Vector) {
+        self.axpy(1.0, g, x);
+        self.add_scalar(-delta, x);
+    }
     /// Primal-dual active-set update on grid vectors: a cell in the set
     /// stays iff `p > 0`, a cell outside joins iff `gap < 0`. Returns
     /// `(changes, size of the new set)`.
@@ -108,7 +134,18 @@ pub trait Backend {
         &mut self,
         p: &Self::Vector,
         gap: &Self::Vector,
-        mask: &mut Self::Vector,
+        mask: &mut Self::Mask,
+    ) -> (usize, usize);
+    /// The set of the semismooth Newton rule `{p > k gap}` for every cell,
+    /// whichever side it was on (the update after a damped step,
+    /// [`crate::solver`]'s line search). Returns as
+    /// [`Backend::update_active_set`].
+    fn newton_set(
+        &mut self,
+        p: &Self::Vector,
+        gap: &Self::Vector,
+        stiffness: f64,
+        mask: &mut Self::Mask,
     ) -> (usize, usize);
     /// `(sum min(p, k gap)^2, sum p^2)`: the complementarity residual of the
     /// LCP with `k` converting a gap into a pressure.

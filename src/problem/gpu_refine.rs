@@ -79,7 +79,7 @@ impl Problem {
             pressure: solution.pressure,
             approach: solution.approach,
         };
-        let (refined, host, _) = self.iterate_grid(&mut backend, l00, Some(&start), observer)?;
+        let (refined, host, _) = self.iterate_grid(&mut backend, l00, Some(start), observer)?;
         let t_host = t.elapsed().as_secs_f64();
         let report = GpuRefinement {
             device: StageReport::of(&info, t_device),

@@ -282,11 +282,12 @@ impl SurfaceSource {
 /// buffer (periodic: multiplier and inverse, 8 + 8 in f64, 4 + 4 in mixed
 /// precision, and an 8 B buffer; non-periodic: twice as many modes on the
 /// padded transform, T. Chan's circulant and the coefficient table during
-/// set-up); the iteration's nine f64 grid vectors (72; two of them the
-/// previous iterate of the line search); the heights and
-/// the gap profile (16); and a Krylov basis of `restart + 3` f64 vectors
-/// over a contact set of up to a quarter of the grid (the cascade starts
-/// the fine grid near its final set).
+/// set-up); the iteration's grid vectors: pressure and gap (f64, 16), the
+/// contact mask (1 byte) and the line search's previous pressure and gap
+/// (16); the heights and the gap profile (16); and a Krylov basis of
+/// `restart + 5` f64 vectors over a contact set of a twentieth of the grid
+/// (rough-surface contacts are smaller; the iteration refuses, in words, a
+/// larger set that does not fit as it grows).
 pub fn memory_estimate(
     nx: usize,
     ny: usize,
@@ -303,8 +304,8 @@ pub fn memory_estimate(
         (Formulation::NonPeriodic, Precision::F64) => 112 + 32,
         (Formulation::NonPeriodic, Precision::Mixed) => 68 + 64,
     };
-    let basis = (8 * (restart as u64 + 3)).div_ceil(4);
-    n.saturating_mul(spectra + 72 + 16 + basis)
+    let basis = (8 * (restart as u64 + 5)).div_ceil(20);
+    n.saturating_mul(spectra + 33 + 16 + basis)
 }
 
 /// Refuse an `nx x ny` grid whose [`memory_estimate`] exceeds the memory

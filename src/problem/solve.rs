@@ -1,7 +1,7 @@
 //! The one path through a solve: the operator is chosen by formulation x
 //! mesh ([`Discretisation`]), the executor by backend ([`Executor`]), and
 //! every path runs the constrained iteration through one function
-//! (`Problem::iterate`, the only caller of [`solver::solve_from`]); the
+//! (`Problem::iterate`, the only caller of the solver); the
 //! friction by both routes, the contact statistics and the timings are then
 //! computed once for all paths.
 
@@ -78,10 +78,22 @@ impl Problem {
         start: Option<&WarmStart>,
         observer: &mut dyn Observer,
     ) -> Result<Solution> {
+        self.solve_warm(executor, start.cloned(), observer)
+    }
+
+    /// [`Problem::solve_from`] taking the start by value: its vectors are
+    /// freed as soon as the iteration holds them (16 bytes per cell that a
+    /// refinement study's finest grid does not keep twice).
+    pub fn solve_warm(
+        &self,
+        executor: &Executor,
+        start: Option<WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Solution> {
         self.check()?;
         let t0 = Instant::now();
         let kind = self.discretisation();
-        if let Some(w) = start {
+        if let Some(w) = &start {
             let n = self.surface.nx * self.surface.ny;
             if kind == Discretisation::Adaptive {
                 return Err(invalid(
@@ -123,23 +135,25 @@ impl Problem {
 
     /// The constrained iteration (paper Eq. 6-7 with `p >= 0`) of this
     /// problem on `backend` (`l00` the self coefficient, `g` the gap profile
-    /// over the backend's unknowns) at the relative tolerance `tolerance`:
-    /// the one call of the solver for every discretisation and executor.
+    /// over the backend's unknowns, handed to the iteration: on the CPU it
+    /// becomes the iteration's own vector) at the relative tolerance
+    /// `tolerance`: the one call of the solver for every discretisation and
+    /// executor.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn iterate<B: Backend>(
         &self,
         backend: &mut B,
-        g: &[f64],
+        g: Vec<f64>,
         l00: f64,
         tolerance: f64,
-        start: Option<&WarmStart>,
+        start: Option<WarmStart>,
         observer: &mut dyn Observer,
     ) -> std::result::Result<(ContactSolution, SolveInfo), SolverError> {
         let params = solver::SolverParams {
             tolerance,
             ..self.params.clone()
         };
-        solver::solve_from(
+        solver::solve_owned(
             backend,
             g,
             self.surface.cell_area(),
@@ -187,18 +201,18 @@ impl Problem {
         &self,
         backend: &mut B,
         l00: f64,
-        start: Option<&WarmStart>,
+        start: Option<WarmStart>,
         observer: &mut dyn Observer,
     ) -> Result<(ContactSolution, SolveInfo, f64)> {
         let t = Instant::now();
         let g = self.gap_profile();
         let (solution, info) =
-            self.iterate(backend, &g, l00, self.params.tolerance, start, observer)?;
+            self.iterate(backend, g, l00, self.params.tolerance, start, observer)?;
         Ok((solution, info, t.elapsed().as_secs_f64()))
     }
 
     /// Uniform grid on the CPU in the precision of `[solver] precision`.
-    fn uniform_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
+    fn uniform_cpu(&self, start: Option<WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
         match self.params.precision {
             Precision::F64 => self.uniform_cpu_in::<f64>(start, observer),
             Precision::Mixed => self.uniform_cpu_in::<f32>(start, observer),
@@ -210,7 +224,7 @@ impl Problem {
     /// the refinement, [`Backend::refines`]).
     fn uniform_cpu_in<T: Real>(
         &self,
-        start: Option<&WarmStart>,
+        start: Option<WarmStart>,
         observer: &mut dyn Observer,
     ) -> Result<Raw> {
         let t0 = Instant::now();
@@ -227,7 +241,7 @@ impl Problem {
             };
             Ok(toeplitz_backend::<T>(nx, ny, &table.values))
         };
-        let (solution, info, t_iter) = if self.cascades(start) {
+        let (solution, info, t_iter) = if self.cascades(start.as_ref()) {
             self.iterate_cascade(observer, build)?
         } else {
             let (mut backend, l00) = build(nx, ny, cell)?;
@@ -255,7 +269,7 @@ impl Problem {
     fn uniform_gpu(
         &self,
         ctx: GpuContext,
-        start: Option<&WarmStart>,
+        start: Option<WarmStart>,
         observer: &mut dyn Observer,
     ) -> Result<Raw> {
         let t0 = Instant::now();
@@ -311,7 +325,7 @@ impl Problem {
             Ok((backend, l00))
         };
         let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
-        let device = if self.cascades(start) {
+        let device = if self.cascades(start.as_ref()) {
             self.iterate_cascade(observer, build)?
         } else {
             let (mut backend, l00) = build(nx, ny, cell)?;
@@ -344,7 +358,7 @@ impl Problem {
 
     /// A periodic cell solved spectrally (paper Appendix, Eq. A1-A2) on the
     /// CPU: the same iteration on the [`SpectralPeriodic`] operator.
-    fn periodic_cpu(&self, start: Option<&WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
+    fn periodic_cpu(&self, start: Option<WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
         match self.params.precision {
             Precision::F64 => self.periodic_cpu_in::<f64>(start, observer),
             Precision::Mixed => self.periodic_cpu_in::<f32>(start, observer),
@@ -354,7 +368,7 @@ impl Problem {
     /// [`Problem::periodic_cpu`] with the multiplier and transforms in `T`.
     fn periodic_cpu_in<T: Real>(
         &self,
-        start: Option<&WarmStart>,
+        start: Option<WarmStart>,
         observer: &mut dyn Observer,
     ) -> Result<Raw> {
         let t0 = Instant::now();
@@ -375,7 +389,7 @@ impl Problem {
             Ok((CpuBackend::new(op), l00))
         };
         let t_setup = t0.elapsed().as_secs_f64();
-        let (solution, info, t_iter) = if self.cascades(start) {
+        let (solution, info, t_iter) = if self.cascades(start.as_ref()) {
             self.iterate_cascade(observer, build)?
         } else {
             let (mut backend, l00) = build(nx, ny, cell)?;
@@ -488,7 +502,14 @@ impl Problem {
                     SolverError::Invalid(msg)
                 })?;
                 name = backend.name();
-                let r = self.iterate(&mut backend, g_mesh, plan.l00, tol, start, observer);
+                let r = self.iterate(
+                    &mut backend,
+                    g_mesh.to_vec(),
+                    plan.l00,
+                    tol,
+                    start.cloned(),
+                    observer,
+                );
                 give_back(backend);
                 t_iter += t.elapsed().as_secs_f64();
                 r

@@ -73,8 +73,6 @@ impl Phase {
 /// Schur complement `1.K_II 1`).
 pub(crate) struct Bordered<'a, B: Backend> {
     pub(crate) index: &'a B::Index,
-    pub(crate) full_in: &'a mut B::Vector,
-    pub(crate) full_out: &'a mut B::Vector,
     /// `delta = delta_scale * s`.
     pub(crate) delta_scale: f64,
     /// Load row scale.
@@ -95,8 +93,6 @@ impl<'a, B: Backend> Bordered<'a, B> {
     pub(crate) fn new(
         backend: &mut B,
         index: &'a B::Index,
-        full_in: &'a mut B::Vector,
-        full_out: &'a mut B::Vector,
         delta_scale: f64,
         load_scale: f64,
         bordered: bool,
@@ -104,8 +100,6 @@ impl<'a, B: Backend> Bordered<'a, B> {
     ) -> Self {
         let mut op = Self {
             index,
-            full_in,
-            full_out,
             delta_scale,
             load_scale,
             bordered,
@@ -139,17 +133,14 @@ impl<'a, B: Backend> Bordered<'a, B> {
 
     /// `y = K_II x` on short vectors.
     fn restricted_stiffness(&mut self, backend: &mut B, x: &B::Vector, y: &mut B::Vector) {
-        backend.scatter(self.index, x, self.full_in);
-        backend.precondition(self.full_in, self.full_out);
-        backend.gather(self.index, self.full_out, y);
+        backend.precondition_set(self.index, x, y);
         self.preconditioner_applications += 1;
     }
 }
 
 impl<B: Backend> AugOperator<B> for Bordered<'_, B> {
     fn apply(&mut self, backend: &mut B, x_v: &B::Vector, x_s: f64, y: &mut AugVec<B::Vector>) {
-        backend.scatter(self.index, x_v, self.full_in);
-        backend.apply_rows(self.full_in, self.index, self.full_out, &mut y.v);
+        backend.apply_set(self.index, x_v, &mut y.v);
         self.matvecs += 1;
         self.border(backend, x_v, x_s, y);
     }
@@ -164,9 +155,7 @@ impl<B: Backend> AugOperator<B> for Bordered<'_, B> {
         if !backend.refines() {
             return self.apply(backend, x_v, x_s, y);
         }
-        backend.scatter(self.index, x_v, self.full_in);
-        backend.apply(self.full_in, self.full_out);
-        backend.gather(self.index, self.full_out, &mut y.v);
+        backend.apply_set_exact(self.index, x_v, &mut y.v);
         self.matvecs += 1;
         self.exact_matvecs += 1;
         self.border(backend, x_v, x_s, y);
@@ -214,7 +203,7 @@ pub fn solve_from<B: Backend>(
 ) -> Result<(ContactSolution, SolveInfo), SolverError> {
     solve_owned(
         backend,
-        g,
+        g.to_vec(),
         cell_area,
         self_coefficient,
         control,
@@ -224,12 +213,14 @@ pub fn solve_from<B: Backend>(
     )
 }
 
-/// [`solve_from`] taking the start by value: its host vectors are freed
-/// once uploaded (on the largest grids each is hundreds of MB).
+/// [`solve_from`] taking the gap profile and the start by value: the
+/// start's host vectors are freed once uploaded, and the profile becomes
+/// the iteration's vector (on the CPU without a copy; on the largest grids
+/// each is hundreds of MB).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn solve_owned<B: Backend>(
     backend: &mut B,
-    g: &[f64],
+    g: Vec<f64>,
     cell_area: f64,
     self_coefficient: f64,
     control: Control,
@@ -238,7 +229,7 @@ pub(crate) fn solve_owned<B: Backend>(
     observer: &mut dyn Observer,
 ) -> Result<(ContactSolution, SolveInfo), SolverError> {
     let n = backend.grid_len();
-    check_problem(g, n, cell_area, self_coefficient, control)?;
+    check_problem(&g, n, cell_area, self_coefficient, control)?;
     let stiffness = 1.0 / self_coefficient;
     let (tolerance, tight) = tolerances(params.tolerance, backend.epsilon());
 
@@ -260,20 +251,16 @@ pub(crate) fn solve_owned<B: Backend>(
         None => {
             let mut host_mask = vec![0.0; n];
             let (delta0, p0) =
-                initial_guess(g, cell_area, self_coefficient, control, &mut host_mask);
+                initial_guess(&g, cell_area, self_coefficient, control, &mut host_mask);
             let host = host_mask.iter().map(|m| p0 * m).collect();
             (delta0, host_mask, host)
         }
     };
     let mut contact_cells = host_mask.iter().filter(|&&m| m > 0.5).count();
-    let mut mask = backend.zeros(n);
-    backend.upload(&host_mask, &mut mask);
+    let mut mask = backend.mask_from(&host_mask);
     drop(host_mask);
-    let mut gv = backend.zeros(n);
-    backend.upload(g, &mut gv);
-    let mut p_full = backend.zeros(n);
-    backend.upload(&host, &mut p_full);
-    drop(host);
+    let gv = backend.adopt(g);
+    let mut p_full = backend.adopt(host);
 
     let bordered = matches!(control, Control::Load(_));
     let delta_scale = self_coefficient;
@@ -285,6 +272,7 @@ pub(crate) fn solve_owned<B: Backend>(
         Control::Approach(d) => d,
     };
     let mut work = GmresWork::new(backend, params.restart, 0);
+    let mut largest_set = 0usize;
     let mut rhs = AugVec {
         v: backend.zeros(0),
         s: 0.0,
@@ -293,10 +281,10 @@ pub(crate) fn solve_owned<B: Backend>(
         v: backend.zeros(0),
         s: 0.0,
     };
-    let mut u = backend.zeros(n);
+    // The gap `g - delta + u`; each iteration's product `u = L p` is
+    // written here and turned into the gap in place (the displacement is
+    // recovered from it at the end).
     let mut gap = backend.zeros(n);
-    let mut full_in = backend.zeros(n);
-    let mut full_out = backend.zeros(n);
 
     let mut matvecs = 0usize;
     let mut preconditioner_applications = 0usize;
@@ -343,6 +331,20 @@ pub(crate) fn solve_owned<B: Backend>(
             }));
         }
         let load_scale = self_coefficient / (m as f64).sqrt();
+        // The short vectors (Krylov basis, its two work vectors, the
+        // right-hand side and the solution) grow with the set: refuse a
+        // growth that does not fit, in words, before allocating it.
+        if m > largest_set {
+            backend
+                .reserve(params.restart.max(1) + 5, m - largest_set)
+                .map_err(|e| {
+                    SolverError::Invalid(format!(
+                        "the Krylov basis over a contact set of {m} cells (solver.restart = {}) does not fit: {e}",
+                        params.restart
+                    ))
+                })?;
+            largest_set = m;
+        }
         work.resize(backend, m);
         backend.resize(&mut rhs.v, m);
         backend.resize(&mut p.v, m);
@@ -365,8 +367,6 @@ pub(crate) fn solve_owned<B: Backend>(
         let mut op = Bordered::new(
             backend,
             &index,
-            &mut full_in,
-            &mut full_out,
             delta_scale,
             load_scale,
             bordered,
@@ -404,21 +404,12 @@ pub(crate) fn solve_owned<B: Backend>(
         }
         // Gap everywhere.
         backend.scatter(&index, &p.v, &mut p_full);
-        backend.apply(&p_full, &mut u);
+        backend.apply(&p_full, &mut gap);
         matvecs += 1;
-        backend.gap(&gv, &u, delta, &mut gap);
+        let u2 = backend.dot(&gap, &gap);
+        backend.to_gap(&gv, delta, &mut gap);
         let merit = backend.complementarity(&p_full, &gap, stiffness);
-        let step = previous.damp(
-            backend,
-            &gv,
-            stiffness,
-            &mut p_full,
-            &mut u,
-            &mut delta,
-            &mut gap,
-            merit,
-            (&mut full_in, &mut full_out),
-        );
+        let step = previous.damp(backend, stiffness, &mut p_full, &mut gap, &mut delta, merit);
         let (r2, p2) = step.merit;
         residual = if p2 > 0.0 {
             (r2 / p2).sqrt()
@@ -427,23 +418,16 @@ pub(crate) fn solve_owned<B: Backend>(
         };
         // Rounding floor of the residual: on a contact cell the gap is a
         // cancellation of terms of size |u|, so it carries an error of
-        // about epsilon |u|, i.e. epsilon k |u| in pressure units.
+        // about epsilon |u|, i.e. epsilon k |u| in pressure units (|u| of
+        // the full Newton step; a damped step is far above the floor).
         let floor = if p2 > 0.0 {
-            ROUNDING_FLOOR * backend.epsilon() * stiffness * (backend.dot(&u, &u) / p2).sqrt()
+            ROUNDING_FLOOR * backend.epsilon() * stiffness * (u2 / p2).sqrt()
         } else {
             0.0
         };
         let previous_residual = history.last().copied().unwrap_or(f64::INFINITY);
         stalled = residual >= previous_residual;
-        let (changes, size) = update_set(
-            backend,
-            step.t,
-            &p_full,
-            &gap,
-            stiffness,
-            &mut mask,
-            (&mut full_in, &mut full_out),
-        );
+        let (changes, size) = update_set(backend, step.t, &p_full, &gap, stiffness, &mut mask);
         // A full inner solve that did not help (a stalled residual, or none
         // better than the best so far) or that left the residual above the
         // target on an unchanged set is limited by the inner tolerance:
@@ -491,12 +475,14 @@ pub(crate) fn solve_owned<B: Backend>(
             // The work vectors go before the fields come to the host (on
             // the largest grids each is hundreds of MB), each field's
             // storage as soon as it is copied.
-            drop((work, rhs, full_in, full_out, mask, gv, index, previous));
-            let mut out = |v: B::Vector| {
-                let mut h = vec![0.0; n];
-                backend.download(&v, &mut h);
-                h
-            };
+            drop((work, rhs, mask, index, previous));
+            // The displacement from the gap: u = gap - g + delta.
+            let mut u = backend.zeros(n);
+            backend.copy(&gap, &mut u);
+            backend.axpy(-1.0, &gv, &mut u);
+            backend.add_scalar(delta, &mut u);
+            drop(gv);
+            let mut out = |v: B::Vector| backend.take_host(v);
             let pressure = out(p_full);
             // The cells carrying pressure: the set of this solve (the
             // updated mask differs by the toggling cells).

@@ -173,7 +173,7 @@ where
         };
         let (solution, info) = solve_owned(
             &mut level.backend,
-            &level.gap,
+            std::mem::take(&mut level.gap),
             level.cell_area,
             level.self_coefficient,
             control,

@@ -22,9 +22,9 @@ pub fn solve_full_contact<B: Backend>(
 ) -> Result<(ContactSolution, SolveInfo), SolverError> {
     let n = backend.grid_len();
     check_problem(g, n, cell_area, self_coefficient, control)?;
-    let mut mask = backend.zeros(n);
-    backend.upload(&vec![1.0; n], &mut mask);
+    let mask = backend.mask_from(&vec![1.0; n]);
     let index = backend.index_of(&mask);
+    drop(mask);
     let mut gv = backend.zeros(n);
     backend.upload(g, &mut gv);
     let bordered = matches!(control, Control::Load(_));
@@ -39,13 +39,9 @@ pub fn solve_full_contact<B: Backend>(
         Control::Load(f) => rhs.s = load_scale * f / cell_area,
         Control::Approach(d) => backend.add_scalar(d, &mut rhs.v),
     }
-    let mut full_in = backend.zeros(n);
-    let mut full_out = backend.zeros(n);
     let mut op = Bordered::new(
         backend,
         &index,
-        &mut full_in,
-        &mut full_out,
         self_coefficient,
         load_scale,
         bordered,

@@ -39,11 +39,11 @@ const SMALLEST_STEP: f64 = 1.0 / 64.0;
 /// (the threshold of its stall rule, `STALL_ABOVE`).
 const DAMP_ABOVE: f64 = super::STALL_ABOVE;
 
-/// The previous iterate of the active-set iteration: pressure, its
-/// displacement `u = L p`, the approach and the merit `|min(p, k gap)|^2`.
+/// The previous iterate of the active-set iteration: pressure, its gap
+/// `g - delta + L p`, the approach and the merit `|min(p, k gap)|^2`.
 pub(crate) struct Previous<V> {
     p: V,
-    u: V,
+    gap: V,
     delta: f64,
     merit: f64,
     /// Its relative residual `|min(p, k gap)| / |p|`.
@@ -66,7 +66,7 @@ impl<V> Previous<V> {
     pub(crate) fn new<B: Backend<Vector = V>>(backend: &mut B, n: usize) -> Self {
         Self {
             p: backend.zeros(n),
-            u: backend.zeros(n),
+            gap: backend.zeros(n),
             delta: 0.0,
             merit: f64::INFINITY,
             residual: f64::INFINITY,
@@ -74,34 +74,32 @@ impl<V> Previous<V> {
         }
     }
 
-    /// Damp the Newton step from the previous iterate to `(p, u, delta)`
+    /// Damp the Newton step from the previous iterate to `(p, gap, delta)`
     /// whose merit is `merit` (as [`Backend::complementarity`] returns it):
-    /// on return `p`, `u`, `delta` and `gap = g - delta + u` hold the
-    /// accepted point, which becomes the previous iterate. `scratch` holds
-    /// two grid vectors used for the trials.
-    #[allow(clippy::too_many_arguments)]
+    /// on return `p`, `gap` and `delta` hold the accepted point, which
+    /// becomes the previous iterate. The trials move `p` and `gap` along the
+    /// step in place (`x(t') = x0 + (t' / t) (x(t) - x0)`), so the search
+    /// holds no vector of its own beyond the previous iterate.
     pub(crate) fn damp<B: Backend<Vector = V>>(
         &mut self,
         backend: &mut B,
-        g: &V,
         stiffness: f64,
         p: &mut V,
-        u: &mut V,
-        delta: &mut f64,
         gap: &mut V,
+        delta: &mut f64,
         merit: (f64, f64),
-        scratch: (&mut V, &mut V),
     ) -> Step {
         let mut step = Step { t: 1.0, merit };
         let rises = merit.0 > (1.0 - 2.0 * ARMIJO) * self.merit;
         if self.valid && self.residual > DAMP_ABOVE && rises {
-            let (pt, ut) = scratch;
+            let full = *delta;
             let mut best = (merit.0, 1.0);
+            let mut at = 1.0;
             let mut t = 0.5;
             while t >= SMALLEST_STEP {
-                let d = self.point(backend, t, p, u, *delta, pt, ut);
-                backend.gap(g, ut, d, gap);
-                let (r2, _) = backend.complementarity(pt, gap, stiffness);
+                self.move_to(backend, t / at, p, gap);
+                at = t;
+                let (r2, _) = backend.complementarity(p, gap, stiffness);
                 if r2 < best.0 {
                     best = (r2, t);
                 }
@@ -111,19 +109,19 @@ impl<V> Previous<V> {
                 t *= 0.5;
             }
             let t = best.1;
-            if t < 1.0 {
-                *delta = self.point(backend, t, p, u, *delta, pt, ut);
-                backend.copy(pt, p);
-                backend.copy(ut, u);
+            if t != at {
+                self.move_to(backend, t / at, p, gap);
             }
-            backend.gap(g, u, *delta, gap);
+            if t < 1.0 {
+                *delta = self.delta + t * (full - self.delta);
+            }
             step = Step {
                 t,
                 merit: backend.complementarity(p, gap, stiffness),
             };
         }
         backend.copy(p, &mut self.p);
-        backend.copy(u, &mut self.u);
+        backend.copy(gap, &mut self.gap);
         self.delta = *delta;
         self.merit = step.merit.0;
         self.residual = if step.merit.1 > 0.0 {
@@ -135,24 +133,13 @@ impl<V> Previous<V> {
         step
     }
 
-    /// `(pt, ut) = previous + t (new - previous)`; returns the approach.
-    #[allow(clippy::too_many_arguments)]
-    fn point<B: Backend<Vector = V>>(
-        &self,
-        backend: &mut B,
-        t: f64,
-        p: &V,
-        u: &V,
-        delta: f64,
-        pt: &mut V,
-        ut: &mut V,
-    ) -> f64 {
-        for (new, old, out) in [(p, &self.p, &mut *pt), (u, &self.u, &mut *ut)] {
-            backend.copy(new, out);
-            backend.scale(t, out);
-            backend.axpy(1.0 - t, old, out);
+    /// `x = x0 + s (x - x0)` for `x = p, gap` (`x0` the previous iterate):
+    /// a point at `t` on the step moves to `s t`.
+    fn move_to<B: Backend<Vector = V>>(&self, backend: &mut B, s: f64, p: &mut V, gap: &mut V) {
+        for (x, x0) in [(p, &self.p), (gap, &self.gap)] {
+            backend.scale(s, x);
+            backend.axpy(1.0 - s, x0, x);
         }
-        self.delta + t * (delta - self.delta)
     }
 }
 
@@ -160,25 +147,18 @@ impl<V> Previous<V> {
 /// length `t`: the usual update for a full step, the Newton rule
 /// `{p > k gap}` for a damped one (module docs). Returns the number of
 /// cells that changed and the new set's size, as
-/// [`Backend::update_active_set`]. `scratch` holds two grid vectors.
+/// [`Backend::update_active_set`].
 pub(crate) fn update_set<B: Backend>(
     backend: &mut B,
     t: f64,
     p: &B::Vector,
     gap: &B::Vector,
     stiffness: f64,
-    mask: &mut B::Vector,
-    scratch: (&mut B::Vector, &mut B::Vector),
+    mask: &mut B::Mask,
 ) -> (usize, usize) {
     if t >= 1.0 {
-        return backend.update_active_set(p, gap, mask);
+        backend.update_active_set(p, gap, mask)
+    } else {
+        backend.newton_set(p, gap, stiffness, mask)
     }
-    // With w = p - k gap, "in: w > 0; out: -w < 0" is {p > k gap} for
-    // every cell, whichever side it was on.
-    let (w, minus_w) = scratch;
-    backend.copy(p, w);
-    backend.axpy(-stiffness, gap, w);
-    backend.copy(w, minus_w);
-    backend.scale(-1.0, minus_w);
-    backend.update_active_set(w, minus_w, mask)
 }

@@ -48,6 +48,7 @@ mod line_search;
 pub mod reference;
 
 pub use active_set::solve_from;
+pub(crate) use active_set::solve_owned;
 pub use cascade::{solve_cascade, CascadeLevel, LevelInfo};
 pub use full_contact::solve_full_contact;
 

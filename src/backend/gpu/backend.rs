@@ -99,6 +99,9 @@ pub struct GpuBackend {
     partials: Buf,
     offsets: Buf,
     blocks: usize,
+    /// Two grid vectors for the products on a contact set (scattered input,
+    /// full product) and the damped set update, taken at first use.
+    set_work: Option<(GpuVector, GpuVector)>,
 }
 
 impl GpuBackend {
@@ -194,6 +197,7 @@ impl GpuBackend {
             partials,
             offsets,
             blocks,
+            set_work: None,
         }
     }
 
@@ -284,6 +288,17 @@ impl GpuBackend {
         );
     }
 
+    /// The two grid work vectors of the set products (allocated once).
+    fn take_work(&mut self) -> (GpuVector, GpuVector) {
+        match self.set_work.take() {
+            Some(w) => w,
+            None => {
+                let n = self.n;
+                (self.zeros(n), self.zeros(n))
+            }
+        }
+    }
+
     fn check_len(&self, len: usize) {
         assert!(
             len <= self.n,
@@ -296,6 +311,8 @@ impl GpuBackend {
 impl Backend for GpuBackend {
     type Vector = GpuVector;
     type Index = GpuIndex;
+    /// A grid vector of 0.0 / 1.0.
+    type Mask = GpuVector;
 
     fn name(&self) -> String {
         format!("gpu: {}", self.engine.ctx.adapter)
@@ -335,6 +352,12 @@ impl Backend for GpuBackend {
         }
     }
 
+    fn mask_from(&mut self, host: &[f64]) -> GpuVector {
+        let mut mask = self.zeros(host.len());
+        self.upload(host, &mut mask);
+        mask
+    }
+
     fn copy(&mut self, src: &GpuVector, dst: &mut GpuVector) {
         assert_eq!(src.len, dst.len, "copy length");
         self.engine
@@ -364,6 +387,26 @@ impl Backend for GpuBackend {
             }
             _ => self.copy(x, y),
         }
+    }
+
+    fn apply_set(&mut self, index: &GpuIndex, x: &GpuVector, y: &mut GpuVector) {
+        let (mut full, mut product) = self.take_work();
+        self.scatter(index, x, &mut full);
+        self.apply(&full, &mut product);
+        self.gather(index, &product, y);
+        self.set_work = Some((full, product));
+    }
+
+    fn apply_set_exact(&mut self, index: &GpuIndex, x: &GpuVector, y: &mut GpuVector) {
+        self.apply_set(index, x, y);
+    }
+
+    fn precondition_set(&mut self, index: &GpuIndex, x: &GpuVector, y: &mut GpuVector) {
+        let (mut full, mut product) = self.take_work();
+        self.scatter(index, x, &mut full);
+        self.precondition(&full, &mut product);
+        self.gather(index, &product, y);
+        self.set_work = Some((full, product));
     }
 
     fn dot(&mut self, a: &GpuVector, b: &GpuVector) -> f64 {
@@ -536,6 +579,25 @@ impl Backend for GpuBackend {
         );
         let s = self.finish(2, groups);
         (s[0].round() as usize, s[1].round() as usize)
+    }
+
+    fn newton_set(
+        &mut self,
+        p: &GpuVector,
+        gap: &GpuVector,
+        stiffness: f64,
+        mask: &mut GpuVector,
+    ) -> (usize, usize) {
+        // With w = p - k gap, "in: w > 0; out: -w < 0" is {p > k gap} for
+        // every cell, whichever side it was on.
+        let (mut w, mut minus_w) = self.take_work();
+        self.copy(p, &mut w);
+        self.axpy(-stiffness, gap, &mut w);
+        self.copy(&w, &mut minus_w);
+        self.scale(-1.0, &mut minus_w);
+        let counts = self.update_active_set(&w, &minus_w, mask);
+        self.set_work = Some((w, minus_w));
+        counts
     }
 
     fn complementarity(&mut self, p: &GpuVector, gap: &GpuVector, stiffness: f64) -> (f64, f64) {
