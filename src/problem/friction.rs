@@ -28,16 +28,19 @@ impl Problem {
         let (m, v, dir) = (&self.material, self.speed, self.direction_rad);
         if self.formulation == Formulation::Periodic {
             let params = self.kernel_params();
-            let mut slope = SpectralPeriodic::with_cells(
-                nx,
-                ny,
-                cell,
-                m,
-                &params,
-                PeriodicResponse::SlidingSlope,
-            );
-            let force =
-                analysis::friction_force_stencil_area(&mut slope, &solution.pressure, ax * ay);
+            // The slope operator goes before the dissipation route's spectra
+            // are made (both are grid-size).
+            let force = {
+                let mut slope = SpectralPeriodic::with_cells(
+                    nx,
+                    ny,
+                    cell,
+                    m,
+                    &params,
+                    PeriodicResponse::SlidingSlope,
+                );
+                analysis::friction_force_stencil_area(&mut slope, &solution.pressure, ax * ay)
+            };
             let force_d = analysis::friction_force_periodic_cells(
                 &solution.pressure,
                 nx,

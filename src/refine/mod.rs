@@ -242,12 +242,15 @@ fn run(
         let t0 = Instant::now();
         let problem = make(k).map_err(|e| invalid(format!("level {}: {e}", k + 1)))?;
         let warm = params.warm_start && problem.discretisation() != Discretisation::Adaptive;
-        let start = match (&previous, warm) {
-            (Some((cp, cs)), true) => Some(problem.prolong(cp, cs)?),
+        // The coarser level goes once its solution is prolonged, the start
+        // once the iteration holds it: on the finest grid neither stays.
+        let start = match (previous.take(), warm) {
+            (Some((cp, cs)), true) => Some(problem.prolong(&cp, &cs)?),
             _ => None,
         };
-        observer.level_started(k, count, &problem, start.is_some());
-        let solution = problem.solve_from(executor, start.as_ref(), observer.solver())?;
+        let warm_started = start.is_some();
+        observer.level_started(k, count, &problem, warm_started);
+        let solution = problem.solve_warm(executor, start, observer.solver())?;
         let (n, ny) = solution.grid();
         let level = Level {
             n,
@@ -261,7 +264,7 @@ fn run(
             iterations: solution.info.iterations,
             residual: solution.info.residual,
             wall_time_s: t0.elapsed().as_secs_f64(),
-            warm_started: start.is_some(),
+            warm_started,
             warnings: solution.warnings.clone(),
         };
         observer.level_finished(k, count, &level);

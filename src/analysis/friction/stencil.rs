@@ -6,7 +6,7 @@
 //! exactly nothing; on a periodic cell it is the spectral slope
 //! [`crate::operator::SpectralPeriodic::sliding_slope`].
 
-use crate::operator::GridOperator;
+use crate::operator::{GridOperator, GridWork};
 
 /// `F_T = a^2 p . (D p)` \[N\] with `D` the cell-averaged derivative operator
 /// along the sliding direction.
@@ -15,13 +15,20 @@ pub fn friction_force_stencil(derivative: &mut dyn GridOperator, pressure: &[f64
 }
 
 /// [`friction_force_stencil`] on cells of area `cell_area = a_x a_y`
-/// \[m^2\] (rectangular cells): `F_T = a_x a_y p . (D p)`.
+/// \[m^2\] (rectangular cells): `F_T = a_x a_y p . (D p)`. Only the loaded
+/// cells contribute, so `D p` is evaluated on them alone
+/// ([`GridOperator::apply_set`]: no grid-size vector beside the pressure
+/// for the FFT operators); the sum is that over every cell, bit for bit.
 pub fn friction_force_stencil_area(
     derivative: &mut dyn GridOperator,
     pressure: &[f64],
     cell_area: f64,
 ) -> f64 {
-    let mut dp = vec![0.0; pressure.len()];
-    derivative.apply(pressure, &mut dp);
-    cell_area * pressure.iter().zip(&dp).map(|(p, d)| p * d).sum::<f64>()
+    let cells: Vec<usize> = (0..pressure.len())
+        .filter(|&i| pressure[i] != 0.0)
+        .collect();
+    let loads: Vec<f64> = cells.iter().map(|&i| pressure[i]).collect();
+    let mut dp = vec![0.0; cells.len()];
+    derivative.apply_set(&cells, &loads, &mut dp, &mut GridWork::default());
+    cell_area * loads.iter().zip(&dp).map(|(p, d)| p * d).sum::<f64>()
 }
