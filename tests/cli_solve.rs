@@ -83,6 +83,7 @@ fn solve_writes_every_output_with_the_fixed_keys() {
         "wall_time_s",
         "seed",
         "version",
+        "peak_memory_bytes",
     ] {
         assert!(s.get(key).is_some(), "summary.json lacks {key}");
     }

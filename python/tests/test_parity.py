@@ -10,8 +10,8 @@ import pytest
 
 import viscoslide as vs
 
-#: Keys that measure wall-clock time, not results.
-TIMES = {"wall_time_s", "timings"}
+#: Keys that measure the run (wall-clock time, memory), not results.
+TIMES = {"wall_time_s", "timings", "peak_memory_bytes"}
 
 
 def assert_close(a, b, path="summary"):

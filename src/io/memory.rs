@@ -35,6 +35,15 @@ pub fn available_memory() -> Option<u64> {
     Some(kb * 1024)
 }
 
+/// The peak resident memory of this process so far \[bytes\] (`VmHWM` of
+/// `/proc/self/status`); `None` where the system does not say.
+pub fn peak_resident() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = text.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
 /// Refuse `need` bytes for `what` when more than is available; where the
 /// system does not say, only what no address space can hold
 /// (`isize::MAX` bytes) is refused.

@@ -324,6 +324,9 @@ impl Solution {
         // The device (f32) and host (f64) stages of a refined GPU solve;
         // null for every other path.
         doc["gpu_refinement"] = json!(self.gpu_refinement);
+        // The process's peak resident memory so far (after this solve; in a
+        // sweep, over every solve before it too), for sizing jobs.
+        doc["peak_memory_bytes"] = json!(crate::io::memory::peak_resident());
         doc
     }
 
