@@ -125,7 +125,12 @@ impl GpuBackend {
         options: GpuOptions,
     ) -> Result<Self, GpuError> {
         let n = nx * ny;
-        engine.check_binding(&format!("a {nx} x {ny} grid vector"), 4 * n as u64)?;
+        check_vector(
+            &engine.ctx.device.limits(),
+            &engine.ctx.adapter.name,
+            nx,
+            ny,
+        )?;
         let mut matvec = FftMatvec::new(&mut engine, nx, ny, table, options.spectrum, options.fft)?;
         if options.preconditioner && options.spectrum == SpectrumPrecision::F32 {
             matvec.set_inverse(&mut engine, table, PRECONDITIONER_FLOOR);
@@ -197,24 +202,16 @@ impl GpuBackend {
         }
     }
 
-    /// Whether an `nx x ny` grid fits the device's storage-binding limit
-    /// (a work buffer of the default FFT path is the largest: `8 mx
-    /// (my / 2 + 1)` bytes on the workgroup-memory path, `8 mx my` on the
-    /// radix-2 fallback).
+    /// Whether an `nx x ny` grid fits the device: its grid vectors in one
+    /// storage binding each, and the FFT's work buffers and spectrum (`8 mx
+    /// (my / 2 + 1)` bytes on the workgroup-memory path, bound in windows
+    /// when larger than one binding; `8 mx my` in one binding on the
+    /// radix-2 fallback), [`super::fft::check_device`].
     pub fn check_fits(ctx: &GpuContext, nx: usize, ny: usize) -> Result<(), GpuError> {
-        let path = super::fft_plan::Path::for_device(&ctx.device.limits());
-        let need = 8 * super::fft_plan::work_elements(nx.max(1), ny.max(1), path) as u64;
-        let limit = ctx.adapter.max_storage_binding.min(ctx.adapter.max_buffer);
-        if need > limit {
-            let (mx, my) = super::fft_plan::padded_shape(nx.max(1), ny.max(1), path);
-            return Err(GpuError::TooLarge {
-                what: format!("the padded {mx} x {my} FFT of a {nx} x {ny} grid"),
-                need,
-                limit,
-                adapter: ctx.adapter.name.clone(),
-            });
-        }
-        Ok(())
+        let limits = ctx.device.limits();
+        let path = super::fft_plan::Path::for_device(&limits);
+        check_vector(&limits, &ctx.adapter.name, nx, ny)?;
+        super::fft::check_device(&limits, &ctx.adapter.name, nx, ny, path).map(|_| ())
     }
 
     /// The dispatch plan of the uniform-grid matvec (`None` for the mesh
@@ -291,6 +288,30 @@ impl GpuBackend {
             self.n
         );
     }
+}
+
+/// A grid vector (`4 nx ny` bytes) must fit one storage binding: the
+/// vector kernels bind whole buffers.
+fn check_vector(
+    limits: &wgpu::Limits,
+    adapter: &str,
+    nx: usize,
+    ny: usize,
+) -> Result<(), GpuError> {
+    let need = 4 * (nx as u64) * (ny as u64);
+    let limit = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    if need > limit {
+        return Err(GpuError::TooLarge {
+            what: format!("a {nx} x {ny} grid vector"),
+            need,
+            limit,
+            per: "per storage binding",
+            adapter: adapter.to_string(),
+        });
+    }
+    Ok(())
 }
 
 impl Backend for GpuBackend {
