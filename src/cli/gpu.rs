@@ -170,9 +170,10 @@ fn plan(args: PlanArgs) -> Result<()> {
 }
 
 /// How the arrays of the default path sit in the adapter's bindings
-/// (`--binding-mib`, `--buffer-mib`): the FFT work buffers and the spectrum
-/// in windows of at most one binding ([`gpu::split`]), a grid vector in
-/// one binding; `text` says so in one line, or why the grid does not fit.
+/// (`--binding-mib`, `--buffer-mib`): the FFT work buffers, the spectrum
+/// and the grid vectors, each in one buffer, bound in windows of at most
+/// one binding where larger ([`gpu::split`]); `text` says so in one line,
+/// or why the grid does not fit.
 fn arrays(args: &PlanArgs, nx: usize, ny: usize, path: Path) -> serde_json::Value {
     let limits = wgpu::Limits {
         max_storage_buffer_binding_size: args.binding_mib.saturating_mul(1 << 20),
@@ -185,27 +186,31 @@ fn arrays(args: &PlanArgs, nx: usize, ny: usize, path: Path) -> serde_json::Valu
         .max_storage_buffer_binding_size
         .min(limits.max_buffer_size);
     let window = gpu::split::window_bytes(binding, 256);
+    let vector_windows = if vector <= binding {
+        1
+    } else {
+        gpu::split::windows(vector, window)
+    };
     let fft = gpu::fft::check_device(&limits, "the adapter", nx, ny, path);
     let mb = |b: u64| b as f64 / 1e6;
+    let split = |w: u64| match w {
+        1 => "one binding".to_string(),
+        w => format!("{w} windows of {} MiB", window >> 20),
+    };
     let text = match &fft {
-        _ if vector > binding => format!(
-            "arrays: a grid vector ({:.1} MB) exceeds one binding ({} MiB): does not fit",
+        _ if vector > limits.max_buffer_size => format!(
+            "arrays: a grid vector ({:.1} MB) exceeds one buffer ({} MiB): does not fit",
             mb(vector),
-            args.binding_mib
+            args.buffer_mib
         ),
         Err(e) => format!("arrays: {e}"),
-        Ok((bytes, 1)) => format!(
-            "arrays: FFT work buffers and spectrum {:.1} MB each, grid vectors {:.1} MB: one binding each (at most {} MiB)",
-            mb(*bytes),
-            mb(vector),
-            args.binding_mib
-        ),
         Ok((bytes, w)) => format!(
-            "arrays: FFT work buffers and spectrum {:.1} MB each, split into {w} windows of {} MiB (the product pass binds {} storage buffers); grid vectors {:.1} MB: one binding each",
+            "arrays: FFT work buffers and spectrum {:.1} MB each in {}; grid vectors {:.1} MB each in {} (largest binding {} MiB)",
             mb(*bytes),
-            window >> 20,
-            3 * w + 1,
-            mb(vector)
+            split(*w),
+            mb(vector),
+            split(vector_windows),
+            args.binding_mib
         ),
     };
     let (bytes, windows) = fft
@@ -217,7 +222,7 @@ fn arrays(args: &PlanArgs, nx: usize, ny: usize, path: Path) -> serde_json::Valu
         "fft_buffer_bytes": bytes,
         "fft_buffer_windows": windows,
         "vector_bytes": vector,
-        "vector_fits": vector <= binding,
+        "vector_windows": vector_windows,
         "text": text,
     })
 }

@@ -202,8 +202,8 @@ impl GpuBackend {
         }
     }
 
-    /// Whether an `nx x ny` grid fits the device: its grid vectors in one
-    /// storage binding each, and the FFT's work buffers and spectrum (`8 mx
+    /// Whether an `nx x ny` grid fits the device: its grid vectors
+    /// ([`check_vector`]) and the FFT's work buffers and spectrum (`8 mx
     /// (my / 2 + 1)` bytes on the workgroup-memory path, bound in windows
     /// when larger than one binding; `8 mx my` in one binding on the
     /// radix-2 fallback), [`super::fft::check_device`].
@@ -290,8 +290,10 @@ impl GpuBackend {
     }
 }
 
-/// A grid vector (`4 nx ny` bytes) must fit one storage binding: the
-/// vector kernels bind whole buffers.
+/// A grid vector (`4 nx ny` bytes) must fit one buffer; larger than one
+/// storage binding, it is bound in windows ([`super::split`]), and the
+/// kernel that binds the most vectors (`dot.wgsl`: five and the partials)
+/// must stay within the device's bindings per kernel (lavapipe: 32).
 fn check_vector(
     limits: &wgpu::Limits,
     adapter: &str,
@@ -299,15 +301,35 @@ fn check_vector(
     ny: usize,
 ) -> Result<(), GpuError> {
     let need = 4 * (nx as u64) * (ny as u64);
-    let limit = limits
+    let what = format!("a {nx} x {ny} grid vector");
+    if need > limits.max_buffer_size {
+        return Err(GpuError::TooLarge {
+            what,
+            need,
+            limit: limits.max_buffer_size,
+            per: "per buffer",
+            adapter: adapter.to_string(),
+        });
+    }
+    let binding = limits
         .max_storage_buffer_binding_size
         .min(limits.max_buffer_size);
-    if need > limit {
-        return Err(GpuError::TooLarge {
-            what: format!("a {nx} x {ny} grid vector"),
-            need,
+    let windows = if need <= binding {
+        1
+    } else {
+        let align = limits.min_storage_buffer_offset_alignment.into();
+        super::split::windows(need, super::split::window_bytes(binding, align))
+    };
+    // Five vectors and the reduction partials (split too under a binding
+    // limit below their 64 KiB, which only tests set).
+    let partials = (4 * REDUCE_GROUPS * REDUCE_SLOTS) as u64;
+    let bindings = 5 * windows + partials.div_ceil(binding);
+    let limit = limits.max_storage_buffers_per_shader_stage as u64;
+    if bindings > limit {
+        return Err(GpuError::TooManyBindings {
+            what,
+            need: bindings,
             limit,
-            per: "per storage binding",
             adapter: adapter.to_string(),
         });
     }

@@ -160,6 +160,16 @@ impl Kernel {
         const S: bool = true;
         const N: bool = false;
         match self {
+            Kernel::Axpy => &[S, S],
+            Kernel::Combine => &[S, S, S, S, S],
+            Kernel::Scale | Kernel::AddScalar => &[S],
+            Kernel::Gather | Kernel::Scatter | Kernel::Gap => &[S, S, S],
+            Kernel::ActiveSet => &[S, S, S, S],
+            Kernel::Complementarity => &[S, S, S],
+            Kernel::Dot => &[S, S, S, S, S, S],
+            Kernel::Sum => &[S, S],
+            Kernel::CompactCount => &[S, N],
+            Kernel::CompactWrite => &[S, N, S],
             Kernel::FftRadix | Kernel::FftSplit | Kernel::FftMerge => &[S, S, N],
             Kernel::FftRadixProduct => &[S, S, N, S],
             Kernel::Coefficients => &[N, S],

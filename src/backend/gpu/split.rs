@@ -106,27 +106,32 @@ pub fn split_source(source: &str, counts: &[u64], window: u64) -> Result<String,
             next += 1;
         }
         lines[d.line] = decls;
-        let head = |n: &str| format!("    let w = {n} >> {shift}u;\n    let o = {n} & {mask}u;\n");
+        let head = |n: &str| {
+            format!("    let split_w = {n} >> {shift}u;\n    let split_o = {n} & {mask}u;\n")
+        };
         let mut found = false;
         for l in lines.iter_mut() {
             let t = l.trim_start();
             if t.starts_with(&format!("fn {}_load(", d.name)) {
                 let mut f = format!("fn {}_load(i: u32) -> {} {{\n{}", d.name, d.ty, head("i"));
                 for (w, n) in names.iter().enumerate() {
-                    f.push_str(&format!("    if (w == {}u) {{ return {n}[o]; }}\n", w + 1));
+                    f.push_str(&format!(
+                        "    if (split_w == {}u) {{ return {n}[split_o]; }}\n",
+                        w + 1
+                    ));
                 }
-                f.push_str(&format!("    return {}[o];\n}}", d.name));
+                f.push_str(&format!("    return {}[split_o];\n}}", d.name));
                 *l = f;
                 found = true;
             } else if t.starts_with(&format!("fn {}_store(", d.name)) {
                 let mut f = format!("fn {}_store(i: u32, v: {}) {{\n{}", d.name, d.ty, head("i"));
                 for (w, n) in names.iter().enumerate() {
                     f.push_str(&format!(
-                        "    if (w == {}u) {{ {n}[o] = v; return; }}\n",
+                        "    if (split_w == {}u) {{ {n}[split_o] = v; return; }}\n",
                         w + 1
                     ));
                 }
-                f.push_str(&format!("    {}[o] = v;\n}}", d.name));
+                f.push_str(&format!("    {}[split_o] = v;\n}}", d.name));
                 *l = f;
                 found = true;
             }
@@ -165,9 +170,16 @@ mod tests {
         assert!(s.contains("@group(0) @binding(3) var<storage, read> x_w1: array<f32>;"));
         assert!(s.contains("@group(0) @binding(4) var<storage, read> x_w2: array<f32>;"));
         assert!(s.contains("@group(0) @binding(5) var<storage, read_write> y_w1"));
-        assert!(s.contains("let w = i >> 8u;"), "{s}");
-        assert!(s.contains("let w = i >> 7u;"), "{s}");
-        assert!(s.contains("if (w == 2u) { return x_w2[o]; }"), "{s}");
+        assert!(s.contains("let split_w = i >> 8u;"), "{s}");
+        assert!(s.contains("let split_w = i >> 7u;"), "{s}");
+        assert!(
+            s.contains("if (split_w == 2u) { return x_w2[split_o]; }"),
+            "{s}"
+        );
+        assert!(
+            s.contains("if (split_w == 1u) { y_w1[split_o] = v; return; }"),
+            "{s}"
+        );
         assert!(split_source(src, &[1, 1, 2], 1024).is_err());
     }
 }
