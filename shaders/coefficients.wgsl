@@ -10,6 +10,7 @@
 // terms (binding 1, shared/green.wgsl)[k] = (w_k, 1 / l_k).
 
 @group(0) @binding(2) var<storage, read_write> table: array<f32>;
+fn table_store(i: u32, v: f32) { table[i] = v; }
 
 const CWG: u32 = 64u;
 
@@ -24,5 +25,5 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     }
     cell_aspect = P.f.w;
     let x = vec2<f32>(f32(i32(t / wy) - i32(nx) + 1), f32(i32(t % wy) - i32(ny) + 1) * cell_aspect);
-    table[t] = unit_coefficient(x, P.f.xy, P.f.z, P.i.z, 1.0);
+    table_store(t, unit_coefficient(x, P.f.xy, P.f.z, P.i.z, 1.0));
 }

@@ -5,6 +5,7 @@
 // instead (the sources of adaptive_matvec.wgsl).
 
 @group(0) @binding(1) var<storage, read> mask: array<f32>;
+fn mask_load(i: u32) -> f32 { return mask[i]; }
 @group(0) @binding(2) var<storage, read_write> counts: array<u32>;
 
 @compute @workgroup_size(WG)
@@ -12,7 +13,7 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     let b = linear_group(wid, nwg);
     let i = b * WG + lid;
     var f = 0u;
-    if (i < P.i.x && select(mask[i] > 0.5, mask[i] != 0.0, P.i.z == 1u)) {
+    if (i < P.i.x && select(mask_load(i) > 0.5, mask_load(i) != 0.0, P.i.z == 1u)) {
         f = 1u;
     }
     let total = workgroup_inclusive_scan(lid, f);

@@ -4,19 +4,21 @@
 // instead (the sources of adaptive_matvec.wgsl).
 
 @group(0) @binding(1) var<storage, read> mask: array<f32>;
+fn mask_load(i: u32) -> f32 { return mask[i]; }
 @group(0) @binding(2) var<storage, read> offsets: array<u32>;
 @group(0) @binding(3) var<storage, read_write> index: array<u32>;
+fn index_store(i: u32, v: u32) { index[i] = v; }
 
 @compute @workgroup_size(WG)
 fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let b = linear_group(wid, nwg);
     let i = b * WG + lid;
     var f = 0u;
-    if (i < P.i.x && select(mask[i] > 0.5, mask[i] != 0.0, P.i.z == 1u)) {
+    if (i < P.i.x && select(mask_load(i) > 0.5, mask_load(i) != 0.0, P.i.z == 1u)) {
         f = 1u;
     }
     let pos = workgroup_inclusive_scan(lid, f);
     if (f == 1u && b < P.i.y) {
-        index[offsets[b] + pos - 1u] = i;
+        index_store(offsets[b] + pos - 1u, i);
     }
 }

@@ -6,7 +6,9 @@
 // P.i: (rows, N).
 
 @group(0) @binding(1) var<storage, read> x: array<vec2<f32>>;
+fn x_load(i: u32) -> vec2<f32> { return x[i]; }
 @group(0) @binding(2) var<storage, read_write> z: array<vec2<f32>>;
+fn z_store(i: u32, v: vec2<f32>) { z[i] = v; }
 @group(0) @binding(3) var<storage, read> twiddle: array<vec2<f32>>;
 
 @compute @workgroup_size(WG)
@@ -18,11 +20,11 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     }
     let b = t / n;
     let k = t % n;
-    let a = x[b * (n + 1u) + k];
-    let c0 = x[b * (n + 1u) + n - k];
+    let a = x_load(b * (n + 1u) + k);
+    let c0 = x_load(b * (n + 1u) + n - k);
     let c = vec2<f32>(c0.x, -c0.y);
     var w = twiddle[k * (arrayLength(&twiddle) / (2u * n))];
     w.y = -w.y;
     let d = cmul(a - c, w);
-    z[t] = a + c + vec2<f32>(-d.y, d.x);
+    z_store(t, a + c + vec2<f32>(-d.y, d.x));
 }

@@ -10,6 +10,7 @@
 // backend::gpu::fft_twin.
 
 @group(0) @binding(4) var<storage, read> spectrum: array<vec2<f32>>;
+fn spectrum_load(i: u32) -> vec2<f32> { return spectrum[i]; }
 
 @compute @workgroup_size(WG)
 fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
@@ -25,7 +26,7 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
             let k = g.j & (p.ns - 1u);
             let q = fft_bitrev(e & (p.r - 1u), p.log2r);
             let pos = ((g.j - k) << p.log2r) + k + (q << p.log2ns);
-            fft_buf[fft_at(p, e)] = fft_mul(fft_buf[fft_at(p, e)], spectrum[g.b * sb + pos * se]);
+            fft_buf[fft_at(p, e)] = fft_mul(fft_buf[fft_at(p, e)], spectrum_load(g.b * sb + pos * se));
         }
     }
     workgroupBarrier();

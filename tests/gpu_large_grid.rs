@@ -97,3 +97,80 @@ fn grid_2048_runs_within_the_binding_limit() {
     );
     assert!(e < 1e-5, "matvec error {e:.2e}");
 }
+
+/// A grid whose padded FFT exceeds lavapipe's 128 MiB binding: at 2049^2
+/// the work buffers and the spectrum (`8192 x 4097` complex f32, 268 MB
+/// each) are bound in three windows (backend::gpu::split). One matvec
+/// against the CPU Toeplitz FFT (host table; the device table's 2049^2
+/// would take minutes more), same bound as above. Only with
+/// `VISCOSLIDE_GPU_LARGE=1`; prints its timings.
+#[test]
+fn grid_beyond_one_binding_is_split() {
+    if std::env::var("VISCOSLIDE_GPU_LARGE").map_or(true, |v| v != "1") {
+        eprintln!("skipping the 2049^2 GPU run: set VISCOSLIDE_GPU_LARGE=1 (minutes on lavapipe)");
+        return;
+    }
+    let Some(ctx) = gpu::context_for_tests() else {
+        return;
+    };
+    let n = 2049;
+    let engine = Engine::new(ctx);
+    let path = gpu::fft_plan::Path::for_device(&engine.ctx.device.limits());
+    let work = 8 * gpu::fft_plan::work_elements(n, n, path) as u64;
+    let windows = engine.windows(work);
+    let a = 0.01 / n as f64;
+    let kernel = SlidingKernel::new(
+        &common::paper_material(),
+        KernelParams {
+            speed: 1.17e-2,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let host = kernel.table(n, n, a).values;
+    let t = Instant::now();
+    let mut g = GpuBackend::with_engine(engine, n, n, &host, GpuOptions::default()).unwrap();
+    let t_setup = t.elapsed().as_secs_f64();
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let x: Vec<f64> = (0..n * n)
+        .map(|_| {
+            if rng.random_range(0.0..1.0) < 0.05 {
+                rng.random_range(0.0..1e4)
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let mut xv = g.zeros(n * n);
+    g.upload(&x, &mut xv);
+    let mut yv = g.zeros(n * n);
+    let mut y = vec![0.0; n * n];
+    let mut t_matvec = Vec::new();
+    for _ in 0..2 {
+        let t = Instant::now();
+        g.apply(&xv, &mut yv);
+        g.download(&yv, &mut y);
+        t_matvec.push(t.elapsed().as_secs_f64());
+    }
+    let mut cpu = ToeplitzFft::new(OffsetTable {
+        nx: n,
+        ny: n,
+        values: &host,
+    });
+    let mut want = vec![0.0; n * n];
+    let t = Instant::now();
+    cpu.apply(&x, &mut want);
+    let t_cpu = t.elapsed().as_secs_f64();
+    let e = rel_l2(&y, &want);
+    println!(
+        "2049^2 on {}: FFT buffers {work} B in {windows} windows; backend setup {t_setup:.1} s; \
+         matvec {:.2} s, {:.2} s incl. readback (CPU FFT {t_cpu:.2} s), error {e:.1e}",
+        g.name(),
+        t_matvec[0],
+        t_matvec[1]
+    );
+    if windows == 1 {
+        println!("(this adapter binds the FFT buffers whole: nothing was split)");
+    }
+    assert!(e < 1e-5, "matvec error {e:.2e}");
+}

@@ -41,3 +41,33 @@ fn plan_table_lists_both_paths_the_floor_and_the_steps() {
     // A 512^2 grid is one block per transform: rows, columns, rows.
     assert_eq!(text.matches("  fft_radix").count(), 3, "{text}");
 }
+
+/// The plan states how the arrays sit in the adapter's bindings (default
+/// lavapipe's 128 MiB binding, 2 GiB buffer): at 2048^2 one binding each;
+/// at 4096^2 the `8192 x 4097` complex work buffers and spectrum (268 MB)
+/// in three windows; at 8192^2 (1.07 GB) in nine and the grid vectors (268
+/// MB) in two; at 8193^2 the work buffers (4.3 GB) exceed one buffer.
+#[test]
+fn plan_states_how_arrays_are_split() {
+    let arrays = |n: &str| {
+        let v: serde_json::Value =
+            serde_json::from_str(&plan(&["--n", n, "--shared-kib", "32", "--json"])).unwrap();
+        v["arrays"].clone()
+    };
+    let a = arrays("2048");
+    assert_eq!(a["fft_buffer_windows"], 1, "{a}");
+    assert_eq!(a["vector_windows"], 1, "{a}");
+    let a = arrays("4096");
+    assert_eq!(a["fft_buffer_bytes"], 8 * 8192 * 4097, "{a}");
+    assert_eq!(a["fft_buffer_windows"], 3, "{a}");
+    assert_eq!(a["window_bytes"], 128 << 20, "{a}");
+    assert!(a["text"].as_str().unwrap().contains("3 windows"), "{a}");
+    let a = arrays("8192");
+    assert_eq!(a["fft_buffer_windows"], 9, "{a}");
+    assert_eq!(a["vector_windows"], 2, "{a}");
+    let a = arrays("8193");
+    assert!(a["fft_buffer_windows"].is_null(), "{a}");
+    assert!(a["text"].as_str().unwrap().contains("per buffer"), "{a}");
+    let text = plan(&["--n", "4096", "--binding-mib", "1024"]);
+    assert!(text.contains("in one binding; grid vectors"), "{text}");
+}

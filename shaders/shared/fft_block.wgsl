@@ -36,8 +36,13 @@ const FFT_INVERSE: u32 = 2u;
 const FFT_SPLIT: u32 = 4u;
 const FFT_MERGE: u32 = 8u;
 
+// The operands are reached through accessors only, so that an operand
+// larger than one storage binding can be bound as several windows
+// (backend::gpu::split).
 @group(0) @binding(1) var<storage, read> src: array<f32>;
+fn src_load(i: u32) -> f32 { return src[i]; }
 @group(0) @binding(2) var<storage, read_write> dst: array<f32>;
+fn dst_store(i: u32, v: f32) { dst[i] = v; }
 @group(0) @binding(3) var<storage, read> twiddle: array<vec2<f32>>;
 
 var<workgroup> fft_buf: array<vec2<f32>, FFT_SHARED>;
@@ -139,10 +144,10 @@ fn fft_read(l: FftLayout, b: u32, pos: u32) -> vec2<f32> {
     let at = b * l.bsf + pos * l.esf;
     var v = vec2<f32>(0.0, 0.0);
     if (2u * pos < l.lim) {
-        v.x = src[at];
+        v.x = src_load(at);
     }
     if (2u * pos + 1u < l.lim) {
-        v.y = src[at + 1u];
+        v.y = src_load(at + 1u);
     }
     return v;
 }
@@ -150,10 +155,10 @@ fn fft_read(l: FftLayout, b: u32, pos: u32) -> vec2<f32> {
 fn fft_write(l: FftLayout, b: u32, pos: u32, v: vec2<f32>) {
     let at = b * l.bsf + pos * l.esf;
     if (2u * pos < l.lim) {
-        dst[at] = v.x;
+        dst_store(at, v.x);
     }
     if (2u * pos + 1u < l.lim) {
-        dst[at + 1u] = v.y;
+        dst_store(at + 1u, v.y);
     }
 }
 

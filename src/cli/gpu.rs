@@ -35,6 +35,13 @@ pub struct PlanArgs {
     /// H100 under Vulkan allows 48, lavapipe 32).
     #[arg(long, default_value_t = 48)]
     pub shared_kib: u64,
+    /// Largest storage binding of the adapter [MiB] (lavapipe: 128): arrays
+    /// above it are bound in windows.
+    #[arg(long, default_value_t = 128)]
+    pub binding_mib: u64,
+    /// Largest buffer of the adapter [MiB] (lavapipe: 2048).
+    #[arg(long, default_value_t = 2048)]
+    pub buffer_mib: u64,
     /// Memory bandwidth of the prediction [TB/s] (H100 SXM: about 3).
     #[arg(long, default_value_t = 3.0, allow_negative_numbers = true)]
     pub bandwidth: f64,
@@ -89,6 +96,7 @@ fn plan(args: PlanArgs) -> Result<()> {
     let new = MatvecPlan::new(nx, ny, path);
     let old = MatvecPlan::new(nx, ny, Path::Radix2);
     let floor = new.floor();
+    let arrays = arrays(&args, nx, ny, path);
     let ms = |t: Traffic| t.bytes() as f64 / (args.bandwidth * 1e12) * 1e3;
     if args.json {
         let row = |t: Traffic| {
@@ -105,6 +113,7 @@ fn plan(args: PlanArgs) -> Result<()> {
             "default": row(new.traffic()),
             "radix2": row(old.traffic()),
             "floor": row(floor),
+            "arrays": arrays,
         });
         println!(
             "{}",
@@ -145,6 +154,7 @@ fn plan(args: PlanArgs) -> Result<()> {
         n / o,
         n / f
     );
+    println!("{}", arrays["text"].as_str().unwrap_or_default());
     if args.steps {
         for s in &new.steps {
             println!(
@@ -157,4 +167,62 @@ fn plan(args: PlanArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// How the arrays of the default path sit in the adapter's bindings
+/// (`--binding-mib`, `--buffer-mib`): the FFT work buffers, the spectrum
+/// and the grid vectors, each in one buffer, bound in windows of at most
+/// one binding where larger ([`gpu::split`]); `text` says so in one line,
+/// or why the grid does not fit.
+fn arrays(args: &PlanArgs, nx: usize, ny: usize, path: Path) -> serde_json::Value {
+    let limits = wgpu::Limits {
+        max_storage_buffer_binding_size: args.binding_mib.saturating_mul(1 << 20),
+        max_buffer_size: args.buffer_mib.saturating_mul(1 << 20),
+        max_storage_buffers_per_shader_stage: u32::MAX,
+        ..wgpu::Limits::default()
+    };
+    let vector = 4 * nx as u64 * ny as u64;
+    let binding = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    let window = gpu::split::window_bytes(binding, 256);
+    let vector_windows = if vector <= binding {
+        1
+    } else {
+        gpu::split::windows(vector, window)
+    };
+    let fft = gpu::fft::check_device(&limits, "the adapter", nx, ny, path);
+    let mb = |b: u64| b as f64 / 1e6;
+    let split = |w: u64| match w {
+        1 => "one binding".to_string(),
+        w => format!("{w} windows of {} MiB", window >> 20),
+    };
+    let text = match &fft {
+        _ if vector > limits.max_buffer_size => format!(
+            "arrays: a grid vector ({:.1} MB) exceeds one buffer ({} MiB): does not fit",
+            mb(vector),
+            args.buffer_mib
+        ),
+        Err(e) => format!("arrays: {e}"),
+        Ok((bytes, w)) => format!(
+            "arrays: FFT work buffers and spectrum {:.1} MB each in {}; grid vectors {:.1} MB each in {} (largest binding {} MiB)",
+            mb(*bytes),
+            split(*w),
+            mb(vector),
+            split(vector_windows),
+            args.binding_mib
+        ),
+    };
+    let (bytes, windows) = fft
+        .as_ref()
+        .map_or((None, None), |&(b, w)| (Some(b), Some(w)));
+    serde_json::json!({
+        "binding_bytes": binding,
+        "window_bytes": window,
+        "fft_buffer_bytes": bytes,
+        "fft_buffer_windows": windows,
+        "vector_bytes": vector,
+        "vector_windows": vector_windows,
+        "text": text,
+    })
 }

@@ -128,7 +128,12 @@ impl GpuBackend {
         options: GpuOptions,
     ) -> Result<Self, GpuError> {
         let n = nx * ny;
-        engine.check_binding(&format!("a {nx} x {ny} grid vector"), 4 * n as u64)?;
+        check_vector(
+            &engine.ctx.device.limits(),
+            &engine.ctx.adapter.name,
+            nx,
+            ny,
+        )?;
         let mut matvec = FftMatvec::new(&mut engine, nx, ny, table, options.spectrum, options.fft)?;
         if options.preconditioner && options.spectrum == SpectrumPrecision::F32 {
             matvec.set_inverse(&mut engine, table, PRECONDITIONER_FLOOR);
@@ -201,24 +206,16 @@ impl GpuBackend {
         }
     }
 
-    /// Whether an `nx x ny` grid fits the device's storage-binding limit
-    /// (a work buffer of the default FFT path is the largest: `8 mx
-    /// (my / 2 + 1)` bytes on the workgroup-memory path, `8 mx my` on the
-    /// radix-2 fallback).
+    /// Whether an `nx x ny` grid fits the device: its grid vectors
+    /// ([`check_vector`]) and the FFT's work buffers and spectrum (`8 mx
+    /// (my / 2 + 1)` bytes on the workgroup-memory path, bound in windows
+    /// when larger than one binding; `8 mx my` in one binding on the
+    /// radix-2 fallback), [`super::fft::check_device`].
     pub fn check_fits(ctx: &GpuContext, nx: usize, ny: usize) -> Result<(), GpuError> {
-        let path = super::fft_plan::Path::for_device(&ctx.device.limits());
-        let need = 8 * super::fft_plan::work_elements(nx.max(1), ny.max(1), path) as u64;
-        let limit = ctx.adapter.max_storage_binding.min(ctx.adapter.max_buffer);
-        if need > limit {
-            let (mx, my) = super::fft_plan::padded_shape(nx.max(1), ny.max(1), path);
-            return Err(GpuError::TooLarge {
-                what: format!("the padded {mx} x {my} FFT of a {nx} x {ny} grid"),
-                need,
-                limit,
-                adapter: ctx.adapter.name.clone(),
-            });
-        }
-        Ok(())
+        let limits = ctx.device.limits();
+        let path = super::fft_plan::Path::for_device(&limits);
+        check_vector(&limits, &ctx.adapter.name, nx, ny)?;
+        super::fft::check_device(&limits, &ctx.adapter.name, nx, ny, path).map(|_| ())
     }
 
     /// The dispatch plan of the uniform-grid matvec (`None` for the mesh
@@ -306,6 +303,52 @@ impl GpuBackend {
             self.n
         );
     }
+}
+
+/// A grid vector (`4 nx ny` bytes) must fit one buffer; larger than one
+/// storage binding, it is bound in windows ([`super::split`]), and the
+/// kernel that binds the most vectors (`dot.wgsl`: five and the partials)
+/// must stay within the device's bindings per kernel (lavapipe: 32).
+fn check_vector(
+    limits: &wgpu::Limits,
+    adapter: &str,
+    nx: usize,
+    ny: usize,
+) -> Result<(), GpuError> {
+    let need = 4 * (nx as u64) * (ny as u64);
+    let what = format!("a {nx} x {ny} grid vector");
+    if need > limits.max_buffer_size {
+        return Err(GpuError::TooLarge {
+            what,
+            need,
+            limit: limits.max_buffer_size,
+            per: "per buffer",
+            adapter: adapter.to_string(),
+        });
+    }
+    let binding = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    let windows = if need <= binding {
+        1
+    } else {
+        let align = limits.min_storage_buffer_offset_alignment.into();
+        super::split::windows(need, super::split::window_bytes(binding, align))
+    };
+    // Five vectors and the reduction partials (split too under a binding
+    // limit below their 64 KiB, which only tests set).
+    let partials = (4 * REDUCE_GROUPS * REDUCE_SLOTS) as u64;
+    let bindings = 5 * windows + partials.div_ceil(binding);
+    let limit = limits.max_storage_buffers_per_shader_stage as u64;
+    if bindings > limit {
+        return Err(GpuError::TooManyBindings {
+            what,
+            need: bindings,
+            limit,
+            adapter: adapter.to_string(),
+        });
+    }
+    Ok(())
 }
 
 impl Backend for GpuBackend {

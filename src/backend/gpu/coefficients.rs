@@ -46,7 +46,13 @@ pub fn coefficient_table_rect(
     }
     let plan = plan(material, params, ax)?;
     let count = (2 * nx - 1) * (2 * ny - 1);
-    engine.check_binding("the coefficient table", 4 * count as u64)?;
+    // The table is written through binding windows when larger than one
+    // binding (shaders/coefficients.wgsl, backend::gpu::split).
+    engine.check_buffer("the coefficient table", 4 * count as u64)?;
+    engine.check_bindings(
+        "the coefficient table",
+        1 + engine.windows(4 * count as u64),
+    )?;
     let terms = engine.storage_with("viscoslide creep terms", bytemuck::cast_slice(&plan.terms));
     let out = engine.create_buffer(
         "viscoslide coefficient table",

@@ -86,8 +86,17 @@ pub enum GpuError {
     Device { adapter: String, what: String },
     #[error("GPU readback failed: {0}")]
     Readback(String),
-    #[error("{what} needs {need} bytes in one GPU buffer, but {adapter} allows {limit} per storage binding; use a smaller grid or --backend cpu")]
+    #[error("{what} needs {need} bytes in one GPU buffer, but {adapter} allows {limit} {per}; use a smaller grid or --backend cpu")]
     TooLarge {
+        what: String,
+        need: u64,
+        limit: u64,
+        /// What the limit applies to ("per storage binding", "per buffer").
+        per: &'static str,
+        adapter: String,
+    },
+    #[error("{what} needs {need} storage bindings in one kernel (arrays larger than one binding count once per window), but {adapter} allows {limit}; use a smaller grid or --backend cpu")]
+    TooManyBindings {
         what: String,
         need: u64,
         limit: u64,
@@ -109,6 +118,16 @@ impl GpuContext {
     /// Open the best adapter (high-performance preference, fallback
     /// adapters such as lavapipe allowed) with the adapter's own limits.
     pub fn open() -> Result<Self, GpuError> {
+        Self::open_with_limits(None, None)
+    }
+
+    /// As [`Self::open`], with the largest storage binding lowered to
+    /// `binding` bytes and the largest buffer to `buffer` bytes when given
+    /// (at most the adapter's; multiples of 4): the device then refuses
+    /// larger bindings and buffers exactly as an adapter with those limits
+    /// would, so arrays split into binding windows ([`super::split`]) and
+    /// the refusals can be tested on small grids.
+    pub fn open_with_limits(binding: Option<u64>, buffer: Option<u64>) -> Result<Self, GpuError> {
         let inst = instance();
         let adapter = pollster::block_on(inst.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
@@ -118,7 +137,15 @@ impl GpuContext {
         }))
         .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let info = adapter.get_info();
-        let limits = adapter.limits();
+        let mut limits = adapter.limits();
+        if let Some(b) = binding {
+            let b = b.max(4) & !3;
+            limits.max_storage_buffer_binding_size = limits.max_storage_buffer_binding_size.min(b);
+        }
+        if let Some(b) = buffer {
+            let b = b.max(4) & !3;
+            limits.max_buffer_size = limits.max_buffer_size.min(b);
+        }
         let summary = AdapterSummary {
             name: info.name.clone(),
             backend: format!("{:?}", info.backend),
@@ -151,7 +178,16 @@ impl GpuContext {
 /// missing adapter is a failure (CI installs lavapipe); otherwise the caller
 /// skips with the printed reason.
 pub fn context_for_tests() -> Option<GpuContext> {
-    match GpuContext::open() {
+    context_for_tests_with_limits(None, None)
+}
+
+/// As [`context_for_tests`] with the largest storage binding and buffer
+/// lowered ([`GpuContext::open_with_limits`]).
+pub fn context_for_tests_with_limits(
+    binding: Option<u64>,
+    buffer: Option<u64>,
+) -> Option<GpuContext> {
+    match GpuContext::open_with_limits(binding, buffer) {
         Ok(c) => Some(c),
         Err(e) => {
             if std::env::var("REQUIRE_GPU").is_ok_and(|v| v == "1") {

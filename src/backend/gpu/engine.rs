@@ -4,6 +4,9 @@
 //! uniform ring bound with a dynamic offset, written just before the
 //! submission. Pipelines and bind groups are created once and cached
 //! (DESIGN.md "plan once, apply many"); every resource carries a label.
+//! A buffer larger than the device's largest storage binding is bound as
+//! several windows where the kernel allows it ([`Kernel::splittable`],
+//! [`super::split`]); the pipeline of each split is compiled once.
 //!
 //! Length: a little over 500 lines because it is the one place that talks
 //! to wgpu for every kernel (the kernel table, pipeline and bind-group
@@ -17,6 +20,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::context::{GpuContext, GpuError};
 use super::shaders;
+use super::split;
 
 /// Invocations per workgroup of every kernel (`WG` in `shared/common.wgsl`).
 pub const WORKGROUP: u32 = 256;
@@ -24,6 +28,9 @@ pub const WORKGROUP: u32 = 256;
 const MAX_GROUPS_X: u32 = 65_535;
 /// Slots of the parameter ring.
 const RING_SLOTS: u64 = 512;
+
+/// Windows of each storage binding of a dispatch (1: the whole buffer).
+type Split = [u64; 7];
 
 /// Parameters of one dispatch (`Params` in `shared/common.wgsl`).
 #[repr(C)]
@@ -145,6 +152,30 @@ impl Kernel {
             Kernel::LevelMatvec => &[R, R, R, R, R, R, W],
         }
     }
+
+    /// Storage bindings (as in [`Kernel::storage`]) that may be larger
+    /// than one binding: the shader reaches them only through the
+    /// accessors of [`super::split`].
+    pub fn splittable(self) -> &'static [bool] {
+        const S: bool = true;
+        const N: bool = false;
+        match self {
+            Kernel::Axpy => &[S, S],
+            Kernel::Combine => &[S, S, S, S, S],
+            Kernel::Scale | Kernel::AddScalar => &[S],
+            Kernel::Gather | Kernel::Scatter | Kernel::Gap => &[S, S, S],
+            Kernel::ActiveSet => &[S, S, S, S],
+            Kernel::Complementarity => &[S, S, S],
+            Kernel::Dot => &[S, S, S, S, S, S],
+            Kernel::Sum => &[S, S],
+            Kernel::CompactCount => &[S, N],
+            Kernel::CompactWrite => &[S, N, S],
+            Kernel::FftRadix | Kernel::FftSplit | Kernel::FftMerge => &[S, S, N],
+            Kernel::FftRadixProduct => &[S, S, N, S],
+            Kernel::Coefficients => &[N, S],
+            _ => &[],
+        }
+    }
 }
 
 struct Pipeline {
@@ -172,7 +203,7 @@ enum Command {
 /// The device, its caches and the pending commands.
 pub struct Engine {
     pub ctx: GpuContext,
-    pipelines: HashMap<Kernel, Pipeline>,
+    pipelines: HashMap<(Kernel, Split), Pipeline>,
     binds: HashMap<(Kernel, [u64; 7]), wgpu::BindGroup>,
     ring: Buf,
     stride: u64,
@@ -187,6 +218,8 @@ pub struct Engine {
     /// kernels (`FFT_SHARED` in `shared/fft_block.wgsl`), from the
     /// device's workgroup storage limit.
     pub fft_shared: usize,
+    /// Bytes of one window of a split binding ([`split::window_bytes`]).
+    window: u64,
 }
 
 /// Workgroup grid `(x, y)` covering `threads` invocations.
@@ -216,8 +249,16 @@ impl Engine {
         };
         let fft_shared =
             shaders::shared_elements(ctx.device.limits().max_compute_workgroup_storage_size as u64);
+        let limits = ctx.device.limits();
+        let window = split::window_bytes(
+            limits
+                .max_storage_buffer_binding_size
+                .min(limits.max_buffer_size),
+            limits.min_storage_buffer_offset_alignment.into(),
+        );
         Self {
             fft_shared,
+            window,
             ctx,
             pipelines: HashMap::new(),
             binds: HashMap::new(),
@@ -244,6 +285,59 @@ impl Engine {
             return Err(GpuError::TooLarge {
                 what: what.to_string(),
                 need: bytes,
+                limit,
+                per: "per storage binding",
+                adapter: self.ctx.adapter.name.clone(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Bytes of one window of a split binding.
+    pub fn window_bytes(&self) -> u64 {
+        self.window
+    }
+
+    /// Windows a buffer of `bytes` occupies when bound by a kernel that
+    /// splits it (1 when it fits one binding).
+    pub fn windows(&self, bytes: u64) -> u64 {
+        if bytes <= self.max_binding() {
+            1
+        } else {
+            split::windows(bytes, self.window)
+        }
+    }
+
+    /// Fail with [`GpuError::TooLarge`] when `bytes` exceed one buffer
+    /// (`max_buffer_size`): the limit of an array that kernels bind in
+    /// windows.
+    pub fn check_buffer(&self, what: &str, bytes: u64) -> Result<(), GpuError> {
+        let limit = self.ctx.device.limits().max_buffer_size;
+        if bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: what.to_string(),
+                need: bytes,
+                limit,
+                per: "per buffer",
+                adapter: self.ctx.adapter.name.clone(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Fail with [`GpuError::TooLarge`] when a kernel would need more than
+    /// the device's storage bindings per shader stage (`bindings`, windows
+    /// of split arrays included).
+    pub fn check_bindings(&self, what: &str, bindings: u64) -> Result<(), GpuError> {
+        let limit = self
+            .ctx
+            .device
+            .limits()
+            .max_storage_buffers_per_shader_stage as u64;
+        if bindings > limit {
+            return Err(GpuError::TooManyBindings {
+                what: what.to_string(),
+                need: bindings,
                 limit,
                 adapter: self.ctx.adapter.name.clone(),
             });
@@ -296,11 +390,14 @@ impl Engine {
         b
     }
 
-    fn pipeline(&mut self, kernel: Kernel) -> &Pipeline {
-        if !self.pipelines.contains_key(&kernel) {
+    fn pipeline(&mut self, kernel: Kernel, windows: Split) -> &Pipeline {
+        if !self.pipelines.contains_key(&(kernel, windows)) {
             let device = &self.ctx.device;
             let source = shaders::compose(kernel.file()).expect("every kernel has a shader file");
             let source = shaders::with_fft_shared(&source, self.fft_shared);
+            let count = kernel.storage().len();
+            let source = split::split_source(&source, &windows[..count], self.window)
+                .unwrap_or_else(|e| panic!("{kernel:?}: {e}"));
             let label = format!("viscoslide {}", kernel.file());
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(&label),
@@ -316,7 +413,13 @@ impl Engine {
                 },
                 count: None,
             }];
-            for (k, &read_only) in kernel.storage().iter().enumerate() {
+            let extra = kernel
+                .storage()
+                .iter()
+                .enumerate()
+                .flat_map(|(k, &r)| std::iter::repeat_n(r, windows[k] as usize - 1));
+            let access: Vec<bool> = kernel.storage().iter().copied().chain(extra).collect();
+            for (k, &read_only) in access.iter().enumerate() {
                 entries.push(wgpu::BindGroupLayoutEntry {
                     binding: k as u32 + 1,
                     visibility: wgpu::ShaderStages::COMPUTE,
@@ -345,9 +448,41 @@ impl Engine {
                 compilation_options: Default::default(),
                 cache: None,
             });
-            self.pipelines.insert(kernel, Pipeline { layout, pipeline });
+            self.pipelines
+                .insert((kernel, windows), Pipeline { layout, pipeline });
         }
-        &self.pipelines[&kernel]
+        &self.pipelines[&(kernel, windows)]
+    }
+
+    /// Windows of each binding of `kernel` over `bufs`; panics when a
+    /// buffer that the kernel cannot split exceeds one binding (callers
+    /// refuse such sizes first, [`Engine::check_binding`]).
+    fn split_of(&self, kernel: Kernel, bufs: &[&Buf]) -> Split {
+        let mut windows = [1u64; 7];
+        for (k, b) in bufs.iter().enumerate() {
+            let size = b.buffer.size();
+            windows[k] = self.windows(size);
+            assert!(
+                windows[k] == 1 || kernel.splittable().get(k) == Some(&true),
+                "{kernel:?}: binding {} of {size} bytes exceeds one storage binding ({} bytes)",
+                k + 1,
+                self.max_binding()
+            );
+        }
+        windows
+    }
+
+    /// Window `w` of a buffer bound in `windows` windows.
+    fn window_of<'a>(&self, b: &'a Buf, windows: u64, w: u64) -> wgpu::BindingResource<'a> {
+        if windows == 1 {
+            return b.buffer.as_entire_binding();
+        }
+        let offset = w * self.window;
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &b.buffer,
+            offset,
+            size: wgpu::BufferSize::new(self.window.min(b.buffer.size() - offset)),
+        })
     }
 
     /// Record `kernel` over a `groups` workgroup grid with storage bindings
@@ -361,9 +496,10 @@ impl Engine {
         for (k, b) in bufs.iter().enumerate() {
             key[k] = b.id;
         }
-        let pipeline = self.pipeline(kernel).pipeline.clone();
+        let windows = self.split_of(kernel, bufs);
+        let pipeline = self.pipeline(kernel, windows).pipeline.clone();
         if !self.binds.contains_key(&(kernel, key)) {
-            let layout = &self.pipelines[&kernel].layout;
+            let layout = &self.pipelines[&(kernel, windows)].layout;
             let mut entries = vec![wgpu::BindGroupEntry {
                 binding: 0,
                 resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
@@ -375,8 +511,20 @@ impl Engine {
             for (k, b) in bufs.iter().enumerate() {
                 entries.push(wgpu::BindGroupEntry {
                     binding: k as u32 + 1,
-                    resource: b.buffer.as_entire_binding(),
+                    resource: self.window_of(b, windows[k], 0),
                 });
+            }
+            // The further windows of split buffers, numbered after the
+            // kernel's own bindings (the order of split::split_source).
+            let mut next = bufs.len() as u32 + 1;
+            for (k, b) in bufs.iter().enumerate() {
+                for w in 1..windows[k] {
+                    entries.push(wgpu::BindGroupEntry {
+                        binding: next,
+                        resource: self.window_of(b, windows[k], w),
+                    });
+                    next += 1;
+                }
             }
             let bind = self
                 .ctx

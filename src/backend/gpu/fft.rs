@@ -186,9 +186,12 @@ impl FftMatvec {
         let plan = MatvecPlan::new(nx, ny, path);
         let (mx, my) = (plan.mx, plan.my);
         let bytes = 8 * work_elements(nx, ny, path) as u64;
-        engine.check_binding(
-            &format!("the padded {mx} x {my} FFT of a {nx} x {ny} grid"),
-            bytes,
+        check_device(
+            &engine.ctx.device.limits(),
+            &engine.ctx.adapter.name,
+            nx,
+            ny,
+            path,
         )?;
         let mut spectrum = kernel_spectrum(nx, ny, mx, my, table);
         if path != Path::Radix2 {
@@ -334,6 +337,57 @@ impl FftMatvec {
             engine.dispatch(step.kernel, &bufs, step.params, grid(step.groups));
         }
     }
+}
+
+/// How the work buffers and the spectrum of an `nx x ny` grid's matvec on
+/// `path` fit a device with `limits` (every array in one buffer; on
+/// [`Path::Shared`] an array larger than one storage binding is bound in
+/// windows, [`super::split`]): `(bytes of each, windows of each)`, or the
+/// limit they break. The radix-2 kernels bind whole buffers.
+pub fn check_device(
+    limits: &wgpu::Limits,
+    adapter: &str,
+    nx: usize,
+    ny: usize,
+    path: Path,
+) -> Result<(u64, u64), GpuError> {
+    let (mx, my) = super::fft_plan::padded_shape(nx.max(1), ny.max(1), path);
+    let what = format!("the padded {mx} x {my} FFT of a {nx} x {ny} grid");
+    let bytes = 8 * work_elements(nx.max(1), ny.max(1), path) as u64;
+    let binding = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    let too_large = |limit: u64, per: &'static str| GpuError::TooLarge {
+        what: what.clone(),
+        need: bytes,
+        limit,
+        per,
+        adapter: adapter.to_string(),
+    };
+    if bytes <= binding {
+        return Ok((bytes, 1));
+    }
+    if path == Path::Radix2 {
+        return Err(too_large(binding, "per storage binding"));
+    }
+    if bytes > limits.max_buffer_size {
+        return Err(too_large(limits.max_buffer_size, "per buffer"));
+    }
+    let window =
+        super::split::window_bytes(binding, limits.min_storage_buffer_offset_alignment.into());
+    let windows = super::split::windows(bytes, window);
+    // The product pass binds two work buffers, the spectrum and the twiddles.
+    let bindings = 3 * windows + 1;
+    let limit = limits.max_storage_buffers_per_shader_stage as u64;
+    if bindings > limit {
+        return Err(GpuError::TooManyBindings {
+            what,
+            need: bindings,
+            limit,
+            adapter: adapter.to_string(),
+        });
+    }
+    Ok((bytes, windows))
 }
 
 /// The scale of the f16 spectrum: its largest component.

@@ -6,6 +6,7 @@
 //! - [`shaders`]: the WGSL kernels of `shaders/` and their validation.
 //! - [`engine`]: pipeline and bind-group caches, the parameter ring, command
 //!   recording, submission and readback.
+//! - [`split`]: arrays larger than one storage binding, bound as windows.
 //! - [`pool`]: grid-sized storage buffers, recycled.
 //! - [`fft`]: the Toeplitz matvec (paper Eq. 7) by a padded FFT: its
 //!   buffers, kernel spectrum and recording.
@@ -34,8 +35,12 @@ pub mod level_tables;
 pub mod plan;
 pub mod pool;
 pub mod shaders;
+pub mod split;
 
 pub use adaptive::{AdaptiveMatvec, MeshCells};
 pub use backend::{FftChoice, GpuBackend, GpuIndex, GpuOptions, GpuVector, SpectrumPrecision};
-pub use context::{context_for_tests, list_adapters, AdapterSummary, GpuContext, GpuError};
+pub use context::{
+    context_for_tests, context_for_tests_with_limits, list_adapters, AdapterSummary, GpuContext,
+    GpuError,
+};
 pub use level_tables::{GpuLevelTables, LevelMatvec};
