@@ -59,8 +59,9 @@ def test_a_layer_far_below_a_cell_raises_and_the_interpreter_lives_on(pad, rubbe
     # 1e-12 m on 156 um cells grew to 24 GB and killed the interpreter.
     with pytest.raises(ValueError, match=r"of a cell.*1e-3"):
         vs.solve(pad, rubber, xi=1.17e-2, normal_load=0.3, thickness=1e-12, backend="cpu")
-    with pytest.raises(ValueError, match=r"lap p"):
-        vs.solve(pad, rubber, xi=1.17e-2, normal_load=0.3, thickness=1e-6, backend="cpu")
+    # A bonded incompressible layer far below a cell: the thin-layer law.
+    r = vs.solve(pad, rubber, xi=1.17e-2, normal_load=0.3, thickness=1e-6, backend="cpu")
+    assert r.friction_coefficient > 0
     r = vs.solve(pad, rubber, xi=1.17e-2, normal_load=0.3, thickness=1e-6, layer_base="frictionless", backend="cpu")
     assert r.friction_coefficient > 0
 

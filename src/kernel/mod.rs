@@ -32,8 +32,10 @@ mod table;
 pub mod thickness;
 mod thin;
 mod thin_cross;
+mod thin_law;
 mod window;
 pub use thin::THIN_RATIO_MIN;
+pub use thin_law::thin_series;
 
 use std::sync::Arc;
 

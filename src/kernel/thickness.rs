@@ -105,8 +105,9 @@ pub fn compliance_ratio(base: LayerBase, nu: f64, u: f64) -> f64 {
         }
         LayerBase::Frictionless => {
             if u < 1e-4 {
-                // (cosh 2u - 1)/(sinh 2u + 2u) = u/2 - u^3/6 + ...
-                return u / 2.0 - u * u * u / 6.0;
+                // (cosh 2u - 1)/(sinh 2u + 2u) = u/2 - u^5/90 + ... (the
+                // u^3 terms of numerator and denominator cancel).
+                return u / 2.0 - u.powi(5) / 90.0;
             }
             ((2.0 * u).cosh() - 1.0) / ((2.0 * u).sinh() + 2.0 * u)
         }

@@ -14,7 +14,8 @@
 //!   `w = p h (1 - nu^2)/E`; bonded `(1-2nu) / (2 (1-nu)^2)`: the
 //!   oedometric `w = p h (1+nu)(1-2nu)/((1-nu)E)`; zero for a bonded
 //!   incompressible layer, whose thin limit `w = -(h^3/E) lap p` has no
-//!   response at the centre of a uniformly loaded cell);
+//!   response at the centre of a uniformly loaded cell: such layers take
+//!   the law of [`super::thin_law`] on the cell grid);
 //! * the edge profile: within `R h` of one straight edge,
 //!   `M = m0 h F(t)`, `t` the signed distance into the cell over `h` and
 //!   `F` the cumulative line projection of `G`,
@@ -288,6 +289,9 @@ impl SlidingKernel {
             elastic: f64::NAN,
             viscoelastic: f64::NAN,
         };
+        if self.thin_law(p, cell.love.ax, cell.love.ay) {
+            return self.law_coefficient(cell.love.ax, cell.love.ay, dx, dy);
+        }
         let Some((x, c, aa, at)) = self.frame(dx, dy, cell.love.ax, cell.love.ay) else {
             return nan;
         };
@@ -322,6 +326,9 @@ impl SlidingKernel {
         axis: Axis,
     ) -> f64 {
         let (ax, ay) = (cell.love.ax, cell.love.ay);
+        if self.thin_law(p, ax, ay) {
+            return self.law_derivative(ax, ay, dx, dy, axis);
+        }
         let along_axis = match self.e {
             (x, _) if x.abs() == 1.0 => Axis::X,
             _ => Axis::Y,
@@ -366,8 +373,9 @@ impl SlidingKernel {
     /// Whether this kernel's layer can be discretised on `ax x ay` cells:
     /// at least [`THIN_RATIO_MIN`] of the longer side; in the local limit
     /// (reach below half the shorter side) a sliding direction along a grid
-    /// axis and a layer whose local compliance is not swamped by its
-    /// first-order edge term (a bonded incompressible layer has none).
+    /// axis (a layer whose local compliance is swamped by its edge term, a
+    /// bonded incompressible one, takes the thin-layer law of
+    /// [`super::thin_law`]).
     pub fn check_layer_cells(&self, ax: f64, ay: f64) -> Result<(), KernelError> {
         let Some(t) = &self.theta else { return Ok(()) };
         let h = t.layer.thickness;
@@ -388,21 +396,6 @@ impl SlidingKernel {
                 h / a,
                 0.5 / p.reach,
                 p.reach
-            )));
-        }
-        let amin = ax.min(ay);
-        if p.m0 < 20.0 * p.c2.abs() * h / amin {
-            return Err(KernelError::Invalid(format!(
-                "[layer] a {} layer with poisson = {} and thickness = {h:e} m is {:.3e} of a cell: below {:.3e} of a cell its compliance at the cell centres ({:.3e} h per unit modulus) vanishes against its edge term (a thin bonded incompressible layer deforms as w = -(h^3/E) lap p, physics.md section 3) and the grid cannot carry the contact; refine the grid to cells of at most {:e} m",
-                match t.layer.base {
-                    LayerBase::Bonded => "bonded",
-                    LayerBase::Frictionless => "frictionless",
-                },
-                t.poisson,
-                h / amin,
-                0.5 / p.reach,
-                p.m0 / (2.0 * std::f64::consts::PI),
-                2.0 * p.reach * h
             )));
         }
         Ok(())

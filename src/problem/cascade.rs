@@ -78,7 +78,7 @@ impl Problem {
                 })
             },
             self.control,
-            &self.params,
+            &self.solver_params(),
             None,
             observer,
         );

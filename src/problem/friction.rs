@@ -72,17 +72,32 @@ impl Problem {
             force +=
                 w * analysis::friction_force_stencil_area(&mut op, &solution.pressure, ax * ay);
         }
-        let force_d = analysis::friction::friction_force_dissipation_cells(
-            &solution.pressure,
-            nx,
-            ny,
-            cell,
-            &m.spectrum,
-            m.poisson,
-            v,
-            dir,
-            self.layer.as_ref(),
-        );
+        let force_d = match &self.layer {
+            Some(layer) if kernel.is_thin_law(ax, ay) => {
+                analysis::friction::friction_force_dissipation_thin_law(
+                    &solution.pressure,
+                    nx,
+                    ny,
+                    cell,
+                    &m.spectrum,
+                    m.poisson,
+                    v,
+                    dir,
+                    layer,
+                )
+            }
+            _ => analysis::friction::friction_force_dissipation_cells(
+                &solution.pressure,
+                nx,
+                ny,
+                cell,
+                &m.spectrum,
+                m.poisson,
+                v,
+                dir,
+                self.layer.as_ref(),
+            ),
+        };
         Ok((-force / load, -force_d / load, stats))
     }
 }

@@ -133,6 +133,27 @@ impl Problem {
         self.finish(raw, t0)
     }
 
+    /// The solver's parameters for this problem: a layer on the thin-layer
+    /// law (`kernel/thin_law.rs`, a bonded incompressible layer far below a
+    /// cell) takes no preconditioner, whatever `solver.precondition` says:
+    /// the law's coefficients sum to zero (no compliance to a uniform
+    /// pressure), so the padded circulant's inverse at `q = 0` is its
+    /// regularisation floor, 1e6 of the largest, and the preconditioned
+    /// inner solves of a small contact set diverge (the set emptied on
+    /// `configs/default.toml`-like pads at 32^2); plain GMRES solves them.
+    pub(super) fn solver_params(&self) -> solver::SolverParams {
+        let thin_law = self.formulation == crate::config::Formulation::NonPeriodic
+            && self.layer.is_some()
+            && self.sliding_kernel().is_ok_and(|k| {
+                let (ax, ay) = self.surface.cell();
+                k.is_thin_law(ax, ay)
+            });
+        solver::SolverParams {
+            precondition: self.params.precondition && !thin_law,
+            ..self.params.clone()
+        }
+    }
+
     /// The constrained iteration (paper Eq. 6-7 with `p >= 0`) of this
     /// problem on `backend` (`l00` the self coefficient, `g` the gap profile
     /// over the backend's unknowns, handed to the iteration: on the CPU it
@@ -151,7 +172,7 @@ impl Problem {
     ) -> std::result::Result<(ContactSolution, SolveInfo), SolverError> {
         let params = solver::SolverParams {
             tolerance,
-            ..self.params.clone()
+            ..self.solver_params()
         };
         solver::solve_owned(
             backend,

@@ -38,8 +38,6 @@ use crate::operator::{column_weight, half_spectrum, multiplier_half_spectrum, Pe
 
 /// Alias images summed on each side in each direction.
 const ALIASES: i32 = 3;
-/// Alias images per direction.
-const NA: usize = 2 * ALIASES as usize + 1;
 
 /// Zero-padding factor of the Fourier quadrature.
 const PAD: usize = 4;
@@ -128,6 +126,43 @@ pub fn friction_force_dissipation_cells(
         direction_rad,
         layer,
         true,
+        false,
+    )
+}
+
+/// The dissipation route for a layer on the thin-layer law of
+/// [`crate::kernel::SlidingKernel::is_thin_law`] (a bonded incompressible
+/// layer far below a cell, `kernel/thin_law.rs`): the pressure is taken as
+/// band-limited, `|P(q)|^2` times the layer's continuous multiplier over
+/// the zone without the cell's sincs and alias images, as the periodic
+/// formulation does (Eq. A4). The cell-constant pressure's own image sum
+/// would add the displacement spikes at its jumps (`|c2| a / (2 h)` times
+/// the law's response), which the law's discretisation leaves out; the
+/// routes then agree to the stencil's `O((q a)^2)`.
+#[allow(clippy::too_many_arguments)]
+pub fn friction_force_dissipation_thin_law(
+    pressure: &[f64],
+    nx: usize,
+    ny: usize,
+    cell: (f64, f64),
+    spectrum: &CreepSpectrum,
+    poisson: f64,
+    speed: f64,
+    direction_rad: f64,
+    layer: &Layer,
+) -> f64 {
+    zone_sum(
+        pressure,
+        nx,
+        ny,
+        cell,
+        spectrum,
+        poisson,
+        speed,
+        direction_rad,
+        Some(layer),
+        false,
+        true,
     )
 }
 
@@ -150,6 +185,7 @@ fn zone_sum(
     direction_rad: f64,
     layer: Option<&Layer>,
     fast: bool,
+    band_limited: bool,
 ) -> f64 {
     if speed == 0.0 || !speed.is_finite() {
         return 0.0;
@@ -187,8 +223,11 @@ fn zone_sum(
         }
     };
     let along_x = ey.abs() < 1e-15;
+    let aliases = if band_limited { 0 } else { ALIASES };
+    let na = 2 * aliases as usize + 1;
+    let sinc = |t: f64| if band_limited { 1.0 } else { sinc(t) };
     // For sliding along x, Im J* depends on q_x only: cache it per (i, alias).
-    let mut imj_cache = vec![0.0; if along_x { mx * NA } else { 0 }];
+    let mut imj_cache = vec![0.0; if along_x { mx * na } else { 0 }];
     let qx_of = |i: usize| {
         let k = if i <= mx / 2 {
             i as f64
@@ -198,23 +237,23 @@ fn zone_sum(
         two_pi * k / (mx as f64 * ax)
     };
     let qy_of = |j: usize| two_pi * j as f64 / (my as f64 * ay);
-    let mut qxs = vec![0.0; mx * NA];
-    let mut sx2s = vec![0.0; mx * NA];
+    let mut qxs = vec![0.0; mx * na];
+    let mut sx2s = vec![0.0; mx * na];
     for i in 0..mx {
-        for (k, m) in (-ALIASES..=ALIASES).enumerate() {
+        for (k, m) in (-aliases..=aliases).enumerate() {
             let qx = qx_of(i) + m as f64 * gx;
             let s = sinc(0.5 * qx * ax);
-            qxs[i * NA + k] = qx;
-            sx2s[i * NA + k] = s * s;
+            qxs[i * na + k] = qx;
+            sx2s[i * na + k] = s * s;
             if along_x {
-                imj_cache[i * NA + k] = spectrum.compliance(-qx * ex * speed).im;
+                imj_cache[i * na + k] = spectrum.compliance(-qx * ex * speed).im;
             }
         }
     }
     let fast = fast && along_x && layer.is_none();
     // Fast path: the x factor of each image, sinc^2 (-q_x) 2 (1 - nu^2) Im J*.
     let xfactor: Vec<f64> = if fast {
-        (0..mx * NA)
+        (0..mx * na)
             .map(|k| sx2s[k] * (-qxs[k] * ex * 2.0 * composite * imj_cache[k]))
             .collect()
     } else {
@@ -235,9 +274,9 @@ fn zone_sum(
                 fft.process(col);
                 let weight = column_weight(j, my);
                 let qy0 = qy_of(j);
-                let mut qys = [0.0; NA];
-                let mut sy2 = [0.0; NA];
-                for (k, m) in (-ALIASES..=ALIASES).enumerate() {
+                let mut qys = vec![0.0; na];
+                let mut sy2 = vec![0.0; na];
+                for (k, m) in (-aliases..=aliases).enumerate() {
                     qys[k] = qy0 + m as f64 * gy;
                     let s = sinc(0.5 * qys[k] * ay);
                     sy2[k] = s * s;
@@ -247,14 +286,14 @@ fn zone_sum(
                     // i <= mx / 2; row mx - i (q_x -> -q_x) has the same.
                     for (i, w) in wcol.iter_mut().enumerate() {
                         let mut sum = 0.0;
-                        for mi in 0..NA {
-                            let qx = qxs[i * NA + mi];
+                        for mi in 0..na {
+                            let qx = qxs[i * na + mi];
                             let mut inner = 0.0;
-                            for k in 0..NA {
+                            for k in 0..na {
                                 let q2 = qx * qx + qys[k] * qys[k];
                                 inner += if q2 > 0.0 { sy2[k] / q2.sqrt() } else { 0.0 };
                             }
-                            sum += xfactor[i * NA + mi] * inner;
+                            sum += xfactor[i * na + mi] * inner;
                         }
                         *w = sum;
                     }
@@ -272,10 +311,10 @@ fn zone_sum(
                         continue;
                     }
                     let mut w = 0.0;
-                    for mi in 0..NA {
-                        let qx = qxs[i * NA + mi];
-                        let sx2 = sx2s[i * NA + mi];
-                        for k in 0..NA {
+                    for mi in 0..na {
+                        let qx = qxs[i * na + mi];
+                        let sx2 = sx2s[i * na + mi];
+                        for k in 0..na {
                             let qy = qys[k];
                             let q = qx.hypot(qy);
                             if q == 0.0 {
@@ -283,7 +322,7 @@ fn zone_sum(
                             }
                             let qv = qx * ex + qy * ey;
                             let imj = if along_x {
-                                imj_cache[i * NA + mi]
+                                imj_cache[i * na + mi]
                             } else {
                                 spectrum.compliance(-qv * speed).im
                             };
@@ -393,7 +432,21 @@ mod tests {
             })
             .collect();
         for speed in [1e-4, 3e-3, 0.1] {
-            let run = |fast| zone_sum(&p, nx, ny, (a, a), &spectrum, 0.5, speed, 0.0, None, fast);
+            let run = |fast| {
+                zone_sum(
+                    &p,
+                    nx,
+                    ny,
+                    (a, a),
+                    &spectrum,
+                    0.5,
+                    speed,
+                    0.0,
+                    None,
+                    fast,
+                    false,
+                )
+            };
             let (fast, slow) = (run(true), run(false));
             // The same terms summed in another order, sqrt for hypot:
             // round-off of a sum of ~1e5 terms of one sign per mode.

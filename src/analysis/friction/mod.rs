@@ -19,8 +19,8 @@ pub mod stencil;
 
 pub use dissipation::{
     friction_force_dissipation, friction_force_dissipation_cells,
-    friction_force_dissipation_layered, friction_force_periodic, friction_force_periodic_cells,
-    friction_force_periodic_with,
+    friction_force_dissipation_layered, friction_force_dissipation_thin_law,
+    friction_force_periodic, friction_force_periodic_cells, friction_force_periodic_with,
 };
 pub use full_contact::{full_contact_friction_stress, full_contact_friction_stress_layered};
 pub use stencil::{friction_force_stencil, friction_force_stencil_area};
