@@ -17,7 +17,7 @@ fn sls() -> Material {
 
 /// 34 creep times in ratio e from 1e6 s down to 4.7e-9 s, log-normal-like
 /// compliances summing to `1/E0 - 1/E_inf` (`E0 = 1e6`, `E_inf = 1e9` Pa);
-/// the same spectrum as tests/kernel_accuracy.rs.
+/// the same spectrum as tests/kernel/accuracy.rs.
 fn spectrum34() -> Material {
     let (e0, e_inf) = (1e6, 1e9);
     let total = 1.0 / e0 - 1.0 / e_inf;

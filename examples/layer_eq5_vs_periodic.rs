@@ -6,7 +6,7 @@
 //! Fourier transform is `S(|q| h) 2 (1 - nu^2) J*(-q.v) / |q|`: the exact
 //! layer for a frequency-independent Poisson ratio. The non-periodic table
 //! of cell integrals responds to `cos(k x_i)` with the lattice sum
-//! `sigma = sum_m m(k_m) sinc(k_m a / 2)` (tests/periodic_layer.rs checks
+//! `sigma = sum_m m(k_m) sinc(k_m a / 2)` (tests/grid/periodic_layer.rs checks
 //! the table against it to 1e-13), the periodic operator with `m(k)`. In
 //! full contact under `g = h0 cos(k x)` the pressure amplitude is
 //! `h0 / |sigma|` and the friction is proportional to `Im sigma / |sigma|^2`;

@@ -77,7 +77,7 @@ def test_write_produces_the_command_line_files(repo, tmp_path):
 def test_mixed_precision_matches_f64(pad, rubber):
     """``precision="mixed"`` (f32 Krylov products, f64 refinement) gives the
     f64 answer of the f32-rounded operator: friction and area within 1e-6
-    (tests/mixed_precision.rs pins the same on more cases), the same contact
+    (tests/solver/mixed_precision.rs pins the same on more cases), the same contact
     set, and says so in the summary; a bad name is refused."""
     kw = dict(xi=1.17e-2, normal_load=0.3, backend="cpu", tolerance=1e-10)
     f = vs.solve(pad, rubber, **kw)

@@ -9,7 +9,7 @@
 //! the wrapper would still have to convert float32 and Fortran order (npyz
 //! returns raw memory order and refuses `<f4` as f64) and to name the file
 //! in errors (a truncated file gives npyz's bare "failed to fill whole
-//! buffer"). `tests/npy_format.rs` pins the behaviour.
+//! buffer"). `tests/surface/npy_format.rs` pins the behaviour.
 
 use std::path::Path;
 

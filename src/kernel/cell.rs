@@ -18,7 +18,7 @@
 //! ellipse reaching `1.5h` (`c = 3h/b`); `n` is chosen for
 //! `r^-2n <= 1e-10` (10 nodes per side at `h <= a/2`, 7 at `h = a`, 2 for
 //! `h >~ 50a`). Measured against independent polar-coordinate quadrature:
-//! below 1e-9 of the self coefficient (tests/kernel_layer_cells.rs). Beyond the reach of
+//! below 1e-9 of the self coefficient (tests/kernel/layer_cells.rs). Beyond the reach of
 //! `Theta` (`|Theta| < 1e-13`, `r > rho_end h`), `M = 0` exactly.
 //!
 //! The friction stencil averages `M` across the target cell's width

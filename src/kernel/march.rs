@@ -43,7 +43,7 @@
 //! for `h >= 4a` (Bernstein parameter >= 32), and rows or targets beyond
 //! the reach of `Theta` are zero without evaluation. Measured agreement
 //! with the per-offset path: ~1e-11 of the self coefficient for `h` from
-//! one to five cells (tests/kernel_layer_cells.rs).
+//! one to five cells (tests/kernel/layer_cells.rs).
 
 use rayon::prelude::*;
 

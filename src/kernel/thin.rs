@@ -361,7 +361,7 @@ impl SlidingKernel {
 }
 
 /// The thinnest layer accepted, in cells (`thickness / cell`): the local
-/// limit is checked down to this ratio (tests/kernel_thin_layer.rs).
+/// limit is checked down to this ratio (tests/kernel/thin_layer.rs).
 pub const THIN_RATIO_MIN: f64 = 1e-3;
 
 impl SlidingKernel {

@@ -7,7 +7,7 @@
 //! by one where the shaders run them two per barrier, the same arithmetic),
 //! one group at a time instead of one workgroup at a time (the groups of a
 //! pass are independent). Its tests hold every plan shape against the CPU
-//! Toeplitz FFT without a device; `tests/gpu_conformance.rs` holds the
+//! Toeplitz FFT without a device; `tests/gpu/conformance.rs` holds the
 //! shaders against the same reference on a device.
 
 use std::collections::HashMap;

@@ -1,6 +1,6 @@
 //! Physical checks of the CPU contact solver (physics.md section 9).
 
-mod common;
+use crate::common;
 
 use common::*;
 use viscoslide::solver::Control;

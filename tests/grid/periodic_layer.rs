@@ -3,7 +3,7 @@
 //! half-space's per mode), and the non-periodic Eq. 5 kernel against it for
 //! an elastic layer, where Eq. 5 is exact.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::TAU;
 
@@ -50,7 +50,7 @@ fn full_contact(
 /// `mu = k^2 h0^2 E2(k v) / (4 (1 - nu^2) p0 S(k h))` for both bases and
 /// `k h = 0.3, 1, 3`, at five speeds across the loss peak, by the spectral
 /// slope stencil and by the Fourier dissipation sum. As for the half-space
-/// (tests/periodic_full_contact.rs), the grid samples the single mode
+/// (tests/grid/periodic_full_contact.rs), the grid samples the single mode
 /// exactly, so the only error is the linear solve: 1e-8.
 #[test]
 fn layered_sinusoid_friction_matches_closed_form() {

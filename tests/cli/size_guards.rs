@@ -4,7 +4,7 @@
 //! "eleven aborts or panics on sizes"); now each is one line naming the
 //! count, what it needs and what there is, and nothing is written.
 
-mod common;
+use crate::common;
 
 use std::io::{Cursor, Write};
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! the general cell integral where both apply, inside a solve against the
 //! exact local contact, and the bound below which layers are refused.
 
-mod common;
+use crate::common;
 
 use std::time::Instant;
 

@@ -5,7 +5,7 @@
 //! `VISCOSLIDE_GPU_LARGE=1` (the regular conformance suite covers the same
 //! kernels on small grids); it then prints its timings.
 
-mod common;
+use crate::common;
 
 use std::time::Instant;
 

@@ -1,7 +1,7 @@
 //! A layer of finite thickness (paper Eq. 5) in the contact solve: it is
 //! stiffer than the half-space, and the two friction routes still agree.
 
-mod common;
+use crate::common;
 
 use common::*;
 use viscoslide::analysis;

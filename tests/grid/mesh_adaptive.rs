@@ -3,7 +3,7 @@
 //! with the uniform grid when every cell is fine, and the solve-certify-
 //! refine loop reproducing the uniform solution with fewer unknowns.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -5,7 +5,7 @@
 //! Every test skips (with the reason printed) when no adapter exists, and
 //! fails under `REQUIRE_GPU=1`.
 
-mod common;
+use crate::common;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -763,7 +763,7 @@ fn rectangular_cell_solve_matches_cpu() {
     let map = HeightMap::with_cells(nx, ny, length / nx as f64, length / ny as f64, z).unwrap();
     let mut problem = Problem::new(m, map, Control::Load(3e3 * length * length), 1.17e-2);
     // The device's own f32 answer (the host refinement would return the
-    // CPU's f64 one; tests/gpu_refine.rs covers it).
+    // CPU's f64 one; tests/gpu/refine.rs covers it).
     problem.gpu_refine = false;
     let c = problem.solve(&Executor::Cpu, &mut Silent).unwrap();
     let g = problem.solve(&Executor::Gpu(ctx), &mut Silent).unwrap();

@@ -7,7 +7,7 @@
 //! per test. Every test skips (with the reason printed) when no adapter
 //! exists, and fails under `REQUIRE_GPU=1`.
 
-mod common;
+use crate::common;
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -40,7 +40,7 @@ fn sbr_material() -> Material {
 }
 
 /// 34 creep times in geometric progression of ratio e, all with nonzero
-/// compliance (as tests/gpu_conformance.rs).
+/// compliance (as tests/gpu/conformance.rs).
 fn dense_34_material() -> Material {
     use viscoslide::material::{CreepSpectrum, CreepTerm};
     let terms: Vec<CreepTerm> = (0..34)

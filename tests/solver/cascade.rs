@@ -5,7 +5,7 @@
 //! friction peak, from the bearing-area guess and from starts far from the
 //! solution; and a solve that cannot converge still fails loudly.
 
-mod common;
+use crate::common;
 
 use common::*;
 use faer::Mat;

@@ -7,7 +7,7 @@
 //! matrices assembled pairwise, and the full-contact sinusoid of physics.md
 //! section 9.2 along either axis.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::{PI, TAU};
 
@@ -82,7 +82,7 @@ fn relaxed_table_is_loves_rectangle() {
 /// offset: aspect ratios 2 and 1/2.5, sliding along +x, +y and -x, memory
 /// lengths of 0.3, 3 and 30 cells (the march's shared, mid and peaked
 /// groups). Tolerance 1e-9 relative, as for square cells
-/// (tests/kernel_accuracy.rs: the per-offset path is converged to ~1e-13).
+/// (tests/kernel/accuracy.rs: the per-offset path is converged to ~1e-13).
 #[test]
 fn marched_tables_match_per_offset_on_rectangles() {
     let m = common::paper_material();
@@ -199,7 +199,7 @@ fn rel_l2(a: &[f64], b: &[f64]) -> f64 {
 /// 1e-7 (both solves are exact up to the iteration's 1e-10 tolerance and
 /// the march's 1e-9). The dissipation route differs from Eq. 9 by a few
 /// percent on grids this coarse (3.9 % on 8 x 16 with 12 cells in
-/// contact); its convergence is checked in tests/rect_cells_refinement.rs.
+/// contact); its convergence is checked in tests/grid/rect_cells_refinement.rs.
 #[test]
 fn non_periodic_solve_matches_dense_pairwise_reference() {
     let m = common::paper_material();
@@ -339,7 +339,7 @@ fn periodic_solve_matches_dense_mode_sum() {
 /// `mu = k^2 h0^2 E2(k v) / (4 (1 - nu^2) p0)` by both friction routes.
 /// The grid samples the single mode exactly and the multiplier is the
 /// continuous one, so only the linear solve errs: 1e-8, as for square cells
-/// (tests/periodic_full_contact.rs).
+/// (tests/grid/periodic_full_contact.rs).
 #[test]
 fn full_contact_sinusoid_on_rectangular_cells() {
     let m = common::paper_material();

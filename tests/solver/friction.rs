@@ -2,7 +2,7 @@
 //! the closed form, stencil against dissipation on a rough patch, limits,
 //! and a refinement study (physics.md section 9, checks 2, 4 and 5).
 
-mod common;
+use crate::common;
 
 use common::*;
 use viscoslide::backend::CpuBackend;

@@ -75,7 +75,7 @@ fn creep_spectrum_and_prony_models_build() {
     .unwrap();
     for w in [1e-2, 1.0, 1e3, 1e6] {
         let (a, b) = (p.spectrum.modulus(w), reference.modulus(w));
-        // Exact conversion: round-off (see tests/material_conversion.rs).
+        // Exact conversion: round-off (see tests/material/conversion.rs).
         assert!((a - b).norm() / b.norm() < 1e-12);
     }
 }

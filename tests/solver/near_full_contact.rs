@@ -5,7 +5,7 @@
 //! dense direct solver's, and the same as the padded preconditioner's; the
 //! work is pinned (BENCHMARKS.md, "Near-full contact").
 
-mod common;
+use crate::common;
 
 use common::*;
 use viscoslide::backend::CpuBackend;

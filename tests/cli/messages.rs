@@ -271,7 +271,7 @@ fn sub_cell_layers_are_refused_or_solved_fast() {
 /// One of the random valid solves that stalled at residual 0.19 after
 /// 50,002 matvecs (periodic, E_inf / E0 = 83, 85 % contact) converges from
 /// the command line since the active-set step is damped by a line search
-/// (2,427 matvecs measured; tests/solver_stalled_cases.rs checks the
+/// (2,427 matvecs measured; tests/solver/stalled_cases.rs checks the
 /// answer against an independent full-contact solve), and so does the
 /// non-periodic formulation (823 matvecs measured).
 #[test]

@@ -2,7 +2,7 @@
 //! iterative contact solver against the dense direct LCP solver (faer LU in
 //! an active-set loop), with the real viscoelastic coefficients.
 
-mod common;
+use crate::common;
 
 use common::*;
 use rand::{Rng, SeedableRng};

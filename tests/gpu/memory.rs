@@ -3,7 +3,7 @@
 //! states as GPU bytes per cell). Prints the table with `--nocapture`.
 //! Skips with a reason without an adapter; fails under `REQUIRE_GPU=1`.
 
-mod common;
+use crate::common;
 
 use viscoslide::backend::gpu::{self, GpuBackend, GpuOptions};
 use viscoslide::kernel::{KernelParams, SlidingKernel};

@@ -7,7 +7,7 @@
 //! (used by the inner solves) does not, as f32 rounding does: relative on
 //! every cell, or one cell's gap lowered so that the set toggles it.
 
-mod common;
+use crate::common;
 
 use viscoslide::backend::CpuBackend;
 use viscoslide::kernel::{KernelParams, SlidingKernel};

@@ -3,7 +3,7 @@
 //! sequences, the prolongation between levels, the resolution warning of
 //! every solve, and `viscoslide refine` end to end with its one-line errors.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::TAU;
 use std::path::Path;

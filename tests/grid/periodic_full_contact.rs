@@ -3,7 +3,7 @@
 //! agreement of the friction stencil with the Fourier dissipation sum
 //! (Appendix Eq. A3-A4).
 
-mod common;
+use crate::common;
 
 use std::f64::consts::TAU;
 

@@ -1,0 +1,11 @@
+//! Integration tests of materials: configs, conversions, DMA data and fits, temperature.
+//!
+//! One test binary per area (docs/ARCHITECTURE.md, "Tests"): each file
+//! here is a module; run one with `cargo test --release --test material FILE::`.
+
+mod cli;
+mod config;
+mod conversion;
+mod dma_data;
+mod fit;
+mod temperature;

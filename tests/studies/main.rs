@@ -1,0 +1,10 @@
+//! Integration tests of studies: sweeps, magnification and Persson's theory.
+//!
+//! One test binary per area (docs/ARCHITECTURE.md, "Tests"): each file
+//! here is a module; run one with `cargo test --release --test studies FILE::`.
+
+mod magnification;
+mod persson_cli;
+mod persson_theory;
+mod sweep;
+mod sweep_vary;
