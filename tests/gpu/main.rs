@@ -14,3 +14,4 @@ mod memory;
 mod plan_cli;
 mod refine;
 mod shaders;
+mod split;

@@ -8,7 +8,7 @@
 //! tests skip with a reason without an adapter and fail under
 //! `REQUIRE_GPU=1`.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 
