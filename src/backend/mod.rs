@@ -63,7 +63,7 @@ pub trait Backend {
     /// `y = L x` on grid vectors, the influence operator (paper Eq. 7), to
     /// the rounding of the vectors ([`Backend::epsilon`]).
     fn apply(&mut self, x: &Self::Vector, y: &mut Self::Vector);
-    /// Whether the Krylov products ([`Backend::apply_rows`]) and the
+    /// Whether the Krylov products ([`Backend::apply_set`]) and the
     /// preconditioner run in a lower precision than [`Backend::apply`]
     /// (mixed precision, physics.md section 13): the solver then computes
     /// the residual of every GMRES restart with [`Backend::apply`]

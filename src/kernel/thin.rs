@@ -375,7 +375,7 @@ impl SlidingKernel {
     /// (reach below half the shorter side) a sliding direction along a grid
     /// axis (a layer whose local compliance is swamped by its edge term, a
     /// bonded incompressible one, takes the thin-layer law of
-    /// [`super::thin_law`]).
+    /// `super::thin_law`).
     pub fn check_layer_cells(&self, ax: f64, ay: f64) -> Result<(), KernelError> {
         let Some(t) = &self.theta else { return Ok(()) };
         let h = t.layer.thickness;

@@ -58,7 +58,7 @@ pub trait GridOperator: Send + Sync {
     /// `out = (L x)[cells]` for `x` zero off `cells` (`x[k]` on
     /// `cells[k]`, sorted), in the working precision. The default scatters
     /// into grid-size work vectors of `work`; operators that transform row
-    /// by row read and write the set's values directly ([`field`]).
+    /// by row read and write the set's values directly (module `field`).
     fn apply_set(&mut self, cells: &[usize], x: &[f64], out: &mut [f64], work: &mut GridWork) {
         let (full, product) = work.scatter(self.shape(), cells, x);
         self.apply_rows(full, cells, product, out);

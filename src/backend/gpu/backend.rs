@@ -207,7 +207,7 @@ impl GpuBackend {
     }
 
     /// Whether an `nx x ny` grid fits the device: its grid vectors
-    /// ([`check_vector`]) and the FFT's work buffers and spectrum (`8 mx
+    /// (`check_vector`) and the FFT's work buffers and spectrum (`8 mx
     /// (my / 2 + 1)` bytes on the workgroup-memory path, bound in windows
     /// when larger than one binding; `8 mx my` in one binding on the
     /// radix-2 fallback), [`super::fft::check_device`].

@@ -153,7 +153,7 @@ impl Kernel {
         }
     }
 
-    /// Storage bindings (as in [`Kernel::storage`]) that may be larger
+    /// Storage bindings (as in `Kernel::storage`) that may be larger
     /// than one binding: the shader reaches them only through the
     /// accessors of [`super::split`].
     pub fn splittable(self) -> &'static [bool] {
