@@ -131,14 +131,15 @@ impl StagedOutput {
         fs::create_dir_all(&dir).map_err(|e| OutputError::io(&dir, e))?;
         let lock = match DirLock::acquire(&dir) {
             Ok(Some(l)) => l,
-            other => {
+            // Busy: the directory is the lock holder's now, even if this
+            // process created it (two writers starting at once both see it
+            // missing); removing it would pull it from under the writer.
+            Ok(None) => return Err(OutputError::Busy(dir.display().to_string())),
+            Err(e) => {
                 if created {
                     let _ = fs::remove_dir(&dir);
                 }
-                return Err(match other {
-                    Err(e) => OutputError::io(&dir, e),
-                    _ => OutputError::Busy(dir.display().to_string()),
-                });
+                return Err(OutputError::io(&dir, e));
             }
         };
         remove_dead(&dir, &[".staging-".to_string()]);
