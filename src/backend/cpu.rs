@@ -49,6 +49,26 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     }
 }
 
+/// Set every cell's flag to `rule(was in, p, gap)`; returns `(changes,
+/// size of the new set)`.
+fn update_mask(
+    mask: &mut [u8],
+    p: &[f64],
+    gap: &[f64],
+    rule: impl Fn(bool, f64, f64) -> bool + Sync,
+) -> (usize, usize) {
+    mask.par_iter_mut()
+        .with_min_len(PAR_MIN)
+        .zip(p.par_iter().zip(gap.par_iter()))
+        .map(|(m, (&pi, &gi))| {
+            let was = *m != 0;
+            let now = rule(was, pi, gi);
+            *m = u8::from(now);
+            (usize::from(was != now), usize::from(now))
+        })
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+}
+
 impl<Op: GridOperator> Backend for CpuBackend<Op> {
     type Vector = Vec<f64>;
     type Index = Vec<usize>;
@@ -236,16 +256,12 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
         gap: &Vec<f64>,
         mask: &mut Vec<u8>,
     ) -> (usize, usize) {
-        mask.par_iter_mut()
-            .with_min_len(PAR_MIN)
-            .zip(p.par_iter().zip(gap.par_iter()))
-            .map(|(m, (pi, gi))| {
-                let was = *m != 0;
-                let now = if was { *pi > 0.0 } else { *gi < 0.0 };
-                *m = u8::from(now);
-                (usize::from(was != now), usize::from(now))
-            })
-            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+        update_mask(
+            mask,
+            p,
+            gap,
+            |was, pi, gi| if was { pi > 0.0 } else { gi < 0.0 },
+        )
     }
 
     fn newton_set(
@@ -255,16 +271,7 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
         stiffness: f64,
         mask: &mut Vec<u8>,
     ) -> (usize, usize) {
-        mask.par_iter_mut()
-            .with_min_len(PAR_MIN)
-            .zip(p.par_iter().zip(gap.par_iter()))
-            .map(|(m, (pi, gi))| {
-                let was = *m != 0;
-                let now = *pi > stiffness * gi;
-                *m = u8::from(now);
-                (usize::from(was != now), usize::from(now))
-            })
-            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+        update_mask(mask, p, gap, |_, pi, gi| pi > stiffness * gi)
     }
 
     fn complementarity(&mut self, p: &Vec<f64>, gap: &Vec<f64>, stiffness: f64) -> (f64, f64) {

@@ -29,7 +29,7 @@ use rayon::prelude::*;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use rustfft::{Fft, FftPlanner};
 
-use super::field::{Field, FieldMut};
+use super::field::{set_fields, Field, FieldMut};
 pub use super::real::Real;
 
 /// Columns transformed together by one task (a contiguous run of bins in
@@ -268,6 +268,19 @@ impl<T: Real> SpectralEngine<T> {
     /// [`Self::with_exact`] on an f32 engine).
     pub(crate) fn apply_exact(&mut self, x: &[f64], y: &mut [f64]) {
         self.product(Product::Exact, Field::Grid(x), FieldMut::Grid(y));
+    }
+
+    /// One of the engine's products between values on a set of the
+    /// block's cells (`cells` sorted; `x[k]`, `out[k]` on `cells[k]`).
+    pub(crate) fn set_product(
+        &mut self,
+        which: Product,
+        cells: &[usize],
+        x: &[f64],
+        out: &mut [f64],
+    ) {
+        let (x, y) = set_fields(cells, x, out);
+        self.product(which, x, y);
     }
 
     /// One of the engine's products between fields on the whole block or

@@ -48,7 +48,6 @@ use num_complex::Complex64;
 use rayon::prelude::*;
 
 use super::fft_convolution::{Product, Real, SpectralEngine};
-use super::field::set_fields;
 use super::{GridOperator, GridWork};
 use crate::kernel::thickness::compliance_ratio;
 use crate::kernel::KernelParams;
@@ -363,19 +362,16 @@ impl<T: Real> GridOperator for SpectralPeriodic<T> {
     }
 
     fn apply_set(&mut self, cells: &[usize], x: &[f64], out: &mut [f64], _: &mut GridWork) {
-        let (x, y) = set_fields(cells, x, out);
-        self.engine.product(Product::Working, x, y);
+        self.engine.set_product(Product::Working, cells, x, out);
     }
 
     fn apply_set_exact(&mut self, cells: &[usize], x: &[f64], out: &mut [f64], _: &mut GridWork) {
-        let (x, y) = set_fields(cells, x, out);
-        self.engine.product(Product::Exact, x, y);
+        self.engine.set_product(Product::Exact, cells, x, out);
     }
 
     fn precondition_set(&mut self, cells: &[usize], x: &[f64], out: &mut [f64], _: &mut GridWork) {
         if self.engine.has_inverse() {
-            let (xf, yf) = set_fields(cells, x, out);
-            self.engine.product(Product::Inverse, xf, yf);
+            self.engine.set_product(Product::Inverse, cells, x, out);
         } else {
             out.copy_from_slice(x);
         }

@@ -18,7 +18,6 @@
 use rayon::prelude::*;
 
 use super::fft_convolution::{half_spectrum, Product, Real, SpectralEngine};
-use super::field::set_fields;
 use super::{GridOperator, GridWork, OffsetTable};
 
 /// `u = L p` by padded FFT convolution, the transforms in precision `T`
@@ -181,21 +180,18 @@ impl<T: Real> GridOperator for ToeplitzFft<T> {
     }
 
     fn apply_set(&mut self, cells: &[usize], x: &[f64], out: &mut [f64], _: &mut GridWork) {
-        let (x, y) = set_fields(cells, x, out);
-        self.engine.product(Product::Working, x, y);
+        self.engine.set_product(Product::Working, cells, x, out);
     }
 
     fn apply_set_exact(&mut self, cells: &[usize], x: &[f64], out: &mut [f64], _: &mut GridWork) {
-        let (x, y) = set_fields(cells, x, out);
-        self.engine.product(Product::Exact, x, y);
+        self.engine.set_product(Product::Exact, cells, x, out);
     }
 
     fn precondition_set(&mut self, cells: &[usize], x: &[f64], out: &mut [f64], _: &mut GridWork) {
-        let (xf, yf) = set_fields(cells, x, out);
         if let (true, Some(chan)) = (self.use_chan, self.chan.as_mut()) {
-            chan.product(Product::Inverse, xf, yf);
+            chan.set_product(Product::Inverse, cells, x, out);
         } else if self.engine.has_inverse() {
-            self.engine.product(Product::Inverse, xf, yf);
+            self.engine.set_product(Product::Inverse, cells, x, out);
         } else {
             out.copy_from_slice(x);
         }
