@@ -29,6 +29,8 @@ impl SlidingKernel {
                 };
                 if lc.beyond(px, py, gx, gy) {
                     0.0
+                } else if lc.is_polar() {
+                    lc.cell_integral_average(px, py, axis)
                 } else {
                     self.love_average(cell, px, py, axis, |x, y| rect.eval(x, y))
                         + lc.psi_part_average(px, py, axis)

@@ -263,6 +263,8 @@ impl SlidingKernel {
             (Some(lc), _) => {
                 if lc.beyond(x, y, 0.0, 0.0) {
                     0.0
+                } else if lc.is_polar() {
+                    lc.cell_integral(x, y)
                 } else {
                     cell.love.eval(x, y) + lc.psi_part(x, y)
                 }

@@ -203,12 +203,21 @@ struct ThetaCurve {
     pieces: Vec<[f64; CHEB]>,
     /// `rho` beyond which `|Theta| < THETA_FLOOR`: `Theta = 0` there.
     rho_end: f64,
+    /// Chebyshev coefficients of the radial moments
+    /// `T_k(rho) = int_0^rho s^k Theta(s) ds` (`k = 0, 1`) on each piece.
+    moments: Vec<[[f64; MOMENT_CHEB]; 2]>,
+    /// `T_0, T_1` at `rho_end` (constant beyond).
+    moments_end: [f64; 2],
 }
 
 /// Length of one Chebyshev piece in `rho`.
 const PIECE: f64 = 0.5;
 /// Chebyshev coefficients per piece.
 const CHEB: usize = 14;
+/// Chebyshev coefficients per piece of the radial moments: on a piece
+/// `Theta = 1 + rho psi` is a polynomial of degree `CHEB`, so `T_0` and
+/// `T_1` are polynomials of degree `CHEB + 1` and `CHEB + 2`, held exactly.
+const MOMENT_CHEB: usize = CHEB + 3;
 const U_MAX: f64 = 20.0;
 /// The curve ends once `|Theta|` stays below this over two pieces.
 const THETA_FLOOR: f64 = 1e-13;
@@ -272,29 +281,15 @@ impl ThetaCurve {
                 .into_par_iter()
                 .map(|k| {
                     let lo = k as f64 * PIECE;
-                    let f: Vec<f64> = t
-                        .iter()
-                        .map(|ti| psi_direct_with(base, nu, lo + 0.5 * PIECE * (ti + 1.0), &gl))
-                        .collect();
+                    let mut f = [0.0; CHEB];
+                    for (fi, ti) in f.iter_mut().zip(&t) {
+                        *fi = psi_direct_with(base, nu, lo + 0.5 * PIECE * (ti + 1.0), &gl);
+                    }
                     let small = t.iter().zip(&f).all(|(ti, fi)| {
                         let rho = lo + 0.5 * PIECE * (ti + 1.0);
                         (1.0 + rho * fi).abs() < THETA_FLOOR
                     });
-                    let mut c = [0.0; CHEB];
-                    for (j, cj) in c.iter_mut().enumerate() {
-                        let s: f64 = f
-                            .iter()
-                            .enumerate()
-                            .map(|(i, fi)| {
-                                fi * (std::f64::consts::PI * j as f64 * (i as f64 + 0.5)
-                                    / CHEB as f64)
-                                    .cos()
-                            })
-                            .sum();
-                        *cj = 2.0 * s / CHEB as f64;
-                    }
-                    c[0] *= 0.5;
-                    (c, small)
+                    (chebyshev_fit(&f), small)
                 })
                 .collect();
             for (c, small) in chunk {
@@ -310,7 +305,13 @@ impl ThetaCurve {
                 }
             }
         }
-        Self { pieces, rho_end }
+        let (moments, moments_end) = moment_pieces(&pieces, &gl);
+        Self {
+            pieces,
+            rho_end,
+            moments,
+            moments_end,
+        }
     }
 
     /// `psi(rho)`; `-1/rho` beyond the end of the curve.
@@ -320,17 +321,20 @@ impl ThetaCurve {
         if rho >= self.rho_end {
             return -1.0 / rho;
         }
-        let k = ((rho / PIECE) as usize).min(self.pieces.len() - 1);
-        let x = 2.0 * (rho / PIECE - k as f64) - 1.0;
-        let c = &self.pieces[k];
-        // Clenshaw.
-        let (mut b1, mut b2) = (0.0, 0.0);
-        for &cj in c[1..].iter().rev() {
-            let b0 = 2.0 * x * b1 - b2 + cj;
-            b2 = b1;
-            b1 = b0;
+        psi_on_pieces(&self.pieces, rho)
+    }
+
+    /// `(T_0(rho), T_1(rho))`, `T_k = int_0^rho s^k Theta(s) ds`, for
+    /// `rho >= 0`; constant beyond the end of the curve.
+    #[inline]
+    fn moments(&self, rho: f64) -> [f64; 2] {
+        if rho >= self.rho_end {
+            return self.moments_end;
         }
-        x * b1 - b2 + c[0]
+        let k = ((rho / PIECE) as usize).min(self.moments.len() - 1);
+        let x = 2.0 * (rho / PIECE - k as f64) - 1.0;
+        let [c0, c1] = &self.moments[k];
+        [clenshaw(c0, x), clenshaw(c1, x)]
     }
 
     /// `Theta(rho) = 1 + rho psi(rho)`; exactly 0 beyond the end.
@@ -342,6 +346,85 @@ impl ThetaCurve {
             1.0 + rho * self.psi(rho)
         }
     }
+}
+
+/// The Chebyshev series `sum_j c_j T_j(x)` at `x` in `[-1, 1]` (Clenshaw).
+#[inline]
+fn clenshaw(c: &[f64], x: f64) -> f64 {
+    let (mut b1, mut b2) = (0.0, 0.0);
+    for &cj in c[1..].iter().rev() {
+        let b0 = 2.0 * x * b1 - b2 + cj;
+        b2 = b1;
+        b1 = b0;
+    }
+    x * b1 - b2 + c[0]
+}
+
+/// `psi(rho)` from the pieces, for `0 <= rho` within them.
+#[inline]
+fn psi_on_pieces(pieces: &[[f64; CHEB]], rho: f64) -> f64 {
+    let k = ((rho / PIECE) as usize).min(pieces.len() - 1);
+    let x = 2.0 * (rho / PIECE - k as f64) - 1.0;
+    clenshaw(&pieces[k], x)
+}
+
+/// Chebyshev coefficients of `f` at the `n` first-kind Chebyshev points
+/// `t_i` (values `f_i`), with the halved leading coefficient.
+fn chebyshev_fit<const N: usize>(f: &[f64; N]) -> [f64; N] {
+    let mut c = [0.0; N];
+    for (j, cj) in c.iter_mut().enumerate() {
+        let s: f64 = f
+            .iter()
+            .enumerate()
+            .map(|(i, fi)| {
+                fi * (std::f64::consts::PI * j as f64 * (i as f64 + 0.5) / N as f64).cos()
+            })
+            .sum();
+        *cj = 2.0 * s / N as f64;
+    }
+    c[0] *= 0.5;
+    c
+}
+
+/// The radial moments `T_k(rho) = int_0^rho s^k Theta(s) ds` (`k = 0, 1`)
+/// of the curve's `Theta = 1 + rho psi` on each piece, and their values at
+/// the end. On a piece the integrands are polynomials of degree at most
+/// `CHEB + 1`, so 16-point Gauss-Legendre from the piece's start and a fit
+/// at `MOMENT_CHEB` points reproduce them exactly (to round-off): the
+/// moments are the exact integrals of the tabulated `Theta`.
+#[allow(clippy::type_complexity)]
+fn moment_pieces(
+    pieces: &[[f64; CHEB]],
+    gl: &(Vec<f64>, Vec<f64>),
+) -> (Vec<[[f64; MOMENT_CHEB]; 2]>, [f64; 2]) {
+    let theta = |rho: f64| 1.0 + rho * psi_on_pieces(pieces, rho);
+    // [T_0, T_1] over [lo, hi].
+    let integral = |lo: f64, hi: f64| -> [f64; 2] {
+        let mut s = [0.0; 2];
+        for (t, w) in gl.0.iter().zip(&gl.1) {
+            let rho = lo + (hi - lo) * t;
+            let f = w * (hi - lo) * theta(rho);
+            s[0] += f;
+            s[1] += f * rho;
+        }
+        s
+    };
+    let mut start = [0.0; 2];
+    let mut out = Vec::with_capacity(pieces.len());
+    for k in 0..pieces.len() {
+        let lo = k as f64 * PIECE;
+        let (mut f0, mut f1) = ([0.0; MOMENT_CHEB], [0.0; MOMENT_CHEB]);
+        for (i, (v0, v1)) in f0.iter_mut().zip(f1.iter_mut()).enumerate() {
+            let t = (std::f64::consts::PI * (i as f64 + 0.5) / MOMENT_CHEB as f64).cos();
+            let part = integral(lo, lo + 0.5 * PIECE * (t + 1.0));
+            *v0 = start[0] + part[0];
+            *v1 = start[1] + part[1];
+        }
+        out.push([chebyshev_fit(&f0), chebyshev_fit(&f1)]);
+        let whole = integral(lo, lo + PIECE);
+        start = [start[0] + whole[0], start[1] + whole[1]];
+    }
+    (out, start)
 }
 
 type CurveCache = Mutex<Vec<((LayerBase, u64), Arc<ThetaCurve>)>>;
@@ -397,6 +480,17 @@ impl ThetaTable {
         self.curve.psi(rho)
     }
 
+    /// The radial moments of `Theta(s/h)` up to the distance `r >= 0` \[m\]:
+    /// `(int_0^r Theta(s/h) ds [m], int_0^r s Theta(s/h) ds [m^2])`
+    /// (exact integrals of the tabulated curve; constant beyond
+    /// [`Self::reach`]).
+    #[inline]
+    pub fn radial_moments(&self, r: f64) -> (f64, f64) {
+        let h = self.layer.thickness;
+        let [t0, t1] = self.curve.moments(r / h);
+        (h * t0, h * h * t1)
+    }
+
     /// `rho = r/h` beyond which `Theta = 0` (`|Theta| < 1e-13` there).
     pub fn rho_end(&self) -> f64 {
         self.curve.rho_end
@@ -434,6 +528,47 @@ mod tests {
                 "J0({x}) = {} vs {v}",
                 bessel_j0(x)
             );
+        }
+    }
+
+    /// The radial moments against 16-point Gauss-Legendre on panels of
+    /// `h/8` of the tabulated `Theta`, inside and beyond the reach.
+    #[test]
+    fn radial_moments_are_integrals_of_theta() {
+        let gl = gauss_legendre_unit(16);
+        for base in [LayerBase::Bonded, LayerBase::Frictionless] {
+            let h = 2e-6;
+            let t = ThetaTable::new(Layer { thickness: h, base }, 0.5).unwrap();
+            for rho in [
+                0.1,
+                0.77,
+                1.0,
+                3.3,
+                12.0,
+                t.rho_end() - 0.01,
+                t.rho_end() + 5.0,
+            ] {
+                let r = rho * h;
+                let n = (rho * 8.0).ceil() as usize;
+                let b = r / n as f64;
+                let (mut m0, mut m1) = (0.0, 0.0);
+                for p in 0..n {
+                    for (x, w) in gl.0.iter().zip(&gl.1) {
+                        let s = (p as f64 + x) * b;
+                        m0 += w * b * t.at_distance(s);
+                        m1 += w * b * s * t.at_distance(s);
+                    }
+                }
+                let (t0, t1) = t.radial_moments(r);
+                assert!(
+                    (t0 - m0).abs() < 1e-13 * h,
+                    "{base:?} rho {rho}: {t0:e} vs {m0:e}"
+                );
+                assert!(
+                    (t1 - m1).abs() < 1e-13 * h * h,
+                    "{base:?} rho {rho}: {t1:e} vs {m1:e}"
+                );
+            }
         }
     }
 
