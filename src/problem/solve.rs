@@ -201,7 +201,7 @@ impl Problem {
                 mut cause,
             } if cause.contains("stalled") => {
                 cause.push_str(match self.formulation {
-                    Formulation::Periodic => "; solve it with formulation = \"non_periodic\", which converges on such problems",
+                    Formulation::Periodic => "; try formulation = \"non_periodic\" (it converged on every stalled periodic problem measured: BENCHMARKS.md, \"Stalled solves and sub-cell layers\") or a larger solver.restart",
                     Formulation::NonPeriodic => "; try a finer grid, a lower load or a larger solver.restart",
                 });
                 SolverError::NoConvergence {

@@ -121,7 +121,12 @@ impl Problem {
         }
         if let Some(layer) = &self.layer {
             let cells = layer.thickness / a;
-            if cells < CELLS_PER_THICKNESS {
+            if cells < 1.0 {
+                causes.push(format!(
+                    "the layer (h = {:.3e} m) is thinner than a cell (h / a = {cells:.2e}): its response reaches wavenumbers of about 1/h, beyond the 3 alias images of each mode that the dissipation route sums, so that route reads low (Eq. 9's coefficients are the exact cell integrals); for agreement use at least {CELLS_PER_THICKNESS} cells per thickness (more cells)",
+                    layer.thickness
+                ));
+            } else if cells < CELLS_PER_THICKNESS {
                 causes.push(format!(
                     "the layer (h = {:.3e} m) is only {cells:.1} cells thick; use at least {CELLS_PER_THICKNESS} (more cells)",
                     layer.thickness

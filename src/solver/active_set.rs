@@ -9,8 +9,8 @@ use super::line_search::{update_set, Previous};
 use super::{
     check_problem, tolerances, ContactSolution, Control, Observer, SolveInfo, SolverError,
     SolverParams, WarmStart, FAST_FALL, FLOOR_TOGGLES, INNER_FLOOR, PRECONDITIONED_BUDGET,
-    ROUNDING_FLOOR, STAGNANT_ACCEPT, STAGNANT_ITERATIONS, STAGNATION, STALL_ABOVE, STALL_GAIN,
-    STALL_ITERATIONS,
+    ROUNDING_FLOOR, STAGNANT_ACCEPT, STAGNANT_ITERATIONS, STAGNATION, STALL_ABOVE, STALL_CYCLES,
+    STALL_GAIN, STALL_ITERATIONS,
 };
 use crate::backend::Backend;
 
@@ -301,9 +301,14 @@ pub(crate) fn solve_owned<B: Backend>(
     let mut sharp = tight;
     let mut stagnant = 0usize;
     let mut best_residual = f64::INFINITY;
-    // Iterations since the best residual last fell by STALL_GAIN, each
-    // with an inner solve that ran out of its budget.
-    let mut stall = (0usize, f64::INFINITY);
+    // Since the best residual last fell by STALL_GAIN: the outer
+    // iterations, those among them whose inner solve ran out of its
+    // budget, and that best residual.
+    let mut stall = Stall {
+        iterations: 0,
+        at_budget: 0,
+        best: f64::INFINITY,
+    };
     let mut cause = String::new();
     // A preconditioner that does not help (an approximate inverse far from
     // the operator, e.g. the circulant of a layer much thinner than a cell)
@@ -513,18 +518,9 @@ pub(crate) fn solve_owned<B: Backend>(
         }
         last_changes = changes;
         contact_cells = size;
-        if residual < STALL_GAIN * stall.1 {
-            stall = (0, residual);
-        } else if !outcome.converged {
-            stall.0 += 1;
-        }
-        if stall.0 >= STALL_ITERATIONS && residual > STALL_ABOVE {
-            cause = format!(
-                "; stalled: the residual has not fallen below {:.3e} for {} iterations, each inner solve at its budget, with {:.1} % of the cells in contact (the constrained iteration cycles on a strongly non-symmetric operator)",
-                stall.1,
-                stall.0,
-                100.0 * size as f64 / n as f64
-            );
+        stall.record(residual, outcome.converged);
+        if let Some(why) = stall.cause(residual, 100.0 * size as f64 / n as f64) {
+            cause = why;
             break;
         }
         if matvecs >= params.max_matvecs {
@@ -538,4 +534,52 @@ pub(crate) fn solve_owned<B: Backend>(
         history,
         cause,
     })
+}
+
+/// The stall rule: outer iterations that do not lower the best residual by
+/// [`STALL_GAIN`], counted since it last did.
+struct Stall {
+    iterations: usize,
+    at_budget: usize,
+    best: f64,
+}
+
+impl Stall {
+    fn record(&mut self, residual: f64, inner_converged: bool) {
+        if residual < STALL_GAIN * self.best {
+            *self = Stall {
+                iterations: 0,
+                at_budget: 0,
+                best: residual,
+            };
+        } else {
+            self.iterations += 1;
+            self.at_budget += usize::from(!inner_converged);
+        }
+    }
+
+    /// The error's cause once the iteration counts as stalled (above
+    /// [`STALL_ABOVE`]: [`STALL_ITERATIONS`] iterations without gain whose
+    /// inner solves ran out of their budget, or [`STALL_CYCLES`] without
+    /// gain at all), with the contact percentage `percent`.
+    fn cause(&self, residual: f64, percent: f64) -> Option<String> {
+        if residual <= STALL_ABOVE {
+            return None;
+        }
+        if self.at_budget >= STALL_ITERATIONS {
+            Some(format!(
+                "; stalled: the residual has not fallen below {:.3e} for {} iterations, {} of them with the inner solve at its budget, with {percent:.1} % of the cells in contact (the constrained iteration cycles on a strongly non-symmetric operator)",
+                self.best, self.iterations, self.at_budget
+            ))
+        } else if self.iterations >= STALL_CYCLES {
+            Some(format!(
+                "; stalled: the residual has not fallen below {:.3e} for {} iterations, {} of them with a converged inner solve, with {percent:.1} % of the cells in contact (the contact set cycles: cells enter and leave in turn)",
+                self.best,
+                self.iterations,
+                self.iterations - self.at_budget
+            ))
+        } else {
+            None
+        }
+    }
 }

@@ -256,6 +256,13 @@ pub(crate) const STALL_GAIN: f64 = 0.9;
 /// 0.3-0.4 for 100,000 matvecs; kept as a guard against cycles it does not
 /// break).
 pub(crate) const STALL_ITERATIONS: usize = 15;
+/// Outer iterations without gain (as for [`STALL_ITERATIONS`]) after which
+/// the solve stops as stalled even though its inner solves converge: the
+/// set cycles (cells entering and leaving in turn at a flat residual, each
+/// inner solve exact on its set). Longer than [`STALL_ITERATIONS`], since a
+/// converging iteration whose set is still far from the answer may keep a
+/// flat residual for a few iterations while cells enter.
+pub(crate) const STALL_CYCLES: usize = 40;
 /// A stall is only declared above this residual (below, the floor logic
 /// of the iteration takes over).
 pub(crate) const STALL_ABOVE: f64 = 1e-3;

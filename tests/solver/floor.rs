@@ -207,3 +207,46 @@ fn a_set_toggling_below_the_target_ends_the_solve() {
         assert_eq!(*c > 0.5, *p > 0.0);
     }
 }
+
+/// A set that cycles far above the floor while every inner solve
+/// converges (one cell entering and leaving at a residual of about 1e-2)
+/// stops as stalled after `STALL_CYCLES` outer iterations without gain,
+/// with the cause in the error, instead of running to the iteration cap
+/// (200): the stall rule used to count only inner solves that ran out of
+/// their budget.
+#[test]
+fn a_set_cycling_above_the_floor_with_converged_inner_solves_is_stalled() {
+    let (sol, _) = solve_with(|exact| exact, None).unwrap();
+    let (cell, gap) = (0..sol.gap.len())
+        .filter(|&i| sol.contact[i] < 0.5)
+        .map(|i| (i, sol.gap[i]))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap();
+    let result = solve_with(
+        |exact| Toggling {
+            exact,
+            cell,
+            lowered: 3.0 * gap,
+        },
+        Some((cell, -0.5 * gap)),
+    );
+    match result {
+        Err(SolverError::NoConvergence {
+            iterations,
+            residual,
+            cause,
+            history,
+            ..
+        }) => {
+            println!(
+                "{iterations} iterations, residual {residual:.2e}, cause: {cause}; last residuals {:?}",
+                &history[history.len().saturating_sub(4)..]
+            );
+            assert!(residual > 1e-3, "{residual:e}");
+            assert!(cause.contains("stalled"), "{cause}");
+            assert!(cause.contains("cycles"), "{cause}");
+            assert!(iterations <= 60, "{iterations} iterations");
+        }
+        other => panic!("expected a stall, got {other:?}"),
+    }
+}
