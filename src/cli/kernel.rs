@@ -13,9 +13,13 @@ pub struct KernelArgs {
     /// Override any key, e.g. `--set layer.thickness=0.0075` (repeatable).
     #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
     pub set: Vec<String>,
-    /// Side of the square cell \[m\].
+    /// Side of the cell along x \[m\] (and along y unless --cell-size-y).
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub cell_size: f64,
+    /// Side of the cell along y \[m\], for rectangular cells (a scan with
+    /// non-square pixels, physics.md section 11); default --cell-size.
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub cell_size_y: Option<f64>,
     /// Sliding speed [m/s] (0: relaxed; `inf`: glassy).
     #[arg(long, value_name = "M/S", allow_negative_numbers = true)]
     pub speed: f64,
@@ -82,19 +86,19 @@ pub fn run(args: KernelArgs) -> Result<()> {
     } else {
         ThetaRule::CellIntegral
     });
-    let a = args.cell_size;
-    SlidingKernel::check_cell(a, a)?;
-    kernel.check_layer_cells(a, a)?;
-    if let Some(w) = layer.and_then(|l| l.resolution_warning(a)) {
+    let (a, ay) = (args.cell_size, args.cell_size_y.unwrap_or(args.cell_size));
+    SlidingKernel::check_cell(a, ay)?;
+    kernel.check_layer_cells(a, ay)?;
+    if let Some(w) = layer.and_then(|l| l.resolution_warning(a.min(ay))) {
         eprintln!("warning: {w}");
     }
     let rows: Vec<serde_json::Value> = args
         .offsets
         .iter()
         .map(|&(i, j)| {
-            let (dx, dy) = (i as f64 * a, j as f64 * a);
-            let c = kernel.coefficient(dx, dy, a, a);
-            let d = kernel.derivative(dx, dy, a, a, Axis::X);
+            let (dx, dy) = (i as f64 * a, j as f64 * ay);
+            let c = kernel.coefficient(dx, dy, a, ay);
+            let d = kernel.derivative(dx, dy, a, ay, Axis::X);
             serde_json::json!({
                 "i": i,
                 "j": j,

@@ -117,6 +117,26 @@ fn describe(
             );
         }
     }
+    if let Some(t) = m.temperature {
+        let _ = writeln!(out, "  spectrum at T = {t} C");
+    }
+    if let Some(w) = &m.wlf {
+        let tr = w.reference_temperature;
+        let _ = writeln!(
+            out,
+            "WLF shift (physics.md section 2): C1 = {}, C2 = {} K, T_ref = {tr} C; log10 a_T = -C1 (T - T_ref) / (C2 + T - T_ref), valid above T_ref - C2 = {} C",
+            w.c1,
+            w.c2,
+            tr - w.c2
+        );
+        let mut shifts = String::new();
+        for dt in [-20.0, -10.0, 10.0, 20.0, 40.0] {
+            if let Ok(a) = w.shift_factor(tr + dt) {
+                let _ = write!(shifts, "  {} C: {a:.4e}", tr + dt);
+            }
+        }
+        let _ = writeln!(out, "  a_T at{shifts}");
+    }
     let tmin = s.terms.iter().map(|t| t.time).fold(f64::INFINITY, f64::min);
     let tmax = s.terms.iter().map(|t| t.time).fold(0.0, f64::max);
     // Relaxation times are shorter than creep times by up to E0/E_inf, so the

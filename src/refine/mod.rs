@@ -240,6 +240,12 @@ fn run(
     let mut first: Option<Problem> = None;
     for k in 0..count {
         let t0 = Instant::now();
+        // Without a warm start the coarser level goes before the next one
+        // is built (its fields are a quarter of the next level's grid
+        // vectors, and the next level's memory check sees what is free).
+        if !params.warm_start {
+            previous = None;
+        }
         let problem = make(k).map_err(|e| invalid(format!("level {}: {e}", k + 1)))?;
         let warm = params.warm_start && problem.discretisation() != Discretisation::Adaptive;
         // The coarser level goes once its solution is prolonged, the start

@@ -8,16 +8,13 @@ use viscoslide::material::{CreepSpectrum, Material};
 
 const CONFIG: &str = "[material]\nmodel = \"sls\"\nrelaxed_modulus = 2e6\nglassy_modulus = 1e7\ncreep_time = 0.01\npoisson = 0.5\n";
 
-#[test]
-fn json_output_matches_the_library() {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("c.toml");
-    std::fs::write(&path, CONFIG).unwrap();
+/// `viscoslide kernel --config PATH ARGS --json`, parsed.
+fn kernel_json(path: &std::path::Path, args: &[&str]) -> serde_json::Value {
     let out = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
         .args(["kernel", "--config"])
-        .arg(&path)
-        .args(["--cell-size", "1e-3", "--speed", "0.3", "--offset", "0,0"])
-        .args(["--offset", "-2,1", "--json"])
+        .arg(path)
+        .args(args)
+        .arg("--json")
         .output()
         .unwrap();
     assert!(
@@ -25,7 +22,27 @@ fn json_output_matches_the_library() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn json_output_matches_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.toml");
+    std::fs::write(&path, CONFIG).unwrap();
+    let v = kernel_json(
+        &path,
+        &[
+            "--cell-size",
+            "1e-3",
+            "--speed",
+            "0.3",
+            "--offset",
+            "0,0",
+            "--offset",
+            "-2,1",
+        ],
+    );
     let rows = v.as_array().unwrap();
     assert_eq!(rows.len(), 2);
     let m = Material::new(
@@ -57,6 +74,32 @@ fn json_output_matches_the_library() {
     close("K_elastic", c.elastic);
     close("K_viscoelastic", c.viscoelastic);
     close("dK_dx", k.derivative(-2e-3, 1e-3, 1e-3, 1e-3, Axis::X));
+
+    // Rectangular cells: offsets in units of each side, the library's
+    // coefficient of the 1e-3 x 4e-4 cell.
+    let v = kernel_json(
+        &path,
+        &[
+            "--cell-size",
+            "1e-3",
+            "--cell-size-y",
+            "4e-4",
+            "--speed",
+            "0.3",
+            "--offset",
+            "-2,1",
+        ],
+    );
+    let r = &v.as_array().unwrap()[0];
+    let c = k.coefficient(-2e-3, 4e-4, 1e-3, 4e-4);
+    let got = r["K"].as_f64().unwrap();
+    assert!(
+        (got - c.total()).abs() <= 1e-15 * c.total().abs(),
+        "{got} {c:?}"
+    );
+    let d = k.derivative(-2e-3, 4e-4, 1e-3, 4e-4, Axis::X);
+    let got = r["dK_dx"].as_f64().unwrap();
+    assert!((got - d).abs() <= 1e-15 * d.abs(), "{got} {d}");
 }
 
 #[test]

@@ -72,6 +72,46 @@ fn fit_writes_three_files_loadable_by_file_model() {
         .skip_while(|l| !l.contains("tan delta"))
         .count();
     assert_eq!(rows, 8, "{text}");
+    // Fitted with --wlf at 25 C: the shift and the temperature are shown.
+    assert!(
+        text.contains("spectrum at T = 25 C") && text.contains("T_ref = 17 C"),
+        "{text}"
+    );
+}
+
+/// `material show` prints the WLF constants of a material that carries
+/// them (the shipped SBR-like fit, C1 = 8.86, C2 = 101.6 K, T_ref = 17 C)
+/// and its shift factors, checked against the WLF form evaluated here.
+#[test]
+fn show_prints_the_wlf_shift() {
+    let show = Command::new(BIN)
+        .args(["material", "show"])
+        .arg(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/configs/paper_experiment.toml"
+        ))
+        .args(["--points", "3"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(show.stdout).unwrap();
+    assert!(show.status.success(), "{text}");
+    assert!(
+        text.contains("C1 = 8.86, C2 = 101.6 K, T_ref = 17 C"),
+        "{text}"
+    );
+    let a_t = |t: f64| 10f64.powf(-8.86 * (t - 17.0) / (101.6 + t - 17.0));
+    for t in [-3.0, 7.0, 27.0, 37.0, 57.0] {
+        let want = format!("{t} C: {:.4e}", a_t(t));
+        assert!(text.contains(&want), "{want} in {text}");
+    }
+    // A material without WLF constants shows no shift.
+    let show = Command::new(BIN)
+        .args(["material", "show"])
+        .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/configs/default.toml"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8(show.stdout).unwrap();
+    assert!(show.status.success() && !text.contains("WLF"), "{text}");
 }
 
 /// A failing `fit` prints exactly one `error:` line and writes nothing.

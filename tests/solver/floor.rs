@@ -120,6 +120,15 @@ fn solve_with<O: GridOperator + 'static>(
     )
 }
 
+/// The open cell of `sol` with the smallest gap, and that gap.
+fn nearest_open_cell(sol: &ContactSolution) -> (usize, f64) {
+    (0..sol.gap.len())
+        .filter(|&i| sol.contact[i] < 0.5)
+        .map(|i| (i, sol.gap[i]))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap()
+}
+
 #[test]
 fn a_stagnant_floor_is_accepted_and_reported() {
     let r = solve(1e-6).expect("a stagnant residual below 1e-3 is the floor");
@@ -142,11 +151,7 @@ fn a_stagnant_residual_above_1e_3_is_an_error() {
 fn a_set_toggling_at_the_floor_is_accepted() {
     // The exact solution first: the open cell with the smallest gap.
     let (sol, _) = solve_with(|exact| exact, None).unwrap();
-    let (cell, gap) = (0..sol.gap.len())
-        .filter(|&i| sol.contact[i] < 0.5)
-        .map(|i| (i, sol.gap[i]))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .unwrap();
+    let (cell, gap) = nearest_open_cell(&sol);
     // Bring that cell within 1e-3 of its gap of touching (the solution is
     // unchanged: it stays open), then let the full product see it 1e-3
     // inside.
@@ -178,11 +183,7 @@ fn a_set_toggling_at_the_floor_is_accepted() {
 #[test]
 fn a_set_toggling_below_the_target_ends_the_solve() {
     let (sol, exact_info) = solve_with(|exact| exact, None).unwrap();
-    let (cell, gap) = (0..sol.gap.len())
-        .filter(|&i| sol.contact[i] < 0.5)
-        .map(|i| (i, sol.gap[i]))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .unwrap();
+    let (cell, gap) = nearest_open_cell(&sol);
     let (toggled, info) = solve_with(
         |exact| Toggling {
             exact,
@@ -217,11 +218,7 @@ fn a_set_toggling_below_the_target_ends_the_solve() {
 #[test]
 fn a_set_cycling_above_the_floor_with_converged_inner_solves_is_stalled() {
     let (sol, _) = solve_with(|exact| exact, None).unwrap();
-    let (cell, gap) = (0..sol.gap.len())
-        .filter(|&i| sol.contact[i] < 0.5)
-        .map(|i| (i, sol.gap[i]))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .unwrap();
+    let (cell, gap) = nearest_open_cell(&sol);
     let result = solve_with(
         |exact| Toggling {
             exact,

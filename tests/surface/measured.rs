@@ -394,4 +394,43 @@ fn cli_stats_stitch_and_generate_from_psd() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && err.contains("remove hurst"), "{err}");
     assert!(!d.join("gen3").exists());
+
+    // --q1 cuts the table as the config key does: the same heights as
+    // `q1 = ...` in the config, others than without the cut.
+    let q_max = *stitched.q().last().unwrap();
+    let q1 = format!("{:e}", 0.3 * q_max);
+    let o = viscoslide(&[
+        "surface",
+        "generate",
+        "--psd",
+        &p("st/psd.csv"),
+        "--n",
+        "64",
+        "--length",
+        "1e-3",
+        "--seed",
+        "1",
+        "--q1",
+        &q1,
+        "--out",
+        &p("gen_q1_flag"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    std::fs::write(
+        d.join("q1.toml"),
+        format!("[surface.generate]\nn = 64\nlength = 1e-3\nseed = 1\nq1 = {q1}\npsd = \"st/psd.csv\"\n"),
+    )
+    .unwrap();
+    let o = viscoslide(&[
+        "surface",
+        "generate",
+        "--config",
+        &p("q1.toml"),
+        "--out",
+        &p("gen_q1_key"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let heights = |dir: &str| std::fs::read(d.join(dir).join("heights.npy")).unwrap();
+    assert_eq!(heights("gen_q1_flag"), heights("gen_q1_key"));
+    assert_ne!(heights("gen_q1_flag"), heights("gen2"));
 }

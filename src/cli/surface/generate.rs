@@ -39,7 +39,7 @@ pub struct GenerateArgs {
     /// Number of scales N: q1 = N q_L.
     #[arg(long, conflicts_with = "q1")]
     pub scales: Option<f64>,
-    /// Upper cut-off q1 [1/m].
+    /// Upper cut-off q1 [1/m] (with --psd: the table is cut there).
     #[arg(long)]
     pub q1: Option<f64>,
     /// Lower cut-off q_L [1/m] (default 2 pi / length).
@@ -61,8 +61,9 @@ pub struct GenerateArgs {
     #[arg(long, value_name = "RATIO,ANGLE_DEG", value_parser = parse_anisotropy)]
     pub anisotropy: Option<AnisotropyConfig>,
     /// Follow a tabulated PSD (CSV: q \[1/m\], C \[m^4\]) instead of the
-    /// self-affine formula; needs --n, --length, optionally --ny, --seed.
-    #[arg(long, conflicts_with_all = ["hurst", "scales", "q1", "ql", "rolloff_q0", "rms_height", "rms_slope", "anisotropy"])]
+    /// self-affine formula; needs --n, --length, optionally --ny, --seed,
+    /// --q1. With --q1 the table is cut at q1 without changing the lower modes.
+    #[arg(long, conflicts_with_all = ["hurst", "scales", "ql", "rolloff_q0", "rms_height", "rms_slope", "anisotropy"])]
     pub psd: Option<PathBuf>,
     /// Output directory.
     #[arg(long)]
