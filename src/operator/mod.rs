@@ -72,9 +72,7 @@ pub trait GridOperator: Send + Sync {
         out: &mut [f64],
         work: &mut GridWork,
     ) {
-        let (full, product) = work.scatter(self.shape(), cells, x);
-        self.apply_exact(full, product);
-        gather(cells, product, out);
+        through_grid(self, Self::apply_exact, cells, x, out, work);
     }
     /// `out = (K x)[cells]` for `x` zero off `cells`
     /// ([`GridOperator::precondition`]).
@@ -85,9 +83,7 @@ pub trait GridOperator: Send + Sync {
         out: &mut [f64],
         work: &mut GridWork,
     ) {
-        let (full, product) = work.scatter(self.shape(), cells, x);
-        self.precondition(full, product);
-        gather(cells, product, out);
+        through_grid(self, Self::precondition, cells, x, out, work);
     }
     /// Whether [`GridOperator::precondition`] applies an approximate
     /// inverse (default: no).
@@ -135,6 +131,22 @@ impl GridWork {
 }
 
 /// `out[k] = full[cells[k]]`.
+/// `out = (f x)[cells]` for `x` zero off `cells`, through the grid-size
+/// work vectors of `work`: the set products' default for an operator that
+/// has only whole-grid products.
+fn through_grid<O: GridOperator + ?Sized>(
+    op: &mut O,
+    f: fn(&mut O, &[f64], &mut [f64]),
+    cells: &[usize],
+    x: &[f64],
+    out: &mut [f64],
+    work: &mut GridWork,
+) {
+    let (full, product) = work.scatter(op.shape(), cells, x);
+    f(op, full, product);
+    gather(cells, product, out);
+}
+
 fn gather(cells: &[usize], full: &[f64], out: &mut [f64]) {
     for (o, &c) in out.iter_mut().zip(cells) {
         *o = full[c];
