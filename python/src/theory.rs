@@ -78,11 +78,12 @@ pub fn persson<'py>(
 
 /// The influence coefficients `K(i, j)` \[m/Pa\] (or, with `derivative`,
 /// the cell-averaged `dK/dx` \[1/Pa\]) of `material` sliding at `speed`
-/// \[m/s\] along `direction_deg`, for square cells of side `cell_size`
-/// \[m\], over all offsets of an `nx x ny` grid: shape `(2 nx - 1,
-/// 2 ny - 1)`, offset `(i, j)` at index `(i + nx - 1, j + ny - 1)`.
+/// \[m/s\] along `direction_deg`, for cells of sides `cell_size` x
+/// `cell_size_y` \[m\] (square when `cell_size_y` is `None`), over all
+/// offsets of an `nx x ny` grid: shape `(2 nx - 1, 2 ny - 1)`, offset
+/// `(i, j)` at index `(i + nx - 1, j + ny - 1)`.
 #[pyfunction]
-#[pyo3(signature = (material, nx, ny, cell_size, speed, direction_deg, layer_json, derivative))]
+#[pyo3(signature = (material, nx, ny, cell_size, speed, direction_deg, layer_json, derivative, cell_size_y=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn kernel_table<'py>(
     py: Python<'py>,
@@ -94,7 +95,9 @@ pub fn kernel_table<'py>(
     direction_deg: f64,
     layer_json: Option<&str>,
     derivative: bool,
+    cell_size_y: Option<f64>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let (ax, ay) = (cell_size, cell_size_y.unwrap_or(cell_size));
     let layer = layer_json
         .map(|j| {
             serde_json::from_str::<LayerConfig>(j)
@@ -116,13 +119,13 @@ pub fn kernel_table<'py>(
         },
     )
     .map_err(value_error)?;
-    SlidingKernel::check_cell(cell_size, cell_size).map_err(value_error)?;
+    SlidingKernel::check_cell(ax, ay).map_err(value_error)?;
     let table = py
         .detach(|| {
             if derivative {
-                kernel.try_derivative_table(nx, ny, cell_size, Axis::X)
+                kernel.try_derivative_table_rect(nx, ny, ax, ay, Axis::X)
             } else {
-                kernel.try_table(nx, ny, cell_size)
+                kernel.try_table_rect(nx, ny, ax, ay)
             }
         })
         .map_err(value_error)?;

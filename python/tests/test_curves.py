@@ -65,6 +65,20 @@ def test_kernel_table_matches_the_kernel_command(cli, repo):
         i, j = row["i"] + 2, row["j"] + 2
         assert k[i, j] == pytest.approx(row["K"], rel=1e-12)
         assert d[i, j] == pytest.approx(row["dK_dx"], rel=1e-12)
+    # Rectangular cells, as `kernel --cell-size-y`.
+    out = cli(
+        "kernel", "--config", str(repo / "configs" / "default.toml"), "--cell-size", "3.9e-5",
+        "--cell-size-y", "1.3e-5", "--speed", "0.0117", "--offset", "-1,2", "--json",
+    )
+    row = json.loads(out)[0]
+    k = vs.kernel_table(m, nx=3, ny=3, cell_size=3.9e-5, cell_size_y=1.3e-5, speed=0.0117)
+    d = vs.kernel_table(
+        m, nx=3, ny=3, cell_size=3.9e-5, cell_size_y=1.3e-5, speed=0.0117, derivative=True
+    )
+    assert k[1, 4] == pytest.approx(row["K"], rel=1e-12)
+    assert d[1, 4] == pytest.approx(row["dK_dx"], rel=1e-12)
+    with pytest.raises(ValueError, match="cell_size_y"):
+        vs.kernel_table(m, nx=3, cell_size=3.9e-5, cell_size_y=-1.0, speed=0.0117)
 
 
 def test_a_surface_from_a_psd_table_keeps_its_table(tmp_path, rubber):

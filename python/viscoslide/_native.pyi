@@ -137,6 +137,7 @@ def kernel_table(
     direction_deg: float,
     layer_json: Optional[str],
     derivative: bool,
+    cell_size_y: Optional[float] = None,
 ) -> npt.NDArray[np.float64]: ...
 def magnification(
     path: str,

@@ -317,12 +317,15 @@ def kernel_table(
     thickness: Optional[float] = None,
     layer_base: str = "bonded",
     derivative: bool = False,
+    cell_size_y: Optional[float] = None,
 ) -> np.ndarray:
     """Influence coefficients of the sliding kernel (paper Eq. 4-6): the
     surface displacement [m] of cell ``(i, j)`` under unit pressure [Pa] on
-    cell ``(0, 0)``, for square cells of side ``cell_size`` [m] and every
-    offset of an ``nx x ny`` grid; with ``derivative=True`` the
-    cell-averaged ``dK/dx`` [1/Pa] of the friction stencil.
+    cell ``(0, 0)``, for cells of side ``cell_size`` [m] along x and
+    ``cell_size_y`` along y (default ``cell_size``: square; rectangular
+    cells are a scan's non-square pixels) and every offset of an
+    ``nx x ny`` grid; with ``derivative=True`` the cell-averaged ``dK/dx``
+    [1/Pa] of the friction stencil.
 
     Returns an array of shape ``(2 nx - 1, 2 ny - 1)``; offset ``(i, j)``
     is at index ``(i + nx - 1, j + ny - 1)``.
@@ -338,4 +341,5 @@ def kernel_table(
         _checks.number("direction_deg", direction_deg),
         _layer(thickness, layer_base),
         bool(derivative),
+        None if cell_size_y is None else _checks.positive("cell_size_y", cell_size_y, "m"),
     )
