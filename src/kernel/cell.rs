@@ -374,7 +374,6 @@ impl LayerCell {
 mod tests {
     use super::*;
     use crate::kernel::love::LoveRect;
-    use crate::kernel::quad::adaptive;
     use crate::kernel::{Layer, LayerBase};
 
     const A: f64 = 1e-4;

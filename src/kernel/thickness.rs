@@ -269,9 +269,7 @@ impl ThetaCurve {
         use rayon::prelude::*;
         let gl = gauss_legendre_unit(16);
         // Chebyshev points of the first kind on [-1, 1].
-        let t: Vec<f64> = (0..CHEB)
-            .map(|i| (std::f64::consts::PI * (i as f64 + 0.5) / CHEB as f64).cos())
-            .collect();
+        let t: [f64; CHEB] = chebyshev_nodes();
         let mut pieces: Vec<[f64; CHEB]> = Vec::new();
         let mut below = 0usize;
         let mut rho_end = RHO_CAP;
@@ -331,8 +329,7 @@ impl ThetaCurve {
         if rho >= self.rho_end {
             return self.moments_end;
         }
-        let k = ((rho / PIECE) as usize).min(self.moments.len() - 1);
-        let x = 2.0 * (rho / PIECE - k as f64) - 1.0;
+        let (k, x) = piece_at(rho, self.moments.len());
         let [c0, c1] = &self.moments[k];
         [clenshaw(c0, x), clenshaw(c1, x)]
     }
@@ -363,13 +360,26 @@ fn clenshaw(c: &[f64], x: f64) -> f64 {
 /// `psi(rho)` from the pieces, for `0 <= rho` within them.
 #[inline]
 fn psi_on_pieces(pieces: &[[f64; CHEB]], rho: f64) -> f64 {
-    let k = ((rho / PIECE) as usize).min(pieces.len() - 1);
-    let x = 2.0 * (rho / PIECE - k as f64) - 1.0;
+    let (k, x) = piece_at(rho, pieces.len());
     clenshaw(&pieces[k], x)
 }
 
-/// Chebyshev coefficients of `f` at the `n` first-kind Chebyshev points
-/// `t_i` (values `f_i`), with the halved leading coefficient.
+/// The piece of `0 <= rho` among `count` and the local coordinate in
+/// `[-1, 1]` (the last piece is extended).
+#[inline]
+fn piece_at(rho: f64, count: usize) -> (usize, f64) {
+    let k = ((rho / PIECE) as usize).min(count - 1);
+    (k, 2.0 * (rho / PIECE - k as f64) - 1.0)
+}
+
+/// The `N` first-kind Chebyshev points `t_i = cos(pi (i + 1/2) / N)` on
+/// `[-1, 1]`.
+fn chebyshev_nodes<const N: usize>() -> [f64; N] {
+    std::array::from_fn(|i| (std::f64::consts::PI * (i as f64 + 0.5) / N as f64).cos())
+}
+
+/// Chebyshev coefficients of `f` at the `N` first-kind Chebyshev points
+/// ([`chebyshev_nodes`], values `f_i`), with the halved leading coefficient.
 fn chebyshev_fit<const N: usize>(f: &[f64; N]) -> [f64; N] {
     let mut c = [0.0; N];
     for (j, cj) in c.iter_mut().enumerate() {
@@ -409,13 +419,13 @@ fn moment_pieces(
         }
         s
     };
+    let nodes: [f64; MOMENT_CHEB] = chebyshev_nodes();
     let mut start = [0.0; 2];
     let mut out = Vec::with_capacity(pieces.len());
     for k in 0..pieces.len() {
         let lo = k as f64 * PIECE;
         let (mut f0, mut f1) = ([0.0; MOMENT_CHEB], [0.0; MOMENT_CHEB]);
-        for (i, (v0, v1)) in f0.iter_mut().zip(f1.iter_mut()).enumerate() {
-            let t = (std::f64::consts::PI * (i as f64 + 0.5) / MOMENT_CHEB as f64).cos();
+        for ((v0, v1), t) in f0.iter_mut().zip(f1.iter_mut()).zip(&nodes) {
             let part = integral(lo, lo + 0.5 * PIECE * (t + 1.0));
             *v0 = start[0] + part[0];
             *v1 = start[1] + part[1];
