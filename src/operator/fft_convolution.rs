@@ -32,9 +32,36 @@ use rustfft::{Fft, FftPlanner};
 use super::field::{set_fields, Field, FieldMut};
 pub use super::real::Real;
 
-/// Columns transformed together by one task (a contiguous run of bins in
-/// each spectrum row, read and written as a block).
-const COLUMN_BLOCK: usize = 8;
+/// Bytes of the run of bins that one task reads from (and writes back to)
+/// each spectrum row in the column pass: 8 f64 or 16 f32 columns
+/// transformed together. The row-to-column copies are bound by the number
+/// of row visits, not by the bytes, so an f32 pass visits each row half as
+/// often as an f64 one.
+const COLUMN_BLOCK_BYTES: usize = 128;
+
+/// Padding between the columns of a task's column block \[bytes\]. With
+/// columns exactly `mx` values apart (a power of two), the copy into the
+/// block writes every column at the same cache set and 16 f32 columns
+/// overflow its ways; one cache line apart they spread (f32 products at
+/// 2048^2 went from 28 to 25 ms, f64 ones were unchanged: BENCHMARKS.md).
+const COLUMN_PAD_BYTES: usize = 64;
+
+/// Columns in one block, and the distance between them, in values of `U`.
+fn column_layout<U: Real>(mx: usize) -> (usize, usize) {
+    let complex = 2 * U::BYTES;
+    (
+        COLUMN_BLOCK_BYTES / complex,
+        mx + COLUMN_PAD_BYTES / complex,
+    )
+}
+
+/// Complex f64 values of a per-task column block that holds either
+/// precision's layout.
+fn column_block_len(mx: usize) -> usize {
+    let bytes = |(width, stride): (usize, usize), complex: usize| width * stride * complex;
+    let most = bytes(column_layout::<f64>(mx), 16).max(bytes(column_layout::<f32>(mx), 8));
+    most.div_ceil(16)
+}
 
 /// The four transforms of one precision.
 struct Plans<U: Real> {
@@ -190,7 +217,7 @@ impl<T: Real> SpectralEngine<T> {
             .map(|_| Scratch {
                 fft: vec![Complex64::default(); fft],
                 row: vec![0.0; my],
-                columns: vec![Complex64::default(); COLUMN_BLOCK * mx],
+                columns: vec![Complex64::default(); column_block_len(mx)],
             })
             .collect();
     }
@@ -382,19 +409,21 @@ fn convolve<U: Real, T: Real>(
     let base = Columns(spec.as_mut_ptr());
     pool.par_iter_mut().enumerate().for_each(|(g, s)| {
         let (c0, c1) = (g * cols_per, ((g + 1) * cols_per).min(myh));
-        let columns = view::<U>(&mut s.columns, COLUMN_BLOCK * mx);
+        let (block, stride) = column_layout::<U>(mx);
+        let columns = view::<U>(&mut s.columns, block * stride);
         let scratch = scratch_of::<U>(&mut s.fft);
         let mut c = c0;
         while c < c1 {
-            let width = COLUMN_BLOCK.min(c1 - c);
+            let width = block.min(c1 - c);
             for r in 0..nx {
                 // SAFETY: columns c..c + width of row r belong to this task.
                 let src = unsafe { base.run(r * myh + c, width) };
                 for (k, v) in src.iter().enumerate() {
-                    columns[k * mx + r] = *v;
+                    columns[k * stride + r] = *v;
                 }
             }
-            for (k, col) in columns.chunks_exact_mut(mx).take(width).enumerate() {
+            for (k, col) in columns.chunks_exact_mut(stride).take(width).enumerate() {
+                let col = &mut col[..mx];
                 col[nx..].fill(Complex::default());
                 fwd.process_with_scratch(col, scratch);
                 let m = &multiplier_t[(c + k) * mx..(c + k + 1) * mx];
@@ -407,7 +436,7 @@ fn convolve<U: Real, T: Real>(
                 // SAFETY: as above.
                 let dst = unsafe { base.run(r * myh + c, width) };
                 for (k, v) in dst.iter_mut().enumerate() {
-                    *v = columns[k * mx + r];
+                    *v = columns[k * stride + r];
                 }
             }
             c += width;
