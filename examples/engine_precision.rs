@@ -31,8 +31,10 @@ where
         ..Default::default()
     };
     let response = PeriodicResponse::Displacement;
+    let t = Instant::now();
     let mut op =
         SpectralPeriodic::<T>::in_precision(n, n, (1e-5, 1e-5), material, &params, response);
+    let build = t.elapsed().as_secs_f64() * 1e3;
     let x: Vec<f64> = (0..n * n).map(|k| ((k * 7919) % 101) as f64).collect();
     let mut y = vec![0.0; n * n];
     let grid = mean_ms(repeats, || op.apply(&x, &mut y));
@@ -45,7 +47,7 @@ where
     let mut work = GridWork::default();
     let set = mean_ms(repeats, || op.apply_set(&cells, &xs, &mut ys, &mut work));
     println!(
-        "f{}  {n}^2  grid product {grid:.1} ms  set product ({} cells) {set:.1} ms",
+        "f{}  {n}^2  operator {build:.0} ms  grid product {grid:.1} ms  set product ({} cells) {set:.1} ms",
         T::BYTES * 8,
         cells.len()
     );

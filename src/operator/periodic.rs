@@ -87,13 +87,14 @@ fn signed_index(i: usize, n: usize) -> (f64, bool) {
 
 /// The continuous multiplier at wavevector `(qx, qy)` [m/Pa]: `m(q)` for
 /// [`PeriodicResponse::Displacement`], `i (q.e_v) m(q)` for the slope; zero at
-/// `q = 0`.
+/// `q = 0`. `compliance(qv)` is the material's `J*(-q.v)` for `qv = q.e_v`.
 fn continuous_multiplier(
     material: &Material,
     params: &KernelParams,
     (ex, ey): (f64, f64),
     (qx, qy): (f64, f64),
     response: PeriodicResponse,
+    compliance: impl Fn(f64) -> Complex64,
 ) -> Complex64 {
     let q = qx.hypot(qy);
     if q == 0.0 {
@@ -103,8 +104,7 @@ fn continuous_multiplier(
     let layer = params.layer.map_or(1.0, |l| {
         compliance_ratio(l.base, material.poisson, q * l.thickness)
     });
-    let m = material.spectrum.compliance(-qv * params.speed)
-        * (2.0 * material.composite_factor() * layer / q);
+    let m = compliance(qv) * (2.0 * material.composite_factor() * layer / q);
     match response {
         PeriodicResponse::Displacement => m,
         PeriodicResponse::SlidingSlope => Complex64::new(0.0, qv) * m,
@@ -141,20 +141,98 @@ pub fn periodic_multiplier_cells(
     j: usize,
     response: PeriodicResponse,
 ) -> Complex64 {
-    let e = (params.direction_rad.cos(), params.direction_rad.sin());
-    let (kx, nyq_x) = signed_index(i, nx);
-    let (ky, nyq_y) = signed_index(j, ny);
-    let qx = std::f64::consts::TAU * kx / (nx as f64 * ax);
-    let qy = std::f64::consts::TAU * ky / (ny as f64 * ay);
-    let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
-    let sy: &[f64] = if nyq_y { &[1.0, -1.0] } else { &[1.0] };
-    let mut acc = Complex64::default();
-    for &s in sx {
-        for &t in sy {
-            acc += continuous_multiplier(material, params, e, (s * qx, t * qy), response);
+    let modes = Modes::new(params, nx, ny, (ax, ay));
+    modes.multiplier(material, params, i, j, response, |qv, _, _| {
+        modes.compliance(material, params, qv)
+    })
+}
+
+/// What the multiplier of every mode of one grid shares: the sliding
+/// direction and the grid's wavevector steps.
+struct Modes {
+    /// Unit vector of the sliding direction.
+    e: (f64, f64),
+    nx: usize,
+    ny: usize,
+    /// `L_x = nx a_x`, `L_y = ny a_y` \[m\].
+    length: (f64, f64),
+}
+
+impl Modes {
+    fn new(params: &KernelParams, nx: usize, ny: usize, (ax, ay): (f64, f64)) -> Self {
+        Self {
+            e: (params.direction_rad.cos(), params.direction_rad.sin()),
+            nx,
+            ny,
+            length: (nx as f64 * ax, ny as f64 * ay),
         }
     }
-    acc / (sx.len() * sy.len()) as f64
+
+    /// `J*(-q.v)` for `qv = q.e_v` [1/Pa].
+    fn compliance(&self, material: &Material, params: &KernelParams, qv: f64) -> Complex64 {
+        material.spectrum.compliance(-qv * params.speed)
+    }
+
+    /// Whether `q.e_v` depends on the row index `i` alone (sliding exactly
+    /// along x, or no sliding): then the compliance of a grid can be
+    /// evaluated once per row and sign of `q_x` ([`Self::row_compliances`]).
+    fn rows_suffice(&self, params: &KernelParams) -> bool {
+        self.e.1 == 0.0 || params.speed == 0.0
+    }
+
+    /// `q_x` of row `i` with the sign `s` of a Nyquist alias.
+    fn qx(&self, i: usize, s: f64) -> f64 {
+        let (kx, _) = signed_index(i, self.nx);
+        s * (std::f64::consts::TAU * kx / self.length.0)
+    }
+
+    /// The compliance of every row `i` for `q_x` and, on the Nyquist row,
+    /// `-q_x`: `[i][0]` and `[i][1]`. Equal, bit for bit, to the compliance
+    /// each mode would evaluate: `q.e_v = q_x e_x + q_y e_y` with
+    /// `e_y = 0` (or `speed = 0`, where the frequency is zero anyway).
+    fn row_compliances(&self, material: &Material, params: &KernelParams) -> Vec<[Complex64; 2]> {
+        (0..self.nx)
+            .into_par_iter()
+            .map(|i| {
+                let (_, nyq) = signed_index(i, self.nx);
+                let at = |s: f64| {
+                    let qv = self.qx(i, s) * self.e.0 + 0.0 * self.e.1;
+                    self.compliance(material, params, qv)
+                };
+                [at(1.0), if nyq { at(-1.0) } else { Complex64::default() }]
+            })
+            .collect()
+    }
+
+    /// The discrete multiplier of mode `(i, j)`: the continuous one at the
+    /// grid wavevector, averaged over the signs of its Nyquist components;
+    /// `compliance(qv, i, s)` gives `J*(-q.v)` for row `i` with `q_x`'s
+    /// sign index `s` (0: `+`, 1: `-`).
+    fn multiplier(
+        &self,
+        material: &Material,
+        params: &KernelParams,
+        i: usize,
+        j: usize,
+        response: PeriodicResponse,
+        compliance: impl Fn(f64, usize, usize) -> Complex64,
+    ) -> Complex64 {
+        let (_, nyq_x) = signed_index(i, self.nx);
+        let (ky, nyq_y) = signed_index(j, self.ny);
+        let qy = std::f64::consts::TAU * ky / self.length.1;
+        let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
+        let sy: &[f64] = if nyq_y { &[1.0, -1.0] } else { &[1.0] };
+        let mut acc = Complex64::default();
+        for (si, &s) in sx.iter().enumerate() {
+            for &t in sy {
+                let q = (self.qx(i, s), t * qy);
+                acc += continuous_multiplier(material, params, self.e, q, response, |qv| {
+                    compliance(qv, i, si)
+                });
+            }
+        }
+        acc / (sx.len() * sy.len()) as f64
+    }
 }
 
 impl SpectralPeriodic {
@@ -322,13 +400,22 @@ pub(crate) fn multiplier_half_spectrum(
     response: PeriodicResponse,
 ) -> Vec<Complex64> {
     let nyh = ny / 2 + 1;
+    let modes = Modes::new(params, nx, ny, cell);
+    // The material's compliance (a sum over its creep spectrum) is most of
+    // a mode's cost; sliding along x it depends on the row alone.
+    let rows = modes
+        .rows_suffice(params)
+        .then(|| modes.row_compliances(material, params));
     let mut multiplier_t = vec![Complex64::default(); nyh * nx];
     multiplier_t
         .par_chunks_mut(nx)
         .enumerate()
         .for_each(|(j, col)| {
             for (i, m) in col.iter_mut().enumerate() {
-                *m = periodic_multiplier_cells(material, params, nx, ny, cell, i, j, response);
+                *m = modes.multiplier(material, params, i, j, response, |qv, i, s| match &rows {
+                    Some(rows) => rows[i][s],
+                    None => modes.compliance(material, params, qv),
+                });
             }
         });
     multiplier_t
@@ -451,6 +538,56 @@ mod tests {
             check::<f64>(nx, ny);
             check::<f32>(nx, ny);
         }
+    }
+
+    /// Sliding along x (or not sliding), the half spectrum takes each row's
+    /// compliance from one evaluation per row; it equals the multiplier
+    /// evaluated mode by mode, bit for bit, for both responses, odd and
+    /// even sizes (Nyquist rows and columns), rectangular cells and a layer.
+    /// Along another direction every mode evaluates its own.
+    #[test]
+    fn row_compliances_equal_the_modes_own() {
+        use crate::kernel::{Layer, LayerBase};
+        let mat = material();
+        let layer = Some(Layer {
+            thickness: 3e-4,
+            base: LayerBase::Bonded,
+        });
+        for (speed, dir, layer) in [(0.013, 0.0, None), (0.0, 0.7, None), (0.013, 0.0, layer)] {
+            let params = KernelParams {
+                speed,
+                direction_rad: dir,
+                layer,
+            };
+            assert!(Modes::new(&params, 4, 4, (1.0, 1.0)).rows_suffice(&params));
+            for &(nx, ny) in &[(6usize, 8usize), (7, 5), (8, 9)] {
+                let cell = (1e-4, 1.5e-4);
+                for resp in [
+                    PeriodicResponse::Displacement,
+                    PeriodicResponse::SlidingSlope,
+                ] {
+                    let half = multiplier_half_spectrum(&mat, &params, nx, ny, cell, resp);
+                    for j in 0..ny / 2 + 1 {
+                        for i in 0..nx {
+                            let own =
+                                periodic_multiplier_cells(&mat, &params, nx, ny, cell, i, j, resp);
+                            let m = half[j * nx + i];
+                            assert!(
+                                m.re.to_bits() == own.re.to_bits()
+                                    && m.im.to_bits() == own.im.to_bits(),
+                                "{nx}x{ny} {resp:?} mode ({i}, {j}): {m} vs {own}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        let oblique = KernelParams {
+            speed: 0.013,
+            direction_rad: 0.4,
+            layer: None,
+        };
+        assert!(!Modes::new(&oblique, 4, 4, (1.0, 1.0)).rows_suffice(&oblique));
     }
 
     /// The FFT operator equals the naive double sum over modes,
