@@ -148,7 +148,7 @@ pub fn periodic_multiplier_cells(
 }
 
 /// What the multiplier of every mode of one grid shares: the sliding
-/// direction and the grid's wavevector steps.
+/// direction and the periodic cell's sides.
 struct Modes {
     /// Unit vector of the sliding direction.
     e: (f64, f64),
