@@ -259,19 +259,7 @@ impl<T: Real> SpectralEngine<T> {
     /// between ([`inverse_multiplier`], in f64 from the stored multiplier).
     pub(crate) fn set_inverse_multiplier(&mut self, floor: f64) {
         let points = self.mx * self.my;
-        let wide: Vec<Complex64> = self
-            .multiplier_t
-            .par_iter()
-            .map(|m| Complex64::new(m.re.wide(), m.im.wide()))
-            .collect();
-        let inverse = inverse_multiplier(&wide, points, floor);
-        drop(wide);
-        self.inverse_t = Some(
-            inverse
-                .par_iter()
-                .map(|m| Complex::new(T::of(m.re), T::of(m.im)))
-                .collect(),
-        );
+        self.inverse_t = Some(inverse_multiplier(&self.multiplier_t, points, floor));
     }
 
     /// Whether [`SpectralEngine::set_inverse_multiplier`] was called.
@@ -515,24 +503,33 @@ pub(crate) fn half_spectrum(full: &[f64], mx: usize, my: usize) -> Vec<Complex64
 /// raised to it in the direction of `m`, zero modes get the largest's
 /// inverse ([`SpectralEngine::set_inverse_multiplier`]; the GPU
 /// preconditioner's spectrum too).
-pub(crate) fn inverse_multiplier(
-    multiplier: &[Complex64],
+pub(crate) fn inverse_multiplier<T: Real, U: Real>(
+    multiplier: &[Complex<T>],
     points: usize,
     floor: f64,
-) -> Vec<Complex64> {
+) -> Vec<Complex<U>> {
+    let wide = |m: &Complex<T>| Complex64::new(m.re.wide(), m.im.wide());
     let scale = 1.0 / points as f64;
-    let largest = multiplier.iter().map(|m| m.norm()).fold(0.0, f64::max);
+    let largest = multiplier
+        .iter()
+        .map(|m| wide(m).norm())
+        .fold(0.0, f64::max);
     let cut = floor * largest;
+    // Mode by mode in f64, rounded to `U` as it is stored: no full-size
+    // f64 copy of either spectrum (16 bytes per cell at the operator's
+    // set-up, its peak in mixed precision).
     multiplier
         .par_iter()
-        .map(|&m| {
+        .map(|m| {
+            let m = wide(m);
             let r = m.norm();
-            if r == 0.0 {
+            let inverse = if r == 0.0 {
                 Complex64::new(scale * scale / largest, 0.0)
             } else {
                 let m = if r < cut { m * (cut / r) } else { m };
                 m.conj() / m.norm_sqr() * (scale * scale)
-            }
+            };
+            Complex::new(U::of(inverse.re), U::of(inverse.im))
         })
         .collect()
 }

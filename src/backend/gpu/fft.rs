@@ -274,7 +274,7 @@ impl FftMatvec {
     /// [`crate::operator::ToeplitzFft::with_preconditioner`]).
     pub fn set_inverse(&mut self, engine: &mut Engine, table: &[f64], floor: f64) {
         let (mx, my) = (self.mx, self.my);
-        let mut spectrum = inverse_multiplier(
+        let mut spectrum = inverse_multiplier::<f64, f64>(
             &kernel_spectrum(self.nx, self.ny, mx, my, table),
             mx * my,
             floor,
