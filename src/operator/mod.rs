@@ -130,7 +130,6 @@ impl GridWork {
     }
 }
 
-/// `out[k] = full[cells[k]]`.
 /// `out = (f x)[cells]` for `x` zero off `cells`, through the grid-size
 /// work vectors of `work`: the set products' default for an operator that
 /// has only whole-grid products.
@@ -147,6 +146,7 @@ fn through_grid<O: GridOperator + ?Sized>(
     gather(cells, product, out);
 }
 
+/// `out[k] = full[cells[k]]`.
 fn gather(cells: &[usize], full: &[f64], out: &mut [f64]) {
     for (o, &c) in out.iter_mut().zip(cells) {
         *o = full[c];

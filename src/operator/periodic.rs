@@ -142,7 +142,7 @@ pub fn periodic_multiplier_cells(
     response: PeriodicResponse,
 ) -> Complex64 {
     let modes = Modes::new(params, nx, ny, (ax, ay));
-    modes.multiplier(material, params, i, j, response, |qv, _, _| {
+    modes.multiplier(material, params, i, j, response, |qv, _| {
         modes.compliance(material, params, qv)
     })
 }
@@ -206,8 +206,8 @@ impl Modes {
 
     /// The discrete multiplier of mode `(i, j)`: the continuous one at the
     /// grid wavevector, averaged over the signs of its Nyquist components;
-    /// `compliance(qv, i, s)` gives `J*(-q.v)` for row `i` with `q_x`'s
-    /// sign index `s` (0: `+`, 1: `-`).
+    /// `compliance(qv, s)` gives `J*(-q.v)` for `q_x`'s sign index `s`
+    /// (0: `+`, 1: `-`).
     fn multiplier(
         &self,
         material: &Material,
@@ -215,7 +215,7 @@ impl Modes {
         i: usize,
         j: usize,
         response: PeriodicResponse,
-        compliance: impl Fn(f64, usize, usize) -> Complex64,
+        compliance: impl Fn(f64, usize) -> Complex64,
     ) -> Complex64 {
         let (_, nyq_x) = signed_index(i, self.nx);
         let (ky, nyq_y) = signed_index(j, self.ny);
@@ -227,7 +227,7 @@ impl Modes {
             for &t in sy {
                 let q = (self.qx(i, s), t * qy);
                 acc += continuous_multiplier(material, params, self.e, q, response, |qv| {
-                    compliance(qv, i, si)
+                    compliance(qv, si)
                 });
             }
         }
@@ -412,7 +412,7 @@ pub(crate) fn multiplier_half_spectrum(
         .enumerate()
         .for_each(|(j, col)| {
             for (i, m) in col.iter_mut().enumerate() {
-                *m = modes.multiplier(material, params, i, j, response, |qv, i, s| match &rows {
+                *m = modes.multiplier(material, params, i, j, response, |qv, s| match &rows {
                     Some(rows) => rows[i][s],
                     None => modes.compliance(material, params, qv),
                 });
