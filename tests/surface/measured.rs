@@ -368,14 +368,18 @@ fn cli_stats_stitch_and_generate_from_psd() {
         "[surface.generate]\nn = 64\nlength = 1e-3\nseed = 1\npsd = \"st/psd.csv\"\n",
     )
     .unwrap();
-    let o = viscoslide(&[
-        "surface",
-        "generate",
-        "--config",
-        &p("g.toml"),
-        "--out",
-        &p("gen2"),
-    ]);
+    // `surface generate` from a config, into an output directory.
+    let generate_from = |config: &str, out: &str| {
+        viscoslide(&[
+            "surface",
+            "generate",
+            "--config",
+            &p(config),
+            "--out",
+            &p(out),
+        ])
+    };
+    let o = generate_from("g.toml", "gen2");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     // psd and self-affine keys together: refused, nothing written.
     std::fs::write(
@@ -383,14 +387,7 @@ fn cli_stats_stitch_and_generate_from_psd() {
         "[surface.generate]\nn = 64\nlength = 1e-3\nhurst = 0.8\npsd = \"st/psd.csv\"\n",
     )
     .unwrap();
-    let o = viscoslide(&[
-        "surface",
-        "generate",
-        "--config",
-        &p("bad.toml"),
-        "--out",
-        &p("gen3"),
-    ]);
+    let o = generate_from("bad.toml", "gen3");
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && err.contains("remove hurst"), "{err}");
     assert!(!d.join("gen3").exists());
@@ -421,14 +418,7 @@ fn cli_stats_stitch_and_generate_from_psd() {
         format!("[surface.generate]\nn = 64\nlength = 1e-3\nseed = 1\nq1 = {q1}\npsd = \"st/psd.csv\"\n"),
     )
     .unwrap();
-    let o = viscoslide(&[
-        "surface",
-        "generate",
-        "--config",
-        &p("q1.toml"),
-        "--out",
-        &p("gen_q1_key"),
-    ]);
+    let o = generate_from("q1.toml", "gen_q1_key");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let heights = |dir: &str| std::fs::read(d.join(dir).join("heights.npy")).unwrap();
     assert_eq!(heights("gen_q1_flag"), heights("gen_q1_key"));
