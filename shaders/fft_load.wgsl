@@ -6,8 +6,11 @@
 // P.i: (nx, ny, mx, my).
 
 @group(0) @binding(1) var<storage, read> x: array<f32>;
+fn x_load(i: u32) -> f32 { return x[i]; }
 @group(0) @binding(2) var<storage, read_write> a: array<vec2<f32>>;
+fn a_store(i: u32, v: vec2<f32>) { a[i] = v; }
 @group(0) @binding(3) var<storage, read_write> b: array<vec2<f32>>;
+fn b_store(i: u32, v: vec2<f32>) { b[i] = v; }
 
 @compute @workgroup_size(WG)
 fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
@@ -23,10 +26,10 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     let c = t % my;
     var v = vec2<f32>(0.0, 0.0);
     if (r < nx && c < ny) {
-        v.x = x[r * ny + c];
+        v.x = x_load(r * ny + c);
     }
-    a[t] = v;
+    a_store(t, v);
     if (r >= nx) {
-        b[t] = vec2<f32>(0.0, 0.0);
+        b_store(t, vec2<f32>(0.0, 0.0));
     }
 }

@@ -9,7 +9,9 @@
 // P.f.x: +1 forward, -1 inverse.
 
 @group(0) @binding(1) var<storage, read> src: array<vec2<f32>>;
+fn src_load(i: u32) -> vec2<f32> { return src[i]; }
 @group(0) @binding(2) var<storage, read_write> dst: array<vec2<f32>>;
+fn dst_store(i: u32, v: vec2<f32>) { dst[i] = v; }
 @group(0) @binding(3) var<storage, read> twiddle: array<vec2<f32>>;
 
 @compute @workgroup_size(WG)
@@ -28,9 +30,9 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     let k = j & (ns - 1u);
     var w = twiddle[k * (half_n / ns)];
     w.y = w.y * P.f.x;
-    let a = src[base + j * es];
-    let b = cmul(src[base + (j + half_n) * es], w);
+    let a = src_load(base + j * es);
+    let b = cmul(src_load(base + (j + half_n) * es), w);
     let d = 2u * (j - k) + k;
-    dst[base + d * es] = a + b;
-    dst[base + (d + ns) * es] = a - b;
+    dst_store(base + d * es, a + b);
+    dst_store(base + (d + ns) * es, a - b);
 }

@@ -46,7 +46,9 @@ fn plan_table_lists_both_paths_the_floor_and_the_steps() {
 /// lavapipe's 128 MiB binding, 2 GiB buffer): at 2048^2 one binding each;
 /// at 4096^2 the `8192 x 4097` complex work buffers and spectrum (268 MB)
 /// in three windows; at 8192^2 (1.07 GB) in nine and the grid vectors (268
-/// MB) in two; at 8193^2 the work buffers (4.3 GB) exceed one buffer.
+/// MB) in two; at 8193^2 the work buffers (4.3 GB) exceed one buffer. The
+/// radix-2 fallback (2 KiB of workgroup memory) splits as well: at 4096^2
+/// its `8192 x 8192` complex work buffers (537 MB) in four windows.
 #[test]
 fn plan_states_how_arrays_are_split() {
     let arrays = |n: &str| {
@@ -68,6 +70,13 @@ fn plan_states_how_arrays_are_split() {
     let a = arrays("8193");
     assert!(a["fft_buffer_windows"].is_null(), "{a}");
     assert!(a["text"].as_str().unwrap().contains("per buffer"), "{a}");
+    let v: serde_json::Value =
+        serde_json::from_str(&plan(&["--n", "4096", "--shared-kib", "2", "--json"])).unwrap();
+    assert_eq!(v["path"], "Radix2", "{v}");
+    let a = &v["arrays"];
+    assert_eq!(a["fft_buffer_bytes"], 8 * 8192 * 8192, "{a}");
+    assert_eq!(a["fft_buffer_windows"], 4, "{a}");
+    assert!(a["text"].as_str().unwrap().contains("4 windows"), "{a}");
     let text = plan(&["--n", "4096", "--binding-mib", "1024"]);
     assert!(text.contains("in one binding; grid vectors"), "{text}");
 }

@@ -208,9 +208,9 @@ impl GpuBackend {
 
     /// Whether an `nx x ny` grid fits the device: its grid vectors
     /// (`check_vector`) and the FFT's work buffers and spectrum (`8 mx
-    /// (my / 2 + 1)` bytes on the workgroup-memory path, bound in windows
-    /// when larger than one binding; `8 mx my` in one binding on the
-    /// radix-2 fallback), [`super::fft::check_device`].
+    /// (my / 2 + 1)` bytes on the workgroup-memory path, `8 mx my` on the
+    /// radix-2 fallback; bound in windows when larger than one binding),
+    /// [`super::fft::check_device`].
     pub fn check_fits(ctx: &GpuContext, nx: usize, ny: usize) -> Result<(), GpuError> {
         let limits = ctx.device.limits();
         let path = super::fft_plan::Path::for_device(&limits);

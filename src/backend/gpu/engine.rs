@@ -172,6 +172,10 @@ impl Kernel {
             Kernel::CompactWrite => &[S, N, S],
             Kernel::FftRadix | Kernel::FftSplit | Kernel::FftMerge => &[S, S, N],
             Kernel::FftRadixProduct => &[S, S, N, S],
+            Kernel::FftLoad => &[S, S, S],
+            Kernel::FftPass => &[S, S, N],
+            Kernel::SpectralProduct | Kernel::SpectralProductF16 => &[S, S],
+            Kernel::FftExtract => &[S, S],
             Kernel::Coefficients => &[N, S],
             _ => &[],
         }

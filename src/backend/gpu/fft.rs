@@ -340,10 +340,12 @@ impl FftMatvec {
 }
 
 /// How the work buffers and the spectrum of an `nx x ny` grid's matvec on
-/// `path` fit a device with `limits` (every array in one buffer; on
-/// [`Path::Shared`] an array larger than one storage binding is bound in
-/// windows, [`super::split`]): `(bytes of each, windows of each)`, or the
-/// limit they break. The radix-2 kernels bind whole buffers.
+/// `path` fit a device with `limits`: every array in one buffer, bound in
+/// windows where larger than one storage binding ([`super::split`]; every
+/// kernel of both paths reaches its work buffers, spectrum and grid
+/// vectors through accessors): `(bytes of each, windows of each)`, or the
+/// limit they break (one buffer, or the storage bindings of the kernel
+/// that binds the most windows).
 pub fn check_device(
     limits: &wgpu::Limits,
     adapter: &str,
@@ -357,27 +359,38 @@ pub fn check_device(
     let binding = limits
         .max_storage_buffer_binding_size
         .min(limits.max_buffer_size);
-    let too_large = |limit: u64, per: &'static str| GpuError::TooLarge {
-        what: what.clone(),
-        need: bytes,
-        limit,
-        per,
-        adapter: adapter.to_string(),
-    };
     if bytes <= binding {
         return Ok((bytes, 1));
     }
-    if path == Path::Radix2 {
-        return Err(too_large(binding, "per storage binding"));
-    }
     if bytes > limits.max_buffer_size {
-        return Err(too_large(limits.max_buffer_size, "per buffer"));
+        return Err(GpuError::TooLarge {
+            what,
+            need: bytes,
+            limit: limits.max_buffer_size,
+            per: "per buffer",
+            adapter: adapter.to_string(),
+        });
     }
     let window =
         super::split::window_bytes(binding, limits.min_storage_buffer_offset_alignment.into());
     let windows = super::split::windows(bytes, window);
-    // The product pass binds two work buffers, the spectrum and the twiddles.
-    let bindings = 3 * windows + 1;
+    let bindings = match path {
+        // The load binds the input vector and both work buffers (the
+        // passes two work buffers and the twiddles, the product a work
+        // buffer and the spectrum, at most as many).
+        Path::Radix2 => {
+            let vector = 4 * (nx.max(1) * ny.max(1)) as u64;
+            let vector_windows = if vector <= binding {
+                1
+            } else {
+                super::split::windows(vector, window)
+            };
+            2 * windows + vector_windows
+        }
+        // The product pass binds two work buffers, the spectrum and the
+        // twiddles.
+        Path::Shared { .. } => 3 * windows + 1,
+    };
     let limit = limits.max_storage_buffers_per_shader_stage as u64;
     if bindings > limit {
         return Err(GpuError::TooManyBindings {

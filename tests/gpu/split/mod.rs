@@ -1,6 +1,6 @@
 //! Arrays larger than one storage binding (backend::gpu::split): the FFT
-//! work buffers, the kernel spectrum and the coefficient table are bound in
-//! windows. A device opened with a lowered binding limit
+//! work buffers (both paths), the kernel spectrum and the coefficient table
+//! are bound in windows. A device opened with a lowered binding limit
 //! (`GpuContext::open_with_binding_limit`) makes small grids split, and
 //! every result is compared with the same computation on the adapter's own
 //! limits (one binding each) and with the CPU. The limit checks are pure
@@ -9,6 +9,8 @@
 //! `REQUIRE_GPU=1`.
 
 use crate::common;
+
+mod radix2;
 
 use std::path::Path;
 
@@ -45,8 +47,11 @@ fn shared() -> FftPath {
 /// On lavapipe's limits a 2048^2 FFT fits one binding (`4096 x 2049 x 8`
 /// bytes, 64 MiB), 2049^2 .. 4096^2 (`8192 x 4097 x 8` = 256 MiB) span
 /// three windows of 128 MiB, 4097^2 (1 GiB) nine; 8193^2 (4 GiB) exceeds
-/// one buffer; the radix-2 path, which binds whole buffers, and a device
-/// with too few bindings per kernel refuse with a one-line reason.
+/// one buffer and a device with too few bindings per kernel refuse with a
+/// one-line reason. The radix-2 path (complex `mx x my` buffers) splits as
+/// well: 2048^2 (`4096^2 x 8` bytes, 128 MiB) fits one binding, 2049^2
+/// (512 MiB) spans four windows, its load binding the input vector and
+/// both work buffers (nine bindings); 4097^2 (2 GiB) exceeds one buffer.
 #[test]
 fn limits_split_or_refuse() {
     let l = lavapipe_limits();
@@ -70,12 +75,20 @@ fn limits_split_or_refuse() {
         "{e}"
     );
     assert!(e.to_string().contains("--backend cpu"), "{e}");
-    let e = check_device(&l, "x", 2049, 2049, FftPath::Radix2).unwrap_err();
+    assert_eq!(
+        check_device(&l, "x", 2048, 2048, FftPath::Radix2).unwrap(),
+        (8 * 4096 * 4096, 1)
+    );
+    assert_eq!(
+        check_device(&l, "x", 2049, 2049, FftPath::Radix2).unwrap(),
+        (8 * 8192 * 8192, 4)
+    );
+    let e = check_device(&l, "x", 4097, 4097, FftPath::Radix2).unwrap_err();
     assert!(
         matches!(
             e,
             GpuError::TooLarge {
-                per: "per storage binding",
+                per: "per buffer",
                 ..
             }
         ),
@@ -91,6 +104,12 @@ fn limits_split_or_refuse() {
         "{e}"
     );
     println!("{e}");
+    let e = check_device(&few, "x", 2049, 2049, FftPath::Radix2).unwrap_err();
+    assert!(
+        matches!(e, GpuError::TooManyBindings { need: 9, .. }),
+        "{e}"
+    );
+    println!("{e}");
 }
 
 /// Every binding a kernel may split is reached through accessors that
@@ -103,6 +122,11 @@ fn split_shaders_validate() {
         Kernel::FftRadixProduct,
         Kernel::FftSplit,
         Kernel::FftMerge,
+        Kernel::FftLoad,
+        Kernel::FftPass,
+        Kernel::SpectralProduct,
+        Kernel::SpectralProductF16,
+        Kernel::FftExtract,
         Kernel::Coefficients,
         Kernel::Axpy,
         Kernel::Combine,
@@ -148,6 +172,17 @@ fn matvec(ctx: gpu::GpuContext, n: usize, table: &[f64], fft: FftChoice, x: &[f6
         fft,
         ..GpuOptions::default()
     };
+    matvec_with(ctx, n, table, options, x)
+}
+
+/// `L x` on an `n x n` grid with `options`, read back.
+fn matvec_with(
+    ctx: gpu::GpuContext,
+    n: usize,
+    table: &[f64],
+    options: GpuOptions,
+    x: &[f64],
+) -> Vec<f64> {
     let mut g = GpuBackend::new(ctx, n, n, table, options).unwrap();
     let mut xv = g.zeros(x.len());
     g.upload(x, &mut xv);
