@@ -9,7 +9,9 @@
 // relaxed compliance fraction at the unit length.
 
 @group(0) @binding(2) var<storage, read> pairs: array<vec4<f32>>;
+fn pairs_load(i: u32) -> vec4<f32> { return pairs[i]; }
 @group(0) @binding(3) var<storage, read_write> out: array<f32>;
+fn out_store(i: u32, v: f32) { out[i] = v; }
 
 const PWG: u32 = 64u;
 
@@ -19,6 +21,6 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     if (t >= P.i.x) {
         return;
     }
-    let q = pairs[t];
-    out[t] = q.z * unit_coefficient(q.xy, P.f.xy, P.f.z, P.i.y, q.z);
+    let q = pairs_load(t);
+    out_store(t, q.z * unit_coefficient(q.xy, P.f.xy, P.f.z, P.i.y, q.z));
 }

@@ -19,10 +19,14 @@
 // at the fine side.
 
 @group(0) @binding(2) var<storage, read> cells: array<vec4<f32>>;
+fn cells_load(i: u32) -> vec4<f32> { return cells[i]; }
 @group(0) @binding(3) var<storage, read> xin: array<f32>;
+fn xin_load(i: u32) -> f32 { return xin[i]; }
 @group(0) @binding(4) var<storage, read> index: array<u32>;
+fn index_load(i: u32) -> u32 { return index[i]; }
 @group(0) @binding(5) var<storage, read> offsets: array<u32>;
 @group(0) @binding(6) var<storage, read_write> partials: array<f32>;
+fn partials_store(i: u32, v: f32) { partials[i] = v; }
 
 @compute @workgroup_size(WG)
 fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
@@ -36,13 +40,13 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     let j = chunk * WG + lid;
     var v = 0.0;
     if (j < offsets[P.i.z]) {
-        let s = index[j];
-        let c = cells[s];
-        let k = unit_coefficient((cells[t].xy - c.xy) / c.z, P.f.xy, P.f.z, P.i.y, c.z);
-        v = k * xin[s] / c.z;
+        let s = index_load(j);
+        let c = cells_load(s);
+        let k = unit_coefficient((cells_load(t).xy - c.xy) / c.z, P.f.xy, P.f.z, P.i.y, c.z);
+        v = k * xin_load(s) / c.z;
     }
     let total = workgroup_sum4(lid, vec4<f32>(v, 0.0, 0.0, 0.0));
     if (lid == 0u) {
-        partials[chunk * n + t] = total.x;
+        partials_store(chunk * n + t, total.x);
     }
 }

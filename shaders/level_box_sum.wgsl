@@ -8,7 +8,9 @@
 // P.i: (w_out, h_out, w_in, d).
 
 @group(0) @binding(1) var<storage, read> input: array<f32>;
+fn input_load(i: u32) -> f32 { return input[i]; }
 @group(0) @binding(2) var<storage, read_write> output: array<f32>;
+fn output_store(i: u32, v: f32) { output[i] = v; }
 
 @compute @workgroup_size(WG)
 fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
@@ -22,5 +24,5 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     let wi = P.i.z;
     let d = P.i.w;
     let base = r * wi + c;
-    output[t] = (input[base] + input[base + d]) + (input[base + d * wi] + input[base + d * wi + d]);
+    output_store(t, (input_load(base) + input_load(base + d)) + (input_load(base + d * wi) + input_load(base + d * wi + d)));
 }

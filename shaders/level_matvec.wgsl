@@ -23,13 +23,22 @@
 // half-integer one, as i32 bits; P.f.w = c0 = (1 - nu^2)/pi a (total
 // compliance).
 
+// The tables, cells and vectors are reached through accessors, so that
+// each may be bound as several windows (backend::gpu::split).
 @group(0) @binding(1) var<storage, read> even: array<f32>;
+fn even_load(i: u32) -> f32 { return even[i]; }
 @group(0) @binding(2) var<storage, read> odd: array<f32>;
+fn odd_load(i: u32) -> f32 { return odd[i]; }
 @group(0) @binding(3) var<storage, read> cells: array<vec4<i32>>;
+fn cells_load(i: u32) -> vec4<i32> { return cells[i]; }
 @group(0) @binding(4) var<storage, read> xin: array<f32>;
+fn xin_load(i: u32) -> f32 { return xin[i]; }
 @group(0) @binding(5) var<storage, read> index: array<u32>;
+fn index_load(i: u32) -> u32 { return index[i]; }
 @group(0) @binding(6) var<storage, read> offsets: array<u32>;
 @group(0) @binding(7) var<storage, read_write> yout: array<f32>;
+fn yout_load(i: u32) -> f32 { return yout[i]; }
+fn yout_store(i: u32, v: f32) { yout[i] = v; }
 
 var<workgroup> tile_cell: array<vec4<i32>, WG>;
 var<workgroup> tile_x: array<f32, WG>;
@@ -44,7 +53,7 @@ fn first_of_level(level: i32, count: u32) -> u32 {
             break;
         }
         let mid = (lo + hi) / 2u;
-        if (cells[index[mid]].w < level) {
+        if (cells_load(index_load(mid)).w < level) {
             lo = mid + 1u;
         } else {
             hi = mid;
@@ -66,7 +75,7 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     let live = t < n;
     var tgt = vec4<i32>(0, 0, 0, 0);
     if (live) {
-        tgt = cells[t];
+        tgt = cells_load(t);
     }
     let w_even = i32(P.i.w & 65535u);
     let w_odd = i32(P.i.w >> 16u);
@@ -78,9 +87,9 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     for (var base = lo; base < hi; base = base + WG) {
         let j = base + lid;
         if (j < hi) {
-            let s = index[j];
-            tile_cell[lid] = cells[s];
-            tile_x[lid] = xin[s] / area;
+            let s = index_load(j);
+            tile_cell[lid] = cells_load(s);
+            tile_x[lid] = xin_load(s) / area;
         }
         workgroupBarrier();
         let m = min(WG, hi - base);
@@ -92,9 +101,9 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
                 let ky = tgt.y - src.y - corr;
                 var c: f32;
                 if ((tgt.z ^ src.z) == 1) {
-                    c = odd[(kx - kmin_odd.x) * w_odd + ky - kmin_odd.y];
+                    c = odd_load(u32((kx - kmin_odd.x) * w_odd + ky - kmin_odd.y));
                 } else {
-                    c = even[(kx - kmin_even.x) * w_even + ky - kmin_even.y];
+                    c = even_load(u32((kx - kmin_even.x) * w_even + ky - kmin_even.y));
                 }
                 let term = c * tile_x[k] - comp;
                 let next = sum + term;
@@ -107,9 +116,9 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     if (live) {
         let v = P.f.w * sum;
         if (first) {
-            yout[t] = v;
+            yout_store(t, v);
         } else {
-            yout[t] = yout[t] + v;
+            yout_store(t, yout_load(t) + v);
         }
     }
 }

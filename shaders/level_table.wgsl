@@ -12,6 +12,7 @@
 // P.f: (e_x, e_y, g, 0). terms (binding 1, shared/green.wgsl).
 
 @group(0) @binding(2) var<storage, read_write> table: array<f32>;
+fn table_store(i: u32, v: f32) { table[i] = v; }
 
 const LWG: u32 = 64u;
 
@@ -26,5 +27,5 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     let kx = bitcast<i32>(P.j.x) + i32(t / w);
     let ky = bitcast<i32>(P.j.y) + i32(t % w);
     let x = vec2<f32>(f32(kx) + half, f32(ky) + half);
-    table[t] = unit_coefficient(x, P.f.xy, P.f.z, P.i.z, 1.0);
+    table_store(t, unit_coefficient(x, P.f.xy, P.f.z, P.i.z, 1.0));
 }

@@ -25,9 +25,9 @@ use viscoslide::operator::GridOperator;
 use viscoslide::solver::{self, Control, SolverParams};
 
 /// Finest cell side [m].
-const A: f64 = 1e-4;
+pub(crate) const A: f64 = 1e-4;
 /// Creep time of the paper material [s].
-const TAU: f64 = 0.01;
+pub(crate) const TAU: f64 = 0.01;
 
 /// The shipped SBR-like fit (`configs/material_sbr_like.toml`: 34 creep
 /// times of ratio e, 24 of them with nonzero compliance).
@@ -55,7 +55,7 @@ fn dense_34_material() -> Material {
     Material::new(CreepSpectrum::new(1e7, terms).unwrap(), 0.5).unwrap()
 }
 
-fn params(speed: f64, direction: f64) -> KernelParams {
+pub(crate) fn params(speed: f64, direction: f64) -> KernelParams {
     KernelParams {
         speed,
         direction_rad: direction,
@@ -64,7 +64,7 @@ fn params(speed: f64, direction: f64) -> KernelParams {
 }
 
 /// `n` nonnegative pressures below 1e5 Pa, a fraction `zeros` of them zero.
-fn sparse_pressures(rng: &mut ChaCha8Rng, n: usize, zeros: f64) -> Vec<f64> {
+pub(crate) fn sparse_pressures(rng: &mut ChaCha8Rng, n: usize, zeros: f64) -> Vec<f64> {
     (0..n)
         .map(|_| {
             if rng.random_range(0.0..1.0) < zeros {
@@ -77,7 +77,7 @@ fn sparse_pressures(rng: &mut ChaCha8Rng, n: usize, zeros: f64) -> Vec<f64> {
 }
 
 /// `L x` on the device, read back.
-fn gpu_apply(g: &mut GpuBackend, x: &[f64]) -> Vec<f64> {
+pub(crate) fn gpu_apply(g: &mut GpuBackend, x: &[f64]) -> Vec<f64> {
     let n = x.len();
     let mut gx = g.zeros(n);
     g.upload(x, &mut gx);
@@ -88,7 +88,7 @@ fn gpu_apply(g: &mut GpuBackend, x: &[f64]) -> Vec<f64> {
     got
 }
 
-fn rel_l2(a: &[f64], b: &[f64]) -> f64 {
+pub(crate) fn rel_l2(a: &[f64], b: &[f64]) -> f64 {
     let num: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
     let den: f64 = b.iter().map(|y| y * y).sum();
     (num / den).sqrt()
@@ -119,7 +119,7 @@ fn adaptive_shaders_validate() {
 /// Target offsets [m] from a source centre: inside, on the edge, at the
 /// corner, near, along and across the sliding direction (+x) and far (up to
 /// 200 a), for a source of side `s`.
-fn offsets(s: f64) -> Vec<(f64, f64)> {
+pub(crate) fn offsets(s: f64) -> Vec<(f64, f64)> {
     let mut v = vec![
         (0.0, 0.0),
         (0.3 * s, -0.2 * s),
@@ -144,7 +144,7 @@ fn offsets(s: f64) -> Vec<(f64, f64)> {
 /// Worst relative error of the device pair coefficients against
 /// `SlidingKernel::coefficient(..).total()` over the pairs with
 /// `|K| >= 1e-6 max |K|` (sources of sides a, 2a, 4a, 8a).
-fn pair_error(engine: &mut Engine, material: &Material, p: KernelParams) -> f64 {
+pub(crate) fn pair_error(engine: &mut Engine, material: &Material, p: KernelParams) -> f64 {
     let kernel = SlidingKernel::new(material, p).unwrap();
     let mut targets = Vec::new();
     let mut sources = Vec::new();
@@ -263,7 +263,7 @@ fn pair_coefficients_match_cpu_broad_spectra() {
 /// A quadtree-like mesh: a `2f x 2f` patch of fine cells (side a) centred
 /// at the origin, surrounded by `levels - 1` rings of 2a, 4a, ... cells,
 /// each ring doubling the half-width (`f` a multiple of `2^(levels-2)`).
-fn ring_mesh(f: usize, levels: u32) -> MeshCells {
+pub(crate) fn ring_mesh(f: usize, levels: u32) -> MeshCells {
     let mut cells = MeshCells::default();
     let mut inner = 0i64;
     let mut outer = f as i64;
@@ -291,7 +291,7 @@ fn ring_mesh(f: usize, levels: u32) -> MeshCells {
 
 /// The dense matrix `M[t][s] = K(x_t - x_s; s_s) (a / s_s)^2` on the CPU
 /// (row major), coefficients memoised by (offset, source side).
-fn dense(cells: &MeshCells, kernel: &SlidingKernel) -> Vec<f64> {
+pub(crate) fn dense(cells: &MeshCells, kernel: &SlidingKernel) -> Vec<f64> {
     let n = cells.len();
     let mut memo: HashMap<(i64, i64, i64), f64> = HashMap::new();
     let mut m = vec![0.0; n * n];
@@ -316,9 +316,9 @@ fn dense(cells: &MeshCells, kernel: &SlidingKernel) -> Vec<f64> {
     m
 }
 
-struct DenseCells {
-    n: usize,
-    m: Vec<f64>,
+pub(crate) struct DenseCells {
+    pub(crate) n: usize,
+    pub(crate) m: Vec<f64>,
 }
 
 impl GridOperator for DenseCells {

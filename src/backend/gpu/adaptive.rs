@@ -118,7 +118,18 @@ pub fn pair_coefficients(
     let unit = cells.fine_side();
     let plan = plan(material, params, unit)?;
     let count = sources.len();
-    engine.check_binding("the source-target pairs", 16 * count as u64)?;
+    engine.check_kernel(
+        &format!("the coefficients of {count} source-target pairs"),
+        Kernel::AdaptiveCoefficients,
+        &[
+            (
+                "the creep terms",
+                std::mem::size_of_val(&plan.terms[..]) as u64,
+            ),
+            ("the source-target pairs", 16 * count as u64),
+            ("the pair coefficients", 4 * count as u64),
+        ],
+    )?;
     let pairs: Vec<f32> = targets
         .iter()
         .zip(sources)
@@ -180,8 +191,8 @@ pub(super) struct SourceList {
 impl SourceList {
     /// Buffers for `n` cells, checked against the device's limits.
     pub(super) fn new(engine: &mut Engine, n: usize) -> Result<Self, GpuError> {
-        engine.check_binding("the mesh cells", 16 * n as u64)?;
-        engine.check_binding(&format!("a vector of {n} cells"), 4 * n as u64)?;
+        engine.check_buffer("the mesh cells", 16 * n as u64)?;
+        engine.check_buffer(&format!("a vector of {n} cells"), 4 * n as u64)?;
         let chunks = n.div_ceil(WORKGROUP as usize);
         Ok(Self {
             index: engine.create_buffer(
@@ -233,7 +244,8 @@ impl SourceList {
 }
 
 /// Work space of the on-the-fly operator: the source list and the
-/// per-chunk partial sums of every target.
+/// per-chunk partial sums of every target (`4 n chunks` bytes, bound in
+/// windows where larger than one storage binding, [`super::split`]).
 pub(super) struct PairWork {
     pub(super) sources: SourceList,
     /// `partials[c n + T]`: target `T`'s sum over source chunk `c`.
@@ -241,14 +253,34 @@ pub(super) struct PairWork {
 }
 
 impl PairWork {
-    /// Buffers for `n` cells, checked against the device's limits.
-    pub(super) fn new(engine: &mut Engine, n: usize) -> Result<Self, GpuError> {
+    /// Buffers for `n` cells, checked against the device's limits with
+    /// `terms` bytes of creep terms bound beside them.
+    pub(super) fn new(engine: &mut Engine, n: usize, terms: u64) -> Result<Self, GpuError> {
         let sources = SourceList::new(engine, n)?;
         let chunks = sources.chunks;
         let partial_bytes = 4 * (n as u64) * (chunks as u64);
-        engine.check_binding(
-            &format!("the partial sums of {n} cells ({chunks} source chunks)"),
-            partial_bytes,
+        let partials = format!("the partial sums of {n} cells ({chunks} source chunks)");
+        let (cells, vector, offsets) = (16 * n as u64, 4 * n as u64, 4 * (chunks as u64 + 1));
+        engine.check_kernel(
+            &format!("the pairwise matvec of {n} cells"),
+            Kernel::AdaptiveMatvec,
+            &[
+                ("the creep terms", terms),
+                ("the mesh cells", cells),
+                ("a vector", vector),
+                ("the source index", vector),
+                ("the source offsets", offsets),
+                (&partials, partial_bytes),
+            ],
+        )?;
+        engine.check_kernel(
+            &format!("the sums of the pairwise matvec of {n} cells"),
+            Kernel::AdaptiveSum,
+            &[
+                (&partials, partial_bytes),
+                ("the source offsets", offsets),
+                ("a vector", vector),
+            ],
         )?;
         if (n as u64) * (chunks as u64) > (MAX_GROUPS_X * MAX_GROUPS_X) {
             return Err(GpuError::Invalid(format!(
@@ -296,9 +328,9 @@ impl AdaptiveMatvec {
     ) -> Result<Self, GpuError> {
         cells.check()?;
         let n = cells.len();
-        let pairs = PairWork::new(engine, n)?;
         let a = cells.fine_side();
         let plan = plan(material, params, a)?;
+        let pairs = PairWork::new(engine, n, std::mem::size_of_val(&plan.terms[..]) as u64)?;
         // Centres in fine sides from the lower-left centre: on a quadtree
         // they are multiples of a / 2, exact in f32.
         let x0 = cells.x.iter().copied().fold(f64::INFINITY, f64::min);

@@ -177,6 +177,12 @@ impl Kernel {
             Kernel::SpectralProduct | Kernel::SpectralProductF16 => &[S, S],
             Kernel::FftExtract => &[S, S],
             Kernel::Coefficients => &[N, S],
+            Kernel::AdaptiveCoefficients => &[N, S, S],
+            Kernel::AdaptiveMatvec => &[N, S, S, S, N, S],
+            Kernel::AdaptiveSum => &[S, N, S],
+            Kernel::LevelTable => &[N, S],
+            Kernel::LevelBoxSum => &[S, S],
+            Kernel::LevelMatvec => &[S, S, S, S, S, N, S],
             _ => &[],
         }
     }
@@ -347,6 +353,29 @@ impl Engine {
             });
         }
         Ok(())
+    }
+
+    /// Fail when `kernel` cannot bind `arrays` (`(name, bytes)` in binding
+    /// order): an array it splits beyond one buffer, another beyond one
+    /// binding, or all their windows beyond the storage bindings per shader
+    /// stage (`what`: the dispatch, for that message).
+    pub fn check_kernel(
+        &self,
+        what: &str,
+        kernel: Kernel,
+        arrays: &[(&str, u64)],
+    ) -> Result<(), GpuError> {
+        let mut bindings = 0;
+        for (k, &(name, bytes)) in arrays.iter().enumerate() {
+            if kernel.splittable().get(k) == Some(&true) {
+                self.check_buffer(name, bytes)?;
+                bindings += self.windows(bytes);
+            } else {
+                self.check_binding(name, bytes)?;
+                bindings += 1;
+            }
+        }
+        self.check_bindings(what, bindings)
     }
 
     /// A new labelled buffer (zero-initialised by wgpu).

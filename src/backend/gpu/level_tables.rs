@@ -14,8 +14,9 @@
 //! (as [`super::AdaptiveMatvec`] does for cells anywhere): the tables cost
 //! about `8 (n + 2^(L-1))^2` coefficient evaluations once per solve, after
 //! which a pair is a memory read. Tables of different levels are separate
-//! buffers (each within one storage binding), so the matvec runs one pass
-//! per source level present in the mesh.
+//! buffers (each bound in windows where larger than one storage binding,
+//! [`super::split`]), so the matvec runs one pass per source level present
+//! in the mesh.
 
 use super::adaptive::SourceList;
 use super::context::GpuError;
@@ -92,7 +93,23 @@ impl GpuLevelTables {
         };
         let (mx, my) = (nx as i64 + grow, ny as i64 + grow);
         let biggest = (2 * mx) as u64 * (2 * my) as u64 * 4;
-        engine.check_binding("one level table of the adaptive mesh", biggest)?;
+        let table = ("one level table of the adaptive mesh", biggest);
+        engine.check_kernel(
+            "the level-0 table kernel of the adaptive mesh",
+            Kernel::LevelTable,
+            &[
+                (
+                    "the creep terms",
+                    std::mem::size_of_val(&plan.terms[..]) as u64,
+                ),
+                table,
+            ],
+        )?;
+        engine.check_kernel(
+            "the level-sum kernel of the adaptive mesh",
+            Kernel::LevelBoxSum,
+            &[table, table],
+        )?;
         if 2 * my >= 1 << 16 {
             return Err(GpuError::Invalid(format!(
                 "level tables {} entries wide (the matvec packs widths into 16 bits)",
@@ -279,6 +296,25 @@ impl LevelMatvec {
             present[c.level as usize] = true;
         }
         let sources = SourceList::new(engine, n)?;
+        for (l, &here) in present.iter().enumerate() {
+            let Some([even, odd]) = tables.tables.get(l).filter(|_| here) else {
+                continue;
+            };
+            let vector = 4 * n as u64;
+            engine.check_kernel(
+                &format!("the level-{l} pass of the quadtree matvec ({n} cells)"),
+                Kernel::LevelMatvec,
+                &[
+                    ("a level table of the adaptive mesh", even.buf.buffer.size()),
+                    ("a level table of the adaptive mesh", odd.buf.buffer.size()),
+                    ("the quadtree cells", 16 * n as u64),
+                    ("a vector", vector),
+                    ("the source index", vector),
+                    ("the source offsets", 4 * (sources.chunks as u64 + 1)),
+                    ("a vector", vector),
+                ],
+            )?;
+        }
         let mut order: Vec<u32> = (0..n as u32).collect();
         order.sort_by_key(|&k| mesh.cells[k as usize].level);
         let data: Vec<i32> = order

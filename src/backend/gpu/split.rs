@@ -46,8 +46,8 @@ struct Decl {
 fn element_bytes(ty: &str) -> Option<u64> {
     match ty {
         "f32" | "u32" | "i32" => Some(4),
-        "vec2<f32>" | "vec2<u32>" => Some(8),
-        "vec4<f32>" | "vec4<u32>" => Some(16),
+        "vec2<f32>" | "vec2<u32>" | "vec2<i32>" => Some(8),
+        "vec4<f32>" | "vec4<u32>" | "vec4<i32>" => Some(16),
         _ => None,
     }
 }

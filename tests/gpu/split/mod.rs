@@ -1,6 +1,6 @@
 //! Arrays larger than one storage binding (backend::gpu::split): the FFT
-//! work buffers (both paths), the kernel spectrum and the coefficient table
-//! are bound in windows. A device opened with a lowered binding limit
+//! work buffers (both paths), the kernel spectrum, the coefficient table
+//! and the arrays of the adaptive-mesh operators are bound in windows. A device opened with a lowered binding limit
 //! (`GpuContext::open_with_binding_limit`) makes small grids split, and
 //! every result is compared with the same computation on the adapter's own
 //! limits (one binding each) and with the CPU. The limit checks are pure
@@ -10,6 +10,7 @@
 
 use crate::common;
 
+mod adaptive;
 mod radix2;
 
 use std::path::Path;
@@ -128,6 +129,12 @@ fn split_shaders_validate() {
         Kernel::SpectralProductF16,
         Kernel::FftExtract,
         Kernel::Coefficients,
+        Kernel::AdaptiveCoefficients,
+        Kernel::AdaptiveMatvec,
+        Kernel::AdaptiveSum,
+        Kernel::LevelTable,
+        Kernel::LevelBoxSum,
+        Kernel::LevelMatvec,
         Kernel::Axpy,
         Kernel::Combine,
         Kernel::Scale,
