@@ -1,7 +1,7 @@
 //! Arrays larger than one storage binding (backend::gpu::split): the FFT
 //! work buffers (both paths), the kernel spectrum, the coefficient table
 //! and the arrays of the adaptive-mesh operators are bound in windows. A device opened with a lowered binding limit
-//! (`GpuContext::open_with_binding_limit`) makes small grids split, and
+//! (`GpuContext::open_with_limits`) makes small grids split, and
 //! every result is compared with the same computation on the adapter's own
 //! limits (one binding each) and with the CPU. The limit checks are pure
 //! functions of the device limits and are tested without a device. Device
