@@ -2,6 +2,7 @@
 
 fn main() -> std::process::ExitCode {
     quiet_headless_vulkan();
+    return_large_arrays_when_freed();
     match viscoslide::cli::run() {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
@@ -24,5 +25,24 @@ fn quiet_headless_vulkan() {
         .unwrap_or(false);
     if !session && std::env::var_os("NODEVICE_SELECT").is_none() {
         std::env::set_var("NODEVICE_SELECT", "1");
+    }
+}
+
+/// Arrays of 1 MiB and more come from the kernel (mmap) and go back to it
+/// when freed. glibc's default raises that threshold, up to 32 MiB, each
+/// time such an array is freed; later arrays below it then come from the
+/// heap, whose freed memory stays with the process while it is
+/// fragmented. On the 2048^2 paper experiment in mixed precision (f32
+/// arrays of 17 MB) that held on to freed arrays long enough to put the
+/// peak RSS after the iteration 27 MB higher (334 against 307 MB; f64,
+/// whose arrays are above 32 MiB, was unchanged: BENCHMARKS.md, "Where an
+/// f32 product's time goes"). A fixed threshold turns the adjustment off.
+/// Runs first in `main`, before any thread exists.
+fn return_large_arrays_when_freed() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: mallopt only sets an allocator parameter; no other thread
+    // exists yet.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, 1 << 20);
     }
 }

@@ -26,11 +26,11 @@ use std::sync::Arc;
 
 use num_complex::{Complex, Complex64};
 use rayon::prelude::*;
-use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use rustfft::{Fft, FftPlanner};
 
 use super::field::{set_fields, Field, FieldMut};
 pub use super::real::Real;
+use super::real_rows::RealRows;
 
 /// Bytes of the run of bins that one task reads from (and writes back to)
 /// each spectrum row in the column pass: 8 f64 or 16 f32 columns
@@ -65,28 +65,24 @@ fn column_block_len(mx: usize) -> usize {
 
 /// The four transforms of one precision.
 struct Plans<U: Real> {
-    r2c: Arc<dyn RealToComplex<U>>,
-    c2r: Arc<dyn ComplexToReal<U>>,
+    rows: RealRows<U>,
     fwd: Arc<dyn Fft<U>>,
     inv: Arc<dyn Fft<U>>,
 }
 
 impl<U: Real> Plans<U> {
     fn new(mx: usize, my: usize) -> Self {
-        let mut rp = RealFftPlanner::<U>::new();
         let mut cp = FftPlanner::<U>::new();
         Self {
-            r2c: rp.plan_fft_forward(my),
-            c2r: rp.plan_fft_inverse(my),
+            rows: RealRows::new(my),
             fwd: cp.plan_fft_forward(mx),
             inv: cp.plan_fft_inverse(mx),
         }
     }
 
     fn scratch_len(&self) -> usize {
-        self.r2c
-            .get_scratch_len()
-            .max(self.c2r.get_scratch_len())
+        self.rows
+            .scratch_len()
             .max(self.fwd.get_inplace_scratch_len())
             .max(self.inv.get_inplace_scratch_len())
             .max(1)
@@ -370,7 +366,7 @@ fn convolve<U: Real, T: Real>(
     // Rows: pad, r2c.
     let rows_per = nx.div_ceil(groups).max(1);
     let inputs = x.runs(nx, ny, rows_per);
-    let r2c = &plans.r2c;
+    let real_rows = &plans.rows;
     spec.par_chunks_mut(rows_per * myh)
         .zip(inputs.into_par_iter())
         .zip(pool.par_iter_mut())
@@ -383,8 +379,7 @@ fn convolve<U: Real, T: Real>(
             for (k, sr) in srows.chunks_exact_mut(myh).enumerate() {
                 if xrows.fill(first + k, ny, first, &mut cursor, row) {
                     row[ny..].fill(U::zero());
-                    r2c.process_with_scratch(row, sr, scratch)
-                        .expect("buffer sizes match the plan");
+                    real_rows.forward(row, sr, scratch);
                 } else {
                     sr.fill(Complex::default());
                 }
@@ -432,7 +427,7 @@ fn convolve<U: Real, T: Real>(
     });
     // Rows: c2r, the block's columns out.
     let outputs = y.runs(nx, ny, rows_per);
-    let c2r = &plans.c2r;
+    let real_rows = &plans.rows;
     spec.par_chunks_mut(rows_per * myh)
         .zip(outputs.into_par_iter())
         .zip(pool.par_iter_mut())
@@ -448,13 +443,12 @@ fn convolve<U: Real, T: Real>(
                     continue;
                 }
                 // The imaginary parts of the DC and Nyquist bins are
-                // round-off for a real signal; c2r requires them zero.
+                // round-off for a real signal; the inverse requires them zero.
                 sr[0].im = U::zero();
                 if my % 2 == 0 {
                     sr[myh - 1].im = U::zero();
                 }
-                c2r.process_with_scratch(sr, row, scratch)
-                    .expect("buffer sizes match the plan");
+                real_rows.inverse(sr, row, scratch);
                 yrows.store(r, ny, first, &mut cursor, row);
             }
         });
@@ -478,10 +472,7 @@ pub(crate) fn half_spectrum(full: &[f64], mx: usize, my: usize) -> Vec<Complex64
             let mut scratch = vec![Complex64::default(); scratch_len];
             for (sr, fr) in srows.chunks_exact_mut(myh).zip(frows.chunks_exact(my)) {
                 row.copy_from_slice(fr);
-                plans
-                    .r2c
-                    .process_with_scratch(&mut row, sr, &mut scratch)
-                    .expect("buffer sizes match the plan");
+                plans.rows.forward(&mut row, sr, &mut scratch);
             }
         });
     let mut out = vec![Complex64::default(); myh * mx];

@@ -13,6 +13,7 @@ mod dense;
 mod fft_convolution;
 mod field;
 mod real;
+mod real_rows;
 pub(crate) use fft_convolution::inverse_multiplier;
 mod periodic;
 mod toeplitz;
