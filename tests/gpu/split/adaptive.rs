@@ -41,7 +41,7 @@ fn split_level_tables_and_matvec_equal_unsplit() {
     let allowed: Vec<u8> = (0..nx * ny)
         .map(|f| match (f / ny, f % ny) {
             (i, j) if i < 16 && j < 16 => 2,
-            (i, j) if i >= 32 && i < 48 && j < 16 => 1,
+            (i, j) if (32..48).contains(&i) && j < 16 => 1,
             _ => 0,
         })
         .collect();
