@@ -200,6 +200,36 @@ fn matvec_with(
     y
 }
 
+/// A positive pressure field on an `n x n` grid (1e5 .. 2e5 Pa) and the
+/// CPU Toeplitz FFT's product of it with `table`: the reference of the
+/// matvec comparisons.
+fn matvec_case(n: usize, table: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let x: Vec<f64> = (0..n * n)
+        .map(|k| 1e5 * (1.0 + ((k * 7919) % 1013) as f64 / 1013.0))
+        .collect();
+    let mut cpu = CpuBackend::new(ToeplitzFft::new(OffsetTable {
+        nx: n,
+        ny: n,
+        values: table,
+    }));
+    let mut y_cpu = vec![0.0; n * n];
+    cpu.apply(&x, &mut y_cpu);
+    (x, y_cpu)
+}
+
+/// `(largest |split - full|, largest |full|, relative L2 distance of split
+/// from cpu)`.
+fn agreement(split: &[f64], full: &[f64], cpu: &[f64]) -> (f64, f64, f64) {
+    let scale = full.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = split
+        .iter()
+        .zip(full)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let num: f64 = split.iter().zip(cpu).map(|(a, b)| (a - b).powi(2)).sum();
+    let den: f64 = cpu.iter().map(|b| b * b).sum();
+    (diff, scale, (num / den).sqrt())
+}
+
 /// The padded-FFT matvec with its work buffers and spectrum in five
 /// windows against the unsplit one and the CPU Toeplitz FFT, on the default
 /// plan (rows, columns with the product, rows back) and on one of radix-4
@@ -213,34 +243,14 @@ fn split_matvec_matches_unsplit_and_cpu() {
     assert_eq!(small.adapter.max_storage_binding, SMALL);
     let n = 128;
     let table = paper_table(n, 1e-6, 1e-3);
-    let x: Vec<f64> = (0..n * n)
-        .map(|k| 1e5 * (1.0 + ((k * 7919) % 1013) as f64 / 1013.0))
-        .collect();
-    let mut cpu = CpuBackend::new(ToeplitzFft::new(OffsetTable {
-        nx: n,
-        ny: n,
-        values: &table,
-    }));
-    let mut y_cpu = vec![0.0; n * n];
-    cpu.apply(&x, &mut y_cpu);
+    let (x, y_cpu) = matvec_case(n, &table);
     for fft in [FftChoice::Auto, FftChoice::SharedMaxRadix(4)] {
         let engine = Engine::new(small.clone());
         let windows = engine.windows(8 * 256 * 129);
         assert_eq!(windows, 5, "the work buffers must split");
         let y_split = matvec(small.clone(), n, &table, fft, &x);
         let y_full = matvec(full.clone(), n, &table, fft, &x);
-        let scale = y_full.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let diff = y_split
-            .iter()
-            .zip(&y_full)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-        let num: f64 = y_split
-            .iter()
-            .zip(&y_cpu)
-            .map(|(a, b)| (a - b).powi(2))
-            .sum();
-        let den: f64 = y_cpu.iter().map(|b| b * b).sum();
-        let cpu_err = (num / den).sqrt();
+        let (diff, scale, cpu_err) = agreement(&y_split, &y_full, &y_cpu);
         println!("{fft:?}: split vs unsplit max diff {diff:.3e} of {scale:.3e}; vs CPU rel L2 {cpu_err:.3e}");
         // The same kernels in the same order on the same values: only the
         // addressing differs, so the results agree to the last f32 bit

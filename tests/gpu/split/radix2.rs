@@ -3,16 +3,14 @@
 //! whole solve against the same computation on whole buffers and against
 //! the CPU.
 
-use super::{matvec_with, paper_table, SMALL};
+use super::{agreement, matvec_case, matvec_with, paper_table, SMALL};
 use crate::common;
 
 use viscoslide::backend::gpu::engine::Engine;
 use viscoslide::backend::gpu::fft_plan::Path as FftPath;
 use viscoslide::backend::gpu::{self, FftChoice, GpuBackend, GpuOptions, SpectrumPrecision};
-use viscoslide::backend::{Backend, CpuBackend};
-use viscoslide::kernel::{KernelParams, SlidingKernel};
-use viscoslide::operator::{OffsetTable, ToeplitzFft};
-use viscoslide::solver::{self, Control, SolverParams};
+use viscoslide::backend::Backend;
+use viscoslide::solver::{self, SolverParams};
 
 /// The radix-2 matvec of a 128^2 grid under a 64 KiB binding: the complex
 /// `256 x 256` work buffers and the f32 spectrum (512 KiB) in eight
@@ -40,16 +38,7 @@ fn split_radix2_matvec_matches_unsplit_and_cpu() {
     );
     assert_eq!(engine.windows(4 * 128 * 128), 1);
     let table = paper_table(n, 1e-6, 1e-3);
-    let x: Vec<f64> = (0..n * n)
-        .map(|k| 1e5 * (1.0 + ((k * 7919) % 1013) as f64 / 1013.0))
-        .collect();
-    let mut cpu = CpuBackend::new(ToeplitzFft::new(OffsetTable {
-        nx: n,
-        ny: n,
-        values: &table,
-    }));
-    let mut y_cpu = vec![0.0; n * n];
-    cpu.apply(&x, &mut y_cpu);
+    let (x, y_cpu) = matvec_case(n, &table);
     // Bounds against the CPU: those of the unsplit matvec's conformance
     // tests, 1e-5 relative L2 for the f32 spectrum (a few hundred f32
     // roundings per entry) and 5e-3 for the f16 one (its 11-bit mantissa,
@@ -68,18 +57,7 @@ fn split_radix2_matvec_matches_unsplit_and_cpu() {
         drop(g);
         let y_split = matvec_with(small.clone(), n, &table, options, &x);
         let y_full = matvec_with(full.clone(), n, &table, options, &x);
-        let scale = y_full.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let diff = y_split
-            .iter()
-            .zip(&y_full)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-        let num: f64 = y_split
-            .iter()
-            .zip(&y_cpu)
-            .map(|(a, b)| (a - b).powi(2))
-            .sum();
-        let den: f64 = y_cpu.iter().map(|b| b * b).sum();
-        let cpu_err = (num / den).sqrt();
+        let (diff, scale, cpu_err) = agreement(&y_split, &y_full, &y_cpu);
         println!(
             "radix-2 {spectrum:?}: split vs unsplit max diff {diff:.3e} of {scale:.3e}; vs CPU rel L2 {cpu_err:.3e}"
         );
@@ -108,27 +86,8 @@ fn split_radix2_solve_equals_unsplit() {
     let small = gpu::context_for_tests_with_limits(Some(16 << 10), None).unwrap();
     assert_eq!(Engine::new(small.clone()).windows(8 * 128 * 128), 8);
     let n = 64;
-    let length = 0.01;
-    let a = length / n as f64;
     let speed = 1.17e-2;
-    let material = common::paper_material();
-    let kernel = SlidingKernel::new(
-        &material,
-        KernelParams {
-            speed,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let table = kernel.table(n, n, a);
-    let l00 = OffsetTable {
-        nx: n,
-        ny: n,
-        values: &table.values,
-    }
-    .get(0, 0);
-    let g = common::gap_of(&common::trig_surface(n, length, 16, 0.8, 0.02, 11));
-    let control = Control::Load(3e3 * length * length);
+    let patch = common::rough_patch(n, speed);
     let options = GpuOptions {
         fft: FftChoice::Radix2,
         preconditioner: true,
@@ -136,20 +95,20 @@ fn split_radix2_solve_equals_unsplit() {
     };
     let run = |ctx: gpu::GpuContext| {
         let t0 = std::time::Instant::now();
-        let mut b = GpuBackend::new(ctx, n, n, &table.values, options).unwrap();
+        let mut b = GpuBackend::new(ctx, n, n, &patch.table, options).unwrap();
         assert_eq!(b.fft_plan().unwrap().path, FftPath::Radix2);
         assert!(b.has_preconditioner());
         let (s, info) = solver::solve(
             &mut b,
-            &g,
-            a * a,
-            l00,
-            control,
+            &patch.gap,
+            patch.a * patch.a,
+            patch.l00,
+            patch.control,
             &SolverParams::default(),
             &mut solver::Silent,
         )
         .unwrap();
-        let (mu, _) = common::friction(&kernel, &material, &s, n, a, speed);
+        let (mu, _) = common::friction(&patch.kernel, &patch.material, &s, n, patch.a, speed);
         (s, info, mu, t0.elapsed().as_secs_f64())
     };
     let (sa, ia, mu_a, ta) = run(small);
