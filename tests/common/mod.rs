@@ -122,6 +122,55 @@ pub fn solve_grid(
     (sol, info, kernel)
 }
 
+/// The rough patch of the GPU solve comparisons: `n x n` cells on
+/// L = 0.01 m, [`trig_surface`] with 16 modes, H = 0.8, rms slope 0.02
+/// (seed 11), pressed by 3 kPa nominal, the paper's material
+/// ([`paper_material`]) sliding at `speed` along +x.
+pub struct RoughPatch {
+    pub material: Material,
+    pub kernel: SlidingKernel,
+    /// Cell side \[m\].
+    pub a: f64,
+    /// The offset table of the grid (`(2n - 1)^2` coefficients).
+    pub table: Vec<f64>,
+    /// Its self coefficient `L_00`.
+    pub l00: f64,
+    /// The gap profile of the surface.
+    pub gap: Vec<f64>,
+    /// The load: 3 kPa on the patch.
+    pub control: Control,
+}
+
+pub fn rough_patch(n: usize, speed: f64) -> RoughPatch {
+    let length = 0.01;
+    let a = length / n as f64;
+    let material = paper_material();
+    let kernel = SlidingKernel::new(
+        &material,
+        KernelParams {
+            speed,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let table = kernel.table(n, n, a).values;
+    let l00 = OffsetTable {
+        nx: n,
+        ny: n,
+        values: &table,
+    }
+    .get(0, 0);
+    RoughPatch {
+        material,
+        kernel,
+        a,
+        table,
+        l00,
+        gap: gap_of(&trig_surface(n, length, 16, 0.8, 0.02, 11)),
+        control: Control::Load(3e3 * length * length),
+    }
+}
+
 /// Friction coefficients `(stencil, dissipation)` of a solution along +x.
 pub fn friction(
     kernel: &SlidingKernel,

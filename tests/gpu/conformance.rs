@@ -471,29 +471,16 @@ fn f16_spectrum_error_is_measured() {
 /// `(area fraction gpu, cpu, friction gpu, cpu, pressure relative L2,
 /// contact cells in one set only)`.
 fn solve_both(n: usize, xi: f64, precondition: bool) -> Option<(f64, f64, f64, f64, f64, usize)> {
-    use viscoslide::solver::{self, Control, SolverParams};
+    use viscoslide::solver::{self, SolverParams};
     let ctx = gpu::context_for_tests()?;
-    let length = 0.01;
-    let a = length / n as f64;
-    let speed = xi * length / 0.01;
-    let material = common::paper_material();
-    let kernel = SlidingKernel::new(
-        &material,
-        KernelParams {
-            speed,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let table = kernel.table(n, n, a);
+    // xi = v tau / L with tau = 0.01 s and L = 0.01 m.
+    let speed = xi;
+    let p = common::rough_patch(n, speed);
     let tab = OffsetTable {
         nx: n,
         ny: n,
-        values: &table.values,
+        values: &p.table,
     };
-    let z = common::trig_surface(n, length, 16, 0.8, 0.02, 11);
-    let g = common::gap_of(&z);
-    let control = Control::Load(3e3 * length * length);
     let params = SolverParams::default();
     let t0 = std::time::Instant::now();
     let mut cpu = if precondition {
@@ -503,10 +490,10 @@ fn solve_both(n: usize, xi: f64, precondition: bool) -> Option<(f64, f64, f64, f
     };
     let (sc, ic) = solver::solve(
         &mut cpu,
-        &g,
-        a * a,
-        tab.get(0, 0),
-        control,
+        &p.gap,
+        p.a * p.a,
+        p.l00,
+        p.control,
         &params,
         &mut solver::Silent,
     )
@@ -517,14 +504,14 @@ fn solve_both(n: usize, xi: f64, precondition: bool) -> Option<(f64, f64, f64, f
         preconditioner: precondition,
         ..Default::default()
     };
-    let mut gpu = GpuBackend::new(ctx, n, n, &table.values, options).unwrap();
+    let mut gpu = GpuBackend::new(ctx, n, n, &p.table, options).unwrap();
     assert_eq!(gpu.has_preconditioner(), precondition);
     let (sg, ig) = solver::solve(
         &mut gpu,
-        &g,
-        a * a,
-        tab.get(0, 0),
-        control,
+        &p.gap,
+        p.a * p.a,
+        p.l00,
+        p.control,
         &params,
         &mut solver::Silent,
     )
@@ -533,8 +520,8 @@ fn solve_both(n: usize, xi: f64, precondition: bool) -> Option<(f64, f64, f64, f
     let area = |s: &solver::ContactSolution| {
         s.contact.iter().filter(|&&c| c > 0.5).count() as f64 / (n * n) as f64
     };
-    let (mu_g, _) = common::friction(&kernel, &material, &sg, n, a, speed);
-    let (mu_c, _) = common::friction(&kernel, &material, &sc, n, a, speed);
+    let (mu_g, _) = common::friction(&p.kernel, &p.material, &sg, n, p.a, speed);
+    let (mu_c, _) = common::friction(&p.kernel, &p.material, &sc, n, p.a, speed);
     let e = rel_l2(&sg.pressure, &sc.pressure);
     let differ = sg
         .contact

@@ -6,9 +6,7 @@
 use crate::common;
 
 use viscoslide::backend::gpu::{self, GpuBackend, GpuOptions};
-use viscoslide::kernel::{KernelParams, SlidingKernel};
-use viscoslide::operator::OffsetTable;
-use viscoslide::solver::{self, Control, SolverParams};
+use viscoslide::solver::{self, SolverParams};
 
 /// `(label, buffers, bytes)` per array.
 type Allocations = Vec<(String, usize, u64)>;
@@ -17,36 +15,18 @@ type Allocations = Vec<(String, usize, u64)>;
 /// material at xi = 1.17e-2) on an `n x n` device grid; the engine's
 /// allocations afterwards.
 fn allocations(ctx: gpu::GpuContext, n: usize) -> (Allocations, (usize, usize)) {
-    let length = 0.01;
-    let a = length / n as f64;
-    let material = common::paper_material();
-    let kernel = SlidingKernel::new(
-        &material,
-        KernelParams {
-            speed: 1.17e-2,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let table = kernel.table(n, n, a);
-    let l00 = OffsetTable {
-        nx: n,
-        ny: n,
-        values: &table.values,
-    }
-    .get(0, 0);
-    let g = common::gap_of(&common::trig_surface(n, length, 16, 0.8, 0.02, 11));
+    let patch = common::rough_patch(n, 1.17e-2);
     let options = GpuOptions {
         preconditioner: true,
         ..Default::default()
     };
-    let mut backend = GpuBackend::new(ctx, n, n, &table.values, options).unwrap();
+    let mut backend = GpuBackend::new(ctx, n, n, &patch.table, options).unwrap();
     solver::solve(
         &mut backend,
-        &g,
-        a * a,
-        l00,
-        Control::Load(3e3 * length * length),
+        &patch.gap,
+        patch.a * patch.a,
+        patch.l00,
+        patch.control,
         &SolverParams::default(),
         &mut solver::Silent,
     )
