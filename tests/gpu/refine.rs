@@ -25,7 +25,8 @@ fn relative(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
-fn differing_cells(a: &Solution, b: &Solution) -> usize {
+/// Cells in contact in one solution and not in the other.
+pub(crate) fn differing_cells(a: &Solution, b: &Solution) -> usize {
     a.fields
         .contact
         .iter()

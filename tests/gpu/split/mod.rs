@@ -9,6 +9,7 @@
 //! `REQUIRE_GPU=1`.
 
 use crate::common;
+use crate::refine::differing_cells;
 
 mod adaptive;
 mod radix2;
@@ -23,7 +24,7 @@ use viscoslide::backend::gpu::{shaders, split};
 use viscoslide::backend::{Backend, CpuBackend};
 use viscoslide::kernel::{KernelParams, SlidingKernel};
 use viscoslide::operator::{OffsetTable, ToeplitzFft};
-use viscoslide::problem::{Executor, Problem, Solution};
+use viscoslide::problem::{Executor, Problem};
 use viscoslide::solver::Silent;
 
 /// The binding limit of the split tests: 64 KiB, so that a 128^2 grid
@@ -297,15 +298,6 @@ fn problem(extra: &[&str]) -> Problem {
     let overrides: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
     let cfg = viscoslide::config::load(&path, &overrides).expect("config loads");
     Problem::from_config(&cfg).expect("problem builds")
-}
-
-fn differing_cells(a: &Solution, b: &Solution) -> usize {
-    a.fields
-        .contact
-        .iter()
-        .zip(&b.fields.contact)
-        .filter(|(x, y)| x != y)
-        .count()
 }
 
 /// A whole solve with the FFT buffers, spectrum and coefficient table split
