@@ -141,6 +141,25 @@ pub struct RoughPatch {
     pub control: Control,
 }
 
+impl RoughPatch {
+    /// The solver's default solve of the patch on `backend`.
+    pub fn solve<B: viscoslide::backend::Backend>(
+        &self,
+        backend: &mut B,
+    ) -> (ContactSolution, SolveInfo) {
+        solver::solve(
+            backend,
+            &self.gap,
+            self.a * self.a,
+            self.l00,
+            self.control,
+            &SolverParams::default(),
+            &mut solver::Silent,
+        )
+        .unwrap()
+    }
+}
+
 pub fn rough_patch(n: usize, speed: f64) -> RoughPatch {
     let length = 0.01;
     let a = length / n as f64;

@@ -27,7 +27,7 @@ fn rel_l2(a: &[f64], b: &[f64]) -> f64 {
 
 /// The paper material's offset table on an `nx x ny` grid of cell `a` at
 /// speed `v`.
-fn paper_table(nx: usize, ny: usize, a: f64, v: f64) -> Vec<f64> {
+pub(crate) fn paper_table(nx: usize, ny: usize, a: f64, v: f64) -> Vec<f64> {
     let k = SlidingKernel::new(
         &common::paper_material(),
         KernelParams {
@@ -471,7 +471,7 @@ fn f16_spectrum_error_is_measured() {
 /// `(area fraction gpu, cpu, friction gpu, cpu, pressure relative L2,
 /// contact cells in one set only)`.
 fn solve_both(n: usize, xi: f64, precondition: bool) -> Option<(f64, f64, f64, f64, f64, usize)> {
-    use viscoslide::solver::{self, SolverParams};
+    use viscoslide::solver;
     let ctx = gpu::context_for_tests()?;
     // xi = v tau / L with tau = 0.01 s and L = 0.01 m.
     let speed = xi;
@@ -481,23 +481,13 @@ fn solve_both(n: usize, xi: f64, precondition: bool) -> Option<(f64, f64, f64, f
         ny: n,
         values: &p.table,
     };
-    let params = SolverParams::default();
     let t0 = std::time::Instant::now();
     let mut cpu = if precondition {
         CpuBackend::new(ToeplitzFft::new(tab).with_preconditioner())
     } else {
         CpuBackend::new(ToeplitzFft::new(tab))
     };
-    let (sc, ic) = solver::solve(
-        &mut cpu,
-        &p.gap,
-        p.a * p.a,
-        p.l00,
-        p.control,
-        &params,
-        &mut solver::Silent,
-    )
-    .unwrap();
+    let (sc, ic) = p.solve(&mut cpu);
     let t_cpu = t0.elapsed().as_secs_f64();
     let t0 = std::time::Instant::now();
     let options = GpuOptions {
@@ -506,16 +496,7 @@ fn solve_both(n: usize, xi: f64, precondition: bool) -> Option<(f64, f64, f64, f
     };
     let mut gpu = GpuBackend::new(ctx, n, n, &p.table, options).unwrap();
     assert_eq!(gpu.has_preconditioner(), precondition);
-    let (sg, ig) = solver::solve(
-        &mut gpu,
-        &p.gap,
-        p.a * p.a,
-        p.l00,
-        p.control,
-        &params,
-        &mut solver::Silent,
-    )
-    .unwrap();
+    let (sg, ig) = p.solve(&mut gpu);
     let t_gpu = t0.elapsed().as_secs_f64();
     let area = |s: &solver::ContactSolution| {
         s.contact.iter().filter(|&&c| c > 0.5).count() as f64 / (n * n) as f64

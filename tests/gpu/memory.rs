@@ -6,7 +6,6 @@
 use crate::common;
 
 use viscoslide::backend::gpu::{self, GpuBackend, GpuOptions};
-use viscoslide::solver::{self, SolverParams};
 
 /// `(label, buffers, bytes)` per array.
 type Allocations = Vec<(String, usize, u64)>;
@@ -21,16 +20,7 @@ fn allocations(ctx: gpu::GpuContext, n: usize) -> (Allocations, (usize, usize)) 
         ..Default::default()
     };
     let mut backend = GpuBackend::new(ctx, n, n, &patch.table, options).unwrap();
-    solver::solve(
-        &mut backend,
-        &patch.gap,
-        patch.a * patch.a,
-        patch.l00,
-        patch.control,
-        &SolverParams::default(),
-        &mut solver::Silent,
-    )
-    .unwrap();
+    patch.solve(&mut backend);
     let padded = backend.padded_shape();
     let work = match backend.fft_plan().unwrap().path {
         gpu::fft_plan::Path::Radix2 => padded.0 * padded.1,

@@ -9,6 +9,7 @@
 //! `REQUIRE_GPU=1`.
 
 use crate::common;
+use crate::conformance::paper_table;
 use crate::refine::differing_cells;
 
 mod adaptive;
@@ -163,18 +164,6 @@ fn split_shaders_validate() {
     }
 }
 
-fn paper_table(n: usize, a: f64, v: f64) -> Vec<f64> {
-    let k = SlidingKernel::new(
-        &common::paper_material(),
-        KernelParams {
-            speed: v,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    k.table(n, n, a).values
-}
-
 fn matvec(ctx: gpu::GpuContext, n: usize, table: &[f64], fft: FftChoice, x: &[f64]) -> Vec<f64> {
     let options = GpuOptions {
         fft,
@@ -243,7 +232,7 @@ fn split_matvec_matches_unsplit_and_cpu() {
     let small = gpu::context_for_tests_with_limits(Some(SMALL), None).unwrap();
     assert_eq!(small.adapter.max_storage_binding, SMALL);
     let n = 128;
-    let table = paper_table(n, 1e-6, 1e-3);
+    let table = paper_table(n, n, 1e-6, 1e-3);
     let (x, y_cpu) = matvec_case(n, &table);
     for fft in [FftChoice::Auto, FftChoice::SharedMaxRadix(4)] {
         let engine = Engine::new(small.clone());
@@ -387,7 +376,7 @@ fn oversized_buffers_are_refused_clearly() {
         "{e}"
     );
     assert!(e.to_string().contains("--backend cpu"), "{e}");
-    let table = paper_table(128, 1e-6, 1e-3);
+    let table = paper_table(128, 128, 1e-6, 1e-3);
     let e = GpuBackend::new(small, 128, 128, &table, GpuOptions::default());
     assert!(matches!(e, Err(GpuError::TooLarge { .. })));
 }

@@ -3,14 +3,15 @@
 //! whole solve against the same computation on whole buffers and against
 //! the CPU.
 
-use super::{agreement, matvec_case, matvec_with, paper_table, SMALL};
+use super::{agreement, matvec_case, matvec_with, SMALL};
 use crate::common;
+use crate::conformance::paper_table;
 
 use viscoslide::backend::gpu::engine::Engine;
 use viscoslide::backend::gpu::fft_plan::Path as FftPath;
 use viscoslide::backend::gpu::{self, FftChoice, GpuBackend, GpuOptions, SpectrumPrecision};
 use viscoslide::backend::Backend;
-use viscoslide::solver::{self, SolverParams};
+use viscoslide::solver;
 
 /// The radix-2 matvec of a 128^2 grid under a 64 KiB binding: the complex
 /// `256 x 256` work buffers and the f32 spectrum (512 KiB) in eight
@@ -37,7 +38,7 @@ fn split_radix2_matvec_matches_unsplit_and_cpu() {
         "the f16 spectrum must split"
     );
     assert_eq!(engine.windows(4 * 128 * 128), 1);
-    let table = paper_table(n, 1e-6, 1e-3);
+    let table = paper_table(n, n, 1e-6, 1e-3);
     let (x, y_cpu) = matvec_case(n, &table);
     // Bounds against the CPU: those of the unsplit matvec's conformance
     // tests, 1e-5 relative L2 for the f32 spectrum (a few hundred f32
@@ -98,16 +99,7 @@ fn split_radix2_solve_equals_unsplit() {
         let mut b = GpuBackend::new(ctx, n, n, &patch.table, options).unwrap();
         assert_eq!(b.fft_plan().unwrap().path, FftPath::Radix2);
         assert!(b.has_preconditioner());
-        let (s, info) = solver::solve(
-            &mut b,
-            &patch.gap,
-            patch.a * patch.a,
-            patch.l00,
-            patch.control,
-            &SolverParams::default(),
-            &mut solver::Silent,
-        )
-        .unwrap();
+        let (s, info) = patch.solve(&mut b);
         let (mu, _) = common::friction(&patch.kernel, &patch.material, &s, n, patch.a, speed);
         (s, info, mu, t0.elapsed().as_secs_f64())
     };
