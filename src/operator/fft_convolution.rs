@@ -442,12 +442,6 @@ fn convolve<U: Real, T: Real>(
                 if !yrows.wants(r, ny, cursor) {
                     continue;
                 }
-                // The imaginary parts of the DC and Nyquist bins are
-                // round-off for a real signal; the inverse requires them zero.
-                sr[0].im = U::zero();
-                if my % 2 == 0 {
-                    sr[myh - 1].im = U::zero();
-                }
                 real_rows.inverse(sr, row, scratch);
                 yrows.store(r, ny, first, &mut cursor, row);
             }
