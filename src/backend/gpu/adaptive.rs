@@ -122,10 +122,7 @@ pub fn pair_coefficients(
         &format!("the coefficients of {count} source-target pairs"),
         Kernel::AdaptiveCoefficients,
         &[
-            (
-                "the creep terms",
-                std::mem::size_of_val(&plan.terms[..]) as u64,
-            ),
+            ("the creep terms", plan.terms_bytes()),
             ("the source-target pairs", 16 * count as u64),
             ("the pair coefficients", 4 * count as u64),
         ],
@@ -330,7 +327,7 @@ impl AdaptiveMatvec {
         let n = cells.len();
         let a = cells.fine_side();
         let plan = plan(material, params, a)?;
-        let pairs = PairWork::new(engine, n, std::mem::size_of_val(&plan.terms[..]) as u64)?;
+        let pairs = PairWork::new(engine, n, plan.terms_bytes())?;
         // Centres in fine sides from the lower-left centre: on a quadtree
         // they are multiples of a / 2, exact in f32.
         let x0 = cells.x.iter().copied().fold(f64::INFINITY, f64::min);

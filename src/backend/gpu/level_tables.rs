@@ -97,13 +97,7 @@ impl GpuLevelTables {
         engine.check_kernel(
             "the level-0 table kernel of the adaptive mesh",
             Kernel::LevelTable,
-            &[
-                (
-                    "the creep terms",
-                    std::mem::size_of_val(&plan.terms[..]) as u64,
-                ),
-                table,
-            ],
+            &[("the creep terms", plan.terms_bytes()), table],
         )?;
         engine.check_kernel(
             "the level-sum kernel of the adaptive mesh",

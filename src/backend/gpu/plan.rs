@@ -30,6 +30,13 @@ pub struct Plan {
     pub e: [f32; 2],
 }
 
+impl Plan {
+    /// Bytes of the creep terms' buffer (for the binding checks).
+    pub fn terms_bytes(&self) -> u64 {
+        std::mem::size_of_val(&self.terms[..]) as u64
+    }
+}
+
 /// Classify the creep terms of `material` at the sliding state `params`
 /// with lengths in units of `unit` \[m\] (half-spaces only).
 pub fn plan(material: &Material, params: &KernelParams, unit: f64) -> Result<Plan, GpuError> {
