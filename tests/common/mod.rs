@@ -12,6 +12,17 @@ use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::operator::{OffsetTable, ToeplitzFft};
 use viscoslide::solver::{self, ContactSolution, Control, SolveInfo, SolverParams};
 
+/// The source tree the tests read configs and shaders from: the directory
+/// named by `VISCOSLIDE_SOURCE_DIR` when set (a test executable run from a
+/// copy of the repository at another path, as `scripts/gpu-run` does), else
+/// the one the tests were built in.
+pub fn source_dir() -> std::path::PathBuf {
+    match std::env::var_os("VISCOSLIDE_SOURCE_DIR") {
+        Some(dir) if !dir.is_empty() => std::path::PathBuf::from(dir),
+        _ => std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")),
+    }
+}
+
 /// The paper's single-relaxation material: E_inf = 1e7 Pa, E_inf/E0 = 3,
 /// creep time 0.01 s, nu = 0.5.
 pub fn paper_material() -> Material {

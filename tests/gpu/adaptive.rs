@@ -10,7 +10,6 @@
 use crate::common;
 
 use std::collections::HashMap;
-use std::path::Path;
 use std::time::Instant;
 
 use rand::{Rng, SeedableRng};
@@ -32,7 +31,7 @@ pub(crate) const TAU: f64 = 0.01;
 /// The shipped SBR-like fit (`configs/material_sbr_like.toml`: 34 creep
 /// times of ratio e, 24 of them with nonzero compliance).
 fn sbr_material() -> Material {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs");
+    let root = crate::common::source_dir().join("configs");
     let loaded = viscoslide::config::load(&root.join("material_sbr_like.toml"), &[]).unwrap();
     let m = loaded.material().unwrap().build(&loaded.base_dir).unwrap();
     assert!(m.spectrum.terms.len() >= 20, "{}", m.spectrum.terms.len());

@@ -4,8 +4,18 @@
 
 use std::process::Command;
 
+/// The `viscoslide` executable: the one named by `VISCOSLIDE_BIN` when set
+/// (a test executable run from a copy of the repository, as
+/// `scripts/gpu-run` does), else the one built with the tests.
+pub(crate) fn viscoslide_bin() -> std::path::PathBuf {
+    match std::env::var_os("VISCOSLIDE_BIN") {
+        Some(bin) if !bin.is_empty() => std::path::PathBuf::from(bin),
+        _ => std::path::PathBuf::from(env!("CARGO_BIN_EXE_viscoslide")),
+    }
+}
+
 fn plan(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+    let out = Command::new(viscoslide_bin())
         .args(["gpu", "plan"])
         .args(args)
         .output()

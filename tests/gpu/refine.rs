@@ -4,8 +4,6 @@
 //! `solver.gpu_refine = false` it keeps the device's f32 answer. Skips with
 //! a reason without an adapter; fails under `REQUIRE_GPU=1`.
 
-use std::path::Path;
-
 use viscoslide::backend::gpu;
 use viscoslide::problem::{Executor, Problem, Solution};
 use viscoslide::solver::Silent;
@@ -14,7 +12,7 @@ use viscoslide::solver::Silent;
 /// 256^2) on a 128^2 grid: 16 scales, a few hundred contact cells in many
 /// spots, a few seconds on lavapipe.
 fn problem(extra: &[&str]) -> Problem {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/default.toml");
+    let path = crate::common::source_dir().join("configs/default.toml");
     let mut overrides = vec!["surface.generate.n=128".to_string()];
     overrides.extend(extra.iter().map(|s| s.to_string()));
     let cfg = viscoslide::config::load(&path, &overrides).expect("config loads");

@@ -19,7 +19,7 @@ fn wgsl_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
 
 #[test]
 fn every_wgsl_file_validates() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let root = crate::common::source_dir().join("shaders");
     let mut files = Vec::new();
     wgsl_files(&root, &mut files);
     files.sort();

@@ -15,8 +15,6 @@ use crate::refine::differing_cells;
 mod adaptive;
 mod radix2;
 
-use std::path::Path;
-
 use viscoslide::backend::gpu::engine::{Engine, Kernel};
 use viscoslide::backend::gpu::fft::check_device;
 use viscoslide::backend::gpu::fft_plan::Path as FftPath;
@@ -283,7 +281,7 @@ fn split_coefficient_table_equals_unsplit() {
 
 /// `configs/default.toml` with `overrides`.
 fn problem(extra: &[&str]) -> Problem {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/default.toml");
+    let path = crate::common::source_dir().join("configs/default.toml");
     let overrides: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
     let cfg = viscoslide::config::load(&path, &overrides).expect("config loads");
     Problem::from_config(&cfg).expect("problem builds")
