@@ -1,5 +1,8 @@
-//! `viscoslide gpu`: list adapters; `viscoslide gpu plan`: the dispatch plan
-//! and memory traffic of the GPU matvec for a grid (no device needed).
+//! `viscoslide gpu`: list adapters with their limits and features;
+//! `viscoslide gpu plan`: the dispatch plan and memory traffic of the GPU
+//! matvec for a grid (no device needed); `viscoslide gpu bench`: the
+//! coefficient table and the matvec timed on the device
+//! ([`super::gpu_bench`]).
 
 use crate::backend::gpu;
 use crate::backend::gpu::fft_plan::{shared_elements, MatvecPlan, Path, Traffic};
@@ -21,6 +24,10 @@ pub enum GpuCommand {
     /// paper Eq. 7) on the default and the radix-2 path, the floor, and the
     /// time they predict at a given memory bandwidth.
     Plan(PlanArgs),
+    /// Time the coefficient table and the matvec of an n x n grid of a
+    /// config's material on the device (medians), check them against the
+    /// host's f64 answers, and compare the bytes moved with the plan.
+    Bench(super::gpu_bench::BenchArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -54,10 +61,12 @@ pub struct PlanArgs {
 }
 
 pub fn run(args: GpuArgs) -> Result<()> {
-    if let Some(GpuCommand::Plan(p)) = args.command {
-        return plan(p);
+    match args.command {
+        Some(GpuCommand::Plan(p)) => return plan(p),
+        Some(GpuCommand::Bench(b)) => return super::gpu_bench::run(b),
+        None => {}
     }
-    let adapters = gpu::list_adapters();
+    let adapters = gpu::adapter_details();
     if args.json {
         println!(
             "{}",
@@ -71,7 +80,17 @@ pub fn run(args: GpuArgs) -> Result<()> {
         );
     }
     for (k, a) in adapters.iter().enumerate() {
-        println!("[{k}] {a}");
+        let l = &a.limits;
+        println!("[{k}] {}", a.summary);
+        println!(
+            "    workgroup storage {} KiB, {} invocations per workgroup, {} storage buffers per stage, largest buffer {} MiB, {} workgroups per dimension",
+            l.max_compute_workgroup_storage_size >> 10,
+            l.max_compute_invocations_per_workgroup,
+            l.max_storage_buffers_per_shader_stage,
+            l.max_buffer_size >> 20,
+            l.max_compute_workgroups_per_dimension
+        );
+        println!("    features: {}", a.features.join(" "));
     }
     Ok(())
 }

@@ -3,6 +3,7 @@
 
 mod analyze;
 mod gpu;
+mod gpu_bench;
 mod kernel;
 mod magnification;
 mod material;

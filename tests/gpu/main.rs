@@ -7,6 +7,7 @@
 mod common;
 
 mod adaptive;
+mod bench_cli;
 mod conformance;
 mod context;
 mod large_grid;

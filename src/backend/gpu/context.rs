@@ -47,34 +47,108 @@ pub fn list_adapters() -> Vec<AdapterSummary> {
     let inst = instance();
     let mut out: Vec<(u8, AdapterSummary)> =
         pollster::block_on(inst.enumerate_adapters(wgpu::Backends::all()))
+            .iter()
+            .map(summarise)
+            .collect();
+    out.sort_by_key(|(r, _)| *r);
+    out.into_iter().map(|(_, s)| s).collect()
+}
+
+/// An adapter's rank in [`list_adapters`] (discrete first) and its summary.
+fn summarise(a: &wgpu::Adapter) -> (u8, AdapterSummary) {
+    let info = a.get_info();
+    let limits = a.limits();
+    let rank = match info.device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    };
+    (
+        rank,
+        AdapterSummary {
+            name: info.name,
+            backend: format!("{:?}", info.backend),
+            device_type: format!("{:?}", info.device_type),
+            driver: format!("{} {}", info.driver, info.driver_info)
+                .trim()
+                .to_string(),
+            max_storage_binding: limits.max_storage_buffer_binding_size,
+            max_buffer: limits.max_buffer_size,
+        },
+    )
+}
+
+/// An adapter as `viscoslide gpu --json` reports it: its summary, the
+/// limits the engine's kernels depend on (workgroup storage and size,
+/// bindings per stage, dispatch size, buffer and binding sizes) and the
+/// features it offers, by wgpu's names.
+#[derive(Debug, Clone, Serialize)]
+pub struct AdapterDetails {
+    #[serde(flatten)]
+    pub summary: AdapterSummary,
+    pub limits: AdapterLimits,
+    pub features: Vec<String>,
+}
+
+/// The adapter limits that decide the engine's plans
+/// ([`super::fft_plan`], [`super::split`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct AdapterLimits {
+    pub max_compute_workgroup_storage_size: u32,
+    pub max_compute_invocations_per_workgroup: u32,
+    pub max_compute_workgroup_size_x: u32,
+    pub max_compute_workgroups_per_dimension: u32,
+    pub max_storage_buffers_per_shader_stage: u32,
+    pub max_storage_buffer_binding_size: u64,
+    pub max_buffer_size: u64,
+    pub min_storage_buffer_offset_alignment: u32,
+    pub max_immediate_size: u32,
+}
+
+impl AdapterLimits {
+    fn of(l: &wgpu::Limits) -> Self {
+        Self {
+            max_compute_workgroup_storage_size: l.max_compute_workgroup_storage_size,
+            max_compute_invocations_per_workgroup: l.max_compute_invocations_per_workgroup,
+            max_compute_workgroup_size_x: l.max_compute_workgroup_size_x,
+            max_compute_workgroups_per_dimension: l.max_compute_workgroups_per_dimension,
+            max_storage_buffers_per_shader_stage: l.max_storage_buffers_per_shader_stage,
+            max_storage_buffer_binding_size: l.max_storage_buffer_binding_size,
+            max_buffer_size: l.max_buffer_size,
+            min_storage_buffer_offset_alignment: l.min_storage_buffer_offset_alignment,
+            max_immediate_size: l.max_immediate_size,
+        }
+    }
+}
+
+/// [`list_adapters`] with each adapter's limits and features.
+pub fn adapter_details() -> Vec<AdapterDetails> {
+    let inst = instance();
+    let mut out: Vec<(u8, AdapterDetails)> =
+        pollster::block_on(inst.enumerate_adapters(wgpu::Backends::all()))
             .into_iter()
             .map(|a| {
-                let info = a.get_info();
-                let limits = a.limits();
-                let rank = match info.device_type {
-                    wgpu::DeviceType::DiscreteGpu => 0,
-                    wgpu::DeviceType::IntegratedGpu => 1,
-                    wgpu::DeviceType::VirtualGpu => 2,
-                    wgpu::DeviceType::Cpu => 3,
-                    wgpu::DeviceType::Other => 4,
-                };
+                let (rank, summary) = summarise(&a);
+                let features = a
+                    .features()
+                    .iter_names()
+                    .map(|(name, _)| name.to_string())
+                    .collect();
+                let limits = AdapterLimits::of(&a.limits());
                 (
                     rank,
-                    AdapterSummary {
-                        name: info.name,
-                        backend: format!("{:?}", info.backend),
-                        device_type: format!("{:?}", info.device_type),
-                        driver: format!("{} {}", info.driver, info.driver_info)
-                            .trim()
-                            .to_string(),
-                        max_storage_binding: limits.max_storage_buffer_binding_size,
-                        max_buffer: limits.max_buffer_size,
+                    AdapterDetails {
+                        summary,
+                        limits,
+                        features,
                     },
                 )
             })
             .collect();
     out.sort_by_key(|(r, _)| *r);
-    out.into_iter().map(|(_, s)| s).collect()
+    out.into_iter().map(|(_, d)| d).collect()
 }
 
 /// Why no GPU could be used.
