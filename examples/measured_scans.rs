@@ -81,6 +81,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             length,
             seed,
             q1: None,
+            below: Default::default(),
         },
     )?;
     let low = crop(&coarse, 100, 180, 256, (2e-3, -1e-3), 5e-8, 1);
@@ -99,6 +100,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             length,
             seed,
             q1: None,
+            below: Default::default(),
         },
     )?;
     let mut high = crop(&fine, 700, 900, 256, (-1e-3, 3e-3), 1e-8, 2);

@@ -141,6 +141,12 @@ pub struct GenerateConfig {
     /// `ny`, `length`, `seed` and the optional cut-off `q1` go with it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub psd: Option<PathBuf>,
+    /// With `psd`: what the grid's modes below the table's first row get,
+    /// `"first_bin"` (default: the first row's value down to its bin's
+    /// lower edge), `"extrapolate"` (the first two rows' power law further
+    /// down) or `"none"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub below_table: Option<String>,
 }
 
 impl GenerateConfig {
@@ -160,6 +166,10 @@ impl GenerateConfig {
             seed: over.seed.or(self.seed),
             anisotropy: over.anisotropy.or(self.anisotropy),
             psd: over.psd.clone().or_else(|| self.psd.clone()),
+            below_table: over
+                .below_table
+                .clone()
+                .or_else(|| self.below_table.clone()),
         }
     }
 }

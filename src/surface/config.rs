@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use super::generate::{Anisotropy, GenerateParams, Normalisation, UpperCutoff};
 use super::{
-    parse_detrend, parse_window, HeightMap, MissingData, Preprocessing, ReadOptions, SurfaceError,
-    SurfaceFormat, SynthParams,
+    parse_detrend, parse_window, BelowTable, HeightMap, MissingData, Preprocessing, ReadOptions,
+    SurfaceError, SurfaceFormat, SynthParams,
 };
 use crate::config::{GenerateConfig, SphereConfig, SurfaceConfig};
 
@@ -45,6 +45,11 @@ impl GenerateConfig {
         fallback_length: Option<f64>,
     ) -> Result<Option<(PathBuf, SynthParams)>, SurfaceError> {
         let Some(psd) = &self.psd else {
+            if let Some(b) = &self.below_table {
+                return Err(SurfaceError::Invalid(format!(
+                    "[surface.generate] below_table = {b:?} applies to a tabulated PSD: give `psd` or remove it"
+                )));
+            }
             return Ok(None);
         };
         let extra: Vec<&str> = [
@@ -80,6 +85,10 @@ impl GenerateConfig {
                 length,
                 seed: self.seed.unwrap_or(0),
                 q1: self.q1,
+                below: match &self.below_table {
+                    Some(b) => BelowTable::parse(b)?,
+                    None => BelowTable::default(),
+                },
             },
         )))
     }

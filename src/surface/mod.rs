@@ -49,12 +49,12 @@ pub use psd::{
     fit_hurst, psd_2d, psd_grid, radial_average, stats, stats_with_window, window_weights,
     HurstFit, Psd2d, RadialPsd, SurfaceStats, Window,
 };
-pub use psd_table::TabulatedPsd;
+pub use psd_table::{BelowTable, TabulatedPsd};
 pub use resample::{
     resample, resample_grid, ResampleGrid, ResampleMethod, ResampleTarget, MAX_RESAMPLE_CELLS,
 };
 pub use stitch::{stitch, ScanPsd, StitchedPsd};
-pub use synth::{generate_from_table, table_lattice_moments, SynthParams};
+pub use synth::{below_table_modes, generate_from_table, table_lattice_moments, SynthParams};
 pub use topography::{MissingData, Topography};
 pub use x3p::{decode_x3p, encode_x3p, read_x3p, X3pType};
 

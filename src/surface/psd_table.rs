@@ -12,6 +12,37 @@ use std::path::Path;
 
 use super::SurfaceError;
 
+/// What a synthesis from a table gives the grid's modes below the table's
+/// smallest wavenumber `q_min`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BelowTable {
+    /// The first row's `C` down to the lower edge of its bin
+    /// ([`TabulatedPsd::first_bin_edge`]): every mode the table's first
+    /// bin held keeps its power, nothing further down. The default.
+    #[default]
+    FirstBin,
+    /// The power law of the first two rows continued down to the grid's
+    /// longest mode: asks the table for power it does not hold.
+    Extrapolate,
+    /// Nothing below `q_min`.
+    None,
+}
+
+impl BelowTable {
+    /// The rule by its name in configs and on the command line.
+    pub fn parse(s: &str) -> Result<Self, SurfaceError> {
+        match s {
+            "first_bin" | "first-bin" => Ok(Self::FirstBin),
+            "extrapolate" => Ok(Self::Extrapolate),
+            "none" => Ok(Self::None),
+            _ => Err(SurfaceError::Invalid(format!(
+                "below_table = {s:?}: expected \"first_bin\", \"extrapolate\" or \"none\""
+            ))),
+        }
+    }
+}
+
 /// A PSD given at increasing wavenumbers, interpolated as a power law per
 /// interval.
 #[derive(Debug, Clone, PartialEq)]
@@ -173,6 +204,55 @@ impl TabulatedPsd {
         Self::new(q, c, name)
     }
 
+    /// The lower edge of the table's first bin \[1/m\]: a row stands for
+    /// the bin around it, so the first bin reaches below `q_min`.
+    ///
+    /// - Rows evenly spaced at the start (the first three spacings within
+    ///   a factor 1.5 of each other) are linear bins of width `dq`, the
+    ///   mean spacing. `surface stats` writes the mean `|q|` of the modes
+    ///   of annuli centred on multiples of `dq` ([`super::radial_average`]):
+    ///   when `q_0 / dq` is within 0.35 of an integer `k >= 1` the edge is
+    ///   `(k - 1/2) dq`, else `q_0 - dq / 2`.
+    /// - Other tables (log-spaced bins): the geometric half-spacing
+    ///   `q_0 sqrt(q_0 / q_1)`.
+    pub fn first_bin_edge(&self) -> f64 {
+        let (q0, q1) = (self.q[0], self.q[1]);
+        let spacings: Vec<f64> = self.q.windows(2).take(3).map(|w| w[1] - w[0]).collect();
+        let (lo, hi) = spacings
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &d| {
+                (lo.min(d), hi.max(d))
+            });
+        let dq = spacings.iter().sum::<f64>() / spacings.len() as f64;
+        if hi <= 1.5 * lo && q0 - 0.5 * dq > 0.0 {
+            let k = (q0 / dq).round();
+            if k >= 1.0 && (q0 / dq - k).abs() < 0.35 {
+                (k - 0.5) * dq
+            } else {
+                q0 - 0.5 * dq
+            }
+        } else {
+            q0 * (q0 / q1).sqrt()
+        }
+    }
+
+    /// `C(q)` with the rule `below` for wavenumbers under `q_min` (see
+    /// [`BelowTable`]); [`Self::eval`] above.
+    pub fn eval_with(&self, q: f64, below: BelowTable) -> f64 {
+        if q >= self.q_min() || !(q > 0.0) {
+            return self.eval(q);
+        }
+        match below {
+            BelowTable::None => 0.0,
+            BelowTable::FirstBin if q >= self.first_bin_edge() => self.c[0],
+            BelowTable::FirstBin => 0.0,
+            BelowTable::Extrapolate => {
+                let slope = (self.c[1] / self.c[0]).ln() / (self.q[1] / self.q[0]).ln();
+                self.c[0] * (q / self.q[0]).powf(slope)
+            }
+        }
+    }
+
     /// `C(q)` by log-log interpolation; 0 outside `[q_min, q_max]`.
     pub fn eval(&self, q: f64) -> f64 {
         if !(q >= self.q_min() && q <= self.q_max()) {
@@ -184,6 +264,16 @@ impl TabulatedPsd {
         let (c0, c1) = (self.c[i - 1], self.c[i]);
         let slope = (c1 / c0).ln() / (q1 / q0).ln();
         c0 * (q / q0).powf(slope)
+    }
+
+    /// [`Self::moment`] with the first row's value continued down to the
+    /// lower edge of its bin ([`Self::first_bin_edge`],
+    /// [`BelowTable::FirstBin`]): `+ 2 pi C_0 (q_0^(2+k) - e^(2+k)) / (2+k)`.
+    pub fn moment_first_bin(&self, k: u32) -> f64 {
+        let (q0, e) = (self.q[0], self.first_bin_edge());
+        let p = 2 + k as i32;
+        self.moment(k)
+            + 2.0 * std::f64::consts::PI * self.c[0] * (q0.powi(p) - e.powi(p)) / p as f64
     }
 
     /// `2 pi Int q^(1 + k) C(q) dq` over the whole table, exact for the
@@ -244,6 +334,46 @@ mod tests {
         assert_eq!(t.c(), &[2e-20, 1e-21, 3e-23]);
         let back = TabulatedPsd::parse_csv(&t.to_csv(), "back").unwrap();
         assert_eq!(back, t);
+    }
+
+    #[test]
+    fn the_first_bin_reaches_half_a_bin_below_the_first_row() {
+        // Linear bins of width 10 centred on 10, 20, 30, ...; rows at the
+        // mean |q| of each annulus, a little above the centre.
+        let lin =
+            TabulatedPsd::new(vec![10.6, 20.3, 30.2, 40.1], vec![4.0, 2.0, 1.0, 0.5], "t").unwrap();
+        let dq = (40.1 - 10.6) / 3.0;
+        assert!((lin.first_bin_edge() - 0.5 * dq).abs() < 1e-12);
+        // Log-spaced rows: the geometric half-spacing.
+        let log = TabulatedPsd::new(vec![100.0, 200.0, 400.0, 800.0], vec![1.0; 4], "t").unwrap();
+        assert!((log.first_bin_edge() - 100.0 / 2f64.sqrt()).abs() < 1e-12);
+        // Below q_min: the first row's C down to the edge, nothing under
+        // it; zero everywhere below for `None`; the first interval's power
+        // law for `Extrapolate`.
+        let e = lin.first_bin_edge();
+        assert_eq!(lin.eval_with(e * 1.01, BelowTable::FirstBin), 4.0);
+        assert_eq!(lin.eval_with(e * 0.99, BelowTable::FirstBin), 0.0);
+        assert_eq!(lin.eval_with(e * 1.01, BelowTable::None), 0.0);
+        let slope = (2.0f64 / 4.0).ln() / (20.3f64 / 10.6).ln();
+        let x = lin.eval_with(2.0, BelowTable::Extrapolate);
+        assert!((x - 4.0 * (2.0f64 / 10.6).powf(slope)).abs() < 1e-12 * x);
+        // Above q_min every rule is the table.
+        for b in [
+            BelowTable::FirstBin,
+            BelowTable::None,
+            BelowTable::Extrapolate,
+        ] {
+            assert_eq!(lin.eval_with(25.0, b), lin.eval(25.0));
+        }
+        // The first bin's lower part adds pi C_0 (q_0^2 - e^2) to <h^2>.
+        let extra = lin.moment_first_bin(0) - lin.moment(0);
+        let want = std::f64::consts::PI * 4.0 * (10.6f64.powi(2) - e * e);
+        assert!((extra - want).abs() < 1e-12 * want);
+        assert!(BelowTable::parse("sideways").is_err());
+        assert_eq!(
+            BelowTable::parse("first_bin").unwrap(),
+            BelowTable::FirstBin
+        );
     }
 
     #[test]

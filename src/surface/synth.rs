@@ -10,7 +10,7 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::{height_fft, HeightMap, SurfaceError, TabulatedPsd};
+use super::{height_fft, BelowTable, HeightMap, SurfaceError, TabulatedPsd};
 
 /// Grid and seed of [`generate_from_table`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -30,6 +30,9 @@ pub struct SynthParams {
     /// range.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub q1: Option<f64>,
+    /// What the modes below the table's first row get.
+    #[serde(default)]
+    pub below: BelowTable,
 }
 
 impl SynthParams {
@@ -164,7 +167,7 @@ pub fn generate_from_table(
         if q > cut {
             0.0
         } else {
-            table.eval(q).sqrt() * sqrt_dq2
+            table.eval_with(q, p.below).sqrt() * sqrt_dq2
         }
     });
     if spec.iter().all(|v| v.norm_sqr() == 0.0) {
@@ -192,12 +195,39 @@ pub fn generate_from_table(
 /// `p.q1` when set): the mean square height and the spectral mean square
 /// slope of the surface it synthesises (Parseval; physics.md section 8).
 pub fn table_lattice_moments(table: &TabulatedPsd, p: &SynthParams) -> (f64, f64) {
+    let mut m = (0.0, 0.0);
+    for_each_mode(p, |q, q2, dq2| {
+        let c = table.eval_with(q, p.below) * dq2;
+        m = (m.0 + c, m.1 + q2 * c);
+    });
+    m
+}
+
+/// The grid modes of `p` below the table's first row that
+/// [`generate_from_table`] gives power to (by [`SynthParams::below`]):
+/// their number and their share `sum C dq^2` of the mean square height.
+pub fn below_table_modes(table: &TabulatedPsd, p: &SynthParams) -> (usize, f64) {
+    let mut out = (0, 0.0);
+    for_each_mode(p, |q, _, dq2| {
+        if q > 0.0 && q < table.q_min() {
+            let c = table.eval_with(q, p.below) * dq2;
+            if c > 0.0 {
+                out = (out.0 + 1, out.1 + c);
+            }
+        }
+    });
+    out
+}
+
+/// `f(|q|, |q|^2, dqx dqy)` for every mode of the grid of `p` at or below
+/// its cut-off, with the synthesis's signed indices ((-n/2, n/2] for even
+/// n).
+fn for_each_mode(p: &SynthParams, mut f: impl FnMut(f64, f64, f64)) {
     let (nx, ny) = (p.nx, p.ny);
     let a = p.length / nx as f64;
     let dqx = 2.0 * PI / (nx as f64 * a);
     let dqy = 2.0 * PI / (ny as f64 * a);
     let cut = p.q1.unwrap_or(f64::INFINITY);
-    // Signed indices as the synthesis uses them: (-n/2, n/2] for even n.
     let signed = |k: usize, n: usize| {
         if k <= n / 2 {
             k as f64
@@ -205,7 +235,6 @@ pub fn table_lattice_moments(table: &TabulatedPsd, p: &SynthParams) -> (f64, f64
             k as f64 - n as f64
         }
     };
-    let mut m = (0.0, 0.0);
     for ky in 0..ny {
         let qy = signed(ky, ny) * dqy;
         for kx in 0..nx {
@@ -213,12 +242,10 @@ pub fn table_lattice_moments(table: &TabulatedPsd, p: &SynthParams) -> (f64, f64
             let q2 = qx * qx + qy * qy;
             let q = q2.sqrt();
             if q <= cut {
-                let c = table.eval(q) * dqx * dqy;
-                m = (m.0 + c, m.1 + q2 * c);
+                f(q, q2, dqx * dqy);
             }
         }
     }
-    m
 }
 
 #[cfg(test)]
@@ -239,6 +266,7 @@ mod tests {
                 length: l,
                 seed: 5,
                 q1: None,
+                below: BelowTable::default(),
             },
         )
         .unwrap();
@@ -250,6 +278,7 @@ mod tests {
                 length: l,
                 seed: 5,
                 q1: None,
+                below: BelowTable::default(),
             },
         )
         .unwrap();
@@ -290,6 +319,7 @@ mod tests {
             length: l,
             seed: 9,
             q1: None,
+            below: BelowTable::default(),
         };
         let q1 = 6.5 * 2.0 * PI / l;
         let full = generate_from_table(&table(), &p).unwrap();

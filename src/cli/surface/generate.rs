@@ -8,8 +8,8 @@ use crate::error::Result;
 use crate::io::StagedOutput;
 use crate::plot::Series;
 use crate::surface::{
-    self, AnisotropyConfig, GenerateConfig, NpyPrecision, RadialPsd, SelfAffinePsd, SurfaceError,
-    SynthParams, TabulatedPsd, Window,
+    self, AnisotropyConfig, BelowTable, GenerateConfig, NpyPrecision, RadialPsd, SelfAffinePsd,
+    SurfaceError, SynthParams, TabulatedPsd, Window,
 };
 
 use super::{json_bytes, log_plot, pairs, parse_pair, psd_plot};
@@ -65,6 +65,12 @@ pub struct GenerateArgs {
     /// --q1. With --q1 the table is cut at q1 without changing the lower modes.
     #[arg(long, conflicts_with_all = ["hurst", "scales", "ql", "rolloff_q0", "rms_height", "rms_slope", "anisotropy"])]
     pub psd: Option<PathBuf>,
+    /// With --psd: what the grid's modes below the table's first row get:
+    /// first_bin (default: the first row's value down to the lower edge of
+    /// its bin, half a row spacing below it), extrapolate (the first two
+    /// rows' power law further down) or none.
+    #[arg(long, value_name = "RULE")]
+    pub below_table: Option<String>,
     /// Output directory.
     #[arg(long)]
     pub out: PathBuf,
@@ -91,6 +97,7 @@ impl GenerateArgs {
             seed: self.seed,
             anisotropy: self.anisotropy,
             psd: self.psd.clone(),
+            below_table: self.below_table.clone(),
         }
     }
 }
@@ -203,9 +210,13 @@ fn run_from_table(
     let stats = surface::stats(&map)?;
     let radial = surface::radial_average(&surface::psd_2d(&map, Window::None)?);
     let qn = std::f64::consts::PI / map.cell_size;
-    let band_lo = table
-        .q_min()
-        .max(2.0 * std::f64::consts::PI / map.length_x().max(map.length_y()));
+    let (below_modes, below_ms) = surface::below_table_modes(&table, &sp);
+    let grid_q_min = 2.0 * std::f64::consts::PI / map.length_x().max(map.length_y());
+    let band_lo = match (sp.below, below_modes) {
+        (_, 0) => table.q_min().max(grid_q_min),
+        (BelowTable::FirstBin, _) => table.first_bin_edge().max(grid_q_min),
+        _ => grid_q_min,
+    };
     let band_hi = sp.highest_q(&table).min(qn);
     let json = serde_json::json!({
         "version": crate::version::VERSION,
@@ -213,6 +224,20 @@ fn run_from_table(
         "psd_table": table_path.display().to_string(),
         "synth_params": sp,
         "table_rms_height": table.moment(0).sqrt(),
+        "table_rms_height_first_bin": table.moment_first_bin(0).sqrt(),
+        "below_table": {
+            "rule": sp.below,
+            "table_q_min_per_m": table.q_min(),
+            "first_bin_edge_per_m": table.first_bin_edge(),
+            "grid_q_min_per_m": grid_q_min,
+            "modes": below_modes,
+            "rms_height": below_ms.sqrt(),
+            "note": match sp.below {
+                BelowTable::FirstBin => "modes between the lower edge of the table's first bin and its first row take the first row's C",
+                BelowTable::Extrapolate => "modes below the table's first row take the power law of its first two rows, down to the grid's longest mode: power the table does not hold",
+                BelowTable::None => "no power below the table's first row",
+            },
+        },
         "table_rms_slope": table.moment(2).sqrt(),
         "grid_band_per_m": [band_lo, band_hi],
         "stats": stats,
