@@ -255,9 +255,10 @@ impl NativeSurface {
         let s = stats_with_window(&self.map, self.window_of(window_name)?).map_err(value_error)?;
         let m = &self.map;
         let real = rms_slope_real(m.nx, m.ny, m.cell_size, m.cell_size_y, &m.heights);
-        let warnings: Vec<String> = slope_warning(s.rms_slope, real, "the radial PSD of this map")
-            .into_iter()
-            .collect();
+        let warnings: Vec<String> =
+            slope_warning(s.rms_slope_fd_psd, real, "the radial PSD of this map")
+                .into_iter()
+                .collect();
         let mut doc = serde_json::to_value(&s).map_err(value_error)?;
         doc["rms_slope_real"] = serde_json::json!(real);
         doc["preprocessing"] = serde_json::json!(self.preprocessing);

@@ -335,3 +335,45 @@ def test_a_table_from_a_surface_topography_map_keeps_its_longest_modes(cli, tmp_
     assert abs(np.mean(ratios["first_bin"]) - 1) < 0.05, ratios
     assert abs(np.mean(binned) - 1) < 0.05, binned
     assert np.mean(rows) < 0.85, rows
+
+
+def test_the_rms_slope_is_surface_topographys_and_a_windowed_scan_is_not_warned_about(cli, tmp_path):
+    """One real-space rms slope (forward differences where both exist,
+    SurfaceTopography's ``rms_gradient``) from the command line and from
+    Python, equal to SurfaceTopography's on the same plane-detrended scan to
+    1e-9; the slope check compares it with the rms slope the PSD gives the
+    same differences, so a tilted, detrended, windowed scan with roughness
+    down to its pixels draws no warning. With central differences (the
+    definition before) this scan's real-space slope was 27 % below the PSD's
+    and the warning fired."""
+    from SurfaceTopography import Topography
+    from SurfaceTopography.Generation import fourier_synthesis
+
+    a = 1.66e-6
+    for seed in (1, 2):
+        big = fourier_synthesis((1536, 1152), (1536 * a, 1152 * a), hurst=0.5, rms_slope=5e-3,
+                                rng=np.random.default_rng(seed))
+        h = big.heights()[:768, :576].copy()
+        x, y = np.arange(768)[:, None] * a, np.arange(576)[None, :] * a
+        h += 3e-3 * x - 2e-3 * y + 1e-6
+        np.save(tmp_path / "scan.npy", h)
+        doc = json.loads(cli("surface", "stats", str(tmp_path / "scan.npy"), "--length", str(768 * a), "--json"))
+        st = doc["stats"]
+        assert (st["detrend"], st["window"]) == ("plane", "hann")
+        detrended = Topography(h, (768 * a, 576 * a), periodic=False).detrend("height")
+        want = detrended.rms_gradient()
+        assert abs(st["rms_slope_real"] / want - 1) < 1e-9, (st["rms_slope_real"], want)
+        assert doc["warnings"] == []
+        assert abs(st["rms_slope_fd_psd"] / st["rms_slope_real"] - 1) < 0.05, st
+        # The central-difference slope of before, against the PSD's.
+        hd = detrended.heights()
+        gx = (hd[2:, 1:-1] - hd[:-2, 1:-1]) / (2 * a)
+        gy = (hd[1:-1, 2:] - hd[1:-1, :-2]) / (2 * a)
+        central = math.sqrt(float(np.mean(gx**2 + gy**2)))
+        assert st["rms_slope_psd"] / central - 1 > 0.2
+        # The same map from Python: the same slope, no warning.
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            s = vs.Surface.from_array(h, 768 * a, length_y=576 * a).stats()
+        assert abs(s["rms_slope_real"] / want - 1) < 1e-9
+        assert s["warnings"] == []

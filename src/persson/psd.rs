@@ -84,6 +84,10 @@ pub struct RadialInfo {
     /// Degree of isotropy of the slopes, `gamma = lambda_min / lambda_max` of
     /// `<d_i h d_j h>` (1 for an isotropic surface; the theory assumes it).
     pub slope_isotropy: f64,
+    /// The rms slope forward differences see in the 2-D PSD, the value the
+    /// real-space slope is checked against
+    /// ([`crate::surface::Psd2d::slope_check_value`]).
+    pub rms_slope_fd_psd: f64,
 }
 
 /// Radial average of the 2-D PSD of `map` (the code of `surface stats`:
@@ -114,6 +118,7 @@ pub fn radial(map: &HeightMap, window: Window) -> Result<(TabulatedPsd, RadialIn
         bins: q.len(),
         dropped: r.q.len() - q.len(),
         slope_isotropy,
+        rms_slope_fd_psd: psd.slope_check_value(window),
     };
     Ok((
         TabulatedPsd::new(q, c, "radial PSD of the height map")?,
@@ -169,7 +174,7 @@ pub fn map_psd(
     let rms_slope_real =
         rms_slope_real(map.nx, map.ny, map.cell_size, map.cell_size_y, &map.heights);
     let warning = slope_warning(
-        rms_slope_psd,
+        radial_info.rms_slope_fd_psd,
         rms_slope_real,
         "the PSD of the surface map used by Persson's theory",
     );

@@ -253,10 +253,15 @@ pub struct MeasuredStats {
     pub rms_height_real: f64,
     /// `sqrt(sum_{q != 0} C dq^2)` of the windowed PSD \[m\].
     pub rms_height_psd: f64,
-    /// `sqrt(<(dh/dx)^2> + <(dh/dy)^2>)` by central differences (interior).
+    /// `sqrt(<(dh/dx)^2 + (dh/dy)^2>)` by forward differences
+    /// ([`super::rms_slope_real`], SurfaceTopography's `rms_gradient`).
     pub rms_slope_real: f64,
     /// `sqrt(sum |q|^2 C dq^2)`.
     pub rms_slope_psd: f64,
+    /// The rms slope forward differences see in the PSD, the value the
+    /// slope check compares with `rms_slope_real`
+    /// ([`super::Psd2d::slope_check_value`]).
+    pub rms_slope_fd_psd: f64,
     /// Components along x and y, from the PSD.
     pub rms_slope_x_psd: f64,
     pub rms_slope_y_psd: f64,
@@ -300,14 +305,11 @@ pub fn analyse(
     let n = (nx * ny) as f64;
     let mean = t.heights.iter().sum::<f64>() / n;
     let var = t.heights.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n;
-    let (mut s2, mut c2, mut cnt) = (0.0, 0.0, 0usize);
+    let (mut c2, mut cnt) = (0.0, 0usize);
     for i in 1..nx.saturating_sub(1) {
         for j in 1..ny.saturating_sub(1) {
-            let gx = (h(i + 1, j) - h(i - 1, j)) / (2.0 * dx);
-            let gy = (h(i, j + 1) - h(i, j - 1)) / (2.0 * dy);
             let lap = (h(i + 1, j) - 2.0 * h(i, j) + h(i - 1, j)) / (dx * dx)
                 + (h(i, j + 1) - 2.0 * h(i, j) + h(i, j - 1)) / (dy * dy);
-            s2 += gx * gx + gy * gy;
             c2 += lap * lap;
             cnt += 1;
         }
@@ -341,8 +343,9 @@ pub fn analyse(
             filled_points: topo.filled,
             rms_height_real: var.sqrt(),
             rms_height_psd: m0.sqrt(),
-            rms_slope_real: (s2 / cnt).sqrt(),
+            rms_slope_real: super::rms_slope_real(nx, ny, dx, dy, &t.heights),
             rms_slope_psd: (m2[0][0] + m2[1][1]).sqrt(),
+            rms_slope_fd_psd: psd.slope_check_value(window),
             rms_slope_x_psd: m2[0][0].sqrt(),
             rms_slope_y_psd: m2[1][1].sqrt(),
             rms_curvature_real: (c2 / cnt).sqrt(),

@@ -98,21 +98,28 @@ pub fn prepare(
     detrend(topo, pre.detrend).to_height_map(name)
 }
 
-/// Real-space rms slope `sqrt(<(dh/dx)^2> + <(dh/dy)^2>)` of `nx x ny`
-/// heights on `dx x dy` pixels, by central differences over the interior
-/// points (the definition `surface stats` reports).
+/// Real-space rms slope `sqrt(<(dh/dx)^2 + (dh/dy)^2>)` of `nx x ny`
+/// heights on `dx x dy` pixels, the one definition every front end reports
+/// and checks: forward differences `(h[i+1,j] - h[i,j]) / dx` and
+/// `(h[i,j+1] - h[i,j]) / dy`, averaged over the `(nx-1) x (ny-1)` points
+/// where both exist (no wrap-around). This is SurfaceTopography's
+/// `rms_gradient` of a non-periodic map; its spectral counterpart is
+/// [`super::Psd2d::rms_slope_fd`] (the PSD seen through the same
+/// differences), which [`slope_warning`] compares it with.
 pub fn rms_slope_real(nx: usize, ny: usize, dx: f64, dy: f64, heights: &[f64]) -> f64 {
+    if nx < 2 || ny < 2 {
+        return 0.0;
+    }
     let h = |i: usize, j: usize| heights[i * ny + j];
-    let (mut s2, mut cnt) = (0.0, 0usize);
-    for i in 1..nx.saturating_sub(1) {
-        for j in 1..ny.saturating_sub(1) {
-            let gx = (h(i + 1, j) - h(i - 1, j)) / (2.0 * dx);
-            let gy = (h(i, j + 1) - h(i, j - 1)) / (2.0 * dy);
+    let mut s2 = 0.0;
+    for i in 0..nx - 1 {
+        for j in 0..ny - 1 {
+            let gx = (h(i + 1, j) - h(i, j)) / dx;
+            let gy = (h(i, j + 1) - h(i, j)) / dy;
             s2 += gx * gx + gy * gy;
-            cnt += 1;
         }
     }
-    (s2 / cnt.max(1) as f64).sqrt()
+    (s2 / ((nx - 1) * (ny - 1)) as f64).sqrt()
 }
 
 /// The warning for a PSD whose rms slope `psd_slope` differs from the
@@ -123,7 +130,7 @@ pub fn slope_warning(psd_slope: f64, real_slope: f64, what: &str) -> Option<Stri
     let diff = (psd_slope - real_slope).abs() / real_slope.abs().max(f64::MIN_POSITIVE);
     (diff > SLOPE_TOLERANCE).then(|| {
         format!(
-            "{what}: its rms slope sqrt(2 pi Int q^3 C dq) = {psd_slope:.4e} differs from the real-space rms slope {real_slope:.4e} of the same map by {:.0} % (more than {:.0} %): the PSD is not a sound estimate (a tilt or curvature left in the map, edge leakage, no window); detrend the map (plane or quadratic) and use a window (hann)",
+            "{what}: the rms slope it gives forward differences, sqrt(sum ((2/a_x) sin(q_x a_x/2))^2 + ((2/a_y) sin(q_y a_y/2))^2) C dq^2) = {psd_slope:.4e}, differs from the real-space rms slope {real_slope:.4e} of the same map (forward differences) by {:.0} % (more than {:.0} %): the PSD is not a sound estimate (a tilt or curvature left in the map, edge leakage, no window); detrend the map (plane or quadratic) and use a window (hann)",
             100.0 * diff,
             100.0 * SLOPE_TOLERANCE
         )

@@ -85,6 +85,43 @@ impl Psd2d {
         self.integrate(|_, _| 1.0)
     }
 
+    /// The rms slope forward differences see in this PSD over the modes
+    /// with `|q| >= q_lo`,
+    /// `sqrt(sum (|2 sin(q_x a_x / 2)| / a_x)^2 + (|2 sin(q_y a_y / 2)| / a_y)^2) C dq^2)`
+    /// with the pixel sides `a = 2 pi / (n dq)`: the transfer function of
+    /// `(h[i+1] - h[i]) / a` replaces `q`. For a periodic map without a
+    /// window and `q_lo = 0` this is the real-space value with wrap-around
+    /// exactly (Parseval).
+    pub fn rms_slope_fd(&self, q_lo: f64) -> f64 {
+        let ax = 2.0 * PI / (self.nx as f64 * self.dqx);
+        let ay = 2.0 * PI / (self.ny as f64 * self.dqy);
+        let d = |q: f64, a: f64| (2.0 * (0.5 * q * a).sin() / a).powi(2);
+        self.integrate(|qx, qy| {
+            if qx * qx + qy * qy >= q_lo * q_lo {
+                d(qx, ax) + d(qy, ay)
+            } else {
+                0.0
+            }
+        })
+        .sqrt()
+    }
+
+    /// The PSD's side of the slope check ([`super::slope_warning`]): the
+    /// rms slope forward differences see in it ([`Self::rms_slope_fd`]),
+    /// like [`super::rms_slope_real`] of the same map. A windowed PSD (a
+    /// scan) counts from the trusted band's lower end `2 pi / (L_min / 4)`
+    /// ([`super::trusted_band`]): below, the window smears the longest
+    /// waves, and a tilt left in the map sits there, which the check is
+    /// there to catch; an unwindowed (periodic) PSD counts every mode.
+    pub fn slope_check_value(&self, window: Window) -> f64 {
+        let lmin = (2.0 * PI / self.dqx).min(2.0 * PI / self.dqy);
+        let q_lo = match window {
+            Window::None => 0.0,
+            _ => 2.0 * PI / (lmin / 4.0),
+        };
+        self.rms_slope_fd(q_lo)
+    }
+
     /// Slope tensor `M_ij = sum q_i q_j C(q) dq^2 = <d_i h d_j h>`
     /// (Eq. 11 of the paper over the whole band), `[[M_xx, M_xy], [M_xy, M_yy]]`.
     pub fn slope_tensor(&self) -> [[f64; 2]; 2] {
@@ -337,10 +374,14 @@ pub struct SurfaceStats {
     /// Spectral rms slope components `sqrt(<(dh/dx)^2>)`, `sqrt(<(dh/dy)^2>)`.
     pub rms_slope_x: f64,
     pub rms_slope_y: f64,
-    /// Finite-difference rms slope: `sqrt(<(dh/dx)^2> + <(dh/dy)^2>)` with
-    /// forward differences between neighbouring cells (no wrap-around); it
-    /// underestimates the spectral value near the grid scale.
+    /// Finite-difference rms slope: `sqrt(<(dh/dx)^2 + (dh/dy)^2>)` with
+    /// forward differences between neighbouring cells (no wrap-around,
+    /// [`super::rms_slope_real`]); it underestimates the spectral value
+    /// near the grid scale.
     pub rms_slope_fd: f64,
+    /// The same differences seen in the PSD, the value the slope check
+    /// compares with `rms_slope_fd` ([`Psd2d::slope_check_value`]).
+    pub rms_slope_fd_psd: f64,
     /// Spectral rms Laplacian `sqrt(sum |q|^4 C dq^2) = sqrt(<(lap h)^2>)` [1/m]
     /// (twice the rms mean curvature).
     pub rms_curvature: f64,
@@ -373,19 +414,7 @@ pub fn stats_with_window(map: &HeightMap, window: Window) -> Result<SurfaceStats
         .copied()
         .fold(f64::NEG_INFINITY, f64::max);
     let (nx, ny, (ax, ay)) = (map.nx, map.ny, map.cell());
-    let mut sx = 0.0;
-    for i in 0..nx - 1 {
-        for j in 0..ny {
-            sx += ((map.at(i + 1, j) - map.at(i, j)) / ax).powi(2);
-        }
-    }
-    let mut sy = 0.0;
-    for i in 0..nx {
-        for j in 0..ny - 1 {
-            sy += ((map.at(i, j + 1) - map.at(i, j)) / ay).powi(2);
-        }
-    }
-    let fd = (sx / ((nx - 1) * ny) as f64 + sy / (nx * (ny - 1)) as f64).sqrt();
+    let fd = super::rms_slope_real(nx, ny, ax, ay, &map.heights);
     Ok(SurfaceStats {
         nx,
         ny,
@@ -401,6 +430,7 @@ pub fn stats_with_window(map: &HeightMap, window: Window) -> Result<SurfaceStats
         rms_slope_x: m[0][0].sqrt(),
         rms_slope_y: m[1][1].sqrt(),
         rms_slope_fd: fd,
+        rms_slope_fd_psd: psd.slope_check_value(window),
         rms_curvature: m4.sqrt(),
         window,
     })

@@ -51,7 +51,7 @@ pub(super) fn run(args: StatsArgs) -> Result<()> {
     let pre = Preprocessing::resolve(args.periodic, args.detrend, window);
     let an = surface::analyse(&topo, pre.detrend, pre.window, args.fit)?;
     let warnings: Vec<String> = surface::slope_warning(
-        an.stats.rms_slope_psd,
+        an.stats.rms_slope_fd_psd,
         an.stats.rms_slope_real,
         "the radial PSD of this map",
     )
