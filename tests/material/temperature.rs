@@ -408,6 +408,16 @@ fn cli_refuses_temperatures_near_the_wlf_pole() {
             );
         }
     }
+    // Inside the range, but with a speed that the shift takes out of
+    // double precision: xi = v a_T tau / L overflows.
+    let p = write(
+        dir.path(),
+        "fast.toml",
+        &config_text("non_periodic", 1e280, "temperature = -69.3"),
+    );
+    let out = dir.path().join("fast");
+    let o = cli(&["solve", p.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    refused(&o, &["temperature = -69.3 C", "xi"], &out);
 }
 
 /// Absurd WLF constants are refused in one line naming the key, from a
