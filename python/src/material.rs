@@ -88,7 +88,7 @@ impl NativeMaterial {
             let fit = viscoslide::material::file::fit_wlf(doc.get("fit"))
                 .map_err(|e| value_error(format!("{}: {e}", path.display())))?;
             if let Some((w, t)) = fit {
-                material = material.with_wlf(w, t);
+                material = material.with_wlf(w, t).map_err(value_error)?;
                 if t.is_none_or(|t| t == w.reference_temperature) {
                     section.wlf = Some([w.c1, w.c2, w.reference_temperature]);
                 }
@@ -150,7 +150,7 @@ impl NativeMaterial {
         let wlf = wlf
             .map(|(c1, c2, t)| Wlf::new(c1, c2, t))
             .transpose()
-            .map_err(value_error)?;
+            .map_err(|e| value_error(format!("wlf: {e}")))?;
         let (points, at) = data
             .reduced(wlf.as_ref(), temperature)
             .map_err(value_error)?;
@@ -168,7 +168,7 @@ impl NativeMaterial {
         let mut material = Material::new(fit.creep.clone(), poisson).map_err(value_error)?;
         if let Some(w) = wlf {
             // The fitted spectrum describes `at` (T_ref unless shifted).
-            material = material.with_wlf(w, at);
+            material = material.with_wlf(w, at).map_err(value_error)?;
         }
         let info = PyDict::new(py);
         let i = &fit.info;

@@ -106,3 +106,59 @@ def test_material_toml_fitted_with_wlf_carries_its_constants(repo):
     assert m.wlf == WLF
     assert vs.Material.from_toml(repo / "configs" / "material_sbr_like.toml").wlf == WLF
     assert not math.isnan(shift(7.0))
+
+
+def _numbers(value, path=""):
+    """Every number of a nested summary with its path; nulls as None."""
+    if isinstance(value, dict):
+        for k, v in value.items():
+            yield from _numbers(v, f"{path}.{k}")
+    elif isinstance(value, (list, tuple)):
+        for i, v in enumerate(value):
+            yield from _numbers(v, f"{path}[{i}]")
+    elif value is None or (isinstance(value, (int, float)) and not isinstance(value, bool)):
+        yield path, value
+
+
+def test_temperature_bounds_are_the_rust_ones(small, warm_rubber):
+    # The validity range |log10 a_T| <= 50 of WLF = (8.86, 101.6, 17):
+    # T >= 17 - 101.6 * 50 / 58.86 = -69.306 C, quoted as -69.3 C. Near the
+    # pole a_T overflowed and the solve returned nan.
+    for t in (-84.4, -80.0):
+        for call in (
+            lambda: vs.solve(small, warm_rubber, speed=0.05, mean_pressure=3000.0, temperature=t, backend="cpu"),
+            lambda: vs.solve(small, warm_rubber, speed=0.05, mean_pressure=3000.0, temperature=t,
+                             formulation="periodic", backend="cpu"),
+            lambda: vs.persson(small, warm_rubber, [1e-3], mean_pressure=3000.0, temperature=t),
+        ):
+            with pytest.raises(ValueError) as e:
+                call()
+            msg = str(e.value)
+            assert f"temperature {t:g} C" in msg and "T >= -69.3 C" in msg and "\n" not in msg, msg
+    # Just inside: every number of the summary finite, the nulls those at T_ref.
+    ref = vs.solve(small, warm_rubber, speed=0.05, mean_pressure=3000.0, backend="cpu")
+    near = vs.solve(small, warm_rubber, speed=0.05, mean_pressure=3000.0, temperature=-69.3, backend="cpu")
+    values = dict(_numbers(near.summary))
+    assert all(v is None or math.isfinite(v) for v in values.values()), values
+    assert [p for p, v in values.items() if v is None] == [p for p, v in _numbers(ref.summary) if v is None]
+    assert near.summary["shift_factor"] > 1e49 and math.isfinite(near.friction_coefficient_dissipation)
+
+
+def test_absurd_wlf_constants_are_refused_in_rust(repo):
+    sls = dict(relaxed_modulus=1e7 / 3, glassy_modulus=1e7, creep_time=0.01)
+    for wlf, needle in (
+        ((1e300, 101.6, 17.0), "C1 = 1e300"),
+        ((60.0, 101.6, 17.0), "|C1| <= 50"),
+        ((8.86, 0.0, 17.0), "C2 > 0"),
+        ((8.86, 101.6, 17.0, 4.0), "wlf"),
+    ):
+        with pytest.raises(ValueError) as e:
+            vs.Material.sls(**sls, wlf=wlf)
+        assert "wlf" in str(e.value) and needle in str(e.value) and "\n" not in str(e.value), str(e.value)
+    w = np.logspace(0, 3, 4)
+    with pytest.raises(ValueError) as e:
+        vs.Material.fit_dma(w, 1e6 + 0 * w, 1e5 + 0 * w, wlf=(1e300, 101.6, 17.0), temperatures=[17.0] * 4)
+    assert "wlf" in str(e.value) and "C1" in str(e.value), str(e.value)
+    with pytest.raises(ValueError) as e:
+        vs.Material.fit_dma(w, 1e6 + 0 * w, 1e5 + 0 * w, wlf=WLF, temperatures=[17.0, 17.0, 17.0, -80.0])
+    assert "temperature -80 C" in str(e.value) and "T >= -69.3 C" in str(e.value), str(e.value)

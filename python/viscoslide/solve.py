@@ -227,7 +227,10 @@ def solve(
         material with WLF constants (``wlf=`` of :meth:`Material.sls` and
         the other constructors' ``[material] wlf`` key, or a material.toml
         fitted with ``--wlf``); ``summary`` states ``temperature`` and
-        ``shift_factor``.
+        ``shift_factor``. Only inside the WLF validity range
+        ``|log10 a_T| <= 50`` (``T >= T_ref - C2 * 50 / (|C1| + 50)``,
+        above the pole ``T_ref - C2``); outside it a ``ValueError`` names
+        the temperature and the bound.
     formulation : str
         ``"nonperiodic"`` (a finite pad, the paper's), ``"periodic"`` (one
         period of a periodic surface), or ``"auto"``: periodic for a

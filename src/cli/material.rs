@@ -11,6 +11,7 @@ use crate::io::StagedOutput;
 use crate::material::eval::log_space;
 use crate::material::{
     fit_spectrum, material_toml, DmaData, DynamicModuli, FitParams, FitRecord, Material, Wlf,
+    LOG10_SHIFT_MAX,
 };
 use crate::plot::{xy_chart, Series, XyChart};
 
@@ -124,9 +125,10 @@ fn describe(
         let tr = w.reference_temperature;
         let _ = writeln!(
             out,
-            "WLF shift (physics.md section 2): C1 = {}, C2 = {} K, T_ref = {tr} C; log10 a_T = -C1 (T - T_ref) / (C2 + T - T_ref), valid above T_ref - C2 = {} C",
+            "WLF shift (physics.md sections 2 and 12): C1 = {}, C2 = {} K, T_ref = {tr} C; log10 a_T = -C1 (T - T_ref) / (C2 + T - T_ref), valid at T >= {} C (|log10 a_T| <= {LOG10_SHIFT_MAX}; the pole T_ref - C2 = {} C)",
             w.c1,
             w.c2,
+            w.lowest_temperature_quoted(),
             tr - w.c2
         );
         let mut shifts = String::new();
@@ -204,7 +206,7 @@ fn parse_wlf(s: &str) -> Result<Wlf> {
             "--wlf '{s}': expected three numbers C1,C2,TREF (C2 in K, TREF in C)"
         )));
     }
-    Ok(Wlf::new(v[0], v[1], v[2])?)
+    Wlf::new(v[0], v[1], v[2]).map_err(|e| Error::Invalid(format!("--wlf '{s}': {e}")))
 }
 
 fn fit(args: &FitArgs) -> Result<()> {

@@ -45,6 +45,38 @@ pub struct MaterialConfig {
     /// shift (any model; for `file`, replaces the file's `[fit]` ones): the
     /// spectrum is taken at `T_ref` unless the file records its own
     /// temperature. Needed by `[loading] temperature`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "three_numbers"
+    )]
     pub wlf: Option<[f64; 3]>,
+}
+
+/// `wlf`: exactly three numbers. Serde's fixed-size arrays stop reading
+/// after their length, so `[C1, C2, T_ref, x]` would pass with `x` dropped.
+fn three_numbers<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 3]>, D::Error> {
+    struct Three([f64; 3]);
+    struct Visitor;
+    impl<'de> serde::de::Visitor<'de> for Visitor {
+        type Value = Three;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("an array of length 3")
+        }
+        fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Three, A::Error> {
+            let mut v = Vec::with_capacity(3);
+            while let Some(x) = seq.next_element::<f64>()? {
+                v.push(x);
+            }
+            <[f64; 3]>::try_from(v.as_slice())
+                .map(Three)
+                .map_err(|_| serde::de::Error::invalid_length(v.len(), &self))
+        }
+    }
+    impl<'de> Deserialize<'de> for Three {
+        fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            d.deserialize_seq(Visitor)
+        }
+    }
+    Ok(Option::<Three>::deserialize(d)?.map(|t| t.0))
 }

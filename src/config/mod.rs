@@ -248,7 +248,7 @@ const UNITS: &[(&str, &str)] = &[
     ("xi", "v tau / L, dimensionless"),
     (
         "temperature",
-        "C, above T_ref - C2 of the material's WLF constants",
+        "C, where |log10 a_T| <= 50: T >= T_ref - C2 * 50 / (|C1| + 50) for the material's WLF constants",
     ),
     ("wlf", "[C1, C2 in K, T_ref in C]"),
     ("thickness", "m"),

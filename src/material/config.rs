@@ -196,20 +196,22 @@ impl MaterialConfig {
                 })?;
                 let path = base_dir.join(rel);
                 let material = load_material_file(&path, self.poisson.map(|_| nu))?;
-                return Ok(match wlf {
+                return match wlf {
                     Some(w) => {
                         let t = material.temperature;
-                        material.with_wlf(w, t)
+                        material
+                            .with_wlf(w, t)
+                            .map_err(|e| invalid("wlf", e.to_string()))
                     }
-                    None => material,
-                });
+                    None => Ok(material),
+                };
             }
         };
         let material = Material::new(spectrum, nu)?;
-        Ok(match wlf {
+        match wlf {
             Some(w) => material.with_wlf(w, None),
-            None => material,
-        })
+            None => Ok(material),
+        }
     }
 
     /// Names of the keys this table sets (besides `model`).

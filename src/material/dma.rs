@@ -6,10 +6,35 @@ use std::path::Path;
 
 use super::MaterialError;
 
+/// The largest `|log10 a_T|` accepted: 50 decades (physics.md section 12).
+///
+/// WLF describes a rubber above its glass transition, where `log10 a_T`
+/// relative to any reference in that range spans some 20 decades at most
+/// (the universal constants give 17.44 from `T_g` to infinite
+/// temperature), and measured master curves cover fewer; 50 leaves that
+/// range whole for any constants. Nearer the pole `T = T_ref - C2` the form
+/// diverges (`a_T` overflows f64 within 0.02 K of it for the universal
+/// constants), which no rubber does. Numerically, the shifted creep times
+/// `a_T tau_k`, speeds `a_T v` and `xi = v a_T tau / L` stay within 50
+/// decades of the unshifted ones, leaving over 250 decades of f64's normal
+/// range (1e-308 to 1e308) for the products the kernel and Persson's
+/// theory form with wavenumbers; the shifted quantities are checked as
+/// well ([`crate::material::Material::at_temperature`]), for inputs that
+/// are themselves extreme.
+pub const LOG10_SHIFT_MAX: f64 = 50.0;
+
 /// WLF time-temperature shift
 /// `log10 a_T = -C1 (T - T_ref) / (C2 + T - T_ref)`, with
-/// `E(w, T) = E(w a_T, T_ref)` (physics.md section 2). Temperatures in C
-/// (only differences enter).
+/// `E(w, T) = E(w a_T, T_ref)` (physics.md sections 2 and 12). Temperatures
+/// in C (only differences enter).
+///
+/// Validity range: `a_T` is computed in log space and only where
+/// `|log10 a_T| <= LOG10_SHIFT_MAX`, which (with `|C1| <= LOG10_SHIFT_MAX`)
+/// is the half-line `T >= T_ref - C2 L / (|C1| + L)`, `L` =
+/// [`LOG10_SHIFT_MAX`]: strictly above the pole `T_ref - C2` by
+/// `C2 |C1| / (|C1| + L)` (physics.md section 12: "`T - T_ref > -C2` at
+/// the very least"). Every shift factor of the library comes from
+/// [`Wlf::log10_shift`], through [`Wlf::shift_ratio`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Wlf {
     /// `C1` (dimensionless).
@@ -21,11 +46,19 @@ pub struct Wlf {
 }
 
 impl Wlf {
-    /// Check the constants are finite and `C2 > 0`.
+    /// Check the constants: all finite, `C2 > 0` and
+    /// `|C1| <= LOG10_SHIFT_MAX` (`log10 a_T` tends to `-C1` at high
+    /// temperature, so a larger `C1` makes `a_T` leave the representable
+    /// range above some temperature, `C1 = 1e300` at any `T != T_ref`).
     pub fn new(c1: f64, c2: f64, reference_temperature: f64) -> Result<Self, MaterialError> {
         if !(c1.is_finite() && c2.is_finite() && c2 > 0.0 && reference_temperature.is_finite()) {
             return Err(MaterialError::Invalid(format!(
                 "WLF constants C1 = {c1}, C2 = {c2} K, T_ref = {reference_temperature} C must be finite with C2 > 0"
+            )));
+        }
+        if c1.abs() > LOG10_SHIFT_MAX {
+            return Err(MaterialError::Invalid(format!(
+                "WLF constant C1 = {c1:e} must satisfy |C1| <= {LOG10_SHIFT_MAX}: log10 a_T tends to -C1 at high temperature and is bounded by {LOG10_SHIFT_MAX} decades (rubbers' C1 are 5 to 40)"
             )));
         }
         Ok(Self {
@@ -35,29 +68,61 @@ impl Wlf {
         })
     }
 
-    /// `log10 a_T` at temperature `t` \[C\]; an error where `C2 + T - T_ref <= 0`
-    /// (the WLF form has its pole there and is meaningless below it).
+    /// The lowest temperature of the validity range \[C\]:
+    /// `T_ref - C2 L / (|C1| + L)`, where `|log10 a_T|` reaches
+    /// `L = LOG10_SHIFT_MAX` (for `C1 = 0`, the pole `T_ref - C2` itself,
+    /// excluded).
+    pub fn lowest_temperature(&self) -> f64 {
+        let l = LOG10_SHIFT_MAX;
+        self.reference_temperature - self.c2 * l / (self.c1.abs() + l)
+    }
+
+    /// [`Wlf::lowest_temperature`] rounded up to 0.01 C, as messages quote
+    /// it: the value quoted is itself accepted.
+    pub fn lowest_temperature_quoted(&self) -> f64 {
+        let lowest = self.lowest_temperature();
+        let cents = (lowest * 100.0).ceil();
+        if cents / 100.0 < lowest {
+            (cents + 1.0) / 100.0
+        } else {
+            cents / 100.0
+        }
+    }
+
+    /// `log10 a_T` at temperature `t` \[C\], the one evaluation of the WLF
+    /// form. A temperature outside the validity range (below
+    /// [`Wlf::lowest_temperature`], at or below the pole `T_ref - C2`, or
+    /// not finite) is a one-line error naming it and the bound.
     pub fn log10_shift(&self, t: f64) -> Result<f64, MaterialError> {
         let dt = t - self.reference_temperature;
         let den = self.c2 + dt;
-        if !(t.is_finite() && den > 0.0) {
+        let lowest = self.lowest_temperature();
+        if !(t.is_finite() && den > 0.0 && t >= lowest) {
+            let quoted = self.lowest_temperature_quoted();
+            let pole = self.reference_temperature - self.c2;
             return Err(MaterialError::Invalid(format!(
-                "temperature {t} C is outside the WLF range T > T_ref - C2 = {} C",
-                self.reference_temperature - self.c2
+                "temperature {t} C is outside the WLF range of C1 = {}, C2 = {} K, T_ref = {} C: give T >= {quoted} C, where |log10 a_T| reaches {LOG10_SHIFT_MAX} (T_ref - C2 = {pole} C is the pole of the WLF form; physics.md section 12)",
+                self.c1, self.c2, self.reference_temperature
             )));
         }
         Ok(-self.c1 * dt / den)
     }
 
-    /// Shift factor `a_T` at temperature `t` \[C\].
+    /// `a_T(to) / a_T(from)`, from the logarithms: the ratio of two
+    /// factors in the validity range lies within `1e±2 LOG10_SHIFT_MAX`.
+    pub fn shift_ratio(&self, from: f64, to: f64) -> Result<f64, MaterialError> {
+        Ok(10f64.powf(self.log10_shift(to)? - self.log10_shift(from)?))
+    }
+
+    /// Shift factor `a_T` at temperature `t` \[C\] (relative to `T_ref`).
     pub fn shift_factor(&self, t: f64) -> Result<f64, MaterialError> {
-        Ok(10f64.powf(self.log10_shift(t)?))
+        self.shift_ratio(self.reference_temperature, t)
     }
 
     /// The frequency at temperature `to` with the same response as `omega` at
     /// temperature `from`: `omega a_T(from) / a_T(to)`.
     pub fn shift_frequency(&self, omega: f64, from: f64, to: f64) -> Result<f64, MaterialError> {
-        Ok(omega * 10f64.powf(self.log10_shift(from)? - self.log10_shift(to)?))
+        Ok(omega * self.shift_ratio(to, from)?)
     }
 }
 
@@ -283,10 +348,17 @@ impl DmaData {
                 let mut out = Vec::with_capacity(self.points.len());
                 for p in &self.points {
                     let from = p.temperature.unwrap_or(to);
-                    out.push(DmaPoint {
-                        omega: w.shift_frequency(p.omega, from, to)?,
-                        ..*p
-                    });
+                    let omega = w.shift_frequency(p.omega, from, to)?;
+                    if !(omega.is_finite() && omega > 0.0) {
+                        return Err(MaterialError::Data {
+                            source_name: src(),
+                            message: format!(
+                                "the frequency {} rad/s at {from} C shifts to {omega} rad/s at {to} C, outside the range of double precision",
+                                p.omega
+                            ),
+                        });
+                    }
+                    out.push(DmaPoint { omega, ..*p });
                 }
                 Ok((out, Some(to)))
             }
@@ -314,5 +386,36 @@ mod tests {
         assert_eq!(w.log10_shift(17.0).unwrap(), 0.0);
         assert!(w.log10_shift(0.0).unwrap() > 0.0, "colder is slower");
         assert!(w.log10_shift(17.0 - 101.6).is_err());
+    }
+
+    /// The validity range `|log10 a_T| <= 50`: its lowest temperature has
+    /// `log10 a_T = 50` (to rounding), the quoted bound is accepted and
+    /// the ratio of any two factors in it is finite and nonzero.
+    #[test]
+    fn wlf_validity_range() {
+        let w = Wlf::new(8.86, 101.6, 17.0).unwrap();
+        let lowest = w.lowest_temperature();
+        assert!((lowest - (17.0 - 101.6 * 50.0 / 58.86)).abs() < 1e-12);
+        assert!((w.log10_shift(lowest).unwrap() - LOG10_SHIFT_MAX).abs() < 1e-12);
+        assert_eq!(w.lowest_temperature_quoted(), -69.3);
+        assert!(w.log10_shift(-69.3).is_ok());
+        assert!(w.log10_shift(lowest - 1e-9).is_err());
+        let r = w.shift_ratio(1e300, lowest).unwrap();
+        assert!(r.is_finite() && r > 0.0, "{r}");
+        // C1 = 0: no shift, but the pole stays excluded.
+        let flat = Wlf::new(0.0, 101.6, 17.0).unwrap();
+        assert_eq!(flat.shift_factor(-84.5).unwrap(), 1.0);
+        assert!(flat.log10_shift(-84.6).is_err());
+        // Negative C1 (hotter is slower, unphysical but representable):
+        // the same bound from below.
+        let neg = Wlf::new(-8.86, 101.6, 17.0).unwrap();
+        assert!((neg.log10_shift(lowest).unwrap() + LOG10_SHIFT_MAX).abs() < 1e-12);
+        assert!(neg.log10_shift(-70.0).is_err());
+        // |C1| above the bound: a_T would leave the range at high temperature.
+        assert!(Wlf::new(50.0, 101.6, 17.0).is_ok());
+        for c1 in [50.5, -51.0, 1e300] {
+            let e = Wlf::new(c1, 101.6, 17.0).unwrap_err().to_string();
+            assert!(e.contains("C1") && e.contains("50"), "{e}");
+        }
     }
 }

@@ -134,10 +134,13 @@ pub fn load_material_file(path: &Path, poisson: Option<f64>) -> Result<Material,
         return Ok(material);
     }
     match fit_wlf(doc.fit.as_ref()).map_err(|message| MaterialError::Data {
-        source_name: name,
+        source_name: name.clone(),
         message,
     })? {
-        Some((wlf, t)) => Ok(material.with_wlf(wlf, t)),
+        Some((wlf, t)) => material.with_wlf(wlf, t).map_err(|e| MaterialError::Data {
+            source_name: name,
+            message: format!("[fit] {e}"),
+        }),
         None => Ok(material),
     }
 }
@@ -170,6 +173,11 @@ pub fn fit_wlf(fit: Option<&toml::Value>) -> Result<Option<(Wlf, Option<f64>)>, 
             )
         }
     };
-    let wlf = Wlf::new(c1, c2, t_ref).map_err(|e| format!("[fit] {e}"))?;
-    Ok(Some((wlf, number("temperature")?)))
+    let wlf = Wlf::new(c1, c2, t_ref).map_err(|e| format!("[fit] wlf_c1, wlf_c2: {e}"))?;
+    let t = number("temperature")?;
+    if let Some(t) = t {
+        wlf.log10_shift(t)
+            .map_err(|e| format!("[fit] temperature = {t}: {e}"))?;
+    }
+    Ok(Some((wlf, t)))
 }

@@ -29,7 +29,7 @@ mod spectrum;
 mod temperature;
 
 pub use crate::config::{MaterialConfig, MaterialModel};
-pub use dma::{DmaData, DmaPoint, Wlf};
+pub use dma::{DmaData, DmaPoint, Wlf, LOG10_SHIFT_MAX};
 pub use eval::{ComplexModulus, DynamicModuli};
 pub use file::{load_material_file, material_toml, FitRecord};
 pub use fit::{fit_spectrum, FitInfo, FitParams, SpectrumFit};

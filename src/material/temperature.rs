@@ -23,15 +23,21 @@ pub struct TemperatureShift {
 
 impl Material {
     /// The same material with WLF constants: its spectrum is taken to
-    /// describe `temperature` \[C\], or `T_ref` when `None`.
-    pub fn with_wlf(mut self, wlf: Wlf, temperature: Option<f64>) -> Self {
+    /// describe `temperature` \[C\], or `T_ref` when `None`. A temperature
+    /// outside the validity range of the constants ([`Wlf::log10_shift`])
+    /// is refused.
+    pub fn with_wlf(mut self, wlf: Wlf, temperature: Option<f64>) -> Result<Self, MaterialError> {
+        let t = temperature.unwrap_or(wlf.reference_temperature);
+        wlf.log10_shift(t)
+            .map_err(|e| MaterialError::Invalid(format!("the spectrum's own temperature: {e}")))?;
         self.wlf = Some(wlf);
-        self.temperature = Some(temperature.unwrap_or(wlf.reference_temperature));
-        self
+        self.temperature = Some(t);
+        Ok(self)
     }
 
     /// The temperature this material describes and its shift factor, when
-    /// it has WLF constants.
+    /// it has WLF constants (its temperature is in their validity range:
+    /// [`Material::with_wlf`] and [`Material::at_temperature`] see to it).
     pub fn temperature_shift(&self) -> Option<TemperatureShift> {
         let wlf = self.wlf?;
         let t = self.temperature?;
@@ -44,29 +50,34 @@ impl Material {
 
     /// The material at `temperature` \[C\]: every creep time multiplied by
     /// `a_T(T) / a_T(T0)`, `T0` the temperature its spectrum describes
-    /// (usually `T_ref`, where the factor is `a_T(T)` itself). Moduli are
-    /// unchanged (no `b_T`). A material without WLF constants, or a
-    /// temperature at or below `T_ref - C2` (the pole of the WLF form), is
-    /// refused in one line naming the remedy or the bound.
+    /// (usually `T_ref`, where the factor is `a_T(T)` itself), computed from
+    /// `log10 a_T` ([`Wlf::shift_ratio`]). Moduli are unchanged (no `b_T`).
+    /// A material without WLF constants, a temperature outside the validity
+    /// range of the constants (`|log10 a_T| <= 50`, strictly above the pole
+    /// `T_ref - C2`: [`Wlf`], physics.md section 12), or one that takes a
+    /// creep time out of double precision's range, is refused in one line
+    /// naming the remedy or the bound.
     pub fn at_temperature(&self, temperature: f64) -> Result<Material, MaterialError> {
         let wlf = self.wlf.ok_or_else(|| {
             MaterialError::Invalid(format!(
                 "[loading] temperature = {temperature} C needs the material's WLF constants: give [material] wlf = [C1, C2 (K), T_ref (C)] or a material.toml fitted with `material fit --wlf`"
             ))
         })?;
-        let bound = wlf.reference_temperature - wlf.c2;
-        if !(temperature.is_finite() && temperature > bound) {
-            return Err(MaterialError::Invalid(format!(
-                "[loading] temperature = {temperature} C is at or below T_ref - C2 = {bound} C ({} - {} K), where the WLF shift is undefined; give a temperature above {bound} C",
-                wlf.reference_temperature, wlf.c2
-            )));
-        }
         let from = self.temperature.unwrap_or(wlf.reference_temperature);
-        let log_ratio = wlf.log10_shift(temperature)? - wlf.log10_shift(from)?;
-        let ratio = 10f64.powf(log_ratio);
+        let ratio = wlf
+            .shift_ratio(from, temperature)
+            .map_err(|e| MaterialError::Invalid(format!("[loading] {e}")))?;
         let mut shifted = self.clone();
-        for term in &mut shifted.spectrum.terms {
-            term.time *= ratio;
+        for (k, term) in shifted.spectrum.terms.iter_mut().enumerate() {
+            let time = term.time * ratio;
+            if !(time.is_finite() && time > 0.0) {
+                return Err(MaterialError::Invalid(format!(
+                    "[loading] temperature = {temperature} C shifts creep time {} of {} s by a_T = {ratio:e} to {time} s, outside the range of double precision; give a temperature nearer {from} C",
+                    k + 1,
+                    term.time
+                )));
+            }
+            term.time = time;
         }
         shifted.temperature = Some(temperature);
         Ok(shifted)
@@ -98,7 +109,7 @@ mod tests {
     #[test]
     fn times_scale_by_the_wlf_factor() {
         let wlf = Wlf::new(8.86, 101.6, 17.0).unwrap();
-        let m = sls().with_wlf(wlf, None);
+        let m = sls().with_wlf(wlf, None).unwrap();
         let cold = m.at_temperature(7.0).unwrap();
         // log10 a_T = -8.86 (-10) / (101.6 - 10), computed independently.
         let a = 10f64.powf(88.6 / 91.6);
@@ -122,10 +133,33 @@ mod tests {
     fn refusals_are_one_line_and_name_the_bound() {
         let e = sls().at_temperature(20.0).unwrap_err().to_string();
         assert!(e.contains("WLF") && !e.contains('\n'), "{e}");
-        let m = sls().with_wlf(Wlf::new(8.86, 101.6, 17.0).unwrap(), None);
+        let m = sls()
+            .with_wlf(Wlf::new(8.86, 101.6, 17.0).unwrap(), None)
+            .unwrap();
         let e = m.at_temperature(17.0 - 101.6).unwrap_err().to_string();
         assert!(e.contains("-84.6") && !e.contains('\n'), "{e}");
-        assert!(m.at_temperature(-84.5).is_ok());
+        // Just above the pole a_T would overflow: below the validity range
+        // T >= 17 - 101.6 * 50 / 58.86 = -69.306 C.
+        let e = m.at_temperature(-84.5).unwrap_err().to_string();
+        assert!(e.contains("-84.5 C") && e.contains("-69.3 C"), "{e}");
+        assert!(m.at_temperature(-69.3).is_ok());
+        assert!(m.at_temperature(-69.31).is_err());
         assert!(m.at_temperature(f64::NAN).is_err());
+        // The spectrum's own temperature is checked where it is set.
+        let e = sls()
+            .with_wlf(Wlf::new(8.86, 101.6, 17.0).unwrap(), Some(-80.0))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("-80 C") && e.contains("-69.3 C"), "{e}");
+        // A creep time that the factor would take out of range.
+        let long = Material::new(
+            CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 1e270).unwrap(),
+            0.5,
+        )
+        .unwrap()
+        .with_wlf(Wlf::new(8.86, 101.6, 17.0).unwrap(), None)
+        .unwrap();
+        let e = long.at_temperature(-69.0).unwrap_err().to_string();
+        assert!(e.contains("-69 C") && e.contains("creep time"), "{e}");
     }
 }

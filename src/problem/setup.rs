@@ -87,8 +87,31 @@ impl Problem {
         self.material = self.material.at(loading.temperature)?;
         let sliding = loading.sliding().map_err(invalid)?;
         self.speed = speed_of(sliding, &self.material, &self.surface)?;
+        if let Some(t) = loading.temperature {
+            self.check_shifted_speed(t)?;
+        }
         self.direction_rad = loading.direction_deg.unwrap_or(0.0).to_radians();
         Ok(self)
+    }
+
+    /// At temperature `t` \[C\], the speed and every `xi_k = v a_T tau_k /
+    /// L` of the shifted material finite, and nonzero when sliding: a
+    /// shift factor in the WLF validity range (physics.md section 12)
+    /// keeps them so unless the inputs are themselves extreme.
+    fn check_shifted_speed(&self, t: f64) -> Result<()> {
+        let v = self.speed;
+        let length = self.surface.length_x();
+        for (k, term) in self.material.spectrum.terms.iter().enumerate() {
+            let xi = v * term.time / length;
+            if !(v.is_finite() && xi.is_finite() && (v == 0.0 || xi > 0.0)) {
+                return Err(invalid(format!(
+                    "[loading] temperature = {t} C: the speed {v} m/s and the shifted creep time {} of {} s give xi = v tau / L = {xi}, outside the range of double precision; give a temperature nearer T_ref or another speed",
+                    k + 1,
+                    term.time
+                )));
+            }
+        }
+        Ok(())
     }
 
     /// The `[solver]` section on this problem: iteration controls (missing

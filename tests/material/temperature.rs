@@ -347,3 +347,296 @@ fn cli_solve_states_the_temperature_and_refuses_without_writing() {
         assert!(rel(m1, m0) < 1e-9, "{m1} {m0}");
     }
 }
+
+/// Run the command-line tool with `args`.
+fn cli<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// A refusal: a nonzero exit, one `error:` line on stderr holding every
+/// `needle`, and nothing at `out`.
+fn refused(o: &std::process::Output, needles: &[&str], out: &Path) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "accepted: {err}");
+    assert!(
+        err.starts_with("error:") && err.trim_end().lines().count() == 1,
+        "{err}"
+    );
+    for needle in needles {
+        assert!(err.contains(needle), "{needle} not in {err}");
+    }
+    assert!(!out.exists(), "{} written", out.display());
+}
+
+/// Just above the pole `T_ref - C2 = -84.6 C` of `wlf = [8.86, 101.6,
+/// 17.0]` (-84.4 C: `log10 a_T` = 4492, `a_T` overflows; -80 C: `a_T` =
+/// 6.8e186) the solve is refused by both formulations, in one line naming
+/// the temperature and the validity range `T >= T_ref - C2 * 50 / (C1 +
+/// 50)` = -69.306 C (`|log10 a_T| <= 50`, quoted rounded up to -69.3 C),
+/// with nothing written.
+#[test]
+fn cli_refuses_temperatures_near_the_wlf_pole() {
+    let dir = tempfile::tempdir().unwrap();
+    for formulation in ["non_periodic", "periodic"] {
+        let p = write(
+            dir.path(),
+            "c.toml",
+            &config_text(formulation, 0.05, "temperature = 7.0"),
+        );
+        for t in ["-84.4", "-80", "-69.31"] {
+            let out = dir.path().join(format!("{formulation}{t}"));
+            let set = format!("loading.temperature={t}");
+            let o = cli(&[
+                "solve",
+                p.to_str().unwrap(),
+                "--set",
+                set.as_str(),
+                "--out",
+                out.to_str().unwrap(),
+            ]);
+            refused(
+                &o,
+                &[
+                    &format!("temperature {t} C"),
+                    "T >= -69.3 C",
+                    "T_ref - C2 = -84.6 C",
+                ],
+                &out,
+            );
+        }
+    }
+    // Inside the range, but with a speed that the shift takes out of
+    // double precision: xi = v a_T tau / L overflows.
+    let p = write(
+        dir.path(),
+        "fast.toml",
+        &config_text("non_periodic", 1e280, "temperature = -69.3"),
+    );
+    let out = dir.path().join("fast");
+    let o = cli(&["solve", p.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    refused(&o, &["temperature = -69.3 C", "xi"], &out);
+}
+
+/// Absurd WLF constants are refused in one line naming the key, from a
+/// config file (`solve`, at 27 C where `C1 = 1e300` gave `a_T = 0`, and
+/// without a temperature), by `material show`, and by `material fit
+/// --wlf`: `C1` beyond 50 (`log10 a_T` tends to `-C1` at high
+/// temperature), non-finite values, `C2 <= 0`, and any count but three.
+#[test]
+fn absurd_wlf_constants_are_refused_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(
+        dir.path(),
+        "c.toml",
+        &config_text("non_periodic", 0.05, "temperature = 27.0"),
+    );
+    let cases: [(&str, &[&str]); 9] = [
+        ("[1e300, 101.6, 17.0]", &["wlf", "C1 = 1e300", "50"]),
+        ("[60.0, 101.6, 17.0]", &["wlf", "C1 = 6e1", "50"]),
+        ("[-51.0, 101.6, 17.0]", &["wlf", "C1 = -5.1e1"]),
+        ("[nan, 101.6, 17.0]", &["wlf", "finite"]),
+        ("[8.86, inf, 17.0]", &["wlf", "finite"]),
+        ("[8.86, 0.0, 17.0]", &["wlf", "C2 > 0"]),
+        ("[8.86, -101.6, 17.0]", &["wlf", "C2 > 0"]),
+        ("[8.86, 101.6, 17.0, 4.0]", &["wlf", "length 4", "length 3"]),
+        ("[8.86, 101.6]", &["wlf", "length 2", "length 3"]),
+    ];
+    for (k, (wlf, needles)) in cases.iter().enumerate() {
+        let set = format!("material.wlf={wlf}");
+        for extra in [None, Some("loading.temperature=17.0")] {
+            let out = dir.path().join(format!("solve{k}"));
+            let mut args: Vec<&str> = vec!["solve", p.to_str().unwrap(), "--set", set.as_str()];
+            if let Some(e) = extra {
+                args.extend(["--set", e]);
+            }
+            args.extend(["--out", out.to_str().unwrap()]);
+            refused(&cli(&args), needles, &out);
+        }
+        let o = cli(&[
+            "material",
+            "show",
+            p.to_str().unwrap(),
+            "--set",
+            set.as_str(),
+        ]);
+        refused(&o, needles, &dir.path().join("none"));
+        assert!(o.stdout.is_empty());
+    }
+    // The same values in a config file, not through --set.
+    let q = write(
+        dir.path(),
+        "d.toml",
+        &config_text("non_periodic", 0.05, "temperature = 27.0")
+            .replace("[8.86, 101.6, 17.0]", "[8.86, 101.6, 17.0, 4.0]"),
+    );
+    let out = dir.path().join("four");
+    let o = cli(&["solve", q.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    refused(&o, &["wlf", "length 4"], &out);
+    // `material fit --wlf`: the constants, and a target temperature or a
+    // data temperature outside the validity range.
+    let csv = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/data/sbr_like_dma.csv");
+    for (wlf, t, needles) in [
+        ("1e300,101.6,17", "17", &["--wlf", "C1 = 1e300"][..]),
+        ("8.86,0,17", "17", &["--wlf", "C2 > 0"][..]),
+        (
+            "8.86,101.6,17",
+            "-80",
+            &["temperature -80 C", "T >= -69.3 C"][..],
+        ),
+    ] {
+        let out = dir.path().join("fit");
+        let o = cli(&[
+            "material",
+            "fit",
+            csv.to_str().unwrap(),
+            "--wlf",
+            wlf,
+            &format!("--temperature={t}"),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        refused(&o, needles, &out);
+    }
+    let data = write(
+        dir.path(),
+        "cold.csv",
+        "temperature_c,omega_rad_s,e1_pa,e2_pa\n-80,1,2e6,1e5\n17,10,2e6,2e5\n17,100,3e6,3e5\n",
+    );
+    let out = dir.path().join("fit_cold");
+    let o = cli(&[
+        "material",
+        "fit",
+        data.to_str().unwrap(),
+        "--wlf",
+        "8.86,101.6,17",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    refused(&o, &["temperature -80 C", "T >= -69.3 C"], &out);
+}
+
+/// `a_T` at ordinary temperatures is the WLF form evaluated as
+/// `10^(log10 a_T)`, to the last bit, in the library and in
+/// `summary.json`; and within 1e-15 relative of the product form
+/// `exp(ln 10 log10 a_T)` near `T_ref`, where that form's own rounding
+/// (`|ln a_T|` ulps) is below it.
+#[test]
+fn shift_factor_at_ordinary_temperatures_is_unchanged() {
+    use viscoslide::material::Wlf;
+    let wlf = Wlf::new(8.86, 101.6, 17.0).unwrap();
+    for t in [-40.0, -3.0, 7.0, 16.0, 17.0, 18.0, 27.0, 57.0, 150.0] {
+        assert_eq!(
+            wlf.shift_factor(t).unwrap().to_bits(),
+            shift(t).to_bits(),
+            "{t}"
+        );
+    }
+    for t in [16.9, 17.0, 17.1] {
+        let dt: f64 = t - 17.0;
+        let product = (std::f64::consts::LN_10 * (-8.86 * dt / (101.6 + dt))).exp();
+        assert!(rel(wlf.shift_factor(t).unwrap(), product) <= 1e-15, "{t}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(
+        dir.path(),
+        "c.toml",
+        &config_text("periodic", 0.05, "temperature = 7.0"),
+    );
+    let out = dir.path().join("o");
+    let o = cli(&["solve", p.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        s["shift_factor"].as_f64().unwrap().to_bits(),
+        shift(7.0).to_bits()
+    );
+}
+
+/// Every number of a JSON document finite; the paths of its nulls
+/// collected (serde_json writes a NaN or an infinity as null).
+fn walk(v: &serde_json::Value, path: &str, nulls: &mut Vec<String>) {
+    match v {
+        serde_json::Value::Null => nulls.push(path.to_string()),
+        serde_json::Value::Number(n) => {
+            assert!(n.as_f64().is_some_and(f64::is_finite), "{path} = {n}")
+        }
+        serde_json::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                walk(x, &format!("{path}[{i}]"), nulls);
+            }
+        }
+        serde_json::Value::Object(o) => {
+            for (k, x) in o {
+                walk(x, &format!("{path}.{k}"), nulls);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// No NaN reaches an output with exit code 0: near the pole (-84.4 C,
+/// where `a_T` overflowed and `summary.json` held nulls for the
+/// dissipation friction, `shift_factor` and `xi`) the solve is refused;
+/// just inside the validity range (-69.3 C, `a_T` = 9.3e49) every number
+/// of `summary.json` and of `persson.json` is finite and their nulls are
+/// exactly those of the same run at `T_ref`, and the pressure, gap and
+/// displacement maps are finite; both formulations.
+#[test]
+fn outputs_near_the_bound_are_finite_in_every_field() {
+    let dir = tempfile::tempdir().unwrap();
+    for formulation in ["non_periodic", "periodic"] {
+        let p = write(
+            dir.path(),
+            &format!("{formulation}.toml"),
+            &config_text(formulation, 0.05, ""),
+        );
+        let run = |cmd: &str, t: &str, file: &str| -> Option<(serde_json::Value, Vec<String>)> {
+            let out = dir.path().join(format!("{cmd}{formulation}{t}"));
+            let set = format!("loading.temperature={t}");
+            let o = cli(&[
+                cmd,
+                p.to_str().unwrap(),
+                "--set",
+                set.as_str(),
+                "--out",
+                out.to_str().unwrap(),
+            ]);
+            if !o.status.success() {
+                refused(&o, &["T >= -69.3 C"], &out);
+                return None;
+            }
+            let doc: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(out.join(file)).unwrap()).unwrap();
+            let mut nulls = Vec::new();
+            walk(&doc, "", &mut nulls);
+            if cmd == "solve" {
+                for map in ["pressure", "gap", "displacement"] {
+                    let (_, _, data) =
+                        viscoslide::io::npy::read_2d(out.join(format!("{map}.npy"))).unwrap();
+                    assert!(data.iter().all(|x| x.is_finite()), "{map}.npy at {t} C");
+                }
+            }
+            Some((doc, nulls))
+        };
+        for (cmd, file) in [("solve", "summary.json"), ("persson", "persson.json")] {
+            let (_, reference) = run(cmd, "17.0", file).unwrap();
+            assert!(run(cmd, "-84.4", file).is_none(), "{cmd} at -84.4 C");
+            let (doc, nulls) = run(cmd, "-69.3", file).expect("inside the range");
+            assert_eq!(nulls, reference, "{cmd} {formulation}");
+            assert!(doc["shift_factor"].as_f64().unwrap() > 1e49);
+            if cmd == "solve" {
+                for key in [
+                    "xi",
+                    "friction_coefficient",
+                    "friction_coefficient_dissipation",
+                ] {
+                    assert!(doc[key].is_number(), "{key}");
+                }
+            }
+        }
+    }
+}
