@@ -3,7 +3,7 @@
 //! with the configuration document that reproduces it (recorded in
 //! `summary.json`; for a generated or file surface it is a valid config).
 
-use viscoslide::config::{LayerConfig, LoadingConfig, SolverConfig};
+use viscoslide::config::{Formulation, LayerConfig, LoadingConfig, SolverConfig};
 use viscoslide::problem::{check_memory, Problem};
 use viscoslide::solver::Control;
 
@@ -33,7 +33,11 @@ pub fn build(
     let loading: LoadingConfig = section("loading", loading_json)?;
     let solver: SolverConfig = section("solver", solver_json)?;
     let layer: Option<LayerConfig> = layer_json.map(|j| section("layer", j)).transpose()?;
-    let map = &surface.map;
+    // The periodic formulation takes a measured map as one period.
+    let (map, preprocessing) = match (solver.formulation.unwrap_or_default(), &surface.period) {
+        (Formulation::Periodic, Some((m, p))) => (m, Some(*p)),
+        _ => (&surface.map, surface.preprocessing),
+    };
     let restart = solver
         .restart
         .unwrap_or(viscoslide::solver::SolverParams::default().restart);
@@ -59,7 +63,7 @@ pub fn build(
         problem = problem.with_layer(l.build().map_err(value_error)?);
     }
     problem.source = surface.source.clone();
-    problem.preprocessing = surface.preprocessing;
+    problem.preprocessing = preprocessing;
     problem.seed = surface.seed;
     let mut document = toml::Table::new();
     document.insert(

@@ -12,8 +12,8 @@ use pyo3::prelude::*;
 use viscoslide::problem::SurfaceSource;
 use viscoslide::surface::{
     parse_detrend, parse_window, prepare, psd_2d, radial_average, rms_slope_real, slope_warning,
-    stats_with_window, GenerateConfig, HeightMap, MissingData, Preprocessing, SurfaceConfig,
-    Topography, Window,
+    stats_with_window, Detrend, GenerateConfig, HeightMap, MissingData, Preprocessing,
+    SurfaceConfig, Topography, Window,
 };
 
 use crate::errors::value_error;
@@ -31,6 +31,11 @@ pub struct NativeSurface {
     pub section: Option<SurfaceConfig>,
     /// How a measured map was prepared (`None`: generated, taken as it is).
     pub preprocessing: Option<Preprocessing>,
+    /// A measured map not marked periodic, prepared as one period for a
+    /// solve with the periodic formulation (detrend and window `none`
+    /// unless given; [`SurfaceConfig::preprocessing_for`]); `None` when
+    /// that is `map` itself.
+    pub period: Option<(HeightMap, Preprocessing)>,
 }
 
 impl NativeSurface {
@@ -41,12 +46,20 @@ impl NativeSurface {
         let source = SurfaceSource::of(&section, base_dir).map_err(value_error)?;
         let seed = section.generate.as_ref().map(|g| g.seed.unwrap_or(0));
         let preprocessing = section.preprocessing().map_err(value_error)?;
+        let as_period = section.preprocessing_for(true).map_err(value_error)?;
+        let period = match as_period {
+            Some(p) if Some(p) != preprocessing => {
+                Some((section.load_for(base_dir, true).map_err(value_error)?, p))
+            }
+            _ => None,
+        };
         Ok(Self {
             map,
             source,
             seed,
             section: Some(section),
             preprocessing,
+            period,
         })
     }
 }
@@ -148,26 +161,40 @@ impl NativeSurface {
         };
         topo.handle_missing(missing, "heights")
             .map_err(value_error)?;
-        let pre = Preprocessing::resolve(
-            periodic,
-            detrend
-                .as_deref()
-                .map(parse_detrend)
-                .transpose()
-                .map_err(value_error)?,
-            window
-                .as_deref()
-                .map(parse_window)
-                .transpose()
-                .map_err(value_error)?,
-        );
+        let detrend = detrend
+            .as_deref()
+            .map(parse_detrend)
+            .transpose()
+            .map_err(value_error)?;
+        let window = window
+            .as_deref()
+            .map(parse_window)
+            .transpose()
+            .map_err(value_error)?;
+        let pre = Preprocessing::resolve(periodic, detrend, window);
         let map = prepare(&topo, &pre, "heights").map_err(value_error)?;
+        // As one period, for the periodic formulation (the rule of
+        // `SurfaceConfig::preprocessing_for`).
+        let as_period = Preprocessing::resolve(
+            periodic,
+            detrend.or((!periodic).then_some(Detrend::None)),
+            window.or((!periodic).then_some(Window::None)),
+        );
+        let period = if as_period == pre {
+            None
+        } else {
+            Some((
+                prepare(&topo, &as_period, "heights").map_err(value_error)?,
+                as_period,
+            ))
+        };
         Ok(Self {
             map,
             source: SurfaceSource::Given,
             seed: None,
             section: None,
             preprocessing: Some(pre),
+            period,
         })
     }
 

@@ -70,3 +70,34 @@ def test_units_are_converted_and_missing_points_refused(pad):
     missing = SurfaceTopography.Topography(holes, physical_sizes=(0.01, 0.01))
     with pytest.raises(ValueError, match="missing.*fill_missing=True"):
         vs.Surface.coerce(missing)
+
+
+def test_the_periodic_formulation_takes_an_array_as_one_period(rubber, pad, tmp_path):
+    """An array that is one period, not marked periodic, solved with
+    ``formulation="periodic"``: its heights are kept (no plane removed) and
+    its answer is the one of the same array marked periodic, with a warning
+    that states the step between its opposite edges; an explicit
+    ``detrend`` is still applied. A file read without ``periodic`` behaves
+    the same."""
+    h = pad.heights
+    marked = vs.solve(vs.Surface.from_array(h, 0.01, periodic=True), rubber, xi=1.17e-2,
+                      mean_pressure=3000.0, backend="cpu", formulation="periodic")
+    with pytest.warns(UserWarning, match="not marked periodic"):
+        unmarked = vs.solve(vs.Surface.from_array(h, 0.01), rubber, xi=1.17e-2,
+                            mean_pressure=3000.0, backend="cpu", formulation="periodic")
+    assert np.array_equal(unmarked.pressure, marked.pressure)
+    assert unmarked.summary["surface_preprocessing"]["detrend"] == "none"
+    assert not any("not marked periodic" in w for w in marked.summary["warnings"])
+    with pytest.warns(UserWarning, match="not marked periodic"):
+        planed = vs.solve(vs.Surface.from_array(h, 0.01, detrend="plane"), rubber, xi=1.17e-2,
+                          mean_pressure=3000.0, backend="cpu", formulation="periodic")
+    assert planed.summary["surface_preprocessing"]["detrend"] == "plane"
+    # The non-periodic formulation: the scan's plane is removed as before.
+    pad_solve = vs.solve(vs.Surface.from_array(h, 0.01), rubber, xi=1.17e-2, mean_pressure=3000.0,
+                         backend="cpu")
+    assert pad_solve.summary["surface_preprocessing"]["detrend"] == "plane"
+    np.save(tmp_path / "map.npy", h)
+    with pytest.warns(UserWarning, match="not marked periodic"):
+        from_file = vs.solve(vs.Surface.from_file(str(tmp_path / "map.npy"), length=0.01), rubber, xi=1.17e-2,
+                             mean_pressure=3000.0, backend="cpu", formulation="periodic")
+    assert np.array_equal(from_file.pressure, marked.pressure)

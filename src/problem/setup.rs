@@ -26,7 +26,9 @@ impl Problem {
         if let Some(gp) = surface_cfg.generate_params()? {
             check_memory(gp.nx, gp.ny, restart, formulation, precision)?;
         }
-        let surface = surface_cfg.load(&cfg.base_dir)?;
+        // The periodic formulation takes a measured map as one period.
+        let periodic_solve = formulation == Formulation::Periodic;
+        let surface = surface_cfg.load_for(&cfg.base_dir, periodic_solve)?;
         check_memory(surface.nx, surface.ny, restart, formulation, precision)?;
         let seed = surface_cfg.generate.as_ref().map(|g| g.seed.unwrap_or(0));
         let source = SurfaceSource::of(surface_cfg, &cfg.base_dir)?;
@@ -41,7 +43,7 @@ impl Problem {
             .with_solver_config(&sc)?;
         let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
         problem.source = source;
-        problem.preprocessing = surface_cfg.preprocessing()?;
+        problem.preprocessing = surface_cfg.preprocessing_for(periodic_solve)?;
         problem.layer = layer;
         problem.seed = seed;
         problem.document = cfg.document.clone();

@@ -56,6 +56,7 @@ impl Problem {
                 "the mean pressure {p0:.3e} Pa exceeds the relaxed modulus E0 = {e0:.3e} Pa: strains are not small and the linear small-strain model does not hold there; lower the load"
             ));
         }
+        out.extend(self.wrapped_map_warning());
         let (s, heights) = (&self.surface, &self.surface.heights);
         let slope = crate::surface::rms_slope_real(s.nx, s.ny, s.cell_size, s.cell_size_y, heights);
         if slope > RMS_SLOPE_LIMIT {
@@ -137,5 +138,47 @@ impl Problem {
             causes.push("the grid may be too coarse for this speed; solve again with more cells and compare".into());
         }
         causes
+    }
+}
+
+impl Problem {
+    /// A measured map (read from a file or given as values) that is not
+    /// marked periodic, solved with the periodic formulation: the solve
+    /// takes it as one period, so its opposite edges meet. States the rms
+    /// step between them along x and y in units of the rms height, beside
+    /// the rms step between neighbouring cells, and what was removed.
+    fn wrapped_map_warning(&self) -> Option<String> {
+        let pre = self.preprocessing?;
+        if self.formulation != Formulation::Periodic || pre.periodic {
+            return None;
+        }
+        let (nx, ny, h) = (self.surface.nx, self.surface.ny, &self.surface.heights);
+        let n = h.len() as f64;
+        let mean = h.iter().sum::<f64>() / n;
+        let rms = (h.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+        if nx < 2 || ny < 2 || rms == 0.0 {
+            return None;
+        }
+        let at = |i: usize, j: usize| h[i * ny + j];
+        let rms_of = |d: &mut dyn Iterator<Item = f64>| {
+            let (s, c) = d.fold((0.0, 0usize), |(s, c), v| (s + v * v, c + 1));
+            (s / c.max(1) as f64).sqrt() / rms
+        };
+        let edge_x = rms_of(&mut (0..ny).map(|j| at(0, j) - at(nx - 1, j)));
+        let edge_y = rms_of(&mut (0..nx).map(|i| at(i, 0) - at(i, ny - 1)));
+        let cell_x = rms_of(
+            &mut (0..nx - 1)
+                .flat_map(|i| (0..ny).map(move |j| (i, j)))
+                .map(|(i, j)| at(i + 1, j) - at(i, j)),
+        );
+        let cell_y = rms_of(
+            &mut (0..nx)
+                .flat_map(|i| (0..ny - 1).map(move |j| (i, j)))
+                .map(|(i, j)| at(i, j + 1) - at(i, j)),
+        );
+        Some(format!(
+            "the map is solved as one period of a periodic surface (formulation = \"periodic\") but is not marked periodic ([surface] periodic = true, Python periodic=True): its opposite edges meet with an rms step of {edge_x:.3} rms heights along x and {edge_y:.3} along y (neighbouring cells: {cell_x:.3} and {cell_y:.3}); detrend = \"{}\" was applied. A scan is not a period: use formulation = \"non_periodic\" for it, or mark a map that is one period as periodic",
+            pre.detrend.name()
+        ))
     }
 }

@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use super::generate::{Anisotropy, GenerateParams, Normalisation, UpperCutoff};
 use super::{
-    parse_detrend, parse_window, BelowTable, HeightMap, MissingData, Preprocessing, ReadOptions,
-    SurfaceError, SurfaceFormat, SynthParams,
+    parse_detrend, parse_window, BelowTable, Detrend, HeightMap, MissingData, Preprocessing,
+    ReadOptions, SurfaceError, SurfaceFormat, SynthParams, Window,
 };
 use crate::config::{GenerateConfig, SphereConfig, SurfaceConfig};
 
@@ -189,6 +189,18 @@ impl SurfaceConfig {
     /// surface or a sphere, which are taken as they are; the three keys
     /// are refused there.
     pub fn preprocessing(&self) -> Result<Option<Preprocessing>, SurfaceError> {
+        self.preprocessing_for(false)
+    }
+
+    /// [`SurfaceConfig::preprocessing`] for a solve with the periodic
+    /// formulation when `periodic_solve`: that solve takes the map as one
+    /// period of a periodic surface, so a map not marked `periodic` keeps
+    /// its heights (`detrend = "none"`) and its PSDs take it as a period
+    /// (`window = "none"`), unless `detrend` or `window` is given.
+    pub fn preprocessing_for(
+        &self,
+        periodic_solve: bool,
+    ) -> Result<Option<Preprocessing>, SurfaceError> {
         if self.file.is_none() {
             let given: Vec<&str> = [
                 (self.detrend.is_some(), "detrend"),
@@ -217,11 +229,11 @@ impl SurfaceConfig {
             .as_deref()
             .map(|w| parse_window(w).map_err(|e| bad("window", e)))
             .transpose()?;
-        Ok(Some(Preprocessing::resolve(
-            self.periodic.unwrap_or(false),
-            detrend,
-            window,
-        )))
+        let periodic = self.periodic.unwrap_or(false);
+        let as_period = periodic_solve && !periodic;
+        let detrend = detrend.or(as_period.then_some(Detrend::None));
+        let window = window.or(as_period.then_some(Window::None));
+        Ok(Some(Preprocessing::resolve(periodic, detrend, window)))
     }
 
     /// The height map: `file` (relative to `base_dir`; any format of
@@ -230,7 +242,17 @@ impl SurfaceConfig {
     /// generated from `[surface.generate]` (self-affine, or following the
     /// tabulated `psd`), or the `[surface.sphere]` paraboloid.
     pub fn load(&self, base_dir: &Path) -> Result<HeightMap, SurfaceError> {
-        let pre = self.preprocessing()?;
+        self.load_for(base_dir, false)
+    }
+
+    /// [`SurfaceConfig::load`] prepared by
+    /// [`SurfaceConfig::preprocessing_for`] `(periodic_solve)`.
+    pub fn load_for(
+        &self,
+        base_dir: &Path,
+        periodic_solve: bool,
+    ) -> Result<HeightMap, SurfaceError> {
+        let pre = self.preprocessing_for(periodic_solve)?;
         if let Some(params) = self.generate_params()? {
             return super::generate(&params);
         }

@@ -28,6 +28,18 @@ pub enum Detrend {
     Quadratic,
 }
 
+impl Detrend {
+    /// The name configs and the command line use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::None => "none",
+            Self::Mean => "mean",
+            Self::Plane => "plane",
+            Self::Quadratic => "quadratic",
+        }
+    }
+}
+
 /// Remove the least-squares polynomial `detrend` from `topo` (missing
 /// points are left out of the fit and stay missing). Coordinates are the
 /// pixel centres, scaled to `[-1, 1]` for conditioning.

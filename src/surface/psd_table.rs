@@ -239,7 +239,7 @@ impl TabulatedPsd {
     /// `C(q)` with the rule `below` for wavenumbers under `q_min` (see
     /// [`BelowTable`]); [`Self::eval`] above.
     pub fn eval_with(&self, q: f64, below: BelowTable) -> f64 {
-        if q >= self.q_min() || !(q > 0.0) {
+        if q >= self.q_min() || q.is_nan() || q <= 0.0 {
             return self.eval(q);
         }
         match below {

@@ -222,3 +222,88 @@ fn surface_stats_defaults_to_plane_and_hann_for_npy_and_warns_without() {
     assert_eq!(j["warnings"].as_array().unwrap().len(), 1, "{j}");
     assert!(err.contains("warning: the radial PSD of this map"), "{err}");
 }
+
+/// The periodic formulation takes a measured map as one period: a map that
+/// is one period of a periodic surface, read from a file without
+/// `periodic = true`, keeps its heights (before, its mean plane was
+/// removed, which made it non-periodic: friction 4 % off on a full contact)
+/// and is solved exactly as the same map marked periodic, with a warning
+/// that states the step between its opposite edges; its PSDs take it as a
+/// period too (no window). `detrend` given
+/// explicitly is still applied; the non-periodic formulation still removes
+/// the plane of a scan.
+#[test]
+fn the_periodic_formulation_takes_a_map_as_one_period() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let map = surface::generate(&GenerateParams {
+        nx: 64,
+        ny: 64,
+        length: 0.01,
+        hurst: 0.8,
+        upper: UpperCutoff::Scales(16.0),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 3,
+        ..GenerateParams::default()
+    })
+    .unwrap();
+    std::fs::write(
+        d.join("map.npy"),
+        surface::encode_npy(&map, surface::NpyPrecision::F64),
+    )
+    .unwrap();
+    let solve = |name: &str, surface_keys: &str, formulation: &str| -> serde_json::Value {
+        let cfg = d.join(format!("{name}.toml"));
+        std::fs::write(
+            &cfg,
+            format!(
+                "{SLS}[surface]\nfile = \"map.npy\"\nlength = 0.01\n{surface_keys}[loading]\nmean_pressure = 1e6\nspeed = 1.17\n[solver]\nformulation = \"{formulation}\"\n[analysis]\nenabled = false\n"
+            ),
+        )
+        .unwrap();
+        let out = d.join(name);
+        let o = viscoslide(&[
+            "solve",
+            &cfg.display().to_string(),
+            "--backend",
+            "cpu",
+            "--out",
+            &out.display().to_string(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap()
+    };
+    let marked = solve("marked", "periodic = true\n", "periodic");
+    let unmarked = solve("unmarked", "", "periodic");
+    let mu = |s: &serde_json::Value| s["friction_coefficient"].as_f64().unwrap();
+    let area = |s: &serde_json::Value| s["contact_area_fraction"].as_f64().unwrap();
+    assert_eq!(unmarked["surface_preprocessing"]["detrend"], "none");
+    assert_eq!(unmarked["surface_preprocessing"]["window"], "none");
+    assert!((mu(&unmarked) / mu(&marked) - 1.0).abs() < 1e-12);
+    assert_eq!(area(&unmarked), area(&marked));
+    let warned = |s: &serde_json::Value| {
+        s["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|w| w.as_str())
+            .find(|w| w.contains("not marked periodic"))
+            .map(str::to_string)
+    };
+    assert!(warned(&marked).is_none(), "{}", marked["warnings"]);
+    let w = warned(&unmarked).expect("the wrapped-edge warning");
+    // A generated period: its opposite edges meet like neighbouring cells.
+    assert!(
+        w.contains("rms heights along x") && w.contains("detrend = \"none\""),
+        "{w}"
+    );
+    // Asked for, the plane is removed (and the answer moves).
+    let planed = solve("planed", "detrend = \"plane\"\n", "periodic");
+    assert_eq!(planed["surface_preprocessing"]["detrend"], "plane");
+    assert!(warned(&planed).unwrap().contains("detrend = \"plane\""));
+    assert_ne!(mu(&planed), mu(&marked));
+    // The non-periodic formulation: a scan loses its plane as before.
+    let pad = solve("pad", "", "non_periodic");
+    assert_eq!(pad["surface_preprocessing"]["detrend"], "plane");
+    assert!(warned(&pad).is_none());
+}
