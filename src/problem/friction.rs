@@ -5,7 +5,7 @@
 use crate::analysis::{self, ContactStatistics};
 use crate::config::Formulation;
 use crate::error::Result;
-use crate::kernel::Axis;
+use crate::kernel::{Axis, SlidingKernel};
 use crate::operator::{OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft};
 use crate::solver::ContactSolution;
 
@@ -57,21 +57,7 @@ impl Problem {
             ));
         }
         let kernel = self.sliding_kernel()?;
-        let (c, s) = (dir.cos(), dir.sin());
-        let mut force = 0.0;
-        for (axis, w) in [(Axis::X, c), (Axis::Y, s)] {
-            if w.abs() < 1e-15 {
-                continue;
-            }
-            let d = kernel.derivative_table_rect(nx, ny, ax, ay, axis);
-            let mut op = ToeplitzFft::new(OffsetTable {
-                nx,
-                ny,
-                values: &d.values,
-            });
-            force +=
-                w * analysis::friction_force_stencil_area(&mut op, &solution.pressure, ax * ay);
-        }
+        let force = self.friction_force_eq9(&kernel, &solution.pressure);
         let force_d = match &self.layer {
             Some(layer) if kernel.is_thin_law(ax, ay) => {
                 analysis::friction::friction_force_dissipation_thin_law(
@@ -99,5 +85,27 @@ impl Problem {
             ),
         };
         Ok((-force / load, -force_d / load, stats))
+    }
+
+    /// The friction force \[N\] of the pressure `pressure` on this
+    /// non-periodic grid by the work of the contact pressure (paper Eq. 9):
+    /// the cell-averaged derivative tables along the sliding direction.
+    pub(super) fn friction_force_eq9(&self, kernel: &SlidingKernel, pressure: &[f64]) -> f64 {
+        let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
+        let dir = self.direction_rad;
+        let mut force = 0.0;
+        for (axis, w) in [(Axis::X, dir.cos()), (Axis::Y, dir.sin())] {
+            if w.abs() < 1e-15 {
+                continue;
+            }
+            let d = kernel.derivative_table_rect(nx, ny, ax, ay, axis);
+            let mut op = ToeplitzFft::new(OffsetTable {
+                nx,
+                ny,
+                values: &d.values,
+            });
+            force += w * analysis::friction_force_stencil_area(&mut op, pressure, ax * ay);
+        }
+        force
     }
 }

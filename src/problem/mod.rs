@@ -31,6 +31,7 @@ pub mod gpu_refine;
 pub mod persson;
 pub mod resolution;
 pub mod setup;
+pub mod smooth_pad;
 pub mod solution;
 pub mod solve;
 pub mod warnings;

@@ -22,6 +22,7 @@ use crate::surface::{Preprocessing, Window};
 
 use super::gpu_refine::GpuRefinement;
 use super::persson::PerssonEstimate;
+use super::smooth_pad::SmoothPad;
 use super::{MeshReport, Problem};
 
 /// Wall-clock split of a solve \[s\].
@@ -82,6 +83,10 @@ pub struct Solution {
     /// The two stages of a GPU solve refined in f64 on the host
     /// (`None` for every other path).
     pub gpu_refinement: Option<GpuRefinement>,
+    /// The finite pad's own friction (the same pad without roughness) and
+    /// the roughness part; `None` for the periodic formulation and the
+    /// adaptive mesh.
+    pub smooth_pad: Option<SmoothPad>,
     record: Record,
 }
 
@@ -116,6 +121,7 @@ impl Solution {
             warnings,
             persson,
             gpu_refinement: None,
+            smooth_pad: None,
             record: Record {
                 nx: problem.surface.nx,
                 ny: problem.surface.ny,
@@ -324,6 +330,24 @@ impl Solution {
         // The device (f32) and host (f64) stages of a refined GPU solve;
         // null for every other path.
         doc["gpu_refinement"] = json!(self.gpu_refinement);
+        // The finite pad's own part and the roughness part (non-periodic
+        // uniform grids), with Persson against the roughness part.
+        doc["smooth_pad_friction_coefficient"] =
+            json!(self.smooth_pad.map(|p| p.friction_coefficient));
+        doc["roughness_friction_coefficient"] =
+            json!(self.smooth_pad.map(|p| p.roughness_friction_coefficient));
+        doc["smooth_pad"] = json!(self.smooth_pad.map(|p| {
+            let persson = self.persson.as_ref().ok().map(|e| e.friction_coefficient);
+            json!({
+                "friction_coefficient": p.friction_coefficient,
+                "roughness_friction_coefficient": p.roughness_friction_coefficient,
+                "share": p.share,
+                "persson_over_roughness_part": persson.map(|m| m / p.roughness_friction_coefficient),
+                "matvecs": p.matvecs,
+                "time_s": p.time_s,
+                "what": "the same pad without roughness, at the same load and speed: one full-contact solve in f64 on the host, friction by paper Eq. 9",
+            })
+        }));
         // The process's peak resident memory so far (after this solve; in a
         // sweep, over every solve before it too), for sizing jobs.
         doc["peak_memory_bytes"] = json!(crate::io::memory::peak_resident());

@@ -22,6 +22,7 @@ use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, War
 use super::adaptive::{solve_adaptive, AdaptiveError, AdaptiveParams, MeshReport};
 use super::executor::toeplitz_backend;
 use super::gpu_refine::GpuRefinement;
+use super::smooth_pad::SMOOTH_PAD_SHARE_LIMIT;
 use super::{invalid, Executor, Problem, Solution, Timings};
 
 /// The operator a problem is solved with: formulation x mesh.
@@ -560,13 +561,32 @@ impl Problem {
     fn finish(&self, raw: Raw, t0: Instant) -> Result<Solution> {
         let t2 = Instant::now();
         let (mu, mu_d, stats) = self.friction_and_stats(&raw.solution)?;
-        let t_an = t2.elapsed().as_secs_f64();
-        let total = t0.elapsed().as_secs_f64();
         let unknowns = raw
             .mesh
             .as_ref()
             .map_or(self.surface.nx * self.surface.ny, |m| m.unknowns);
-        let warnings = self.warnings(&stats, mu, mu_d);
+        let mut warnings = self.warnings(&stats, mu, mu_d);
+        // A finite pad's own part of the friction (the same pad, flat): on
+        // the uniform grid of the non-periodic formulation.
+        let smooth_pad = if self.formulation == Formulation::NonPeriodic
+            && raw.mesh.is_none()
+            && stats.normal_load > 0.0
+        {
+            let pad = self.smooth_pad(stats.normal_load, mu)?;
+            if pad.share.abs() > SMOOTH_PAD_SHARE_LIMIT {
+                warnings.push(format!(
+                    "{:.0} % of the friction is the finite pad's own: the same pad without roughness gives mu = {:.4e} at this load and speed (its rim's hysteresis), the roughness part is {:.4e}; a rubber block on a large rough plate has no such rim: compare the roughness part (smooth_pad in summary.json) with experiments and Persson, or use formulation = \"periodic\" or a larger pad",
+                    100.0 * pad.share,
+                    pad.friction_coefficient,
+                    pad.roughness_friction_coefficient
+                ));
+            }
+            Some(pad)
+        } else {
+            None
+        };
+        let t_an = t2.elapsed().as_secs_f64();
+        let total = t0.elapsed().as_secs_f64();
         let timings = Timings {
             coefficients_s: raw.t_coeff,
             operator_setup_s: raw
@@ -589,6 +609,7 @@ impl Problem {
             warnings,
         );
         solution.gpu_refinement = raw.refinement;
+        solution.smooth_pad = smooth_pad;
         Ok(solution)
     }
 }

@@ -10,7 +10,8 @@ use crate::backend::Backend;
 
 /// Full contact: the pressure that keeps every cell in contact, from one
 /// linear solve of the bordered system on the whole grid (no sign
-/// constraint). Physical when every pressure comes out positive; with
+/// constraint), right-preconditioned by the backend's preconditioner when
+/// `params.precondition`. Physical when every pressure comes out positive; with
 /// `Control::Load(0.0)` it gives the pure response to the profile `g`.
 pub fn solve_full_contact<B: Backend>(
     backend: &mut B,
@@ -45,7 +46,7 @@ pub fn solve_full_contact<B: Backend>(
         self_coefficient,
         load_scale,
         bordered,
-        false,
+        params.precondition,
     );
     let mut p = AugVec {
         v: backend.zeros(n),
