@@ -205,6 +205,7 @@ impl Problem {
         if !self.direction_rad.is_finite() {
             return Err(invalid("[loading] direction_deg must be finite"));
         }
+        self.check_periodic_approach()?;
         if !(self.params.tolerance > 0.0 && self.params.tolerance < 1.0) {
             return Err(invalid(format!(
                 "[solver] tolerance must be in (0, 1), got {}",
@@ -221,6 +222,29 @@ impl Problem {
             self.check_adaptive_cells()?;
         }
         self.check_layer_cells()?;
+        Ok(())
+    }
+
+    /// The periodic formulation under approach control: its displacements
+    /// have zero mean (the `q = 0` multiplier is 0, paper Appendix), so the
+    /// contact closes at the approach `mean(g)`, the highest summit above
+    /// the mean plane, and a larger approach has no solution (at it, the
+    /// mean pressure is undetermined). Refused in one line naming the bound.
+    fn check_periodic_approach(&self) -> Result<()> {
+        let Control::Approach(d) = self.control else {
+            return Ok(());
+        };
+        if self.formulation != Formulation::Periodic {
+            return Ok(());
+        }
+        let g = self.gap_profile();
+        let full = g.iter().sum::<f64>() / g.len().max(1) as f64;
+        // Within round-off of the bound counts as at it.
+        if d >= full * (1.0 - 1e-9) {
+            return Err(invalid(format!(
+                "[loading] approach = {d:e} m is at or beyond full contact of the periodic cell, reached at {full:.6e} m (the highest summit above the mean plane): a periodic cell's displacements have zero mean, so no larger approach has a solution; give an approach below {full:.6e} m, a mean_pressure, or formulation = \"non_periodic\""
+            )));
+        }
         Ok(())
     }
 

@@ -267,7 +267,11 @@ fn a_finite_pad_reports_its_own_friction() {
             .any(|w| w.as_str().unwrap().contains("finite pad's own"))
     };
     let rough = summary("rough30", "30", &[]);
-    let flat = summary("flat30", "30", &["--set", "surface.generate.rms_slope=1e-7"]);
+    let flat = summary(
+        "flat30",
+        "30",
+        &["--set", "surface.generate.rms_slope=1e-7"],
+    );
     let (mu, smooth) = (
         f(&rough, "friction_coefficient"),
         f(&rough, "smooth_pad_friction_coefficient"),
@@ -277,7 +281,10 @@ fn a_finite_pad_reports_its_own_friction() {
     assert_eq!(f(&flat, "contact_area_fraction"), 1.0);
     assert!((smooth / f(&flat, "friction_coefficient") - 1.0).abs() < 1e-6);
     let part = f(&rough, "roughness_friction_coefficient");
-    assert!((part / (mu - smooth) - 1.0).abs() < 1e-9, "{part} {mu} {smooth}");
+    assert!(
+        (part / (mu - smooth) - 1.0).abs() < 1e-9,
+        "{part} {mu} {smooth}"
+    );
     assert!(smooth / mu > 0.9, "{smooth} of {mu}");
     assert!(pad_warning(&rough), "{}", rough["warnings"]);
     let persson = f(&rough, "persson_friction_coefficient");
@@ -298,4 +305,88 @@ fn a_finite_pad_reports_its_own_friction() {
     );
     assert!(cell["smooth_pad_friction_coefficient"].is_null());
     assert!(cell["smooth_pad"].is_null());
+}
+
+/// The periodic formulation under approach control: its displacements have
+/// zero mean, so the contact closes at the approach `max(z) - mean(z)` and
+/// no larger approach has a solution. Below it every approach converges (up
+/// to 99 % contact); at and beyond it the approach is refused in one line
+/// naming the bound, before anything is written (before: "the surfaces do
+/// not touch" just past it, and 50,002 matvecs ending in "no convergence,
+/// residual 5e-16" far past it). The non-periodic formulation solves the
+/// same approaches.
+#[test]
+fn a_periodic_approach_beyond_full_contact_is_refused_naming_the_bound() {
+    let config = r#"
+[material]
+model = "sls"
+relaxed_modulus = 3.3333333333333335e6
+glassy_modulus = 1.0e7
+creep_time = 0.01
+poisson = 0.5
+
+[surface.generate]
+n = 64
+length = 0.01
+hurst = 0.8
+scales = 8
+rms_slope = 0.005
+seed = 1
+
+[loading]
+speed = 0.01
+approach = 1.1e-5
+
+[solver]
+formulation = "periodic"
+
+[analysis]
+enabled = false
+"#;
+    let tmp = tempfile::tempdir().unwrap();
+    let map = viscoslide::surface::generate(&viscoslide::surface::GenerateParams {
+        nx: 64,
+        ny: 64,
+        length: 0.01,
+        hurst: 0.8,
+        upper: viscoslide::surface::UpperCutoff::Scales(8.0),
+        normalisation: viscoslide::surface::Normalisation::RmsSlope(0.005),
+        seed: 1,
+        ..Default::default()
+    })
+    .unwrap();
+    let n = map.heights.len() as f64;
+    let top = map.heights.iter().copied().fold(f64::MIN, f64::max);
+    let full = top - map.heights.iter().sum::<f64>() / n;
+    for (approach, area_above) in [(0.95 * full, 0.5), (0.9999 * full, 0.98)] {
+        let a = format!("loading.approach={approach:e}");
+        let (ok, _, stderr) = run(tmp.path(), config, &["--set", &a]);
+        assert!(ok, "{approach:e}: {stderr}");
+        let s: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(tmp.path().join("out/summary.json")).unwrap())
+                .unwrap();
+        let area = s["contact_area_fraction"].as_f64().unwrap();
+        assert!(area > area_above && area < 1.0, "{approach:e}: {area}");
+        std::fs::remove_dir_all(tmp.path().join("out")).unwrap();
+    }
+    for approach in [full, 1.2e-5, 1e-3] {
+        let a = format!("loading.approach={approach:e}");
+        let (ok, _, stderr) = run(tmp.path(), config, &["--set", &a]);
+        assert!(!ok, "{approach:e} solved");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.contains("full contact of the periodic cell")
+                && stderr.contains(&format!("{full:.6e}")),
+            "{stderr}"
+        );
+        assert!(!tmp.path().join("out").exists());
+        // The finite pad takes it.
+        let (ok, _, stderr) = run(
+            tmp.path(),
+            config,
+            &["--set", &a, "--set", "solver.formulation=\"non_periodic\""],
+        );
+        assert!(ok, "{approach:e} non-periodic: {stderr}");
+        std::fs::remove_dir_all(tmp.path().join("out")).unwrap();
+    }
 }
