@@ -49,10 +49,6 @@ impl Problem {
         problem.document = cfg.document.clone();
         problem.analysis = cfg.config.analysis.clone();
         problem.check()?;
-        let coarser_side = problem.surface.cell_size.max(problem.surface.cell_size_y);
-        if let Some(w) = layer.and_then(|l| l.resolution_warning(coarser_side)) {
-            eprintln!("warning: {w}");
-        }
         Ok(problem)
     }
 

@@ -27,6 +27,9 @@ use super::Problem;
 /// about.
 pub const SMOOTH_PAD_SHARE_LIMIT: f64 = 0.1;
 
+/// The smooth-pad solve's matvec budget is at least this.
+const SMOOTH_PAD_MIN_MATVECS: usize = 300;
+
 /// The flat pad's solve and friction.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SmoothPad {
@@ -36,8 +39,12 @@ pub struct SmoothPad {
     pub roughness_friction_coefficient: f64,
     /// The flat pad's share of the rough solve's `mu`.
     pub share: f64,
-    /// Operator applications of the full-contact solve.
+    /// Operator applications (both solves when the full-contact one handed
+    /// over).
     pub matvecs: usize,
+    /// `"full_contact"` (one linear solve) or `"constrained"` (the
+    /// constrained iteration took over).
+    pub method: &'static str,
     /// Wall time \[s\], coefficient tables included.
     pub time_s: f64,
 }
@@ -45,8 +52,12 @@ pub struct SmoothPad {
 impl Problem {
     /// The flat pad of this non-periodic problem under the normal load
     /// `load` \[N\], and the split of the rough solve's friction `mu` into
-    /// the pad's part and the roughness part.
-    pub(super) fn smooth_pad(&self, load: f64, mu: f64) -> Result<SmoothPad> {
+    /// the pad's part and the roughness part. At most
+    /// `max(SMOOTH_PAD_MIN_MATVECS, 3 rough_matvecs)` operator applications,
+    /// so that a flat pad the iteration struggles with (a layer on the
+    /// thin-layer law takes no preconditioner) costs at most a few rough
+    /// solves; an error then, which the caller reports instead of failing.
+    pub(super) fn smooth_pad(&self, load: f64, mu: f64, rough_matvecs: usize) -> Result<SmoothPad> {
         let t = Instant::now();
         let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
@@ -54,30 +65,43 @@ impl Problem {
         let (mut backend, l00) = toeplitz_backend::<f64>(nx, ny, &table.values);
         drop(table);
         let flat = vec![0.0; nx * ny];
-        let params = self.solver_params();
-        let (mut solution, mut info) = solver::solve_full_contact(
+        let params = solver::SolverParams {
+            max_matvecs: SMOOTH_PAD_MIN_MATVECS.max(3 * rough_matvecs),
+            ..self.solver_params()
+        };
+        // One linear solve in full contact; a pressure negative somewhere
+        // (a rim lifting off), or no convergence within the budget (an
+        // unpreconditioned operator), hands over to the constrained
+        // iteration, whose inexact Newton steps converge where one Krylov
+        // solve at the full tolerance stalls.
+        let full = solver::solve_full_contact(
             &mut backend,
             &flat,
             ax * ay,
             l00,
             Control::Load(load),
             &params,
-        )?;
-        // A flat pad whose pressure comes out negative somewhere (a rim
-        // lifting off) takes the constrained iteration instead.
-        if solution.pressure.iter().any(|&p| p < 0.0) {
-            let (s, i) = solver::solve(
-                &mut backend,
-                &flat,
-                ax * ay,
-                l00,
-                Control::Load(load),
-                &params,
-                &mut Silent,
-            )?;
-            info.matvecs += i.matvecs;
-            solution = s;
-        }
+        );
+        let spent = match &full {
+            Ok((_, i)) => i.matvecs,
+            Err(solver::SolverError::NoConvergence { matvecs, .. }) => *matvecs,
+            Err(_) => 0,
+        };
+        let (solution, matvecs, method) = match full {
+            Ok((s, i)) if s.pressure.iter().all(|&p| p >= 0.0) => (s, i.matvecs, "full_contact"),
+            _ => {
+                let (s, i) = solver::solve(
+                    &mut backend,
+                    &flat,
+                    ax * ay,
+                    l00,
+                    Control::Load(load),
+                    &params,
+                    &mut Silent,
+                )?;
+                (s, spent + i.matvecs, "constrained")
+            }
+        };
         drop(backend);
         let force = self.friction_force_eq9(&kernel, &solution.pressure);
         let loaded: f64 = solution.pressure.iter().sum::<f64>() * ax * ay;
@@ -86,7 +110,8 @@ impl Problem {
             friction_coefficient: smooth,
             roughness_friction_coefficient: mu - smooth,
             share: if mu != 0.0 { smooth / mu } else { 0.0 },
-            matvecs: info.matvecs,
+            matvecs,
+            method,
             time_s: t.elapsed().as_secs_f64(),
         })
     }

@@ -344,8 +344,9 @@ impl Solution {
                 "share": p.share,
                 "persson_over_roughness_part": persson.map(|m| m / p.roughness_friction_coefficient),
                 "matvecs": p.matvecs,
+                "method": p.method,
                 "time_s": p.time_s,
-                "what": "the same pad without roughness, at the same load and speed: one full-contact solve in f64 on the host, friction by paper Eq. 9",
+                "what": "the same pad without roughness, at the same load and speed, in f64 on the host: one full-contact solve (method full_contact) or, where that does not converge or lifts off, the constrained iteration (constrained); friction by paper Eq. 9",
             })
         }));
         // The process's peak resident memory so far (after this solve; in a

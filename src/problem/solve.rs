@@ -572,7 +572,21 @@ impl Problem {
             && raw.mesh.is_none()
             && stats.normal_load > 0.0
         {
-            let pad = self.smooth_pad(stats.normal_load, mu)?;
+            match self.smooth_pad(stats.normal_load, mu, raw.info.matvecs) {
+                Ok(pad) => Ok(pad),
+                Err(e) => {
+                    let why = format!("the finite pad's own friction (the same pad without roughness) was not computed: {e}");
+                    warnings.push(why.clone());
+                    Err(why)
+                }
+            }
+        } else {
+            Err(
+                "the periodic formulation and the adaptive mesh have no smooth-pad solve"
+                    .to_string(),
+            )
+        };
+        if let Ok(pad) = &smooth_pad {
             if pad.share.abs() > SMOOTH_PAD_SHARE_LIMIT {
                 warnings.push(format!(
                     "{:.0} % of the friction is the finite pad's own: the same pad without roughness gives mu = {:.4e} at this load and speed (its rim's hysteresis), the roughness part is {:.4e}; a rubber block on a large rough plate has no such rim: compare the roughness part (smooth_pad in summary.json) with experiments and Persson, or use formulation = \"periodic\" or a larger pad",
@@ -581,10 +595,7 @@ impl Problem {
                     pad.roughness_friction_coefficient
                 ));
             }
-            Some(pad)
-        } else {
-            None
-        };
+        }
         let t_an = t2.elapsed().as_secs_f64();
         let total = t0.elapsed().as_secs_f64();
         let timings = Timings {
@@ -609,7 +620,7 @@ impl Problem {
             warnings,
         );
         solution.gpu_refinement = raw.refinement;
-        solution.smooth_pad = smooth_pad;
+        solution.smooth_pad = smooth_pad.ok();
         Ok(solution)
     }
 }

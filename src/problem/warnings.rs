@@ -57,6 +57,10 @@ impl Problem {
             ));
         }
         out.extend(self.wrapped_map_warning());
+        // A layer thinner than one cell: in summary.json and Python's
+        // warnings, not only on the command line's stderr.
+        let coarser_side = self.surface.cell_size.max(self.surface.cell_size_y);
+        out.extend(self.layer.and_then(|l| l.resolution_warning(coarser_side)));
         let (s, heights) = (&self.surface, &self.surface.heights);
         let slope = crate::surface::rms_slope_real(s.nx, s.ny, s.cell_size, s.cell_size_y, heights);
         if slope > RMS_SLOPE_LIMIT {

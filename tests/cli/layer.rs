@@ -160,6 +160,24 @@ fn a_layer_thinner_than_a_cell_is_warned_about() {
         stderr.contains("warning:") && stderr.contains("thinner than one cell"),
         "{stderr}"
     );
+    // Once, and in summary.json (it reached stderr only before).
+    assert_eq!(
+        stderr.matches("thinner than one cell").count(),
+        1,
+        "{stderr}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(tmp.path().join("out/summary.json")).unwrap())
+            .unwrap();
+    assert!(
+        summary["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("thinner than one cell")),
+        "{}",
+        summary["warnings"]
+    );
     let tmp = tempfile::tempdir().unwrap();
     let (done, ok, stderr) = solve(tmp.path(), CONFIG, &[], Duration::from_secs(120));
     assert!(done && ok);
