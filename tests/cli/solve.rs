@@ -317,32 +317,17 @@ fn a_finite_pad_reports_its_own_friction() {
 /// same approaches.
 #[test]
 fn a_periodic_approach_beyond_full_contact_is_refused_naming_the_bound() {
-    let config = r#"
-[material]
-model = "sls"
-relaxed_modulus = 3.3333333333333335e6
-glassy_modulus = 1.0e7
-creep_time = 0.01
-poisson = 0.5
-
-[surface.generate]
-n = 64
-length = 0.01
-hurst = 0.8
-scales = 8
-rms_slope = 0.005
-seed = 1
-
-[loading]
-speed = 0.01
-approach = 1.1e-5
-
-[solver]
-formulation = "periodic"
-
-[analysis]
-enabled = false
-"#;
+    // CONFIG's material on the issue's surface, under approach control.
+    let config = CONFIG
+        .replace("n = 48", "n = 64")
+        .replace("rms_slope = 0.02", "rms_slope = 0.005")
+        .replace("seed = 3", "seed = 1")
+        .replace(
+            "normal_load = 0.30\nxi = 1.17e-2",
+            "speed = 0.01\napproach = 1.1e-5",
+        )
+        + "\n[solver]\nformulation = \"periodic\"\n\n[analysis]\nenabled = false\n";
+    let config = config.as_str();
     let tmp = tempfile::tempdir().unwrap();
     let map = viscoslide::surface::generate(&viscoslide::surface::GenerateParams {
         nx: 64,

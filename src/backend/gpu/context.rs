@@ -44,14 +44,7 @@ fn instance() -> wgpu::Instance {
 /// Every adapter wgpu can see, best first (discrete, integrated, virtual,
 /// CPU).
 pub fn list_adapters() -> Vec<AdapterSummary> {
-    let inst = instance();
-    let mut out: Vec<(u8, AdapterSummary)> =
-        pollster::block_on(inst.enumerate_adapters(wgpu::Backends::all()))
-            .iter()
-            .map(summarise)
-            .collect();
-    out.sort_by_key(|(r, _)| *r);
-    out.into_iter().map(|(_, s)| s).collect()
+    adapter_details().into_iter().map(|d| d.summary).collect()
 }
 
 /// An adapter's rank in [`list_adapters`] (discrete first) and its summary.
