@@ -172,35 +172,61 @@ fn point_problem(cfg: &LoadedConfig, point: &Point) -> Result<Problem> {
 }
 
 /// The configuration of `point` before its speed, load and seed: the
-/// base document with each `[sweep.vary]` value set as `--set` sets it
-/// ([`config::set_value`]) and typed again. A key the configuration does
-/// not have, or a value of the wrong type, is refused in one line naming
-/// the key and the value.
+/// base document with every `[sweep.vary]` value set as `--set` sets it
+/// ([`config::set_value`], which makes the sections a key needs) and
+/// typed again. A key the configuration does not have, or a value of the
+/// wrong type, is refused in one line naming the key and the value.
 pub fn point_config(cfg: &LoadedConfig, point: &Point) -> Result<Config> {
     if point.vary.is_empty() {
         return Ok(cfg.config.clone());
     }
-    let mut document = cfg.document.clone();
     let name = cfg.path.display().to_string();
+    let what = |key: &str, value: &toml::Value| format!("{name}: [sweep.vary] \"{key}\" = {value}");
+    let mut document = cfg.document.clone();
     for (key, value) in &point.vary {
-        let what = || format!("{name}: [sweep.vary] \"{key}\" = {value}");
         config::set_value(&mut document, key, value.clone())
-            .map_err(|e| Error::Invalid(format!("{}: {e}", what())))?;
-        // Typed after each key, so that an error names the key that made it.
-        if let Err(e) = config::parse_document(&document, &name) {
-            let message = match e {
-                config::ConfigError::Parse { message, .. } => message,
-                other => other.to_string(),
-            };
-            // "line N, key `k`: ..." names a line of the merged document.
-            let message = match message.split_once(", ") {
-                Some((head, rest)) if head.starts_with("line ") => rest.to_string(),
-                _ => message,
-            };
-            return Err(Error::Invalid(format!("{}: {message}", what())));
+            .map_err(|e| Error::Invalid(format!("{}: {e}", what(key, value))))?;
+    }
+    // Typed once all keys are set: keys that together make a section
+    // (`layer.base` and `layer.thickness` without a `[layer]`) are valid
+    // only together.
+    let message = match config::parse_document(&document, &name) {
+        Ok(config) => return Ok(config),
+        Err(e) => parse_message(e),
+    };
+    // The key to name: the first whose value, set after those before it,
+    // gives this same error.
+    let mut partial = cfg.document.clone();
+    for (key, value) in &point.vary {
+        config::set_value(&mut partial, key, value.clone()).expect("set above");
+        if let Err(e) = config::parse_document(&partial, &name) {
+            if parse_message(e) == message {
+                return Err(Error::Invalid(format!("{}: {message}", what(key, value))));
+            }
         }
     }
-    Ok(config::parse_document(&document, &name)?)
+    let values: Vec<String> = point
+        .vary
+        .iter()
+        .map(|(k, v)| format!("\"{k}\" = {v}"))
+        .collect();
+    Err(Error::Invalid(format!(
+        "{name}: [sweep.vary] {}: {message}",
+        values.join(", ")
+    )))
+}
+
+/// A configuration error without the line of the merged document it
+/// names ("line N, key `k`: ...").
+fn parse_message(e: config::ConfigError) -> String {
+    let message = match e {
+        config::ConfigError::Parse { message, .. } => message,
+        other => other.to_string(),
+    };
+    match message.split_once(", ") {
+        Some((head, rest)) if head.starts_with("line ") => rest.to_string(),
+        _ => message,
+    }
 }
 
 /// Record the configuration in `dir`, or check that it matches the one

@@ -8,3 +8,4 @@ mod persson_cli;
 mod persson_theory;
 mod sweep;
 mod sweep_vary;
+mod vary_keys;
