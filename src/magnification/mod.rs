@@ -132,7 +132,9 @@ impl Study {
             ));
         }
         // The coarsest level built whole checks the material, the loading
-        // and the solver sections, which every level shares.
+        // and the solver sections (the solver's combinations included),
+        // which every level shares; the checks that depend on the cell
+        // (a layer against the cell size) are strictest on its grid.
         let coarse = Problem::from_config(&plan::level_config(cfg, &levels[0], None)?)?;
         let speeds = match &params.speeds {
             Some(v) if v.is_empty() => {

@@ -6,6 +6,7 @@
 mod magnification;
 mod persson_cli;
 mod persson_theory;
+mod refusals;
 mod sweep;
 mod sweep_vary;
 mod vary_keys;
