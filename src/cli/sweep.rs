@@ -34,13 +34,12 @@ pub struct MergeArgs {
 pub fn run(args: SweepArgs) -> Result<()> {
     let cfg = args.config.load()?;
     let shard = args.shard.unwrap_or(Shard::ALL);
-    let r = sweep::run_sweep(&cfg, &args.out, shard, args.limit)?;
+    let (r, rows) = sweep::run_and_merge(&cfg, &args.out, shard, args.limit, !args.no_merge)?;
     println!(
         "{} points in the sweep, {} in this shard: {} already done, {} solved now",
         r.total, r.in_shard, r.skipped, r.solved
     );
-    if !args.no_merge && shard == Shard::ALL && r.skipped + r.solved == r.in_shard {
-        let rows = sweep::merge(&args.out)?;
+    if let Some(rows) = rows {
         println!(
             "merged {} rows into {}",
             rows.len(),

@@ -18,7 +18,7 @@ pub use compare::{compare, read_measured, Measured};
 pub use merge::{aggregate, merge};
 pub use plan::{Point, Shard, SweepPlan};
 pub use row::MergedRow;
-pub use store::PointStore;
+pub use store::{study_id, PointStore};
 
 use std::path::Path;
 
@@ -28,6 +28,7 @@ use serde_json::Value;
 use crate::config::{self, Config, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic;
+use crate::io::{LockMode, StudyLock};
 use crate::problem::{Executor, Problem};
 use crate::solver::Silent;
 
@@ -53,12 +54,30 @@ pub struct SweepRun {
 
 /// Run (or resume) the sweep of `cfg` into `dir`. `limit` stops after that
 /// many new points (the rest is left for a later run).
+///
+/// The whole plan is checked first (the axes, the `[sweep.vary]` keys and
+/// values, the problem of every combination), then `dir` is locked (made
+/// if missing): the run alone, or shared with the other shards of the same
+/// sweep with `--shard`; a second writer fails at once.
 pub fn run_sweep(
     cfg: &LoadedConfig,
     dir: &Path,
     shard: Shard,
     limit: Option<usize>,
 ) -> Result<SweepRun> {
+    Ok(run_and_merge(cfg, dir, shard, limit, false)?.0)
+}
+
+/// [`run_sweep`], then with `merge`, when the run covers every point
+/// (no shard) and all are done, [`merge`] under the same lock: no other
+/// writer comes between the last point and the merge.
+pub fn run_and_merge(
+    cfg: &LoadedConfig,
+    dir: &Path,
+    shard: Shard,
+    limit: Option<usize>,
+    merge: bool,
+) -> Result<(SweepRun, Option<Vec<MergedRow>>)> {
     let sweep = cfg.config.sweep.clone().ok_or_else(|| {
         Error::Invalid(format!(
             "{}: a sweep needs a [sweep] section",
@@ -79,6 +98,12 @@ pub fn run_sweep(
             .expect("a combination has points");
         point_problem(cfg, first)?;
     }
+    let mode = if shard == Shard::ALL {
+        LockMode::Exclusive
+    } else {
+        LockMode::Shared
+    };
+    let _lock = StudyLock::acquire(dir, mode)?;
     let store = pin_config(cfg, dir)?;
     let mine: Vec<&Point> = plan
         .points
@@ -110,12 +135,18 @@ pub fn run_sweep(
         bar.inc(1);
     }
     bar.finish_and_clear();
-    Ok(SweepRun {
+    let run = SweepRun {
         total: plan.points.len(),
         in_shard: mine.len(),
         skipped,
         solved,
-    })
+    };
+    let rows = if merge && shard == Shard::ALL && run.skipped + run.solved == run.in_shard {
+        Some(self::merge(dir)?)
+    } else {
+        None
+    };
+    Ok((run, rows))
 }
 
 /// Solve one point: the base configuration with the point's speed, load and
@@ -231,6 +262,7 @@ fn parse_message(e: config::ConfigError) -> String {
 
 /// Record the configuration in `dir`, or check that it matches the one
 /// recorded there: a sweep directory holds the points of one configuration.
+/// The caller holds the directory's lock.
 fn pin_config(cfg: &LoadedConfig, dir: &Path) -> Result<PointStore> {
     let text = toml::to_string(&cfg.document).expect("a parsed document serialises");
     let store = PointStore::open(dir, CONFIG_FILE, &text, "sweep")?;

@@ -73,7 +73,11 @@ fn refused(vary: &str, needles: &[&str]) -> Duration {
         assert!(err.contains(needle), "{vary}: {err}");
     }
     assert_eq!(err.trim().lines().count(), 1, "{vary}: {err}");
-    assert!(!out.exists(), "{vary}: a refused sweep wrote {}", out.display());
+    assert!(
+        !out.exists(),
+        "{vary}: a refused sweep wrote {}",
+        out.display()
+    );
     took
 }
 
@@ -81,7 +85,11 @@ fn refused(vary: &str, needles: &[&str]) -> Duration {
 fn a_key_given_twice_is_refused_naming_both_spellings() {
     refused(
         "\"solver.tolerance\" = [1e-6, 1e-8]\n\"solver.tolerance \" = [1e-7, 1e-9]",
-        &["\"solver.tolerance\"", "\"solver.tolerance \"", "give it once"],
+        &[
+            "\"solver.tolerance\"",
+            "\"solver.tolerance \"",
+            "give it once",
+        ],
     );
     refused(
         "\"solver.tolerance\" = [1e-6]\n\"solver. tolerance\" = [1e-7]",
@@ -91,7 +99,11 @@ fn a_key_given_twice_is_refused_naming_both_spellings() {
 
 #[test]
 fn a_key_with_whitespace_is_refused() {
-    for key in ["solver.tolerance ", " solver.tolerance", "solver .tolerance"] {
+    for key in [
+        "solver.tolerance ",
+        " solver.tolerance",
+        "solver .tolerance",
+    ] {
         refused(
             &format!("\"{key}\" = [1e-6, 1e-8]"),
             &[&format!("\"{key}\""), "no spaces", "\"solver.tolerance\""],
