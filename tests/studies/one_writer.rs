@@ -265,3 +265,45 @@ fn names(dir: &Path) -> Vec<String> {
     v.sort();
     v
 }
+
+/// A refinement study into a directory another writer holds is refused
+/// before its first level, naming the holder; once the directory is free
+/// it runs there.
+#[test]
+fn a_refinement_study_into_a_busy_directory_is_refused_before_solving() {
+    use viscoslide::io::{LockMode, StudyLock};
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), STUDY);
+    let out = tmp.path().join("out");
+    let args = [
+        "refine",
+        cfg.as_str(),
+        "--levels",
+        "16,32",
+        "--backend",
+        "cpu",
+        "--out",
+        &s(&out),
+    ];
+    // This test's own process holds the directory, as a second process
+    // would (a lock is not shared across processes).
+    let held = StudyLock::acquire(&out, LockMode::Exclusive).unwrap();
+    let t0 = Instant::now();
+    let second = run(&args);
+    let all = text(&second.stderr);
+    assert!(!second.status.success(), "{all}");
+    assert!(!all.contains("level 1/"), "solved before refusing: {all}");
+    let err = all.trim().lines().last().unwrap_or_default();
+    assert!(err.contains("another process is writing"), "{all}");
+    if std::fs::read_to_string("/proc/locks").is_ok_and(|t| t.contains("FLOCK")) {
+        assert!(
+            err.contains(&format!("(pid {})", std::process::id())),
+            "{all}"
+        );
+    }
+    assert!(t0.elapsed() < Duration::from_secs(10));
+    drop(held);
+    let again = run(&args);
+    assert!(again.status.success(), "{}", text(&again.stderr));
+    assert!(out.join("refine.json").is_file());
+}
