@@ -25,6 +25,7 @@ use std::path::Path;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::Value;
 
+use crate::backend::BackendChoice;
 use crate::config::{self, Config, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic;
@@ -64,18 +65,22 @@ pub fn run_sweep(
     dir: &Path,
     shard: Shard,
     limit: Option<usize>,
+    backend: BackendChoice,
 ) -> Result<SweepRun> {
-    Ok(run_and_merge(cfg, dir, shard, limit, false)?.0)
+    Ok(run_and_merge(cfg, dir, shard, limit, backend, false)?.0)
 }
 
 /// [`run_sweep`], then with `merge`, when the run covers every point
 /// (no shard) and all are done, [`merge`] under the same lock: no other
-/// writer comes between the last point and the merge.
+/// writer comes between the last point and the merge. The points are
+/// solved on the executor `backend` selects (as `solve` selects it, for
+/// the first point's problem; its line goes to stderr).
 pub fn run_and_merge(
     cfg: &LoadedConfig,
     dir: &Path,
     shard: Shard,
     limit: Option<usize>,
+    backend: BackendChoice,
     merge: bool,
 ) -> Result<(SweepRun, Option<Vec<MergedRow>>)> {
     let sweep = cfg.config.sweep.clone().ok_or_else(|| {
@@ -90,14 +95,20 @@ pub fn run_and_merge(
     // seed, each already checked by the plan, so the first point of every
     // combination that builds means they all do; a refused sweep creates
     // nothing.
+    let mut selected = None;
     for combo in plan.vary_combinations() {
         let first = plan
             .points
             .iter()
             .find(|p| &p.vary == combo)
             .expect("a combination has points");
-        point_problem(cfg, first)?;
+        let problem = point_problem(cfg, first)?;
+        if selected.is_none() {
+            selected = Some(Executor::select(backend, &problem)?);
+        }
     }
+    let (executor, line) = selected.expect("a plan has points");
+    eprintln!("{line}");
     let mode = if shard == Shard::ALL {
         LockMode::Exclusive
     } else {
@@ -126,7 +137,7 @@ pub fn run_and_merge(
     let mut solved = 0;
     for point in todo.into_iter().take(count) {
         bar.set_message(point.id.clone());
-        let value = solve_point(cfg, point)?;
+        let value = solve_point(cfg, point, &executor)?;
         for w in value["warnings"].as_array().into_iter().flatten() {
             bar.suspend(|| eprintln!("warning: point {}: {}", point.id, w.as_str().unwrap_or("")));
         }
@@ -149,11 +160,11 @@ pub fn run_and_merge(
     Ok((run, rows))
 }
 
-/// Solve one point: the base configuration with the point's speed, load and
-/// seed substituted.
-pub fn solve_point(cfg: &LoadedConfig, point: &Point) -> Result<Value> {
+/// Solve one point on `executor`: the base configuration with the point's
+/// speed, load and seed substituted.
+pub fn solve_point(cfg: &LoadedConfig, point: &Point, executor: &Executor) -> Result<Value> {
     let problem = point_problem(cfg, point)?;
-    let solution = problem.solve(&Executor::Cpu, &mut Silent)?;
+    let solution = problem.solve(executor, &mut Silent)?;
     let analysis = solution.analyze_configured()?;
     let mut value = solution.summary_with(analysis.as_ref());
     if let Value::Object(map) = &mut value {

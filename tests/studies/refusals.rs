@@ -137,3 +137,31 @@ fn a_sweep_refused_in_a_later_combination_solves_and_writes_nothing() {
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(!out.exists(), "a refused sweep made {}", out.display());
 }
+
+/// `sweep --backend` as `solve --backend`: the executor is named on
+/// stderr and in every point; a bad name is refused before anything is
+/// written.
+#[test]
+fn a_sweep_takes_a_backend_as_solve_does() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(
+        tmp.path(),
+        "[sweep]\nspeed = [0.01]\ninclude_static = false\n",
+    );
+    let text = std::fs::read_to_string(&cfg)
+        .unwrap()
+        .replace("mesh = \"adaptive\"", "mesh = \"uniform\"");
+    std::fs::write(&cfg, text).unwrap();
+    let out = tmp.path().join("run");
+    let o = out.display().to_string();
+    let (ok, _, err) = viscoslide(&["sweep", &cfg, "--out", &o, "--backend", "nope"]);
+    assert!(!ok && err.contains("nope"), "{err}");
+    assert!(!out.exists());
+    let (ok, _, err) = viscoslide(&["sweep", &cfg, "--out", &o, "--backend", "cpu"]);
+    assert!(ok, "{err}");
+    assert!(err.lines().any(|l| l == "backend: cpu"), "{err}");
+    let point: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("points/p0000.json")).unwrap())
+            .unwrap();
+    assert_eq!(point["backend"], "cpu", "{point}");
+}
