@@ -33,6 +33,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<surface::NativeSurface>()?;
     m.add_class::<results::NativeResult>()?;
     m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
+    m.add_function(wrap_pyfunction!(solve::check, m)?)?;
     m.add_function(wrap_pyfunction!(solve::solve_config, m)?)?;
     m.add_function(wrap_pyfunction!(theory::persson, m)?)?;
     m.add_function(wrap_pyfunction!(theory::kernel_table, m)?)?;

@@ -87,6 +87,24 @@ pub fn solve(
     run(py, &problem, backend, progress)
 }
 
+/// Build and check the problem `solve` would solve with these arguments
+/// (and the backend's name), without solving: a sweep checks every point
+/// before its first solve.
+#[pyfunction]
+#[pyo3(signature = (surface, material, loading_json, solver_json, layer_json, backend))]
+pub fn check(
+    surface: PyRef<'_, NativeSurface>,
+    material: PyRef<'_, NativeMaterial>,
+    loading_json: &str,
+    solver_json: &str,
+    layer_json: Option<&str>,
+    backend: Option<&str>,
+) -> PyResult<()> {
+    backend_choice(backend)?;
+    problem::build(&surface, &material, loading_json, solver_json, layer_json)?;
+    Ok(())
+}
+
 /// Solve the configuration at `path` with `overrides` (`section.key=value`,
 /// TOML values), as `viscoslide solve` does.
 #[pyfunction]

@@ -116,6 +116,14 @@ def solve(
     backend: Optional[str],
     progress: Progress = None,
 ) -> Result: ...
+def check(
+    surface: Surface,
+    material: Material,
+    loading_json: str,
+    solver_json: str,
+    layer_json: Optional[str],
+    backend: Optional[str],
+) -> None: ...
 def solve_config(path: str, overrides: List[str], backend: Optional[str], progress: Progress = None) -> Result: ...
 def persson(
     surface: Surface, material: Material, loading_json: str, speeds: List[float]

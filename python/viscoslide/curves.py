@@ -14,7 +14,7 @@ import numpy as np
 
 from . import _checks, _native, _progress
 from .material import Material
-from .solve import _layer, _loading, solve
+from .solve import _check, _layer, _loading, solve
 from .surface import Surface
 
 #: Columns of :func:`sweep`, in order.
@@ -116,8 +116,32 @@ def _vary_axes(vary: Any, surf: Surface, options: Dict[str, Any]) -> list:
             values = [_checks.number(key, v) for v in values]
         elif arg in _COUNT_ARGS:
             values = [_checks.count(key, v) for v in values]
+        for i, v in enumerate(values):
+            if any(_same_value(v, w) for w in values[:i]):
+                raise ValueError(f"vary {key!r} lists {v!r} twice: give each value once")
         axes.append((key, values))
+    combos = 1
+    for _, values in axes:
+        combos *= len(values)
+    if combos > MAX_VARY_COMBINATIONS:
+        sizes = " x ".join(str(len(v)) for _, v in axes)
+        raise ValueError(
+            f"vary makes {sizes} = {combos} combinations, above the limit of {MAX_VARY_COMBINATIONS}; "
+            "split the sweep into several"
+        )
     return axes
+
+
+#: The most ``vary`` combinations :func:`sweep` takes (as ``[sweep.vary]``).
+MAX_VARY_COMBINATIONS = 10_000
+
+
+def _same_value(a: Any, b: Any) -> bool:
+    """Whether two values of one ``vary`` list are the same setting
+    (numbers by value, booleans never equal to numbers)."""
+    if isinstance(a, bool) or isinstance(b, bool):
+        return type(a) is type(b) and a == b
+    return a == b
 
 
 def _vary_point(surf: Surface, combo: Dict[str, Any]) -> Tuple[Surface, Dict[str, Any]]:
@@ -191,10 +215,14 @@ def sweep(
     load_key, load = ("normal_load", loads) if loads is not None else ("mean_pressure", pressures)
     axes = _vary_axes(vary, surf, options)
     combos = [dict(zip([k for k, _ in axes], c)) for c in itertools.product(*[v for _, v in axes])]
-    # Every combination is checked before the first solve: its surface and
-    # arguments (a refused sweep solves nothing).
+    # Every point is checked before the first solve: its surface, its
+    # arguments and its problem, built as the solve builds it (a refused
+    # sweep solves nothing).
     prepared = [_vary_point(surf, c) for c in combos]
     grid = [(p, f, v) for p in range(len(combos)) for f in load for v in sliding]
+    for p, f, v in grid:
+        s_p, kwargs = prepared[p]
+        _check(s_p, material, **{sliding_key: float(v), load_key: float(f)}, **kwargs, **options)
     keys = [k for k, _ in axes]
     rows: Dict[str, list] = {c: [] for c in (*COLUMNS, *keys)}
     with _progress.points(progress, len(grid)) as callback:

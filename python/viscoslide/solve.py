@@ -279,22 +279,82 @@ def solve(
     KeyboardInterrupt
         Ctrl-C during the solve.
     """
+    args = _native_args(
+        surface,
+        material,
+        speed=speed,
+        xi=xi,
+        normal_load=normal_load,
+        mean_pressure=mean_pressure,
+        approach=approach,
+        direction_deg=direction_deg,
+        temperature=temperature,
+        formulation=formulation,
+        thickness=thickness,
+        layer_base=layer_base,
+        backend=backend,
+        tolerance=tolerance,
+        max_iterations=max_iterations,
+        max_matvecs=max_matvecs,
+        cascade_levels=cascade_levels,
+        mesh=mesh,
+        precision=precision,
+        fill_missing=fill_missing,
+        detrend=detrend,
+        window=window,
+    )
+    with _progress.iterations(progress) as callback:
+        native = _native.solve(*args, callback)
+    return _warned(Result(native))
+
+
+def _native_args(
+    surface: Any,
+    material: Material,
+    *,
+    speed: Optional[float] = None,
+    xi: Optional[float] = None,
+    normal_load: Optional[float] = None,
+    mean_pressure: Optional[float] = None,
+    approach: Optional[float] = None,
+    direction_deg: Optional[float] = None,
+    temperature: Optional[float] = None,
+    formulation: str = "auto",
+    thickness: Optional[float] = None,
+    layer_base: str = "bonded",
+    backend: Optional[str] = None,
+    tolerance: float = 1e-8,
+    max_iterations: Optional[int] = None,
+    max_matvecs: Optional[int] = None,
+    cascade_levels: Optional[int] = None,
+    mesh: Optional[str] = None,
+    precision: Optional[str] = None,
+    fill_missing: Optional[bool] = None,
+    detrend: Optional[str] = None,
+    window: Optional[str] = None,
+) -> tuple:
+    """The arguments of the native solve of :func:`solve` (its arguments
+    but ``progress``), checked as far as Python checks them."""
     surf = Surface.coerce(surface, fill_missing=fill_missing, detrend=detrend, window=window)
     if not isinstance(material, Material):
         raise TypeError(f"material must be a viscoslide.Material, got {type(material).__name__}")
     loading = _loading(speed, xi, normal_load, mean_pressure, approach, direction_deg, temperature)
     solver = _solver(surf, formulation, tolerance, max_iterations, max_matvecs, cascade_levels, mesh, precision)
-    with _progress.iterations(progress) as callback:
-        native = _native.solve(
-            surf._native,
-            material._native,
-            json.dumps(loading),
-            json.dumps(solver),
-            _layer(thickness, layer_base),
-            backend,
-            callback,
-        )
-    return _warned(Result(native))
+    return (
+        surf._native,
+        material._native,
+        json.dumps(loading),
+        json.dumps(solver),
+        _layer(thickness, layer_base),
+        backend,
+    )
+
+
+def _check(surface: Any, material: Material, **options: Any) -> None:
+    """Every check :func:`solve` makes of its problem (``options`` are its
+    arguments but ``progress``), without solving: the problem is built and
+    checked as the solve builds and checks it."""
+    _native.check(*_native_args(surface, material, **options))
 
 
 def _warned(result: Result) -> Result:

@@ -6,6 +6,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::backend::BackendChoice;
 use crate::error::{Error, Result};
+use crate::io::{LockMode, StudyLock};
 use crate::problem::{Executor, Problem};
 use crate::refine::{self, Level, RefineObserver, RefineParams, Richardson, Verdict};
 use crate::solver::Observer;
@@ -112,6 +113,9 @@ pub fn run(args: RefineArgs) -> Result<()> {
         warm_start: args.warm_start,
         ..RefineParams::new(levels)
     };
+    // Every check done: the study takes its directory for the whole run,
+    // so a second writer fails now rather than after its solves.
+    let _lock = StudyLock::acquire(&args.out, LockMode::Exclusive)?;
     let bar = ProgressBar::new_spinner();
     bar.set_style(
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}")

@@ -1,8 +1,10 @@
-//! `viscoslide sweep CONFIG --out DIR [--shard K/N]` and `viscoslide merge DIR`.
+//! `viscoslide sweep CONFIG --out DIR [--shard K/N] [--backend B]` and
+//! `viscoslide merge DIR`.
 
 use std::path::PathBuf;
 
-use crate::error::Result;
+use crate::backend::BackendChoice;
+use crate::error::{Error, Result};
 use crate::sweep::{self, Shard};
 
 #[derive(Debug, clap::Args)]
@@ -23,6 +25,10 @@ pub struct SweepArgs {
     /// Do not merge after the run.
     #[arg(long)]
     pub no_merge: bool,
+    /// Executor: auto (GPU when available), gpu or cpu; default from
+    /// VISCOSLIDE_BACKEND, else auto.
+    #[arg(long, value_enum)]
+    pub backend: Option<BackendChoice>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -34,13 +40,14 @@ pub struct MergeArgs {
 pub fn run(args: SweepArgs) -> Result<()> {
     let cfg = args.config.load()?;
     let shard = args.shard.unwrap_or(Shard::ALL);
-    let r = sweep::run_sweep(&cfg, &args.out, shard, args.limit)?;
+    let backend = BackendChoice::resolve(args.backend).map_err(Error::Invalid)?;
+    let (r, rows) =
+        sweep::run_and_merge(&cfg, &args.out, shard, args.limit, backend, !args.no_merge)?;
     println!(
         "{} points in the sweep, {} in this shard: {} already done, {} solved now",
         r.total, r.in_shard, r.skipped, r.solved
     );
-    if !args.no_merge && shard == Shard::ALL && r.skipped + r.solved == r.in_shard {
-        let rows = sweep::merge(&args.out)?;
+    if let Some(rows) = rows {
         println!(
             "merged {} rows into {}",
             rows.len(),

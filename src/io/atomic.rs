@@ -36,14 +36,19 @@ pub enum OutputError {
     NotAFile(String),
     #[error("{path}: not a directory, so the output directory {dir} cannot be made under it")]
     NotADirectory { path: String, dir: String },
-    #[error("{0}: another process is writing output there now; wait for it to finish or choose another output directory")]
-    Busy(String),
+    #[error("{dir}: another process is writing output there now{}; wait for it to finish or choose another output directory", holder_text(.holder))]
+    Busy { dir: String, holder: Option<u32> },
     #[error("{dir}: cannot write output there ({source})")]
     Unwritable {
         dir: String,
         #[source]
         source: std::io::Error,
     },
+}
+
+/// `" (pid N)"` for a known lock holder.
+fn holder_text(holder: &Option<u32>) -> String {
+    holder.map(|p| format!(" (pid {p})")).unwrap_or_default()
 }
 
 impl OutputError {
@@ -134,7 +139,12 @@ impl StagedOutput {
             // Busy: the directory is the lock holder's now, even if this
             // process created it (two writers starting at once both see it
             // missing); removing it would pull it from under the writer.
-            Ok(None) => return Err(OutputError::Busy(dir.display().to_string())),
+            Ok(None) => {
+                return Err(OutputError::Busy {
+                    dir: dir.display().to_string(),
+                    holder: super::dirlock::holder(&dir),
+                })
+            }
             Err(e) => {
                 if created {
                     let _ = fs::remove_dir(&dir);
@@ -470,6 +480,36 @@ pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<()> {
     })
 }
 
+/// Write `path` once: `bytes` appear there whole unless the file exists
+/// already, in which case it is left alone and `false` returned (two
+/// writers racing to make it: exactly one wins, the other reads its file).
+pub fn write_new(path: impl AsRef<Path>, bytes: &[u8]) -> Result<bool> {
+    let path = path.as_ref();
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let file_name = path
+        .file_name()
+        .ok_or_else(|| OutputError::NotAFile(path.display().to_string()))?;
+    remove_dead_temps(dir);
+    let tmp = dir.join(format!(
+        ".{}.tmp-{}-{}",
+        file_name.to_string_lossy(),
+        std::process::id(),
+        unique_suffix()
+    ));
+    let written = full_disk()
+        .and_then(|()| fs::write(&tmp, bytes))
+        .and_then(|()| fs::hard_link(&tmp, path));
+    let _ = fs::remove_file(&tmp);
+    match written {
+        Ok(()) => Ok(true),
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(false),
+        Err(e) => Err(OutputError::io(path, e)),
+    }
+}
+
 fn unique_suffix() -> u64 {
     use std::sync::atomic::{AtomicU64, Ordering};
     static COUNTER: AtomicU64 = AtomicU64::new(0);
@@ -509,6 +549,16 @@ mod tests {
         assert_eq!(fs::read(tmp.path().join("a.txt")).unwrap(), b"1");
         assert_eq!(fs::read(tmp.path().join("b.txt")).unwrap(), b"2");
         assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 2);
+    }
+
+    #[test]
+    fn write_new_writes_once() {
+        let tmp = tempfile::tempdir().unwrap();
+        let p = tmp.path().join("pin.toml");
+        assert!(write_new(&p, b"first").unwrap());
+        assert!(!write_new(&p, b"second").unwrap());
+        assert_eq!(fs::read(&p).unwrap(), b"first");
+        assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 1);
     }
 
     #[test]

@@ -6,7 +6,10 @@
 //! of [`super::atomic`] (`staged`, `swapped`, `renaming`; `aside` also
 //! takes the rename-aside path, as on a file system without an exchange);
 //! `VISCOSLIDE_TEST_FAULT=enospc` makes every output write fail as on a
-//! full disk. Unset (always, outside tests), nothing
+//! full disk; `VISCOSLIDE_TEST_FAULT=slow-STEP` makes the named step of a
+//! study (`point`: after each point is written) take half a second, as on
+//! a slow file system, so that a test can start a second writer while the
+//! first is at work. Unset (always, outside tests), nothing
 //! happens.
 
 /// The environment variable naming the fault.
@@ -34,4 +37,11 @@ pub fn full_disk() -> Result<(), std::io::Error> {
 /// Whether to act as if the file system could not exchange directories.
 pub fn no_exchange() -> bool {
     fault().is_some_and(|f| f == "aside")
+}
+
+/// Half a second at `step`, if the fault asks for `slow-STEP`.
+pub fn slow_point(step: &str) {
+    if fault().is_some_and(|f| f.strip_prefix("slow-") == Some(step)) {
+        std::thread::sleep(std::time::Duration::from_millis(500));
+    }
 }

@@ -6,6 +6,9 @@ pub mod dirlock;
 pub mod fault;
 pub mod memory;
 pub mod npy;
+pub mod study_lock;
 
 pub use atomic::{check_output_dir, write_atomic, OutputError, StagedOutput};
+pub use dirlock::LockMode;
 pub use memory::{available_memory, MemoryError};
+pub use study_lock::StudyLock;

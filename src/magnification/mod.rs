@@ -37,6 +37,7 @@ use serde_json::json;
 
 use crate::config::LoadedConfig;
 use crate::error::{Error, Result};
+use crate::io::{LockMode, OutputError, StudyLock};
 use crate::material::Material;
 use crate::persson::{Persson, PerssonParams};
 use crate::problem::{Executor, Problem};
@@ -132,7 +133,9 @@ impl Study {
             ));
         }
         // The coarsest level built whole checks the material, the loading
-        // and the solver sections, which every level shares.
+        // and the solver sections (the solver's combinations included),
+        // which every level shares; the checks that depend on the cell
+        // (a layer against the cell size) are strictest on its grid.
         let coarse = Problem::from_config(&plan::level_config(cfg, &levels[0], None)?)?;
         let speeds = match &params.speeds {
             Some(v) if v.is_empty() => {
@@ -361,6 +364,19 @@ pub fn run(
     shard: Shard,
     observer: &mut dyn StudyObserver,
 ) -> Result<StudyRun> {
+    if dir.is_none() && shard != Shard::ALL {
+        return Err(Error::Invalid(
+            "--shard needs an output directory to store the points in".into(),
+        ));
+    }
+    // The study is checked whole ([`Study::new`]); its first write takes
+    // the directory: alone, or shared with the other shards.
+    let mode = if shard == Shard::ALL {
+        LockMode::Exclusive
+    } else {
+        LockMode::Shared
+    };
+    let mut lock = dir.map(|d| StudyLock::acquire(d, mode)).transpose()?;
     let store = match dir {
         Some(d) => Some(PointStore::open(
             d,
@@ -368,11 +384,6 @@ pub fn run(
             &study.pin_text(),
             "magnification study",
         )?),
-        None if shard != Shard::ALL => {
-            return Err(Error::Invalid(
-                "--shard needs an output directory to store the points in".into(),
-            ))
-        }
         None => None,
     };
     let mine: Vec<&StudyPoint> = study
@@ -417,14 +428,23 @@ pub fn run(
                     persson_curves: study.persson_curves()?,
                 },
             );
-            let written = match dir {
-                Some(d) => report.write(d)?,
-                None => Vec::new(),
-            };
-            (Some(report), written)
+            if shard != Shard::ALL {
+                // The report takes the directory alone: a shard lets its
+                // shared lock go first, and leaves the report to a shard
+                // still at work (it writes it when it ends).
+                lock = None;
+            }
+            match dir.map(|d| report.write(d)).transpose() {
+                Ok(written) => (Some(report), written.unwrap_or_default()),
+                Err(Error::Output(OutputError::Busy { .. })) if shard != Shard::ALL => {
+                    (None, Vec::new())
+                }
+                Err(e) => return Err(e),
+            }
         }
         None => (None, Vec::new()),
     };
+    drop(lock);
     Ok(StudyRun {
         total: study.points.len(),
         in_shard: mine.len(),

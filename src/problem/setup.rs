@@ -213,6 +213,13 @@ impl Problem {
                 "[solver] mesh = \"adaptive\" needs formulation = \"non_periodic\" (the periodic formulation is spectral)",
             ));
         }
+        // Checked here, not at the solve, so that a study or a sweep
+        // refuses it before its first point.
+        if self.mesh == MeshKind::Adaptive && self.params.precision == Precision::Mixed {
+            return Err(invalid(
+                "[solver] precision = \"mixed\" applies to uniform and periodic grids; the adaptive mesh solves in f64 (use precision = \"f64\" or mesh = \"uniform\")",
+            ));
+        }
         self.adaptive.check().map_err(invalid)?;
         if self.mesh == MeshKind::Adaptive {
             self.check_adaptive_cells()?;

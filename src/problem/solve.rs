@@ -110,11 +110,6 @@ impl Problem {
                 )));
             }
         }
-        if self.params.precision == Precision::Mixed && kind == Discretisation::Adaptive {
-            return Err(invalid(
-                "[solver] precision = \"mixed\" applies to uniform and periodic grids; the adaptive mesh solves in f64 (use precision = \"f64\" or mesh = \"uniform\")",
-            ));
-        }
         let raw = match (kind, executor) {
             (Discretisation::Periodic, Executor::Cpu) => self.periodic_cpu(start, observer)?,
             (Discretisation::Periodic, Executor::Gpu(_)) => {

@@ -22,7 +22,7 @@ use super::theory::{recorded_curves, theory_curves, theory_for};
 use super::{master, Point};
 
 use crate::error::{Error, Result};
-use crate::io::StagedOutput;
+use crate::io::{LockMode, StagedOutput, StudyLock};
 use crate::plot::{xy_chart, Series, XyChart};
 
 struct PointResult {
@@ -70,6 +70,9 @@ struct PointFile {
     contact_area_fraction: f64,
     analysis: Option<Headline>,
     point: Point,
+    /// The study the point was solved for ([`super::store::study_id`]).
+    #[serde(default)]
+    study: Option<String>,
     /// Persson's theory at the point (absent in points of older versions).
     #[serde(default)]
     persson_friction_coefficient: Option<f64>,
@@ -104,11 +107,22 @@ fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
         .collect();
     names.sort();
+    // Only the points of the pinned study: a file of another (an earlier
+    // version's, or copied in) is left out, and said so.
+    let pin = dir.join(super::CONFIG_FILE);
+    let study = std::fs::read_to_string(&pin)
+        .map(|t| super::store::study_id(&t))
+        .map_err(|e| Error::io(&pin, e))?;
+    let mut foreign = 0;
     let mut out = Vec::new();
     for path in names {
         let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
         let v: PointFile = serde_json::from_str(&text)
             .map_err(|e| Error::Invalid(format!("{}: not a point result: {e}", path.display())))?;
+        if v.study.as_deref() != Some(study.as_str()) {
+            foreign += 1;
+            continue;
+        }
         out.push(PointResult {
             key_combo: v.point.index,
             vary: v.point.vary.clone(),
@@ -128,6 +142,13 @@ fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
             persson_mu: v.persson_friction_coefficient,
             persson_area: v.persson_contact_area_fraction,
         });
+    }
+    if foreign > 0 {
+        eprintln!(
+            "note: {foreign} point files in {} belong to another study than {} pins; left out",
+            points_dir.display(),
+            pin.display()
+        );
     }
     if out.is_empty() {
         return Err(Error::Invalid(format!(
@@ -245,6 +266,12 @@ pub fn csv(rows: &[MergedRow]) -> String {
 /// Merge the finished points of `dir` into `dir/sweep.csv` and the plots
 /// (written atomically together). Returns the rows.
 pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
+    if !dir.join("points").is_dir() {
+        // aggregate's error, before the lock (which would make `dir`).
+        return aggregate(dir);
+    }
+    // One writer: no sweep adds points while they are merged.
+    let _lock = StudyLock::acquire(dir, LockMode::Exclusive)?;
     let mut rows = aggregate(dir)?;
     let use_xi = rows.iter().all(|r| r.xi.is_some());
     let x_of = |r: &MergedRow| if use_xi { r.xi.unwrap_or(0.0) } else { r.speed };

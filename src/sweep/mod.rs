@@ -18,16 +18,18 @@ pub use compare::{compare, read_measured, Measured};
 pub use merge::{aggregate, merge};
 pub use plan::{Point, Shard, SweepPlan};
 pub use row::MergedRow;
-pub use store::PointStore;
+pub use store::{study_id, PointStore};
 
 use std::path::Path;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::Value;
 
+use crate::backend::BackendChoice;
 use crate::config::{self, Config, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic;
+use crate::io::{LockMode, StudyLock};
 use crate::problem::{Executor, Problem};
 use crate::solver::Silent;
 
@@ -53,12 +55,34 @@ pub struct SweepRun {
 
 /// Run (or resume) the sweep of `cfg` into `dir`. `limit` stops after that
 /// many new points (the rest is left for a later run).
+///
+/// The whole plan is checked first (the axes, the `[sweep.vary]` keys and
+/// values, the problem of every combination), then `dir` is locked (made
+/// if missing): the run alone, or shared with the other shards of the same
+/// sweep with `--shard`; a second writer fails at once.
 pub fn run_sweep(
     cfg: &LoadedConfig,
     dir: &Path,
     shard: Shard,
     limit: Option<usize>,
+    backend: BackendChoice,
 ) -> Result<SweepRun> {
+    Ok(run_and_merge(cfg, dir, shard, limit, backend, false)?.0)
+}
+
+/// [`run_sweep`], then with `merge`, when the run covers every point
+/// (no shard) and all are done, [`merge`] under the same lock: no other
+/// writer comes between the last point and the merge. The points are
+/// solved on the executor `backend` selects (as `solve` selects it, for
+/// the first point's problem; its line goes to stderr).
+pub fn run_and_merge(
+    cfg: &LoadedConfig,
+    dir: &Path,
+    shard: Shard,
+    limit: Option<usize>,
+    backend: BackendChoice,
+    merge: bool,
+) -> Result<(SweepRun, Option<Vec<MergedRow>>)> {
     let sweep = cfg.config.sweep.clone().ok_or_else(|| {
         Error::Invalid(format!(
             "{}: a sweep needs a [sweep] section",
@@ -71,14 +95,26 @@ pub fn run_sweep(
     // seed, each already checked by the plan, so the first point of every
     // combination that builds means they all do; a refused sweep creates
     // nothing.
+    let mut selected = None;
     for combo in plan.vary_combinations() {
         let first = plan
             .points
             .iter()
             .find(|p| &p.vary == combo)
             .expect("a combination has points");
-        point_problem(cfg, first)?;
+        let problem = point_problem(cfg, first)?;
+        if selected.is_none() {
+            selected = Some(Executor::select(backend, &problem)?);
+        }
     }
+    let (executor, line) = selected.expect("a plan has points");
+    eprintln!("{line}");
+    let mode = if shard == Shard::ALL {
+        LockMode::Exclusive
+    } else {
+        LockMode::Shared
+    };
+    let _lock = StudyLock::acquire(dir, mode)?;
     let store = pin_config(cfg, dir)?;
     let mine: Vec<&Point> = plan
         .points
@@ -101,7 +137,7 @@ pub fn run_sweep(
     let mut solved = 0;
     for point in todo.into_iter().take(count) {
         bar.set_message(point.id.clone());
-        let value = solve_point(cfg, point)?;
+        let value = solve_point(cfg, point, &executor)?;
         for w in value["warnings"].as_array().into_iter().flatten() {
             bar.suspend(|| eprintln!("warning: point {}: {}", point.id, w.as_str().unwrap_or("")));
         }
@@ -110,19 +146,25 @@ pub fn run_sweep(
         bar.inc(1);
     }
     bar.finish_and_clear();
-    Ok(SweepRun {
+    let run = SweepRun {
         total: plan.points.len(),
         in_shard: mine.len(),
         skipped,
         solved,
-    })
+    };
+    let rows = if merge && shard == Shard::ALL && run.skipped + run.solved == run.in_shard {
+        Some(self::merge(dir)?)
+    } else {
+        None
+    };
+    Ok((run, rows))
 }
 
-/// Solve one point: the base configuration with the point's speed, load and
-/// seed substituted.
-pub fn solve_point(cfg: &LoadedConfig, point: &Point) -> Result<Value> {
+/// Solve one point on `executor`: the base configuration with the point's
+/// speed, load and seed substituted.
+pub fn solve_point(cfg: &LoadedConfig, point: &Point, executor: &Executor) -> Result<Value> {
     let problem = point_problem(cfg, point)?;
-    let solution = problem.solve(&Executor::Cpu, &mut Silent)?;
+    let solution = problem.solve(executor, &mut Silent)?;
     let analysis = solution.analyze_configured()?;
     let mut value = solution.summary_with(analysis.as_ref());
     if let Value::Object(map) = &mut value {
@@ -172,39 +214,66 @@ fn point_problem(cfg: &LoadedConfig, point: &Point) -> Result<Problem> {
 }
 
 /// The configuration of `point` before its speed, load and seed: the
-/// base document with each `[sweep.vary]` value set as `--set` sets it
-/// ([`config::set_value`]) and typed again. A key the configuration does
-/// not have, or a value of the wrong type, is refused in one line naming
-/// the key and the value.
+/// base document with every `[sweep.vary]` value set as `--set` sets it
+/// ([`config::set_value`], which makes the sections a key needs) and
+/// typed again. A key the configuration does not have, or a value of the
+/// wrong type, is refused in one line naming the key and the value.
 pub fn point_config(cfg: &LoadedConfig, point: &Point) -> Result<Config> {
     if point.vary.is_empty() {
         return Ok(cfg.config.clone());
     }
-    let mut document = cfg.document.clone();
     let name = cfg.path.display().to_string();
+    let what = |key: &str, value: &toml::Value| format!("{name}: [sweep.vary] \"{key}\" = {value}");
+    let mut document = cfg.document.clone();
     for (key, value) in &point.vary {
-        let what = || format!("{name}: [sweep.vary] \"{key}\" = {value}");
         config::set_value(&mut document, key, value.clone())
-            .map_err(|e| Error::Invalid(format!("{}: {e}", what())))?;
-        // Typed after each key, so that an error names the key that made it.
-        if let Err(e) = config::parse_document(&document, &name) {
-            let message = match e {
-                config::ConfigError::Parse { message, .. } => message,
-                other => other.to_string(),
-            };
-            // "line N, key `k`: ..." names a line of the merged document.
-            let message = match message.split_once(", ") {
-                Some((head, rest)) if head.starts_with("line ") => rest.to_string(),
-                _ => message,
-            };
-            return Err(Error::Invalid(format!("{}: {message}", what())));
+            .map_err(|e| Error::Invalid(format!("{}: {e}", what(key, value))))?;
+    }
+    // Typed once all keys are set: keys that together make a section
+    // (`layer.base` and `layer.thickness` without a `[layer]`) are valid
+    // only together.
+    let message = match config::parse_document(&document, &name) {
+        Ok(config) => return Ok(config),
+        Err(e) => parse_message(e),
+    };
+    // The key to name: the first whose value, set after those before it,
+    // gives this same error.
+    let mut partial = cfg.document.clone();
+    for (key, value) in &point.vary {
+        config::set_value(&mut partial, key, value.clone()).expect("set above");
+        if let Err(e) = config::parse_document(&partial, &name) {
+            if parse_message(e) == message {
+                return Err(Error::Invalid(format!("{}: {message}", what(key, value))));
+            }
         }
     }
-    Ok(config::parse_document(&document, &name)?)
+    let values: Vec<String> = point
+        .vary
+        .iter()
+        .map(|(k, v)| format!("\"{k}\" = {v}"))
+        .collect();
+    Err(Error::Invalid(format!(
+        "{name}: [sweep.vary] {}: {message}",
+        values.join(", ")
+    )))
+}
+
+/// A configuration error without the line of the merged document it
+/// names ("line N, key `k`: ...").
+fn parse_message(e: config::ConfigError) -> String {
+    let message = match e {
+        config::ConfigError::Parse { message, .. } => message,
+        other => other.to_string(),
+    };
+    match message.split_once(", ") {
+        Some((head, rest)) if head.starts_with("line ") => rest.to_string(),
+        _ => message,
+    }
 }
 
 /// Record the configuration in `dir`, or check that it matches the one
 /// recorded there: a sweep directory holds the points of one configuration.
+/// The caller holds the directory's lock.
 fn pin_config(cfg: &LoadedConfig, dir: &Path) -> Result<PointStore> {
     let text = toml::to_string(&cfg.document).expect("a parsed document serialises");
     let store = PointStore::open(dir, CONFIG_FILE, &text, "sweep")?;

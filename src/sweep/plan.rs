@@ -191,11 +191,19 @@ impl SweepPlan {
     }
 }
 
-/// The `[sweep.vary]` keys and their values, checked: dotted keys of a
-/// section, non-empty lists, and no key that the sweep's own axes set (the
-/// speed always; the load with `normal_load`; the seed with `seeds`) or of
-/// `[sweep]` itself. Whether a key exists and takes such a value is the
-/// configuration's to say, when each point is built.
+/// The most `[sweep.vary]` combinations (the product of the lengths of
+/// its lists) a sweep takes: every combination is built and checked
+/// before the first point is solved, so the limit is checked first.
+pub const MAX_VARY_COMBINATIONS: u64 = 10_000;
+
+/// The `[sweep.vary]` keys and their values, checked: config paths
+/// (dotted keys of a section, no whitespace, each key once after its parts
+/// are trimmed as `--set` trims them), non-empty lists without a value
+/// twice, no key that the sweep's own axes set (the speed always; the load
+/// with `normal_load`; the seed with `seeds`) or of `[sweep]` itself, and
+/// at most [`MAX_VARY_COMBINATIONS`] combinations. Whether a key exists
+/// and takes such a value is the configuration's to say, when each point
+/// is built.
 fn vary_axes(cfg: &SweepConfig) -> Result<Vec<(String, Vec<toml::Value>)>> {
     let Some(vary) = &cfg.vary else {
         return Ok(Vec::new());
@@ -211,12 +219,26 @@ fn vary_axes(cfg: &SweepConfig) -> Result<Vec<(String, Vec<toml::Value>)>> {
     if cfg.seeds.is_some() {
         taken.push("surface.generate.seed");
     }
-    let mut out = Vec::new();
-    for (key, values) in vary {
-        let k = key.trim();
-        if !k.contains('.') || k.split('.').any(|p| p.trim().is_empty()) {
+    // A key given twice (once with a stray space) first: that is the
+    // mistake to name, not the space.
+    let keys: Vec<(&String, String)> = vary.keys().map(|k| (k, normal_key(k))).collect();
+    for (i, (key, k)) in keys.iter().enumerate() {
+        if let Some((other, _)) = keys[..i].iter().find(|(_, n)| n == k) {
+            return Err(Error::Invalid(format!(
+                "[sweep.vary] \"{other}\" and \"{key}\" are the same key \"{k}\": give it once"
+            )));
+        }
+    }
+    let mut out: Vec<(String, Vec<toml::Value>)> = Vec::new();
+    for ((key, k), values) in keys.into_iter().zip(vary.values()) {
+        if !k.contains('.') || k.split('.').any(str::is_empty) {
             return Err(Error::Invalid(format!(
                 "[sweep.vary] \"{key}\": expected a dotted config key such as \"loading.temperature\""
+            )));
+        }
+        if key.chars().any(char::is_whitespace) {
+            return Err(Error::Invalid(format!(
+                "[sweep.vary] \"{key}\": a config key has no spaces; write \"{k}\""
             )));
         }
         if k == "sweep" || k.starts_with("sweep.") {
@@ -224,7 +246,7 @@ fn vary_axes(cfg: &SweepConfig) -> Result<Vec<(String, Vec<toml::Value>)>> {
                 "[sweep.vary] \"{key}\": the sweep's own keys cannot be varied"
             )));
         }
-        if taken.contains(&k) {
+        if taken.contains(&k.as_str()) {
             return Err(Error::Invalid(format!(
                 "[sweep.vary] \"{key}\" is an axis of [sweep] already (speed, xi, normal_load, seeds): give its values there"
             )));
@@ -234,9 +256,46 @@ fn vary_axes(cfg: &SweepConfig) -> Result<Vec<(String, Vec<toml::Value>)>> {
                 "[sweep.vary] \"{key}\" is empty: give at least one value"
             )));
         }
-        out.push((k.to_string(), values.clone()));
+        for (i, v) in values.iter().enumerate() {
+            if values[..i].iter().any(|w| same_value(v, w)) {
+                return Err(Error::Invalid(format!(
+                    "[sweep.vary] \"{key}\" lists {v} twice: give each value once (realisations are [sweep] seeds)"
+                )));
+            }
+        }
+        out.push((k, values.clone()));
+    }
+    let combos = out
+        .iter()
+        .try_fold(1u64, |acc, (_, v)| acc.checked_mul(v.len() as u64))
+        .unwrap_or(u64::MAX);
+    if combos > MAX_VARY_COMBINATIONS {
+        let sizes: Vec<String> = out.iter().map(|(_, v)| v.len().to_string()).collect();
+        return Err(Error::Invalid(format!(
+            "[sweep.vary] makes {} = {combos} combinations, above the limit of {MAX_VARY_COMBINATIONS}; split the sweep into several",
+            sizes.join(" x ")
+        )));
     }
     Ok(out)
+}
+
+/// A `[sweep.vary]` key as `--set` reads it: its dotted parts trimmed.
+fn normal_key(key: &str) -> String {
+    key.split('.').map(str::trim).collect::<Vec<_>>().join(".")
+}
+
+/// Whether two values of one `[sweep.vary]` list are the same setting
+/// (numbers compared by value: `7` and `7.0` are one temperature).
+fn same_value(a: &toml::Value, b: &toml::Value) -> bool {
+    let number = |v: &toml::Value| match v {
+        toml::Value::Integer(i) => Some(*i as f64),
+        toml::Value::Float(f) => Some(*f),
+        _ => None,
+    };
+    match (number(a), number(b)) {
+        (Some(x), Some(y)) => x == y,
+        _ => a == b,
+    }
 }
 
 /// Every combination of the `vary` values, the last key fastest.

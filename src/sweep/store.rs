@@ -3,42 +3,69 @@
 //! of the study (`DIR/<pin file>`) that a rerun must match. Shared by
 //! [`super::run_sweep`] and the magnification study, so that resuming and
 //! sharding work the same way for every study made of independent points.
+//!
+//! The pin is written once (the first writer's stays; a writer that finds
+//! another one is refused), and every point file records the study it
+//! belongs to (`"study"`, a hash of the pin): a point counts as done only
+//! for the study it was solved for.
 
 use std::path::{Path, PathBuf};
 
+use md5::{Digest, Md5};
 use serde_json::Value;
 
 use crate::error::{Error, Result};
-use crate::io::atomic::write_atomic;
+use crate::io::atomic::{write_atomic, write_new};
+
+/// Key of a point file naming its study.
+pub const STUDY_KEY: &str = "study";
 
 /// The `points/` folder of a study directory, its pin checked.
 #[derive(Debug, Clone)]
 pub struct PointStore {
     points: PathBuf,
+    study: String,
+}
+
+/// The identity of the study pinned by `pin_text`: the MD5 of the text,
+/// in hex.
+pub fn study_id(pin_text: &str) -> String {
+    Md5::digest(pin_text.as_bytes())
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
 }
 
 impl PointStore {
     /// Open the store in `dir` for the study described by `pin_text`:
-    /// checks that `dir` can take output, records `pin_text` in
-    /// `dir/pin_file` (or checks that the one recorded there is the same:
-    /// a directory holds the points of one study; `what` names the study
-    /// in the error) and creates `dir/points/`.
+    /// records `pin_text` in `dir/pin_file` if no study is pinned there
+    /// (once: of two writers racing, one pin stays) or checks that the one
+    /// recorded is the same (a directory holds the points of one study;
+    /// `what` names the study in the error), and creates `dir/points/`.
+    /// The caller holds the directory's lock
+    /// ([`crate::io::StudyLock`]).
     pub fn open(dir: &Path, pin_file: &str, pin_text: &str, what: &str) -> Result<Self> {
-        crate::io::check_output_dir(dir)?;
         let pinned = dir.join(pin_file);
-        match std::fs::read_to_string(&pinned) {
-            Ok(old) if old == pin_text => {}
-            Ok(_) => {
-                return Err(Error::Invalid(format!(
-                    "{} holds a {what} made with a different configuration; use another --out directory (or delete it) instead of mixing results",
-                    dir.display()
-                )))
+        let ours = match std::fs::read_to_string(&pinned) {
+            Ok(old) => old == pin_text,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                write_new(&pinned, pin_text.as_bytes())?
+                    || std::fs::read_to_string(&pinned).is_ok_and(|old| old == pin_text)
             }
-            Err(_) => write_atomic(&pinned, pin_text.as_bytes())?,
+            Err(e) => return Err(Error::io(&pinned, e)),
+        };
+        if !ours {
+            return Err(Error::Invalid(format!(
+                "{} holds a {what} made with a different configuration; use another --out directory (or delete it) instead of mixing results",
+                dir.display()
+            )));
         }
         let points = dir.join("points");
         std::fs::create_dir_all(&points).map_err(|e| Error::io(&points, e))?;
-        Ok(Self { points })
+        Ok(Self {
+            points,
+            study: study_id(pin_text),
+        })
     }
 
     /// The file of point `id`.
@@ -46,14 +73,14 @@ impl PointStore {
         self.points.join(format!("{id}.json"))
     }
 
-    /// The finished point `id`: its file parses and has `key` (a point
-    /// cut off mid-write never has a file at all; the key guards against
-    /// files of another kind).
+    /// The finished point `id` of this study: its file parses, has `key`
+    /// (a point cut off mid-write never has a file at all; the key guards
+    /// against files of another kind) and names this study.
     pub fn read(&self, id: &str, key: &str) -> Option<Value> {
         std::fs::read_to_string(self.path(id))
             .ok()
             .and_then(|t| serde_json::from_str::<Value>(&t).ok())
-            .filter(|v| v.get(key).is_some())
+            .filter(|v| v.get(key).is_some() && self.owns(v))
     }
 
     /// Whether point `id` is finished (see [`PointStore::read`]).
@@ -61,11 +88,21 @@ impl PointStore {
         self.read(id, key).is_some()
     }
 
-    /// Write point `id` atomically.
+    /// Whether the point file `value` belongs to this study.
+    pub fn owns(&self, value: &Value) -> bool {
+        value.get(STUDY_KEY).and_then(Value::as_str) == Some(self.study.as_str())
+    }
+
+    /// Write point `id` atomically, marked as this study's.
     pub fn write(&self, id: &str, value: &Value) -> Result<()> {
+        let mut value = value.clone();
+        if let Value::Object(map) = &mut value {
+            map.insert(STUDY_KEY.into(), Value::String(self.study.clone()));
+        }
+        crate::io::fault::slow_point("point");
         write_atomic(
             self.path(id),
-            serde_json::to_string_pretty(value)
+            serde_json::to_string_pretty(&value)
                 .expect("serialisable")
                 .as_bytes(),
         )?;

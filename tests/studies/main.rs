@@ -4,7 +4,10 @@
 //! here is a module; run one with `cargo test --release --test studies FILE::`.
 
 mod magnification;
+mod one_writer;
 mod persson_cli;
 mod persson_theory;
+mod refusals;
 mod sweep;
 mod sweep_vary;
+mod vary_keys;
