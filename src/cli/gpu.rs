@@ -103,6 +103,17 @@ fn plan(args: PlanArgs) -> Result<()> {
             args.ny.unwrap_or(args.n)
         )));
     }
+    for (flag, value) in [
+        ("--shared-kib", args.shared_kib),
+        ("--binding-mib", args.binding_mib),
+        ("--buffer-mib", args.buffer_mib),
+    ] {
+        if value == 0 {
+            return Err(Error::Invalid(format!(
+                "{flag} 0: an adapter's limit is at least 1 (WebGPU guarantees 16 KiB of workgroup storage, 128 MiB per binding, 256 MiB per buffer)"
+            )));
+        }
+    }
     if !(args.bandwidth.is_finite() && args.bandwidth > 0.0) {
         return Err(Error::Invalid(format!(
             "--bandwidth {} TB/s must be positive and finite",

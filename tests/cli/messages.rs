@@ -172,6 +172,13 @@ fn gpu_plan_and_compare_refuse_nonsense() {
             &["--bandwidth", "positive"],
         );
     }
+    // Zero limits were accepted (and planned with).
+    for flag in ["--shared-kib", "--binding-mib", "--buffer-mib"] {
+        assert_refused(
+            &viscoslide(&["gpu", "plan", "--n", "64", flag, "0"]),
+            &[&format!("{flag} 0"), "at least 1"],
+        );
+    }
     let tmp = tempfile::tempdir().unwrap();
     let csv = tmp.path().join("m.csv");
     std::fs::write(&csv, "speed_m_s,mu\n0.01,0.5\n").unwrap();
