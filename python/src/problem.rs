@@ -34,9 +34,13 @@ pub fn build(
     let solver: SolverConfig = section("solver", solver_json)?;
     let layer: Option<LayerConfig> = layer_json.map(|j| section("layer", j)).transpose()?;
     // The periodic formulation takes a measured map as one period.
-    let (map, preprocessing) = match (solver.formulation.unwrap_or_default(), &surface.period) {
-        (Formulation::Periodic, Some((m, p))) => (m, Some(*p)),
-        _ => (&surface.map, surface.preprocessing),
+    let period = match solver.formulation.unwrap_or_default() {
+        Formulation::Periodic => surface.as_period()?,
+        Formulation::NonPeriodic => None,
+    };
+    let (map, preprocessing) = match &period {
+        Some((m, p)) => (m.as_ref(), Some(*p)),
+        None => (&surface.map, surface.preprocessing),
     };
     let restart = solver
         .restart

@@ -5,6 +5,7 @@
 //! (a problem can re-generate it on another grid) and the section is
 //! recorded in a solve's `summary.json`.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
@@ -31,10 +32,10 @@ pub struct NativeSurface {
     pub section: Option<SurfaceConfig>,
     /// How a measured map was prepared (`None`: generated, taken as it is).
     pub preprocessing: Option<Preprocessing>,
-    /// A measured map not marked periodic, prepared as one period for a
-    /// solve with the periodic formulation (detrend and window `none`
-    /// unless given; [`SurfaceConfig::preprocessing_for`]); `None` when
-    /// that is `map` itself.
+    /// An array not marked periodic, prepared as one period for a solve
+    /// with the periodic formulation (detrend and window `none` unless
+    /// given; [`SurfaceConfig::preprocessing_for`]); `None` when that is
+    /// `map` itself, and for files ([`NativeSurface::as_period`]).
     pub period: Option<(HeightMap, Preprocessing)>,
 }
 
@@ -46,21 +47,38 @@ impl NativeSurface {
         let source = SurfaceSource::of(&section, base_dir).map_err(value_error)?;
         let seed = section.generate.as_ref().map(|g| g.seed.unwrap_or(0));
         let preprocessing = section.preprocessing().map_err(value_error)?;
-        let as_period = section.preprocessing_for(true).map_err(value_error)?;
-        let period = match as_period {
-            Some(p) if Some(p) != preprocessing => {
-                Some((section.load_for(base_dir, true).map_err(value_error)?, p))
-            }
-            _ => None,
-        };
         Ok(Self {
             map,
             source,
             seed,
             section: Some(section),
             preprocessing,
-            period,
+            // A file is read again as one period only when a periodic
+            // solve asks for it ([`NativeSurface::as_period`]).
+            period: None,
         })
+    }
+
+    /// The map as one period, for a solve with the periodic formulation
+    /// ([`SurfaceConfig::preprocessing_for`]); `None` when that is `map`
+    /// itself. An array's is made with the surface; a file's (its path is
+    /// absolute) is read again here, when a periodic solve needs it.
+    pub fn as_period(&self) -> PyResult<Option<(Cow<'_, HeightMap>, Preprocessing)>> {
+        if let Some((m, p)) = &self.period {
+            return Ok(Some((Cow::Borrowed(m), *p)));
+        }
+        let Some(section) = &self.section else {
+            return Ok(None);
+        };
+        match section.preprocessing_for(true).map_err(value_error)? {
+            Some(p) if Some(p) != self.preprocessing => {
+                let map = section
+                    .load_for(Path::new("."), true)
+                    .map_err(value_error)?;
+                Ok(Some((Cow::Owned(map), p)))
+            }
+            _ => Ok(None),
+        }
     }
 }
 
