@@ -15,6 +15,7 @@
 
 use std::hint::black_box;
 use std::time::Duration;
+use viscoslide::response::{Grid, SlidingResponse};
 
 mod common;
 
@@ -22,7 +23,7 @@ use common::{material, surface_gap};
 use criterion::{criterion_group, criterion_main, Criterion};
 use viscoslide::backend::gpu::{FftChoice, GpuBackend, GpuContext, GpuOptions};
 use viscoslide::backend::Backend;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::solver::{self, Control, SolverParams};
 
 fn ci() -> bool {
@@ -34,15 +35,11 @@ fn large() -> bool {
 }
 
 fn table(n: usize) -> Vec<f64> {
-    let k = SlidingKernel::new(
-        &material(),
-        KernelParams {
-            speed: 1.17e-2,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    k.table(n, n, 0.01 / n as f64).values
+    let k = SlidingKernel::new(&SlidingResponse::new(&material(), 1.17e-2, 0.0, None).unwrap())
+        .unwrap();
+    k.table(&Grid::square(n, n, 0.01 / n as f64).unwrap())
+        .unwrap()
+        .values
 }
 
 fn open() -> Option<GpuContext> {
@@ -68,15 +65,16 @@ fn bench_coefficients(c: &mut Criterion) {
     let Some(ctx) = open() else { return };
     let mut engine = Engine::new(ctx);
     let m = material();
-    let params = KernelParams {
-        speed: 1.17e-2,
-        ..Default::default()
-    };
+    let params = 1.17e-2;
     for n in sizes {
         group.bench_function(format!("{n}x{n}"), |b| {
             b.iter(|| {
-                coefficients::coefficient_table(&mut engine, &m, &params, n, n, 0.01 / n as f64)
-                    .unwrap()
+                coefficients::coefficient_table(
+                    &mut engine,
+                    &response(&m, params),
+                    &Grid::square(n, n, 0.01 / n as f64).unwrap(),
+                )
+                .unwrap()
             })
         });
     }
@@ -196,12 +194,9 @@ fn bench_adaptive_matvec(c: &mut Criterion) {
     let a = 1e-4;
     let cells = ring_mesh(f, levels, a);
     let n = cells.len();
-    let params = KernelParams {
-        speed: 1.17e-2,
-        ..Default::default()
-    };
+    let params = 1.17e-2;
     let engine = viscoslide::backend::gpu::engine::Engine::new(ctx);
-    let mut be = GpuBackend::with_adaptive(engine, &material(), &params, &cells).unwrap();
+    let mut be = GpuBackend::with_adaptive(engine, &response(&material(), params), &cells).unwrap();
     let host: Vec<f64> = (0..n)
         .map(|i| {
             if i < nonzero {
@@ -239,16 +234,13 @@ fn bench_level_matvec(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(10));
     let Some(ctx) = open() else { return };
     let a = 0.01 / n as f64;
-    let params = KernelParams {
-        speed: 1.17e-2,
-        ..Default::default()
-    };
+    let params = 1.17e-2;
     let m = material();
     let mut engine = Engine::new(ctx);
     group.bench_function(format!("tables_{n}x{n}_levels0-5"), |b| {
-        b.iter(|| GpuLevelTables::new(&mut engine, &m, &params, n, n, a, 5).unwrap())
+        b.iter(|| GpuLevelTables::new(&mut engine, &response(&m, params), n, n, a, 5).unwrap())
     });
-    let tables = GpuLevelTables::new(&mut engine, &m, &params, n, n, a, 5).unwrap();
+    let tables = GpuLevelTables::new(&mut engine, &response(&m, params), n, n, a, 5).unwrap();
     let g = surface_gap(n);
     let mut sorted = g.clone();
     sorted.sort_by(f64::total_cmp);
@@ -284,3 +276,8 @@ criterion_group!(
     bench_level_matvec
 );
 criterion_main!(benches);
+
+/// The half-space response of `material` sliding along +x at `speed` [m/s].
+fn response(material: &viscoslide::material::Material, speed: f64) -> SlidingResponse {
+    SlidingResponse::new(material, speed, 0.0, None).unwrap()
+}

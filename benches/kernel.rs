@@ -5,9 +5,10 @@
 //! (bonded, cell integrals of Eq. 5). Set `CI` to shrink to 128^2.
 
 use std::hint::black_box;
+use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use viscoslide::kernel::{Axis, KernelParams, Layer, LayerBase, SlidingKernel};
+use viscoslide::kernel::{Axis, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, CreepTerm, Material};
 
 fn sls() -> Material {
@@ -42,49 +43,69 @@ fn bench(c: &mut Criterion) {
     let cell = 1e-3;
     let mut group = c.benchmark_group("kernel_table");
     group.sample_size(10);
-    let sls_kernel = SlidingKernel::new(
-        &sls(),
-        KernelParams {
-            speed: 3.0 * cell / 0.01,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let sls_kernel =
+        SlidingKernel::new(&SlidingResponse::new(&sls(), 3.0 * cell / 0.01, 0.0, None).unwrap())
+            .unwrap();
     group.bench_function(format!("sls_vtau3_{n}"), |b| {
-        b.iter(|| black_box(sls_kernel.table(black_box(n), n, cell)))
+        b.iter(|| {
+            black_box(
+                sls_kernel
+                    .table(&Grid::square(black_box(n), n, cell).unwrap())
+                    .unwrap(),
+            )
+        })
     });
     group.bench_function(format!("sls_vtau3_dx_{n}"), |b| {
-        b.iter(|| black_box(sls_kernel.derivative_table(black_box(n), n, cell, Axis::X)))
+        b.iter(|| {
+            black_box(
+                sls_kernel
+                    .derivative_table(&Grid::square(black_box(n), n, cell).unwrap(), Axis::X)
+                    .unwrap(),
+            )
+        })
     });
-    let spec_kernel = SlidingKernel::new(
-        &spectrum34(),
-        KernelParams {
-            speed: 1e-3,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let spec_kernel =
+        SlidingKernel::new(&SlidingResponse::new(&spectrum34(), 1e-3, 0.0, None).unwrap()).unwrap();
     group.bench_function(format!("spectrum34_{n}"), |b| {
-        b.iter(|| black_box(spec_kernel.table(black_box(n), n, cell)))
+        b.iter(|| {
+            black_box(
+                spec_kernel
+                    .table(&Grid::square(black_box(n), n, cell).unwrap())
+                    .unwrap(),
+            )
+        })
     });
     let nl = if ci { 128 } else { 256 };
     let layer_kernel = SlidingKernel::new(
-        &sls(),
-        KernelParams {
-            speed: 3.0 * cell / 0.01,
-            layer: Some(Layer {
+        &SlidingResponse::new(
+            &sls(),
+            3.0 * cell / 0.01,
+            0.0,
+            Some(Layer {
                 thickness: 2.0 * cell,
                 base: LayerBase::Bonded,
             }),
-            ..Default::default()
-        },
+        )
+        .unwrap(),
     )
     .unwrap();
     group.bench_function(format!("layer_2cells_{nl}"), |b| {
-        b.iter(|| black_box(layer_kernel.table(black_box(nl), nl, cell)))
+        b.iter(|| {
+            black_box(
+                layer_kernel
+                    .table(&Grid::square(black_box(nl), nl, cell).unwrap())
+                    .unwrap(),
+            )
+        })
     });
     group.bench_function(format!("layer_2cells_dx_{nl}"), |b| {
-        b.iter(|| black_box(layer_kernel.derivative_table(black_box(nl), nl, cell, Axis::X)))
+        b.iter(|| {
+            black_box(
+                layer_kernel
+                    .derivative_table(&Grid::square(black_box(nl), nl, cell).unwrap(), Axis::X)
+                    .unwrap(),
+            )
+        })
     });
     group.finish();
 }

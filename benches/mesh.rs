@@ -8,13 +8,14 @@
 use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Duration;
+use viscoslide::response::{Grid, SlidingResponse};
 
 mod common;
 
 use common::{material, surface_gap};
 use criterion::{criterion_group, criterion_main, Criterion};
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::mesh::QuadMesh;
 use viscoslide::operator::{AdaptiveOperator, GridOperator, LevelTables, OffsetTable, ToeplitzFft};
 use viscoslide::problem::adaptive::{self, AdaptiveParams};
@@ -32,14 +33,7 @@ fn sizes() -> Vec<usize> {
 }
 
 fn kernel() -> SlidingKernel {
-    SlidingKernel::new(
-        &material(),
-        KernelParams {
-            speed: SPEED,
-            ..Default::default()
-        },
-    )
-    .unwrap()
+    SlidingKernel::new(&SlidingResponse::new(&material(), SPEED, 0.0, None).unwrap()).unwrap()
 }
 
 fn adaptive_solve(tables: &Arc<LevelTables>, g: &[f64]) -> adaptive::AdaptiveSolution {
@@ -125,7 +119,7 @@ fn bench_solves(c: &mut Criterion) {
         group.bench_function(format!("{n}x{n}_adaptive"), |b| {
             b.iter(|| black_box(adaptive_solve(&tables, &g)))
         });
-        let table = k.table(n, n, a);
+        let table = k.table(&Grid::square(n, n, a).unwrap()).unwrap();
         let tab = OffsetTable {
             nx: n,
             ny: n,

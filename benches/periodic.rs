@@ -5,13 +5,15 @@
 
 use std::hint::black_box;
 use std::time::Duration;
+use viscoslide::operator::PeriodicResponse;
+use viscoslide::response::{Grid, SlidingResponse};
 
 mod common;
 
 use common::{material, sizes, surface_gap};
 use criterion::{criterion_group, criterion_main, Criterion};
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::operator::{GridOperator, OffsetTable, SpectralPeriodic, ToeplitzFft};
 use viscoslide::solver::{self, Control, SolverParams};
 
@@ -26,19 +28,17 @@ fn bench(c: &mut Criterion) {
         let a = length / n as f64;
         let x: Vec<f64> = (0..n * n).map(|k| ((k * 7919) % 101) as f64).collect();
         let mut y = vec![0.0; n * n];
-        let mut op = SpectralPeriodic::new(n, n, a, &m, speed, 0.0);
+        let mut op = SpectralPeriodic::new(
+            &Grid::square(n, n, a).unwrap(),
+            &SlidingResponse::new(&m, speed, 0.0, None).unwrap(),
+            PeriodicResponse::Displacement,
+        );
         group.bench_function(format!("matvec_periodic_{n}"), |b| {
             b.iter(|| op.apply(black_box(&x), &mut y))
         });
-        let kernel = SlidingKernel::new(
-            &m,
-            KernelParams {
-                speed,
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        let table = kernel.table(n, n, a);
+        let kernel =
+            SlidingKernel::new(&SlidingResponse::new(&m, speed, 0.0, None).unwrap()).unwrap();
+        let table = kernel.table(&Grid::square(n, n, a).unwrap()).unwrap();
         let mut np = ToeplitzFft::new(OffsetTable {
             nx: n,
             ny: n,
@@ -48,7 +48,13 @@ fn bench(c: &mut Criterion) {
             b.iter(|| np.apply(black_box(&x), &mut y))
         });
         group.bench_function(format!("build_periodic_{n}"), |b| {
-            b.iter(|| black_box(SpectralPeriodic::new(n, n, a, &m, speed, 0.0)))
+            b.iter(|| {
+                black_box(SpectralPeriodic::new(
+                    &Grid::square(n, n, a).unwrap(),
+                    &SlidingResponse::new(&m, speed, 0.0, None).unwrap(),
+                    PeriodicResponse::Displacement,
+                ))
+            })
         });
         let g = surface_gap(n);
         let l00 = op.self_coefficient();

@@ -5,13 +5,14 @@
 
 use std::hint::black_box;
 use std::time::Duration;
+use viscoslide::response::{Grid, SlidingResponse};
 
 mod common;
 
 use common::{material, sizes, surface_gap};
 use criterion::{criterion_group, criterion_main, Criterion};
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
 use viscoslide::solver::{self, Control, SolverParams};
 
@@ -28,15 +29,9 @@ fn bench(c: &mut Criterion) {
             if label == "elastic" && n < 512 && std::env::var_os("CI").is_none() {
                 continue;
             }
-            let kernel = SlidingKernel::new(
-                &m,
-                KernelParams {
-                    speed,
-                    ..Default::default()
-                },
-            )
-            .unwrap();
-            let table = kernel.table(n, n, a);
+            let kernel =
+                SlidingKernel::new(&SlidingResponse::new(&m, speed, 0.0, None).unwrap()).unwrap();
+            let table = kernel.table(&Grid::square(n, n, a).unwrap()).unwrap();
             let tab = OffsetTable {
                 nx: n,
                 ny: n,

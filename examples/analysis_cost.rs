@@ -12,6 +12,7 @@
 
 use std::path::Path;
 use std::time::Instant;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use viscoslide::analysis::{self, figures, AnalysisInputs, AnalysisParams, Connectivity};
 use viscoslide::io::npy;
@@ -87,16 +88,16 @@ fn main() {
         problem.friction_and_stats(&sol).expect("friction")
     });
     timed("  dissipation route alone", || {
-        analysis::friction::friction_force_dissipation_cells(
+        analysis::friction::friction_force_dissipation(
             &sol.pressure,
-            nx,
-            ny,
-            (a, a_y),
-            &problem.material.spectrum,
-            problem.material.poisson,
-            problem.speed,
-            problem.direction_rad,
-            problem.layer.as_ref(),
+            &Grid::new(nx, ny, (a, a_y)).unwrap(),
+            &SlidingResponse::new(
+                &problem.material,
+                problem.speed,
+                problem.direction_rad,
+                problem.layer.as_ref().copied(),
+            )
+            .unwrap(),
         )
     });
     timed("persson estimate", || problem.persson_estimate(1e5).is_ok());

@@ -7,8 +7,8 @@
 //! (default 2048^2, 20 repeats; each precision is timed twice, alternating).
 
 use std::time::Instant;
+use viscoslide::response::{Grid, SlidingResponse};
 
-use viscoslide::kernel::KernelParams;
 use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::operator::{GridOperator, GridWork, PeriodicResponse, Real, SpectralPeriodic};
 
@@ -26,14 +26,11 @@ fn time<T: Real>(n: usize, repeats: usize, material: &Material)
 where
     SpectralPeriodic<T>: GridOperator,
 {
-    let params = KernelParams {
-        speed: 1e-2,
-        ..Default::default()
-    };
-    let response = PeriodicResponse::Displacement;
+    let sliding = SlidingResponse::new(material, 1e-2, 0.0, None).unwrap();
+    let grid = Grid::square(n, n, 1e-5).unwrap();
     let t = Instant::now();
     let mut op =
-        SpectralPeriodic::<T>::in_precision(n, n, (1e-5, 1e-5), material, &params, response);
+        SpectralPeriodic::<T>::in_precision(&grid, &sliding, PeriodicResponse::Displacement);
     let build = t.elapsed().as_secs_f64() * 1e3;
     let x: Vec<f64> = (0..n * n).map(|k| ((k * 7919) % 101) as f64).collect();
     let mut y = vec![0.0; n * n];

@@ -9,10 +9,11 @@
 //! m/s on L = 0.01 m).
 
 use std::time::Instant;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use viscoslide::backend::gpu::{FftChoice, GpuBackend, GpuContext, GpuOptions};
 use viscoslide::backend::Backend;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::material::{CreepSpectrum, Material};
 
 fn median(v: &mut [f64]) -> f64 {
@@ -34,15 +35,12 @@ fn main() {
         0.5,
     )
     .expect("valid material");
-    let kernel = SlidingKernel::new(
-        &material,
-        KernelParams {
-            speed: 1.17e-2,
-            ..Default::default()
-        },
-    )
-    .expect("valid kernel");
-    let table = kernel.table(n, n, 0.01 / n as f64).values;
+    let kernel = SlidingKernel::new(&SlidingResponse::new(&material, 1.17e-2, 0.0, None).unwrap())
+        .expect("valid kernel");
+    let table = kernel
+        .table(&Grid::square(n, n, 0.01 / n as f64).unwrap())
+        .unwrap()
+        .values;
     let ctx = GpuContext::open().expect("a GPU adapter (lavapipe will do)");
     println!("adapter: {}", ctx.adapter);
     let mut backends: Vec<(&str, GpuBackend)> =

@@ -17,9 +17,9 @@
 //! `cargo run --release --example layer_eq5_vs_periodic`
 
 use num_complex::Complex64;
-use viscoslide::kernel::thickness::compliance_ratio;
-use viscoslide::kernel::LayerBase;
 use viscoslide::material::{CreepSpectrum, Material};
+use viscoslide::response::layer::compliance_ratio;
+use viscoslide::response::LayerBase;
 
 fn main() {
     let m = Material::new(

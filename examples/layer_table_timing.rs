@@ -5,8 +5,9 @@
 //! (the paper's single-relaxation material, nu = 0.5, cell 0.3125 mm).
 
 use std::time::Instant;
+use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 
-use viscoslide::kernel::{Axis, KernelParams, Layer, LayerBase, SlidingKernel};
+use viscoslide::kernel::{Axis, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, Material};
 
 fn main() {
@@ -28,20 +29,15 @@ fn main() {
         thickness: h_cells * a,
         base,
     });
-    let k = SlidingKernel::new(
-        &m,
-        KernelParams {
-            speed,
-            layer,
-            ..Default::default()
-        },
-    )
-    .expect("valid kernel");
+    let k = SlidingKernel::new(&SlidingResponse::new(&m, speed, 0.0, layer).unwrap())
+        .expect("valid kernel");
     let t = Instant::now();
-    let table = k.table(n, n, a);
+    let table = k.table(&Grid::square(n, n, a).unwrap()).unwrap();
     let tk = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let d = k.derivative_table(n, n, a, Axis::X);
+    let d = k
+        .derivative_table(&Grid::square(n, n, a).unwrap(), Axis::X)
+        .unwrap();
     let td = t.elapsed().as_secs_f64();
     println!(
         "n = {n}, h = {h_cells} cells ({base:?}), v = {speed} m/s: K table {tk:.3} s, D_x table {td:.3} s, K(0,0) = {:.10e}, D(1,0) = {:.10e}",

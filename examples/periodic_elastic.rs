@@ -7,6 +7,8 @@
 //! operator construction plus solve.
 
 use std::time::Instant;
+use viscoslide::operator::PeriodicResponse;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use viscoslide::backend::CpuBackend;
 use viscoslide::io::npy;
@@ -44,7 +46,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     for p0 in loads {
         let start = Instant::now();
-        let op = SpectralPeriodic::new(nx, ny, a, &material, 0.0, 0.0);
+        let op = SpectralPeriodic::new(
+            &Grid::square(nx, ny, a).unwrap(),
+            &SlidingResponse::new(&material, 0.0, 0.0, None).unwrap(),
+            PeriodicResponse::Displacement,
+        );
         let l00 = op.self_coefficient();
         let mut be = CpuBackend::new(op);
         let (sol, info) = solver::solve(

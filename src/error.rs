@@ -18,6 +18,8 @@ pub enum Error {
     #[error(transparent)]
     Kernel(#[from] crate::kernel::KernelError),
     #[error(transparent)]
+    Response(#[from] crate::response::ResponseError),
+    #[error(transparent)]
     Npy(#[from] crate::io::npy::NpyError),
     #[error(transparent)]
     Output(#[from] crate::io::OutputError),

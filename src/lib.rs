@@ -77,5 +77,6 @@ pub mod operator;
 pub mod persson;
 pub mod problem;
 pub mod refine;
+pub mod response;
 pub mod solver;
 pub mod sweep;

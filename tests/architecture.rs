@@ -15,6 +15,7 @@ const LAYERS: &[&[&str]] = &[
     &["material"],
     &["surface"],
     &["mesh"],
+    &["response"],
     &["kernel"],
     &["operator"],
     &["backend"],
@@ -300,6 +301,77 @@ fn imports_point_down_the_layers() {
     }
 }
 
+/// The code of every library file below the front ends (unit tests
+/// excluded), with its module path.
+fn engine_files() -> Vec<(Vec<String>, String)> {
+    graph()
+        .files
+        .into_iter()
+        .filter(|(m, _)| m.first().is_some_and(|t| t != "cli"))
+        .map(|(m, f)| {
+            let text = std::fs::read_to_string(f).unwrap();
+            let text = match text.find("#[cfg(test)]") {
+                Some(k) => text[..k].to_string(),
+                None => text,
+            };
+            (m, code_of(&text))
+        })
+        .collect()
+}
+
+/// The operator layer and the executors take the sliding response and the
+/// grid (`response`), never the material: the response is combined in one
+/// place (docs/ARCHITECTURE.md).
+#[test]
+fn operators_and_executors_take_the_response_not_the_material() {
+    let g = graph();
+    let mut wrong = Vec::new();
+    for (from, tos) in &g.edges {
+        let top = from.first().map(String::as_str);
+        let below_material_users =
+            matches!(top, Some("kernel" | "operator" | "backend" | "solver"));
+        let friction = from.starts_with(&["analysis".to_string(), "friction".to_string()]);
+        if !(below_material_users || friction) {
+            continue;
+        }
+        for to in tos {
+            if to.first().is_some_and(|t| t == "material") {
+                wrong.push(format!("{} -> {}", from.join("::"), to.join("::")));
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "take a `response::SlidingResponse` instead of the material:\n{}",
+        wrong.join("\n")
+    );
+}
+
+/// One constructor of the sliding response: `SlidingResponse { .. }` is
+/// written only in `src/response/`, and the sliding direction is turned into
+/// `e_v` (`sin_cos` of a direction) nowhere else below the front ends.
+#[test]
+fn the_sliding_response_has_one_constructor() {
+    let mut elsewhere = Vec::new();
+    for (module, code) in engine_files() {
+        if module.first().is_some_and(|t| t == "response") {
+            continue;
+        }
+        for line in code.lines() {
+            // A struct literal, not a return type or an impl block.
+            let literal = line.contains("SlidingResponse {")
+                && !line.contains("->")
+                && !line.contains("impl ");
+            let direction =
+                line.contains("direction_rad.sin_cos()") || line.contains("direction_rad.cos()");
+            if literal || direction {
+                elsewhere.push(format!("{}: {}", module.join("::"), line.trim()));
+            }
+        }
+    }
+    assert!(elsewhere.is_empty(), "{}", elsewhere.join("\n"));
+}
+
 #[test]
 fn the_files_form_no_circle() {
     let g = graph();
@@ -375,6 +447,7 @@ const PYTHON_MAY_USE: &[(&str, &[&str])] = &[
     ("material", &[]),
     ("surface", &[]),
     ("kernel", &[]),
+    ("response", &[]),
     ("persson", &[]),
     ("analysis", &["AnalysisReport"]),
     (

@@ -33,6 +33,7 @@ pub fn to_py(py: Python<'_>, e: Error) -> PyErr {
         | Error::Material(_)
         | Error::Surface(_)
         | Error::Kernel(_)
+        | Error::Response(_)
         | Error::Npy(_)
         | Error::Solver(_)
         | Error::Analysis(_)

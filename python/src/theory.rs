@@ -5,8 +5,9 @@
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use viscoslide::config::LayerConfig;
-use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
+use viscoslide::kernel::{Axis, SlidingKernel};
 use viscoslide::persson::{Persson, PerssonParams};
+use viscoslide::response::{Grid, SlidingResponse};
 use viscoslide::solver::Control;
 
 use crate::errors::{to_py, value_error};
@@ -110,22 +111,17 @@ pub fn kernel_table<'py>(
             "direction_deg must be finite, got {direction_deg}"
         )));
     }
-    let kernel = SlidingKernel::new(
-        &material.material,
-        KernelParams {
-            speed,
-            direction_rad: direction_deg.to_radians(),
-            layer,
-        },
-    )
-    .map_err(value_error)?;
-    SlidingKernel::check_cell(ax, ay).map_err(value_error)?;
+    let response =
+        SlidingResponse::new(&material.material, speed, direction_deg.to_radians(), layer)
+            .map_err(value_error)?;
+    let kernel = SlidingKernel::new(&response).map_err(value_error)?;
+    let grid = Grid::new(nx, ny, (ax, ay)).map_err(value_error)?;
     let table = py
         .detach(|| {
             if derivative {
-                kernel.try_derivative_table_rect(nx, ny, ax, ay, Axis::X)
+                kernel.derivative_table(&grid, Axis::X)
             } else {
-                kernel.try_table_rect(nx, ny, ax, ay)
+                kernel.table(&grid)
             }
         })
         .map_err(value_error)?;

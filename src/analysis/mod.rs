@@ -23,9 +23,8 @@ pub use contact::{contact_statistics, ContactStatistics};
 pub use fields::analyze;
 pub use files::{analyze_dir, read_summary, scales_from_config, write_analysis, SolveSummary};
 pub use friction::{
-    friction_force_dissipation, friction_force_periodic, friction_force_periodic_cells,
-    friction_force_periodic_with, friction_force_stencil, friction_force_stencil_area,
-    full_contact_friction_stress, full_contact_friction_stress_layered,
+    friction_force_dissipation, friction_force_periodic, friction_force_stencil,
+    full_contact_friction_stress,
 };
 pub use report::{
     AnalysisError, AnalysisInputs, AnalysisParams, AnalysisReport, ChiReport, ANALYSIS_FILES,

@@ -18,6 +18,7 @@ use crate::backend::Backend;
 use crate::error::{Error, Result};
 use crate::operator::{GridOperator, OffsetTable, ToeplitzFft};
 use crate::problem::Problem;
+use crate::response::Grid;
 
 #[derive(Debug, clap::Args)]
 pub struct BenchArgs {
@@ -87,7 +88,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let length = ax * problem.surface.nx as f64;
     let cell = length / n as f64;
     let kernel = problem.sliding_kernel()?;
-    let params = problem.kernel_params();
+
     let ctx = GpuContext::open()?;
     let adapter = ctx.adapter.clone();
     let progress = |what: &str| {
@@ -106,8 +107,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let mut table = Vec::new();
     for round in 0..=args.rounds {
         let t = Instant::now();
-        table =
-            coefficients::coefficient_table(&mut engine, &problem.material, &params, n, n, cell)?;
+        table = coefficients::coefficient_table(
+            &mut engine,
+            kernel.response(),
+            &Grid::square(n, n, cell)?,
+        )?;
         if round > 0 {
             table_s.push(t.elapsed().as_secs_f64());
         }

@@ -3,7 +3,8 @@
 //! by the friction stencil (physics.md section 5).
 
 use crate::error::{Error, Result};
-use crate::kernel::{Axis, KernelParams, SlidingKernel, ThetaRule};
+use crate::kernel::{Axis, SlidingKernel, ThetaRule};
+use crate::response::{Grid, SlidingResponse};
 
 #[derive(Debug, clap::Args)]
 pub struct KernelArgs {
@@ -73,21 +74,19 @@ pub fn run(args: KernelArgs) -> Result<()> {
             args.direction_deg
         )));
     }
-    let kernel = SlidingKernel::new(
+    let response = SlidingResponse::new(
         &material,
-        KernelParams {
-            speed: args.speed,
-            direction_rad: args.direction_deg.to_radians(),
-            layer,
-        },
-    )?
-    .with_theta_rule(if args.collocation {
+        args.speed,
+        args.direction_deg.to_radians(),
+        layer,
+    )?;
+    let kernel = SlidingKernel::new(&response)?.with_theta_rule(if args.collocation {
         ThetaRule::Collocation
     } else {
         ThetaRule::CellIntegral
     });
     let (a, ay) = (args.cell_size, args.cell_size_y.unwrap_or(args.cell_size));
-    SlidingKernel::check_cell(a, ay)?;
+    Grid::new(1, 1, (a, ay))?;
     kernel.check_layer_cells(a, ay)?;
     if let Some(w) = layer.and_then(|l| l.resolution_warning(a.min(ay))) {
         eprintln!("warning: {w}");

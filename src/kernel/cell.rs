@@ -374,7 +374,7 @@ impl LayerCell {
 mod tests {
     use super::*;
     use crate::kernel::love::LoveRect;
-    use crate::kernel::{Layer, LayerBase};
+    use crate::response::{Layer, LayerBase};
 
     const A: f64 = 1e-4;
 

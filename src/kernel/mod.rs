@@ -26,7 +26,7 @@ pub mod cell;
 pub mod line;
 pub mod love;
 mod march;
-mod progress;
+pub mod progress;
 pub mod quad;
 mod table;
 pub mod thickness;
@@ -41,9 +41,9 @@ use std::sync::Arc;
 
 pub use cell::ThetaRule;
 pub use table::{CoefficientTable, VertexTable};
-pub use thickness::{Layer, LayerBase, LayerConfig, ThetaTable};
+pub use thickness::ThetaTable;
 
-use crate::material::Material;
+use crate::response::{Grid, ResponseError, SlidingResponse};
 use cell::LayerCell;
 use line::{memory_integral, KinkLine, LineProblem};
 use love::LoveRect;
@@ -53,28 +53,8 @@ use love::LoveRect;
 pub enum KernelError {
     #[error("{0}")]
     Invalid(String),
-}
-
-/// Sliding parameters of a kernel (Eq. 4): speed, direction, optional layer.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct KernelParams {
-    /// Sliding speed `v` [m/s], `>= 0`; `0` is fully relaxed, `f64::INFINITY`
-    /// fully glassy.
-    pub speed: f64,
-    /// In-plane angle of `e_v` from `+x` \[rad\].
-    pub direction_rad: f64,
-    /// Finite thickness (Eq. 5); `None` for a half-space.
-    pub layer: Option<Layer>,
-}
-
-impl Default for KernelParams {
-    fn default() -> Self {
-        Self {
-            speed: 0.0,
-            direction_rad: 0.0,
-            layer: None,
-        }
-    }
+    #[error(transparent)]
+    Response(#[from] ResponseError),
 }
 
 /// An influence coefficient [m/Pa], split into the instantaneous (`1/E_inf`)
@@ -99,8 +79,9 @@ pub enum Axis {
     Y,
 }
 
-/// The steady-sliding kernel of Eq. 4-6 for one (material, speed, layer):
-/// plan once, evaluate many coefficients.
+/// The steady-sliding kernel of Eq. 4-6 for one [`SlidingResponse`]
+/// (material, speed, direction, layer): plan once, evaluate many
+/// coefficients.
 #[derive(Debug, Clone)]
 pub struct SlidingKernel {
     /// `(1 - nu^2) / pi`.
@@ -109,7 +90,7 @@ pub struct SlidingKernel {
     glassy: f64,
     /// `(C_k, l_k = v tau_k)`; `l_k = 0` at `v = 0`, `inf` at `v = inf`.
     terms: Vec<(f64, f64)>,
-    params: KernelParams,
+    response: SlidingResponse,
     e: (f64, f64),
     theta: Option<Arc<ThetaTable>>,
     rule: ThetaRule,
@@ -134,47 +115,18 @@ const TOL: f64 = 1e-14;
 const LAYER_TOL: f64 = 1e-12;
 
 impl SlidingKernel {
-    /// Plan a kernel: validates the speed and layer and tabulates `Theta`.
-    pub fn new(material: &Material, params: KernelParams) -> Result<Self, KernelError> {
-        if params.speed.is_nan() || params.speed < 0.0 {
-            return Err(KernelError::Invalid(format!(
-                "speed = {} m/s must be >= 0 (may be infinite)",
-                params.speed
-            )));
-        }
-        if !params.direction_rad.is_finite() {
-            return Err(KernelError::Invalid(format!(
-                "direction = {} rad must be finite",
-                params.direction_rad
-            )));
-        }
-        let theta = match params.layer {
-            Some(layer) => Some(Arc::new(ThetaTable::new(layer, material.poisson)?)),
+    /// Plan the kernel of `response`: tabulates the layer's `Theta`.
+    pub fn new(response: &SlidingResponse) -> Result<Self, KernelError> {
+        let theta = match response.layer() {
+            Some(layer) => Some(Arc::new(ThetaTable::new(layer, response.poisson())?)),
             None => None,
         };
-        let v = params.speed;
-        let terms = material
-            .spectrum
-            .terms
-            .iter()
-            .map(|t| {
-                let l = if v.is_infinite() {
-                    f64::INFINITY
-                } else {
-                    v * t.time
-                };
-                (t.compliance, l)
-            })
-            .collect();
-        let (s, c) = params.direction_rad.sin_cos();
-        // Snap directions along the axes so that 90 degrees is exactly +y.
-        let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
         Ok(Self {
-            prefactor: material.composite_factor() / std::f64::consts::PI,
-            glassy: material.spectrum.glassy_compliance(),
-            terms,
-            params,
-            e: (snap(c), snap(s)),
+            prefactor: response.prefactor(),
+            glassy: response.glassy_compliance(),
+            terms: response.creep_lengths(1.0),
+            e: response.direction(),
+            response: response.clone(),
             theta,
             rule: ThetaRule::default(),
             local: true,
@@ -233,26 +185,14 @@ impl SlidingKernel {
         }
     }
 
-    /// The parameters this kernel was planned for.
-    pub fn params(&self) -> &KernelParams {
-        &self.params
+    /// The response this kernel was planned for.
+    pub fn response(&self) -> &SlidingResponse {
+        &self.response
     }
 
     /// Unit sliding direction `e_v`.
     pub fn direction(&self) -> (f64, f64) {
         self.e
-    }
-
-    /// Check a cell size: positive and finite.
-    pub fn check_cell(ax: f64, ay: f64) -> Result<(), KernelError> {
-        for (name, a) in [("ax", ax), ("ay", ay)] {
-            if !(a.is_finite() && a > 0.0) {
-                return Err(KernelError::Invalid(format!(
-                    "cell size {name} = {a} m must be positive and finite"
-                )));
-            }
-        }
-        Ok(())
     }
 
     /// The spatial factor of Eq. 4-6 for the source `cell` at the point
@@ -304,7 +244,7 @@ impl SlidingKernel {
         ax: f64,
         ay: f64,
     ) -> Result<Coefficient, KernelError> {
-        Self::check_cell(ax, ay)?;
+        Grid::new(1, 1, (ax, ay))?;
         Ok(self.coefficient_with(&self.cell(ax, ay), dx, dy))
     }
 
@@ -342,7 +282,7 @@ impl SlidingKernel {
     /// (physics.md section 5): the target cell has the source's size.
     /// Invalid cell sizes give NaN.
     pub fn derivative(&self, dx: f64, dy: f64, ax: f64, ay: f64, axis: Axis) -> f64 {
-        if Self::check_cell(ax, ay).is_err() {
+        if Grid::new(1, 1, (ax, ay)).is_err() {
             return f64::NAN;
         }
         self.derivative_with(&self.cell(ax, ay), dx, dy, axis)
@@ -416,134 +356,48 @@ impl SlidingKernel {
         self.prefactor * (self.glassy * f0 + mem)
     }
 
-    /// Table of `K` over all `(2nx-1) x (2ny-1)` offsets of an `nx x ny` grid
-    /// of square cells of side `cell` \[m\] (rayon). Uses the row march when
-    /// `e_v` is along a grid axis (see the `table` module docs), per-offset
-    /// evaluation otherwise. Panics on an invalid cell size; see
-    /// [`Self::try_table`]; [`Self::table_rect`] for rectangular cells.
-    pub fn table(&self, nx: usize, ny: usize, cell: f64) -> CoefficientTable {
-        self.try_table(nx, ny, cell).expect("valid cell size")
-    }
-
-    /// [`Self::table`] with the cell size checked.
-    pub fn try_table(
-        &self,
-        nx: usize,
-        ny: usize,
-        cell: f64,
-    ) -> Result<CoefficientTable, KernelError> {
-        self.try_table_rect(nx, ny, cell, cell)
-    }
-
-    /// [`Self::table`] for cells of side `ax` along x and `ay` along y \[m\]
-    /// (Love's rectangle, physics.md section 11). Panics on an invalid cell
-    /// size.
-    pub fn table_rect(&self, nx: usize, ny: usize, ax: f64, ay: f64) -> CoefficientTable {
-        self.try_table_rect(nx, ny, ax, ay)
-            .expect("valid cell size")
-    }
-
-    /// [`Self::table_rect`] with the cell size checked.
-    pub fn try_table_rect(
-        &self,
-        nx: usize,
-        ny: usize,
-        ax: f64,
-        ay: f64,
-    ) -> Result<CoefficientTable, KernelError> {
-        Self::check_cell(ax, ay)?;
-        check_grid(nx, ny)?;
-        Ok(table::build(self, nx, ny, (ax, ay), None, false))
+    /// Table of `K` over all `(2nx-1) x (2ny-1)` offsets of `grid` (rayon).
+    /// Uses the row march when `e_v` is along a grid axis (see the `table`
+    /// module docs), per-offset evaluation otherwise. Refuses a table that
+    /// does not fit in memory.
+    pub fn table(&self, grid: &Grid) -> Result<CoefficientTable, KernelError> {
+        check_grid(grid)?;
+        Ok(table::build(self, grid, None, false))
     }
 
     /// Table of the cell-averaged derivative `D_x` or `D_y` [1/Pa] over all
     /// offsets (same layout as [`Self::table`]). Fast when `axis` is the
-    /// sliding axis; per-offset otherwise. Panics on an invalid cell size.
+    /// sliding axis; per-offset otherwise.
     pub fn derivative_table(
         &self,
-        nx: usize,
-        ny: usize,
-        cell: f64,
-        axis: Axis,
-    ) -> CoefficientTable {
-        self.try_derivative_table(nx, ny, cell, axis)
-            .expect("valid cell size")
-    }
-
-    /// [`Self::derivative_table`] with the cell size checked.
-    pub fn try_derivative_table(
-        &self,
-        nx: usize,
-        ny: usize,
-        cell: f64,
+        grid: &Grid,
         axis: Axis,
     ) -> Result<CoefficientTable, KernelError> {
-        self.try_derivative_table_rect(nx, ny, cell, cell, axis)
-    }
-
-    /// [`Self::derivative_table`] for `ax x ay` cells \[m\].
-    pub fn derivative_table_rect(
-        &self,
-        nx: usize,
-        ny: usize,
-        ax: f64,
-        ay: f64,
-        axis: Axis,
-    ) -> CoefficientTable {
-        self.try_derivative_table_rect(nx, ny, ax, ay, axis)
-            .expect("valid cell size")
-    }
-
-    /// [`Self::derivative_table_rect`] with the cell size checked.
-    pub fn try_derivative_table_rect(
-        &self,
-        nx: usize,
-        ny: usize,
-        ax: f64,
-        ay: f64,
-        axis: Axis,
-    ) -> Result<CoefficientTable, KernelError> {
-        Self::check_cell(ax, ay)?;
-        check_grid(nx, ny)?;
-        Ok(table::build(self, nx, ny, (ax, ay), Some(axis), false))
+        check_grid(grid)?;
+        Ok(table::build(self, grid, Some(axis), false))
     }
 
     /// [`VertexTable`]: `K` at the corner offsets `((i + 1/2) a, (j + 1/2) a)`
-    /// of an `nx x ny` grid of square cells of side `cell` \[m\], by the row
-    /// march where [`Self::table`] uses it.
-    pub fn try_vertex_table(
-        &self,
-        nx: usize,
-        ny: usize,
-        cell: f64,
-    ) -> Result<VertexTable, KernelError> {
-        Self::check_cell(cell, cell)?;
-        check_grid(nx, ny)?;
-        Ok(table::build_vertex(self, nx, ny, cell))
+    /// of `grid`, by the row march where [`Self::table`] uses it. The
+    /// adaptive mesh's level tables need square cells: rectangular ones are
+    /// refused.
+    pub fn vertex_table(&self, grid: &Grid) -> Result<VertexTable, KernelError> {
+        if !grid.is_square() {
+            let (ax, ay) = grid.cell();
+            return Err(KernelError::Invalid(format!(
+                "the vertex table of the adaptive mesh needs square cells, not {ax} x {ay} m"
+            )));
+        }
+        check_grid(grid)?;
+        let (nx, ny) = grid.size();
+        Ok(table::build_vertex(self, nx, ny, grid.cell().0))
     }
 
-    /// The reference per-offset table (no fast path), for tests and for
-    /// directions off the grid axes.
-    pub fn table_per_offset(
-        &self,
-        nx: usize,
-        ny: usize,
-        cell: f64,
-        derivative: Option<Axis>,
-    ) -> CoefficientTable {
-        self.table_per_offset_rect(nx, ny, cell, cell, derivative)
-    }
-
-    /// [`Self::table_per_offset`] for `ax x ay` cells \[m\].
-    pub fn table_per_offset_rect(
-        &self,
-        nx: usize,
-        ny: usize,
-        ax: f64,
-        ay: f64,
-        derivative: Option<Axis>,
-    ) -> CoefficientTable {
-        table::build(self, nx, ny, (ax, ay), derivative, true)
+    /// The reference per-offset table of `K` (`derivative = None`) or of
+    /// `D_x`/`D_y` (no fast path), for tests and for directions off the grid
+    /// axes.
+    pub fn table_per_offset(&self, grid: &Grid, derivative: Option<Axis>) -> CoefficientTable {
+        table::build(self, grid, derivative, true)
     }
 }
 
@@ -551,14 +405,10 @@ impl SlidingKernel {
 /// (the row march's rows, the per-offset evaluation's chunks).
 const TABLE_BYTES_PER_OFFSET: u64 = 16;
 
-/// A grid has cells, and its table of `2 nx x 2 ny` offsets (with checked
-/// arithmetic) fits in the memory available ([`crate::io::memory`]).
-fn check_grid(nx: usize, ny: usize) -> Result<(), KernelError> {
-    if nx == 0 || ny == 0 {
-        return Err(KernelError::Invalid(format!(
-            "grid {nx} x {ny} must have at least one cell per side"
-        )));
-    }
+/// The table of a grid's `2 nx x 2 ny` offsets (with checked arithmetic)
+/// fits in the memory available ([`crate::io::memory`]).
+fn check_grid(grid: &Grid) -> Result<(), KernelError> {
+    let (nx, ny) = grid.size();
     let offsets = (2 * nx as u64).saturating_mul(2 * ny as u64);
     crate::io::memory::check_count(
         || format!("coefficient table of {nx} x {ny} cells"),

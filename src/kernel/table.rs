@@ -19,6 +19,7 @@ use super::march::canonical;
 use super::progress::Progress;
 use super::window::{windowed, Offsets};
 use super::{Axis, SlidingKernel, ThetaRule};
+use crate::response::Grid;
 
 /// Values for all offsets of an `nx x ny` grid.
 ///
@@ -274,12 +275,11 @@ fn marched(
 /// `force_per_offset` (the reference).
 pub(super) fn build(
     k: &SlidingKernel,
-    nx: usize,
-    ny: usize,
-    (ax, ay): (f64, f64),
+    grid: &Grid,
     derivative: Option<Axis>,
     force_per_offset: bool,
 ) -> CoefficientTable {
+    let ((nx, ny), (ax, ay)) = (grid.size(), grid.cell());
     let lat = Lattice {
         nx,
         ny,

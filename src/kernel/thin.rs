@@ -35,7 +35,8 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use super::quad::gauss_legendre_unit;
 use super::thickness::ThetaTable;
-use super::{Axis, Cell, Coefficient, KernelError, LayerBase, SlidingKernel, ThetaRule};
+use super::{Axis, Cell, Coefficient, KernelError, SlidingKernel, ThetaRule};
+use crate::response::LayerBase;
 
 /// The numbers of the local limit for one (base, nu), computed once per
 /// process.

@@ -30,9 +30,9 @@
 //! the same coefficients, so that its elastic (`1/E_inf`) part stays
 //! antisymmetric.
 
-use super::thickness::LayerBase;
 use super::thin::ThinProfile;
 use super::{Axis, Coefficient, SlidingKernel};
+use crate::response::LayerBase;
 
 /// `(S1, S3)` of `S(u) = S1 u + S3 u^3 + ...` (module docs).
 pub fn thin_series(base: LayerBase, nu: f64) -> (f64, f64) {
@@ -149,7 +149,7 @@ impl SlidingKernel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kernel::thickness::compliance_ratio;
+    use crate::response::layer::compliance_ratio;
 
     /// The series against the closed form at `u = 1e-2`: the remainder
     /// over `u^3` is `S5 u^2 = 1e-4 S5`; 1e-3 allows `|S5|` up to 10 and

@@ -25,6 +25,7 @@ use rayon::prelude::*;
 use super::GridOperator;
 use crate::kernel::{KernelError, SlidingKernel};
 use crate::mesh::QuadMesh;
+use crate::response::Grid;
 
 /// `K_l` on one lattice: entry `k` is the offset `(2k + parity) a/2`.
 #[derive(Debug, Clone)]
@@ -108,8 +109,9 @@ impl LevelTables {
             (1usize << (max_level - 1)) + 1
         };
         let (mx, my) = (nx + grow, ny + grow);
-        let centre = kernel.try_table(mx, my, cell)?;
-        let vertex = kernel.try_vertex_table(mx, my, cell)?;
+        let lattice = Grid::square(mx, my, cell)?;
+        let centre = kernel.table(&lattice)?;
+        let vertex = kernel.vertex_table(&lattice)?;
         let mut even = LatticeTable::new(
             (1 - mx as i64, 1 - my as i64),
             (mx as i64 - 1, my as i64 - 1),

@@ -23,9 +23,7 @@ pub use dense::DenseOperator;
 pub(crate) use fft_convolution::half_spectrum;
 pub use fft_convolution::Real;
 pub(crate) use periodic::{column_weight, multiplier_half_spectrum};
-pub use periodic::{
-    periodic_multiplier, periodic_multiplier_cells, PeriodicResponse, SpectralPeriodic,
-};
+pub use periodic::{periodic_multiplier, PeriodicResponse, SpectralPeriodic};
 pub use toeplitz::{chan_kernel, fast_size, ToeplitzFft, CHAN_FRACTION};
 
 /// A square linear map on grid vectors (C order, axis 0 = x).

@@ -14,7 +14,7 @@
 //! On a layer of thickness `h` (physics.md section 3, "Finite thickness")
 //! the multiplier is exact: the half-space's times the layer's compliance
 //! ratio, `m(q) = S(|q| h) 2 (1 - nu^2) J*(-q.v) / |q|`, for either base
-//! ([`crate::kernel::thickness::compliance_ratio`]). Unlike the
+//! ([`crate::response::layer::compliance_ratio`]). Unlike the
 //! non-periodic kernel (the paper's Eq. 5, `Theta` times the viscoelastic
 //! Green's function), this holds for the sliding viscoelastic layer.
 //!
@@ -49,9 +49,7 @@ use rayon::prelude::*;
 
 use super::fft_convolution::{Product, Real, SpectralEngine};
 use super::{GridOperator, GridWork};
-use crate::kernel::thickness::compliance_ratio;
-use crate::kernel::KernelParams;
-use crate::material::Material;
+use crate::response::{Grid, SlidingResponse};
 
 /// Which field the operator returns for a pressure field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -85,99 +83,47 @@ fn signed_index(i: usize, n: usize) -> (f64, bool) {
     }
 }
 
-/// The continuous multiplier at wavevector `(qx, qy)` [m/Pa]: `m(q)` for
-/// [`PeriodicResponse::Displacement`], `i (q.e_v) m(q)` for the slope; zero at
-/// `q = 0`. `compliance(qv)` is the material's `J*(-q.v)` for `qv = q.e_v`.
-fn continuous_multiplier(
-    material: &Material,
-    params: &KernelParams,
-    (ex, ey): (f64, f64),
-    (qx, qy): (f64, f64),
-    response: PeriodicResponse,
-    compliance: impl Fn(f64) -> Complex64,
-) -> Complex64 {
-    let q = qx.hypot(qy);
-    if q == 0.0 {
-        return Complex64::default();
-    }
-    let qv = qx * ex + qy * ey;
-    let layer = params.layer.map_or(1.0, |l| {
-        compliance_ratio(l.base, material.poisson, q * l.thickness)
-    });
-    let m = compliance(qv) * (2.0 * material.composite_factor() * layer / q);
-    match response {
-        PeriodicResponse::Displacement => m,
-        PeriodicResponse::SlidingSlope => Complex64::new(0.0, qv) * m,
-    }
-}
-
-/// The discrete multiplier of mode `(i, j)` of an `nx x ny` grid of square
-/// cells of side `a`: the continuous multiplier at the grid wavevector,
-/// averaged over the signs of Nyquist components (module docs).
-#[allow(clippy::too_many_arguments)]
+/// The discrete multiplier of mode `(i, j)` of `grid`: the continuous
+/// multiplier of `response` ([`SlidingResponse::surface_multiplier_with`];
+/// for the slope times `i q.e_v`) at the grid wavevector
+/// `2 pi (k_i / L_x, k_j / L_y)`, averaged over the signs of Nyquist
+/// components (module docs).
 pub fn periodic_multiplier(
-    material: &Material,
-    params: &KernelParams,
-    nx: usize,
-    ny: usize,
-    a: f64,
+    response: &SlidingResponse,
+    grid: &Grid,
     i: usize,
     j: usize,
-    response: PeriodicResponse,
+    field: PeriodicResponse,
 ) -> Complex64 {
-    periodic_multiplier_cells(material, params, nx, ny, (a, a), i, j, response)
+    let modes = Modes::new(response, grid);
+    modes.multiplier(i, j, field, |qv, _| response.compliance_along(qv))
 }
 
-/// [`periodic_multiplier`] for cells of sides `(a_x, a_y)` \[m\]: the grid
-/// wavevector is `2 pi (k_i / (nx a_x), k_j / (ny a_y))`.
-#[allow(clippy::too_many_arguments)]
-pub fn periodic_multiplier_cells(
-    material: &Material,
-    params: &KernelParams,
-    nx: usize,
-    ny: usize,
-    (ax, ay): (f64, f64),
-    i: usize,
-    j: usize,
-    response: PeriodicResponse,
-) -> Complex64 {
-    let modes = Modes::new(params, nx, ny, (ax, ay));
-    modes.multiplier(material, params, i, j, response, |qv, _| {
-        modes.compliance(material, params, qv)
-    })
-}
-
-/// What the multiplier of every mode of one grid shares: the sliding
-/// direction and the periodic cell's sides.
-struct Modes {
-    /// Unit vector of the sliding direction.
-    e: (f64, f64),
+/// What the multiplier of every mode of one grid shares: the response and
+/// the periodic cell's sides.
+struct Modes<'a> {
+    response: &'a SlidingResponse,
     nx: usize,
     ny: usize,
     /// `L_x = nx a_x`, `L_y = ny a_y` \[m\].
     length: (f64, f64),
 }
 
-impl Modes {
-    fn new(params: &KernelParams, nx: usize, ny: usize, (ax, ay): (f64, f64)) -> Self {
+impl<'a> Modes<'a> {
+    fn new(response: &'a SlidingResponse, grid: &Grid) -> Self {
         Self {
-            e: (params.direction_rad.cos(), params.direction_rad.sin()),
-            nx,
-            ny,
-            length: (nx as f64 * ax, ny as f64 * ay),
+            response,
+            nx: grid.nx(),
+            ny: grid.ny(),
+            length: grid.lengths(),
         }
-    }
-
-    /// `J*(-q.v)` for `qv = q.e_v` [1/Pa].
-    fn compliance(&self, material: &Material, params: &KernelParams, qv: f64) -> Complex64 {
-        material.spectrum.compliance(-qv * params.speed)
     }
 
     /// Whether `q.e_v` depends on the row index `i` alone (sliding exactly
     /// along x, or no sliding): then the compliance of a grid can be
     /// evaluated once per row and sign of `q_x` ([`Self::row_compliances`]).
-    fn rows_suffice(&self, params: &KernelParams) -> bool {
-        self.e.1 == 0.0 || params.speed == 0.0
+    fn rows_suffice(&self) -> bool {
+        self.response.direction().1 == 0.0 || self.response.speed() == 0.0
     }
 
     /// `q_x` of row `i` with the sign `s` of a Nyquist alias.
@@ -190,14 +136,14 @@ impl Modes {
     /// `-q_x`: `[i][0]` and `[i][1]`. Equal, bit for bit, to the compliance
     /// each mode would evaluate: `q.e_v = q_x e_x + q_y e_y` with
     /// `e_y = 0` (or `speed = 0`, where the frequency is zero anyway).
-    fn row_compliances(&self, material: &Material, params: &KernelParams) -> Vec<[Complex64; 2]> {
+    fn row_compliances(&self) -> Vec<[Complex64; 2]> {
         (0..self.nx)
             .into_par_iter()
             .map(|i| {
                 let (_, nyq) = signed_index(i, self.nx);
                 let at = |s: f64| {
-                    let qv = self.qx(i, s) * self.e.0 + 0.0 * self.e.1;
-                    self.compliance(material, params, qv)
+                    let qv = self.response.along((self.qx(i, s), 0.0));
+                    self.response.compliance_along(qv)
                 };
                 [at(1.0), if nyq { at(-1.0) } else { Complex64::default() }]
             })
@@ -210,11 +156,9 @@ impl Modes {
     /// (0: `+`, 1: `-`).
     fn multiplier(
         &self,
-        material: &Material,
-        params: &KernelParams,
         i: usize,
         j: usize,
-        response: PeriodicResponse,
+        field: PeriodicResponse,
         compliance: impl Fn(f64, usize) -> Complex64,
     ) -> Complex64 {
         let (_, nyq_x) = signed_index(i, self.nx);
@@ -226,9 +170,15 @@ impl Modes {
         for (si, &s) in sx.iter().enumerate() {
             for &t in sy {
                 let q = (self.qx(i, s), t * qy);
-                acc += continuous_multiplier(material, params, self.e, q, response, |qv| {
-                    compliance(qv, si)
-                });
+                let m = self
+                    .response
+                    .surface_multiplier_with(q, |qv| compliance(qv, si));
+                acc += match field {
+                    PeriodicResponse::Displacement => m,
+                    PeriodicResponse::SlidingSlope => {
+                        Complex64::new(0.0, self.response.along(q)) * m
+                    }
+                };
             }
         }
         acc / (sx.len() * sy.len()) as f64
@@ -236,114 +186,25 @@ impl Modes {
 }
 
 impl SpectralPeriodic {
-    /// Displacement operator `u = L p` of a periodic cell of `nx x ny`
-    /// square cells of side `a` \[m\], sliding at `speed` [m/s] along
-    /// `direction_rad` from +x (paper Eq. A2, physics.md section 6).
-    pub fn new(
-        nx: usize,
-        ny: usize,
-        a: f64,
-        material: &Material,
-        speed: f64,
-        direction_rad: f64,
-    ) -> Self {
-        Self::with_response(
-            nx,
-            ny,
-            a,
-            material,
-            speed,
-            direction_rad,
-            PeriodicResponse::Displacement,
-        )
-    }
-
-    /// Derivative operator `D p = e_v . grad (L p)` for the friction stencil
-    /// (paper Eq. 9 on a periodic cell): spectral derivative `i q.e_v` of the
-    /// displacement.
-    pub fn sliding_slope(
-        nx: usize,
-        ny: usize,
-        a: f64,
-        material: &Material,
-        speed: f64,
-        direction_rad: f64,
-    ) -> Self {
-        Self::with_response(
-            nx,
-            ny,
-            a,
-            material,
-            speed,
-            direction_rad,
-            PeriodicResponse::SlidingSlope,
-        )
-    }
-
-    /// Plan the transforms and evaluate the multiplier once (half-space).
-    pub fn with_response(
-        nx: usize,
-        ny: usize,
-        a: f64,
-        material: &Material,
-        speed: f64,
-        direction_rad: f64,
-        response: PeriodicResponse,
-    ) -> Self {
-        let params = KernelParams {
-            speed,
-            direction_rad,
-            layer: None,
-        };
-        Self::with_params(nx, ny, a, material, &params, response)
-    }
-
-    /// The operator for `params` (speed, direction and an optional layer,
-    /// exact in Fourier space): plan the transforms and evaluate the
-    /// multiplier once.
-    pub fn with_params(
-        nx: usize,
-        ny: usize,
-        a: f64,
-        material: &Material,
-        params: &KernelParams,
-        response: PeriodicResponse,
-    ) -> Self {
-        Self::with_cells(nx, ny, (a, a), material, params, response)
-    }
-
-    /// [`Self::with_params`] on cells of sides `(a_x, a_y)` \[m\]
-    /// (`L_x / nx != L_y / ny`).
-    pub fn with_cells(
-        nx: usize,
-        ny: usize,
-        cell: (f64, f64),
-        material: &Material,
-        params: &KernelParams,
-        response: PeriodicResponse,
-    ) -> Self {
-        Self::in_precision(nx, ny, cell, material, params, response)
+    /// The operator of `response` on the periodic `grid` (paper Eq. A2,
+    /// physics.md section 6; a layer exact in Fourier space): the
+    /// displacement `u = L p`, or for [`PeriodicResponse::SlidingSlope`] the
+    /// derivative operator `D p = e_v . grad (L p)` of the friction stencil
+    /// (paper Eq. 9 on a periodic cell). Plans the transforms and evaluates
+    /// the multiplier once, in f64.
+    pub fn new(grid: &Grid, response: &SlidingResponse, field: PeriodicResponse) -> Self {
+        Self::in_precision(grid, response, field)
     }
 }
 
 impl<T: Real> SpectralPeriodic<T> {
-    /// [`SpectralPeriodic::with_cells`] with transforms and multiplier in
+    /// [`SpectralPeriodic::new`] with transforms and multiplier in
     /// precision `T` (the multiplier is evaluated in f64, then rounded; the
     /// diagonal is the f64 one).
-    pub fn in_precision(
-        nx: usize,
-        ny: usize,
-        cell: (f64, f64),
-        material: &Material,
-        params: &KernelParams,
-        response: PeriodicResponse,
-    ) -> Self {
-        assert!(nx > 0 && ny > 0, "grid must be non-empty");
-        for a in [cell.0, cell.1] {
-            assert!(a > 0.0 && a.is_finite(), "cell side must be positive");
-        }
+    pub fn in_precision(grid: &Grid, response: &SlidingResponse, field: PeriodicResponse) -> Self {
+        let (nx, ny) = grid.size();
         let mut engine = SpectralEngine::<T>::new(nx, ny, nx, ny);
-        let multiplier_t = multiplier_half_spectrum(material, params, nx, ny, cell, response);
+        let multiplier_t = multiplier_half_spectrum(response, grid, field);
         // Diagonal: (1/N) sum over all modes.
         let diag: f64 = multiplier_t
             .chunks_exact(nx)
@@ -388,33 +249,29 @@ impl<T: Real> SpectralPeriodic<T> {
     }
 }
 
-/// The discrete multiplier of every mode of the half spectrum of an
-/// `nx x ny` grid of cells of sides `cell = (a_x, a_y)` (`ny / 2 + 1`
-/// columns of `nx` modes, column-major, as the transforms hold them).
+/// The discrete multiplier of every mode of the half spectrum of `grid`
+/// (`ny / 2 + 1` columns of `nx` modes, column-major, as the transforms
+/// hold them).
 pub(crate) fn multiplier_half_spectrum(
-    material: &Material,
-    params: &KernelParams,
-    nx: usize,
-    ny: usize,
-    cell: (f64, f64),
-    response: PeriodicResponse,
+    response: &SlidingResponse,
+    grid: &Grid,
+    field: PeriodicResponse,
 ) -> Vec<Complex64> {
+    let (nx, ny) = grid.size();
     let nyh = ny / 2 + 1;
-    let modes = Modes::new(params, nx, ny, cell);
+    let modes = Modes::new(response, grid);
     // The material's compliance (a sum over its creep spectrum) is most of
     // a mode's cost; sliding along x it depends on the row alone.
-    let rows = modes
-        .rows_suffice(params)
-        .then(|| modes.row_compliances(material, params));
+    let rows = modes.rows_suffice().then(|| modes.row_compliances());
     let mut multiplier_t = vec![Complex64::default(); nyh * nx];
     multiplier_t
         .par_chunks_mut(nx)
         .enumerate()
         .for_each(|(j, col)| {
             for (i, m) in col.iter_mut().enumerate() {
-                *m = modes.multiplier(material, params, i, j, response, |qv, s| match &rows {
+                *m = modes.multiplier(i, j, field, |qv, s| match &rows {
                     Some(rows) => rows[i][s],
-                    None => modes.compliance(material, params, qv),
+                    None => response.compliance_along(qv),
                 });
             }
         });
@@ -480,7 +337,7 @@ impl<T: Real> GridOperator for SpectralPeriodic<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::CreepSpectrum;
+    use crate::material::{CreepSpectrum, Material};
 
     fn material() -> Material {
         Material::new(
@@ -496,17 +353,11 @@ mod tests {
     #[test]
     fn set_products_equal_grid_products() {
         fn check<T: Real>(nx: usize, ny: usize) {
-            let params = KernelParams {
-                speed: 0.013,
-                direction_rad: 0.4,
-                layer: None,
-            };
+            let response = SlidingResponse::new(&material(), 0.013, 0.4, None).unwrap();
+            let grid = Grid::new(nx, ny, (1e-4, 1.5e-4)).unwrap();
             let mut op = SpectralPeriodic::<T>::in_precision(
-                nx,
-                ny,
-                (1e-4, 1.5e-4),
-                &material(),
-                &params,
+                &grid,
+                &response,
                 PeriodicResponse::Displacement,
             )
             .with_preconditioner()
@@ -547,30 +398,26 @@ mod tests {
     /// Along another direction every mode evaluates its own.
     #[test]
     fn row_compliances_equal_the_modes_own() {
-        use crate::kernel::{Layer, LayerBase};
+        use crate::response::{Layer, LayerBase};
         let mat = material();
         let layer = Some(Layer {
             thickness: 3e-4,
             base: LayerBase::Bonded,
         });
         for (speed, dir, layer) in [(0.013, 0.0, None), (0.0, 0.7, None), (0.013, 0.0, layer)] {
-            let params = KernelParams {
-                speed,
-                direction_rad: dir,
-                layer,
-            };
-            assert!(Modes::new(&params, 4, 4, (1.0, 1.0)).rows_suffice(&params));
+            let response = SlidingResponse::new(&mat, speed, dir, layer).unwrap();
+            let unit = Grid::square(4, 4, 1.0).unwrap();
+            assert!(Modes::new(&response, &unit).rows_suffice());
             for &(nx, ny) in &[(6usize, 8usize), (7, 5), (8, 9)] {
-                let cell = (1e-4, 1.5e-4);
+                let grid = Grid::new(nx, ny, (1e-4, 1.5e-4)).unwrap();
                 for resp in [
                     PeriodicResponse::Displacement,
                     PeriodicResponse::SlidingSlope,
                 ] {
-                    let half = multiplier_half_spectrum(&mat, &params, nx, ny, cell, resp);
+                    let half = multiplier_half_spectrum(&response, &grid, resp);
                     for j in 0..ny / 2 + 1 {
                         for i in 0..nx {
-                            let own =
-                                periodic_multiplier_cells(&mat, &params, nx, ny, cell, i, j, resp);
+                            let own = periodic_multiplier(&response, &grid, i, j, resp);
                             let m = half[j * nx + i];
                             assert!(
                                 m.re.to_bits() == own.re.to_bits()
@@ -582,12 +429,9 @@ mod tests {
                 }
             }
         }
-        let oblique = KernelParams {
-            speed: 0.013,
-            direction_rad: 0.4,
-            layer: None,
-        };
-        assert!(!Modes::new(&oblique, 4, 4, (1.0, 1.0)).rows_suffice(&oblique));
+        let oblique = SlidingResponse::new(&mat, 0.013, 0.4, None).unwrap();
+        let unit = Grid::square(4, 4, 1.0).unwrap();
+        assert!(!Modes::new(&oblique, &unit).rows_suffice());
     }
 
     /// The FFT operator equals the naive double sum over modes,
@@ -603,12 +447,9 @@ mod tests {
                 PeriodicResponse::Displacement,
                 PeriodicResponse::SlidingSlope,
             ] {
-                let params = KernelParams {
-                    speed,
-                    direction_rad: dir,
-                    layer: None,
-                };
-                let mut op = SpectralPeriodic::with_response(nx, ny, a, &mat, speed, dir, resp);
+                let response = SlidingResponse::new(&mat, speed, dir, None).unwrap();
+                let grid = Grid::square(nx, ny, a).unwrap();
+                let mut op = SpectralPeriodic::new(&grid, &response, resp);
                 let n = nx * ny;
                 let p: Vec<f64> = (0..n).map(|k| ((k * 37 % 11) as f64) - 4.3).collect();
                 let mut u = vec![0.0; n];
@@ -617,7 +458,7 @@ mod tests {
                 let mut dense = vec![0.0; n * n];
                 for kx in 0..nx {
                     for ky in 0..ny {
-                        let m = periodic_multiplier(&mat, &params, nx, ny, a, kx, ky, resp);
+                        let m = periodic_multiplier(&response, &grid, kx, ky, resp);
                         for s in 0..n {
                             for t in 0..n {
                                 let (di, dj) = (

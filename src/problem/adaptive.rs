@@ -426,8 +426,9 @@ fn fine_fields(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kernel::{KernelParams, SlidingKernel};
+    use crate::kernel::SlidingKernel;
     use crate::material::{CreepSpectrum, Material};
+    use crate::response::SlidingResponse;
 
     /// The FFT route of the certificate gives the pairwise sums, coarse
     /// sources included (1e-12 relative: both are exact up to round-off).
@@ -438,14 +439,7 @@ mod tests {
             0.5,
         )
         .unwrap();
-        let k = SlidingKernel::new(
-            &m,
-            KernelParams {
-                speed: 2e-2,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let k = SlidingKernel::new(&SlidingResponse::new(&m, 2e-2, 0.0, None).unwrap()).unwrap();
         let (nx, ny, a) = (40usize, 28usize, 1e-4);
         let tables = Arc::new(LevelTables::new(&k, nx, ny, a, 3).unwrap());
         let mut fine = vec![false; nx * ny];

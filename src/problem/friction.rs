@@ -25,30 +25,16 @@ impl Problem {
         let stats =
             analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, cell);
         let load = stats.normal_load;
-        let (m, v, dir) = (&self.material, self.speed, self.direction_rad);
+        let (grid, response) = (self.grid()?, self.response()?);
         if self.formulation == Formulation::Periodic {
-            let params = self.kernel_params();
             // The slope operator goes before the dissipation route's spectra
             // are made (both are grid-size).
             let force = {
-                let mut slope = SpectralPeriodic::with_cells(
-                    nx,
-                    ny,
-                    cell,
-                    m,
-                    &params,
-                    PeriodicResponse::SlidingSlope,
-                );
-                analysis::friction_force_stencil_area(&mut slope, &solution.pressure, ax * ay)
+                let mut slope =
+                    SpectralPeriodic::new(&grid, &response, PeriodicResponse::SlidingSlope);
+                analysis::friction_force_stencil(&mut slope, &solution.pressure, grid.cell_area())
             };
-            let force_d = analysis::friction_force_periodic_cells(
-                &solution.pressure,
-                nx,
-                ny,
-                cell,
-                m,
-                &params,
-            );
+            let force_d = analysis::friction_force_periodic(&solution.pressure, &grid, &response);
             return Ok((-force / load, -force_d / load, stats));
         }
         if load.is_nan() || load <= 0.0 {
@@ -56,33 +42,16 @@ impl Problem {
                 "the solution carries no load: the surfaces do not touch",
             ));
         }
-        let kernel = self.sliding_kernel()?;
-        let force = self.friction_force_eq9(&kernel, &solution.pressure);
-        let force_d = match &self.layer {
-            Some(layer) if kernel.is_thin_law(ax, ay) => {
-                analysis::friction::friction_force_dissipation_thin_law(
-                    &solution.pressure,
-                    nx,
-                    ny,
-                    cell,
-                    &m.spectrum,
-                    m.poisson,
-                    v,
-                    dir,
-                    layer,
-                )
-            }
-            _ => analysis::friction::friction_force_dissipation_cells(
+        let kernel = SlidingKernel::new(&response)?;
+        let force = self.friction_force_eq9(&kernel, &solution.pressure)?;
+        let force_d = if self.layer.is_some() && kernel.is_thin_law(ax, ay) {
+            analysis::friction::friction_force_dissipation_thin_law(
                 &solution.pressure,
-                nx,
-                ny,
-                cell,
-                &m.spectrum,
-                m.poisson,
-                v,
-                dir,
-                self.layer.as_ref(),
-            ),
+                &grid,
+                &response,
+            )
+        } else {
+            analysis::friction_force_dissipation(&solution.pressure, &grid, &response)
         };
         Ok((-force / load, -force_d / load, stats))
     }
@@ -90,22 +59,27 @@ impl Problem {
     /// The friction force \[N\] of the pressure `pressure` on this
     /// non-periodic grid by the work of the contact pressure (paper Eq. 9):
     /// the cell-averaged derivative tables along the sliding direction.
-    pub(super) fn friction_force_eq9(&self, kernel: &SlidingKernel, pressure: &[f64]) -> f64 {
-        let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
-        let dir = self.direction_rad;
+    pub(super) fn friction_force_eq9(
+        &self,
+        kernel: &SlidingKernel,
+        pressure: &[f64],
+    ) -> Result<f64> {
+        let grid = self.grid()?;
+        let (nx, ny) = grid.size();
+        let (ex, ey) = kernel.response().direction();
         let mut force = 0.0;
-        for (axis, w) in [(Axis::X, dir.cos()), (Axis::Y, dir.sin())] {
-            if w.abs() < 1e-15 {
+        for (axis, w) in [(Axis::X, ex), (Axis::Y, ey)] {
+            if w == 0.0 {
                 continue;
             }
-            let d = kernel.derivative_table_rect(nx, ny, ax, ay, axis);
+            let d = kernel.derivative_table(&grid, axis)?;
             let mut op = ToeplitzFft::new(OffsetTable {
                 nx,
                 ny,
                 values: &d.values,
             });
-            force += w * analysis::friction_force_stencil_area(&mut op, pressure, ax * ay);
+            force += w * analysis::friction_force_stencil(&mut op, pressure, grid.cell_area());
         }
-        force
+        Ok(force)
     }
 }

@@ -71,8 +71,8 @@ impl Problem {
     ) -> Result<(ContactSolution, SolveInfo, f64, GpuRefinement)> {
         let (solution, info, t_device) = device;
         let t = Instant::now();
-        let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
-        let table = self.sliding_kernel()?.table_rect(nx, ny, cell.0, cell.1);
+        let (nx, ny) = (self.surface.nx, self.surface.ny);
+        let table = self.sliding_kernel()?.table(&self.grid()?)?;
         let (mut backend, l00) = toeplitz_backend::<f64>(nx, ny, &table.values);
         let start = WarmStart {
             contact: solution.contact,

@@ -47,8 +47,9 @@ pub use solve::Discretisation;
 
 use crate::config::{AnalysisConfig, Formulation, MeshKind, Sliding, SphereConfig, XiScale};
 use crate::error::{Error, Result};
-use crate::kernel::{KernelParams, Layer, SlidingKernel};
+use crate::kernel::SlidingKernel;
 use crate::material::Material;
+use crate::response::{Grid, Layer, SlidingResponse};
 use crate::solver::{Control, SolverParams};
 use crate::surface::{GenerateParams, HeightMap, Preprocessing, SynthParams, TabulatedPsd};
 
@@ -305,20 +306,31 @@ impl Problem {
         self
     }
 
-    /// The steady-sliding kernel of this material, speed, direction and
-    /// layer (paper Eq. 4-5).
+    /// The steady-sliding kernel of this problem's response (paper
+    /// Eq. 4-5).
     pub fn sliding_kernel(&self) -> Result<SlidingKernel> {
-        Ok(SlidingKernel::new(&self.material, self.kernel_params())?)
+        Ok(SlidingKernel::new(&self.response()?)?)
     }
 
-    /// Speed, direction and layer, as the kernel and the periodic operator
-    /// take them.
-    pub fn kernel_params(&self) -> KernelParams {
-        KernelParams {
-            speed: self.speed,
-            direction_rad: self.direction_rad,
-            layer: self.layer,
-        }
+    /// The sliding response of this material, speed, direction and layer,
+    /// as every operator and the friction routes take it.
+    pub fn response(&self) -> Result<SlidingResponse> {
+        Ok(SlidingResponse::new(
+            &self.material,
+            self.speed,
+            self.direction_rad,
+            self.layer,
+        )?)
+    }
+
+    /// The surface's grid: its cells, periodic when the formulation is.
+    pub fn grid(&self) -> Result<Grid> {
+        let s = &self.surface;
+        let grid = Grid::new(s.nx, s.ny, (s.cell_size, s.cell_size_y))?;
+        Ok(match self.formulation {
+            Formulation::Periodic => grid.periodic(),
+            Formulation::NonPeriodic => grid,
+        })
     }
 
     /// Gap profile `g = max(z) - z` (physics.md section 1).

@@ -61,7 +61,7 @@ impl Problem {
         let t = Instant::now();
         let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
-        let table = kernel.table_rect(nx, ny, ax, ay);
+        let table = kernel.table(&self.grid()?)?;
         let (mut backend, l00) = toeplitz_backend::<f64>(nx, ny, &table.values);
         drop(table);
         let flat = vec![0.0; nx * ny];
@@ -103,7 +103,7 @@ impl Problem {
             }
         };
         drop(backend);
-        let force = self.friction_force_eq9(&kernel, &solution.pressure);
+        let force = self.friction_force_eq9(&kernel, &solution.pressure)?;
         let loaded: f64 = solution.pressure.iter().sum::<f64>() * ax * ay;
         let smooth = -force / loaded;
         Ok(SmoothPad {

@@ -17,6 +17,7 @@ use crate::kernel::SlidingKernel;
 use crate::operator::{
     AdaptiveOperator, LevelTables, OffsetTable, PeriodicResponse, Real, SpectralPeriodic,
 };
+use crate::response::Grid;
 use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, WarmStart};
 
 use super::adaptive::{solve_adaptive, AdaptiveError, AdaptiveParams, MeshReport};
@@ -247,14 +248,14 @@ impl Problem {
         let t0 = Instant::now();
         let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
-        let table = kernel.table_rect(nx, ny, cell.0, cell.1);
+        let table = kernel.table(&self.grid()?)?;
         let t_coeff = t0.elapsed().as_secs_f64();
         let mut fine = Some(table);
         // The fine grid's table is computed once; coarse grids' on demand.
-        let mut build = |nx: usize, ny: usize, (ax, ay): (f64, f64)| {
+        let mut build = |nx: usize, ny: usize, cell: (f64, f64)| {
             let table = match fine.take() {
                 Some(t) if t.nx == nx && t.ny == ny => t,
-                _ => kernel.table_rect(nx, ny, ax, ay),
+                _ => kernel.table(&Grid::new(nx, ny, cell)?)?,
             };
             Ok(toeplitz_backend::<T>(nx, ny, &table.values))
         };
@@ -295,16 +296,10 @@ impl Problem {
         // The coefficient table of an nx x ny grid: a half-space's on the
         // device, a finite layer's on the host.
         let table_of = |engine: &mut Engine, nx: usize, ny: usize, cell: (f64, f64)| {
+            let grid = Grid::new(nx, ny, cell)?;
             Ok::<_, Error>(match self.layer {
-                None => coefficients::coefficient_table_rect(
-                    engine,
-                    &self.material,
-                    kernel.params(),
-                    nx,
-                    ny,
-                    cell,
-                )?,
-                Some(_) => kernel.table_rect(nx, ny, cell.0, cell.1).values,
+                None => coefficients::coefficient_table(engine, kernel.response(), &grid)?,
+                Some(_) => kernel.table(&grid)?.values,
             })
         };
         let mut engine = Engine::new(ctx.clone());
@@ -390,14 +385,12 @@ impl Problem {
     ) -> Result<Raw> {
         let t0 = Instant::now();
         let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
-        let (m, params) = (&self.material, self.kernel_params());
+        let response = self.response()?;
         let build = |nx, ny, cell| {
+            let grid = Grid::new(nx, ny, cell)?.periodic();
             let op = SpectralPeriodic::<T>::in_precision(
-                nx,
-                ny,
-                cell,
-                m,
-                &params,
+                &grid,
+                &response,
                 PeriodicResponse::Displacement,
             )
             .with_preconditioner()
@@ -467,8 +460,7 @@ impl Problem {
         let (nx, ny) = plan.tables.shape();
         let tables = GpuLevelTables::new(
             &mut eng,
-            &self.material,
-            plan.kernel.params(),
+            plan.kernel.response(),
             nx,
             ny,
             plan.tables.cell_size(),

@@ -5,6 +5,8 @@
 //! count, what it needs and what there is, and nothing is written.
 
 use crate::common;
+use viscoslide::response::Grid;
+use viscoslide::response::SlidingResponse;
 
 use std::io::{Cursor, Write};
 use std::path::Path;
@@ -268,29 +270,25 @@ fn gwy_sizes_whose_product_wraps_are_errors() {
 
 #[test]
 fn kernel_tables_beyond_memory_are_refused() {
-    use viscoslide::kernel::{KernelParams, SlidingKernel};
+    use viscoslide::kernel::SlidingKernel;
     use viscoslide::material::{CreepSpectrum, Material};
     let m = Material::new(
         CreepSpectrum::standard_linear_solid(1e6, 1e7, 0.01).unwrap(),
         0.5,
     )
     .unwrap();
-    let k = SlidingKernel::new(
-        &m,
-        KernelParams {
-            speed: 1e-2,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let k = SlidingKernel::new(&SlidingResponse::new(&m, 1e-2, 0.0, None).unwrap()).unwrap();
     // 100000^2 cells: 4e10 offsets of 16 bytes, far beyond any machine here.
-    let e = k.try_table(100_000, 100_000, 1e-6).unwrap_err().to_string();
+    let e = k
+        .table(&Grid::square(100_000, 100_000, 1e-6).unwrap())
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("100000 x 100000") && e.contains("needs") && e.contains("available"),
         "{e}"
     );
     let e = k
-        .try_table(usize::MAX / 2, 3, 1e-6)
+        .table(&Grid::square(usize::MAX / 2, 3, 1e-6).unwrap())
         .unwrap_err()
         .to_string();
     assert!(e.contains("more than 2^64 bytes"), "{e}");

@@ -4,7 +4,9 @@
 
 use viscoslide::analysis::{friction_force_periodic, friction_force_stencil};
 use viscoslide::backend::CpuBackend;
+use viscoslide::operator::PeriodicResponse;
 use viscoslide::operator::SpectralPeriodic;
+use viscoslide::response::{Grid, SlidingResponse};
 use viscoslide::solver::{self, Control, SolverParams};
 
 pub const LENGTH: f64 = 0.01;
@@ -27,7 +29,11 @@ pub fn surface(n: usize) -> Vec<f64> {
 pub fn periodic(z: &[f64], n: usize, speed: f64, p0: f64) -> Outcome {
     let material = super::paper_material();
     let a = LENGTH / n as f64;
-    let op = SpectralPeriodic::new(n, n, a, &material, speed, 0.0);
+    let op = SpectralPeriodic::new(
+        &Grid::square(n, n, a).unwrap(),
+        &SlidingResponse::new(&material, speed, 0.0, None).unwrap(),
+        PeriodicResponse::Displacement,
+    );
     let l00 = op.self_coefficient();
     let mut be = CpuBackend::new(op);
     let load = p0 * LENGTH * LENGTH;
@@ -41,9 +47,17 @@ pub fn periodic(z: &[f64], n: usize, speed: f64, p0: f64) -> Outcome {
         &mut solver::Silent,
     )
     .unwrap();
-    let mut d = SpectralPeriodic::sliding_slope(n, n, a, &material, speed, 0.0);
-    let fs = friction_force_stencil(&mut d, &sol.pressure, a);
-    let ff = friction_force_periodic(&sol.pressure, n, n, a, &material, speed, 0.0);
+    let mut d = SpectralPeriodic::new(
+        &Grid::square(n, n, a).unwrap(),
+        &SlidingResponse::new(&material, speed, 0.0, None).unwrap(),
+        PeriodicResponse::SlidingSlope,
+    );
+    let fs = friction_force_stencil(&mut d, &sol.pressure, a * a);
+    let ff = friction_force_periodic(
+        &sol.pressure,
+        &Grid::square(n, n, a).unwrap(),
+        &SlidingResponse::new(&material, speed, 0.0, None).unwrap(),
+    );
     assert!((fs - ff).abs() <= 1e-9 * ff.abs() + 1e-12 * load);
     Outcome {
         mu: -fs / load,

@@ -7,9 +7,10 @@ pub mod gwy;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::operator::{OffsetTable, ToeplitzFft};
+use viscoslide::response::{Grid, SlidingResponse};
 use viscoslide::solver::{self, ContactSolution, Control, SolveInfo, SolverParams};
 
 /// The source tree the tests read configs and shaders from: the directory
@@ -105,15 +106,9 @@ pub fn solve_grid(
     control: Control,
 ) -> (ContactSolution, SolveInfo, SlidingKernel) {
     let a = length / n as f64;
-    let kernel = SlidingKernel::new(
-        material,
-        KernelParams {
-            speed,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let table = kernel.table(n, n, a);
+    let kernel =
+        SlidingKernel::new(&SlidingResponse::new(material, speed, 0.0, None).unwrap()).unwrap();
+    let table = kernel.table(&Grid::square(n, n, a).unwrap()).unwrap();
     let tab = OffsetTable {
         nx: n,
         ny: n,
@@ -175,15 +170,12 @@ pub fn rough_patch(n: usize, speed: f64) -> RoughPatch {
     let length = 0.01;
     let a = length / n as f64;
     let material = paper_material();
-    let kernel = SlidingKernel::new(
-        &material,
-        KernelParams {
-            speed,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let table = kernel.table(n, n, a).values;
+    let kernel =
+        SlidingKernel::new(&SlidingResponse::new(&material, speed, 0.0, None).unwrap()).unwrap();
+    let table = kernel
+        .table(&Grid::square(n, n, a).unwrap())
+        .unwrap()
+        .values;
     let l00 = OffsetTable {
         nx: n,
         ny: n,
@@ -212,23 +204,20 @@ pub fn friction(
 ) -> (f64, f64) {
     use viscoslide::analysis;
     use viscoslide::kernel::Axis;
-    let d = kernel.derivative_table(n, n, a, Axis::X);
+    let d = kernel
+        .derivative_table(&Grid::square(n, n, a).unwrap(), Axis::X)
+        .unwrap();
     let mut op = ToeplitzFft::new(OffsetTable {
         nx: n,
         ny: n,
         values: &d.values,
     });
     let load: f64 = sol.pressure.iter().sum::<f64>() * a * a;
-    let fs = analysis::friction_force_stencil(&mut op, &sol.pressure, a);
+    let fs = analysis::friction_force_stencil(&mut op, &sol.pressure, a * a);
     let fd = analysis::friction_force_dissipation(
         &sol.pressure,
-        n,
-        n,
-        a,
-        &material.spectrum,
-        material.poisson,
-        speed,
-        0.0,
+        &Grid::square(n, n, a).unwrap(),
+        &SlidingResponse::new(material, speed, 0.0, None).unwrap(),
     );
     (-fs / load, -fd / load)
 }

@@ -8,6 +8,8 @@
 //! exists, and fails under `REQUIRE_GPU=1`.
 
 use crate::common;
+use viscoslide::response::SlidingResponse;
+use viscoslide::response::{Layer, LayerBase};
 
 use std::collections::HashMap;
 use std::time::Instant;
@@ -18,7 +20,7 @@ use viscoslide::backend::gpu::adaptive::{pair_coefficients, MeshCells};
 use viscoslide::backend::gpu::engine::Engine;
 use viscoslide::backend::gpu::{self, shaders, GpuBackend};
 use viscoslide::backend::{Backend, CpuBackend};
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::material::Material;
 use viscoslide::operator::GridOperator;
 use viscoslide::solver::{self, Control, SolverParams};
@@ -54,12 +56,16 @@ fn dense_34_material() -> Material {
     Material::new(CreepSpectrum::new(1e7, terms).unwrap(), 0.5).unwrap()
 }
 
-pub(crate) fn params(speed: f64, direction: f64) -> KernelParams {
-    KernelParams {
-        speed,
-        direction_rad: direction,
-        layer: None,
-    }
+/// A half-space sliding state: speed [m/s] and direction [rad].
+pub(crate) type Sliding = (f64, f64);
+
+pub(crate) fn params(speed: f64, direction: f64) -> Sliding {
+    (speed, direction)
+}
+
+/// The response of `material` in the sliding state `p` (half-space).
+pub(crate) fn response(material: &Material, (speed, direction): Sliding) -> SlidingResponse {
+    SlidingResponse::new(material, speed, direction, None).unwrap()
 }
 
 /// `n` nonnegative pressures below 1e5 Pa, a fraction `zeros` of them zero.
@@ -143,8 +149,8 @@ pub(crate) fn offsets(s: f64) -> Vec<(f64, f64)> {
 /// Worst relative error of the device pair coefficients against
 /// `SlidingKernel::coefficient(..).total()` over the pairs with
 /// `|K| >= 1e-6 max |K|` (sources of sides a, 2a, 4a, 8a).
-pub(crate) fn pair_error(engine: &mut Engine, material: &Material, p: KernelParams) -> f64 {
-    let kernel = SlidingKernel::new(material, p).unwrap();
+pub(crate) fn pair_error(engine: &mut Engine, material: &Material, p: Sliding) -> f64 {
+    let kernel = SlidingKernel::new(&response(material, p)).unwrap();
     let mut targets = Vec::new();
     let mut sources = Vec::new();
     let mut cpu = Vec::new();
@@ -158,7 +164,7 @@ pub(crate) fn pair_error(engine: &mut Engine, material: &Material, p: KernelPara
             cpu.push(kernel.coefficient(dx, dy, s, s).total());
         }
     }
-    let gpu = pair_coefficients(engine, material, &p, &targets, &sources).unwrap();
+    let gpu = pair_coefficients(engine, &response(material, p), &targets, &sources).unwrap();
     let max = cpu.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let mut worst = 0.0f64;
     for (k, (g, c)) in gpu.iter().zip(&cpu).enumerate() {
@@ -187,7 +193,7 @@ fn pair_coefficients_match_cpu_sls() {
     let mut engine = Engine::new(ctx);
     let m = common::paper_material();
     let t0 = Instant::now();
-    let mut cases: Vec<(String, KernelParams)> = vec![
+    let mut cases: Vec<(String, Sliding)> = vec![
         ("v = 0".into(), params(0.0, 0.0)),
         ("v = inf".into(), params(f64::INFINITY, 0.0)),
     ];
@@ -356,10 +362,10 @@ fn adaptive_matvec_matches_dense_cpu() {
     for (lambda, zeros) in [(3.0, 0.4), (300.0, 0.75)] {
         let p = params(lambda * A / TAU, 0.0);
         let t0 = Instant::now();
-        let mat = dense(&cells, &SlidingKernel::new(&m, p).unwrap());
+        let mat = dense(&cells, &SlidingKernel::new(&response(&m, p)).unwrap());
         let t_cpu = t0.elapsed().as_secs_f64();
         let engine = Engine::new(gpu::context_for_tests().unwrap());
-        let mut g = GpuBackend::with_adaptive(engine, &m, &p, &cells).unwrap();
+        let mut g = GpuBackend::with_adaptive(engine, &response(&m, p), &cells).unwrap();
         assert_eq!(g.grid_len(), n);
         let x = sparse_pressures(&mut rng, n, zeros);
         let mut want = vec![0.0; n];
@@ -404,7 +410,7 @@ fn adaptive_solve_matches_dense_cpu() {
     let mut failures = Vec::new();
     for lambda in [1.0, 30.0] {
         let p = params(lambda * A / TAU, 0.0);
-        let kernel = SlidingKernel::new(&m, p).unwrap();
+        let kernel = SlidingKernel::new(&response(&m, p)).unwrap();
         let self_coefficient = kernel.coefficient(0.0, 0.0, A, A).total();
         let mat = dense(&cells, &kernel);
         // About ten fine cells in contact.
@@ -425,7 +431,7 @@ fn adaptive_solve_matches_dense_cpu() {
         .unwrap();
         let t_cpu = t0.elapsed().as_secs_f64();
         let engine = Engine::new(gpu::context_for_tests().unwrap());
-        let mut be = GpuBackend::with_adaptive(engine, &m, &p, &cells).unwrap();
+        let mut be = GpuBackend::with_adaptive(engine, &response(&m, p), &cells).unwrap();
         let t1 = Instant::now();
         let (sg, ig) = solver::solve(
             &mut be,
@@ -467,66 +473,50 @@ fn adaptive_solve_matches_dense_cpu() {
 #[test]
 fn adaptive_refuses_invalid_input() {
     use viscoslide::backend::gpu::{AdaptiveMatvec, GpuError};
-    use viscoslide::kernel::{Layer, LayerBase};
+
     let Some(ctx) = gpu::context_for_tests() else {
         return;
     };
     let mut engine = Engine::new(ctx);
     let m = common::paper_material();
     let cells = ring_mesh(2, 2);
-    let layer = KernelParams {
-        layer: Some(Layer {
+    let layer = SlidingResponse::new(
+        &m,
+        0.1,
+        0.0,
+        Some(Layer {
             thickness: 1e-3,
             base: LayerBase::Bonded,
         }),
-        ..params(0.1, 0.0)
-    };
+    )
+    .unwrap();
     let invalid = |r: Result<AdaptiveMatvec, GpuError>| matches!(r, Err(GpuError::Invalid(_)));
-    assert!(invalid(AdaptiveMatvec::new(
-        &mut engine,
-        &m,
-        &layer,
-        &cells
-    )));
-    assert!(invalid(AdaptiveMatvec::new(
-        &mut engine,
-        &m,
-        &params(-1.0, 0.0),
-        &cells
-    )));
+    assert!(invalid(AdaptiveMatvec::new(&mut engine, &layer, &cells)));
+    // A negative speed has no response to plan.
+    assert!(SlidingResponse::new(&m, -1.0, 0.0, None).is_err());
+    let half = response(&m, params(0.1, 0.0));
     let mut ragged = cells.clone();
     ragged.y.pop();
-    assert!(invalid(AdaptiveMatvec::new(
-        &mut engine,
-        &m,
-        &params(0.1, 0.0),
-        &ragged
-    )));
+    assert!(invalid(AdaptiveMatvec::new(&mut engine, &half, &ragged)));
     let mut flat = cells.clone();
     flat.side[3] = 0.0;
+    assert!(invalid(AdaptiveMatvec::new(&mut engine, &half, &flat)));
     assert!(invalid(AdaptiveMatvec::new(
         &mut engine,
-        &m,
-        &params(0.1, 0.0),
-        &flat
-    )));
-    assert!(invalid(AdaptiveMatvec::new(
-        &mut engine,
-        &m,
-        &params(0.1, 0.0),
+        &half,
         &MeshCells::default()
     )));
     let p = params(0.1, 0.0);
     assert!(matches!(
-        pair_coefficients(&mut engine, &m, &p, &[(0.0, 0.0)], &[]),
+        pair_coefficients(&mut engine, &half, &[(0.0, 0.0)], &[]),
         Err(GpuError::Invalid(_))
     ));
     assert!(matches!(
-        pair_coefficients(&mut engine, &m, &layer, &[(0.0, 0.0)], &[(0.0, 0.0, A)]),
+        pair_coefficients(&mut engine, &layer, &[(0.0, 0.0)], &[(0.0, 0.0, A)]),
         Err(GpuError::Invalid(_))
     ));
     assert_eq!(
-        pair_coefficients(&mut engine, &m, &p, &[], &[]).unwrap(),
+        pair_coefficients(&mut engine, &response(&m, p), &[], &[]).unwrap(),
         Vec::<f64>::new()
     );
     assert!(cells.fine_side() == A && MeshCells::default().fine_side().is_nan());
@@ -550,7 +540,7 @@ fn gpu_level_tables_match_the_host() {
     let (nx, ny, levels) = (20usize, 14usize, 3u8);
     let paper = common::paper_material();
     let dense34 = dense_34_material();
-    let cases: Vec<(&str, &Material, KernelParams)> = vec![
+    let cases: Vec<(&str, &Material, Sliding)> = vec![
         ("paper v=0", &paper, params(0.0, 0.0)),
         ("paper vtau/a=3 +x", &paper, params(3.0 * A / TAU, 0.0)),
         (
@@ -563,9 +553,9 @@ fn gpu_level_tables_match_the_host() {
     let mut engine = Engine::new(gpu::context_for_tests().unwrap());
     let mut worst: f64 = 0.0;
     for (name, m, p) in cases {
-        let kernel = SlidingKernel::new(m, p).unwrap();
+        let kernel = SlidingKernel::new(&response(m, p)).unwrap();
         let host = LevelTables::new(&kernel, nx, ny, A, levels).unwrap();
-        let dev = GpuLevelTables::new(&mut engine, m, &p, nx, ny, A, levels).unwrap();
+        let dev = GpuLevelTables::new(&mut engine, &response(m, p), nx, ny, A, levels).unwrap();
         assert_eq!(dev.max_level(), levels);
         for level in 0..=levels {
             for parity in 0..2usize {
@@ -675,11 +665,11 @@ fn gpu_level_matvec_matches_the_host_operator() {
     for (mesh, lambda, dir, zeros, empty_level) in cases {
         let (nx, ny) = (mesh.nx, mesh.ny);
         let p = params(lambda * A / TAU, dir);
-        let kernel = SlidingKernel::new(&m, p).unwrap();
+        let kernel = SlidingKernel::new(&response(&m, p)).unwrap();
         let host = std::sync::Arc::new(LevelTables::new(&kernel, nx, ny, A, levels).unwrap());
         let mut op = AdaptiveOperator::new(host, mesh);
         let mut eng = engine.take().unwrap();
-        let dev = GpuLevelTables::new(&mut eng, &m, &p, nx, ny, A, levels).unwrap();
+        let dev = GpuLevelTables::new(&mut eng, &response(&m, p), nx, ny, A, levels).unwrap();
         let mut g = GpuBackend::with_level_tables(eng, &dev, mesh).unwrap();
         let n = mesh.len();
         assert_eq!(g.grid_len(), n);

@@ -6,12 +6,13 @@
 //! fails under `REQUIRE_GPU=1`.
 
 use crate::common;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use viscoslide::backend::gpu::{self, FftChoice, GpuBackend, GpuOptions, SpectrumPrecision};
 use viscoslide::backend::{Backend, CpuBackend};
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
 
 fn random(n: usize, seed: u64, lo: f64, hi: f64) -> Vec<f64> {
@@ -28,15 +29,10 @@ fn rel_l2(a: &[f64], b: &[f64]) -> f64 {
 /// The paper material's offset table on an `nx x ny` grid of cell `a` at
 /// speed `v`.
 pub(crate) fn paper_table(nx: usize, ny: usize, a: f64, v: f64) -> Vec<f64> {
-    let k = SlidingKernel::new(
-        &common::paper_material(),
-        KernelParams {
-            speed: v,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    k.table(nx, ny, a).values
+    let k =
+        SlidingKernel::new(&SlidingResponse::new(&common::paper_material(), v, 0.0, None).unwrap())
+            .unwrap();
+    k.table(&Grid::square(nx, ny, a).unwrap()).unwrap().values
 }
 
 fn both(nx: usize, ny: usize, table: &[f64]) -> Option<(GpuBackend, CpuBackend<ToeplitzFft>)> {
@@ -571,16 +567,14 @@ fn table_error(
     let ctx = gpu::context_for_tests()?;
     let mut engine = Engine::new(ctx);
     let a = 0.01 / n as f64;
-    let params = KernelParams {
-        speed,
-        direction_rad: direction,
-        layer: None,
-    };
-    let cpu = SlidingKernel::new(material, params)
+    let response = SlidingResponse::new(material, speed, direction, None).unwrap();
+    let grid = Grid::square(n, n, a).unwrap();
+    let cpu = SlidingKernel::new(&response)
         .unwrap()
-        .table(n, n, a)
+        .table(&grid)
+        .unwrap()
         .values;
-    let gpu = coefficients::coefficient_table(&mut engine, material, &params, n, n, a).unwrap();
+    let gpu = coefficients::coefficient_table(&mut engine, &response, &grid).unwrap();
     let max = cpu.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let mut worst = 0.0f64;
     for (g, c) in gpu.iter().zip(&cpu) {
@@ -679,19 +673,14 @@ fn coefficient_table_on_rectangles_matches_cpu() {
     let mut engine = Engine::new(ctx);
     for (ax, ay) in [(2e-4, 1e-4), (1e-4, 2.5e-4)] {
         for (lambda, direction) in [(0.3, 0.0), (3.0, 0.0), (30.0, 0.0), (3.0, 0.5)] {
-            let params = KernelParams {
-                speed: lambda * ax / 0.01,
-                direction_rad: direction,
-                layer: None,
-            };
-            let (nx, ny) = (24, 20);
-            let cpu = SlidingKernel::new(&m, params)
+            let response = SlidingResponse::new(&m, lambda * ax / 0.01, direction, None).unwrap();
+            let grid = Grid::new(24, 20, (ax, ay)).unwrap();
+            let cpu = SlidingKernel::new(&response)
                 .unwrap()
-                .table_rect(nx, ny, ax, ay)
+                .table(&grid)
+                .unwrap()
                 .values;
-            let gpu =
-                coefficients::coefficient_table_rect(&mut engine, &m, &params, nx, ny, (ax, ay))
-                    .unwrap();
+            let gpu = coefficients::coefficient_table(&mut engine, &response, &grid).unwrap();
             let max = cpu.iter().fold(0.0f64, |s, v| s.max(v.abs()));
             let mut worst = 0.0f64;
             for (g, c) in gpu.iter().zip(&cpu) {

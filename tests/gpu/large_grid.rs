@@ -6,6 +6,7 @@
 //! kernels on small grids); it then prints its timings.
 
 use crate::common;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use std::time::Instant;
 
@@ -14,7 +15,7 @@ use rand_chacha::ChaCha8Rng;
 use viscoslide::backend::gpu::engine::Engine;
 use viscoslide::backend::gpu::{self, coefficients, GpuBackend, GpuOptions};
 use viscoslide::backend::Backend;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
 
 fn rel_l2(a: &[f64], b: &[f64]) -> f64 {
@@ -35,17 +36,19 @@ fn grid_2048_runs_within_the_binding_limit() {
     let n = 2048;
     let a = 0.01 / n as f64;
     let material = common::paper_material();
-    let params = KernelParams {
-        speed: 1.17e-2,
-        ..Default::default()
-    };
-    let kernel = SlidingKernel::new(&material, params).unwrap();
+    let response = SlidingResponse::new(&material, 1.17e-2, 0.0, None).unwrap();
+    let kernel = SlidingKernel::new(&response).unwrap();
     let t = Instant::now();
-    let host = kernel.table(n, n, a).values;
+    let host = kernel
+        .table(&Grid::square(n, n, a).unwrap())
+        .unwrap()
+        .values;
     let t_host = t.elapsed().as_secs_f64();
     let mut engine = Engine::new(ctx);
     let t = Instant::now();
-    let device = coefficients::coefficient_table(&mut engine, &material, &params, n, n, a).unwrap();
+    let device =
+        coefficients::coefficient_table(&mut engine, &response, &Grid::square(n, n, a).unwrap())
+            .unwrap();
     let t_table = t.elapsed().as_secs_f64();
     // Coefficient bound of the conformance suite: 1e-5 relative wherever
     // the value exceeds 1e-6 of the table's maximum.
@@ -120,14 +123,13 @@ fn grid_beyond_one_binding_is_split() {
     let windows = engine.windows(work);
     let a = 0.01 / n as f64;
     let kernel = SlidingKernel::new(
-        &common::paper_material(),
-        KernelParams {
-            speed: 1.17e-2,
-            ..Default::default()
-        },
+        &SlidingResponse::new(&common::paper_material(), 1.17e-2, 0.0, None).unwrap(),
     )
     .unwrap();
-    let host = kernel.table(n, n, a).values;
+    let host = kernel
+        .table(&Grid::square(n, n, a).unwrap())
+        .unwrap()
+        .values;
     let t = Instant::now();
     let mut g = GpuBackend::with_engine(engine, n, n, &host, GpuOptions::default()).unwrap();
     let t_setup = t.elapsed().as_secs_f64();

@@ -4,12 +4,13 @@
 //! refine loop reproducing the uniform solution with fewer unknowns.
 
 use crate::common;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use std::sync::Arc;
 
 use viscoslide::backend::CpuBackend;
 use viscoslide::config;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::material::Material;
 use viscoslide::mesh::QuadMesh;
 use viscoslide::operator::{AdaptiveOperator, GridOperator, LevelTables, OffsetTable, ToeplitzFft};
@@ -19,12 +20,7 @@ use viscoslide::solver::{self, Control, SolverParams};
 
 fn kernel(material: &Material, speed: f64, direction_deg: f64) -> SlidingKernel {
     SlidingKernel::new(
-        material,
-        KernelParams {
-            speed,
-            direction_rad: direction_deg.to_radians(),
-            layer: None,
-        },
+        &SlidingResponse::new(material, speed, direction_deg.to_radians(), None).unwrap(),
     )
     .unwrap()
 }
@@ -104,7 +100,7 @@ fn vertex_table_matches_per_offset_evaluation() {
     let (n, a) = (12usize, 1e-4);
     for (speed, dir) in [(3e-2, 0.0), (3e-2, 180.0), (3e-2, 270.0), (0.0, 0.0)] {
         let k = kernel(&material, speed, dir);
-        let t = k.try_vertex_table(n, n, a).unwrap();
+        let t = k.vertex_table(&Grid::square(n, n, a).unwrap()).unwrap();
         for i in -(n as isize)..n as isize {
             for j in -(n as isize)..n as isize {
                 let want = k
@@ -129,7 +125,7 @@ fn all_fine_mesh_equals_the_uniform_operator() {
     let m = QuadMesh::uniform(nx, ny, a).unwrap();
     assert_eq!(m.len(), nx * ny);
     let mut op = AdaptiveOperator::new(tables, &m);
-    let table = k.table(nx, ny, a);
+    let table = k.table(&Grid::square(nx, ny, a).unwrap()).unwrap();
     let mut fft = ToeplitzFft::new(OffsetTable {
         nx,
         ny,

@@ -4,6 +4,8 @@
 //! (Appendix Eq. A3-A4).
 
 use crate::common;
+use viscoslide::operator::PeriodicResponse;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use std::f64::consts::TAU;
 
@@ -13,7 +15,7 @@ use viscoslide::analysis::{
     friction_force_periodic, friction_force_stencil, full_contact_friction_stress,
 };
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::material::Material;
 use viscoslide::operator::{GridOperator, OffsetTable, SpectralPeriodic, ToeplitzFft};
 use viscoslide::solver::{self, Control, SolverParams};
@@ -29,7 +31,11 @@ fn full_contact_mu(
     speed: f64,
     p0: f64,
 ) -> (f64, f64, Vec<f64>) {
-    let op = SpectralPeriodic::new(nx, ny, a, material, speed, 0.0);
+    let op = SpectralPeriodic::new(
+        &Grid::square(nx, ny, a).unwrap(),
+        &SlidingResponse::new(material, speed, 0.0, None).unwrap(),
+        PeriodicResponse::Displacement,
+    );
     let l00 = op.self_coefficient();
     let mut be = CpuBackend::new(op);
     let load = p0 * (nx * ny) as f64 * a * a;
@@ -39,9 +45,17 @@ fn full_contact_mu(
     };
     let (sol, _) =
         solver::solve_full_contact(&mut be, g, a * a, l00, Control::Load(load), &params).unwrap();
-    let mut d = SpectralPeriodic::sliding_slope(nx, ny, a, material, speed, 0.0);
-    let fs = friction_force_stencil(&mut d, &sol.pressure, a);
-    let ff = friction_force_periodic(&sol.pressure, nx, ny, a, material, speed, 0.0);
+    let mut d = SpectralPeriodic::new(
+        &Grid::square(nx, ny, a).unwrap(),
+        &SlidingResponse::new(material, speed, 0.0, None).unwrap(),
+        PeriodicResponse::SlidingSlope,
+    );
+    let fs = friction_force_stencil(&mut d, &sol.pressure, a * a);
+    let ff = friction_force_periodic(
+        &sol.pressure,
+        &Grid::square(nx, ny, a).unwrap(),
+        &SlidingResponse::new(material, speed, 0.0, None).unwrap(),
+    );
     (-fs / load, -ff / load, sol.pressure)
 }
 
@@ -128,20 +142,19 @@ fn trailing_side_keeps_the_larger_displacement() {
         .collect();
     let probe = 6;
     for speed in [0.0, 0.05, 0.5] {
-        let mut op = SpectralPeriodic::new(n, n, a, &material, speed, 0.0);
+        let mut op = SpectralPeriodic::new(
+            &Grid::square(n, n, a).unwrap(),
+            &SlidingResponse::new(&material, speed, 0.0, None).unwrap(),
+            PeriodicResponse::Displacement,
+        );
         let mut u = vec![0.0; n * n];
         op.apply(&bump, &mut u);
         let trailing = u[(c - probe) * n + c];
         let leading = u[(c + probe) * n + c];
-        let kernel = SlidingKernel::new(
-            &material,
-            KernelParams {
-                speed,
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        let table = kernel.table(n, n, a);
+        let kernel =
+            SlidingKernel::new(&SlidingResponse::new(&material, speed, 0.0, None).unwrap())
+                .unwrap();
+        let table = kernel.table(&Grid::square(n, n, a).unwrap()).unwrap();
         let mut np = ToeplitzFft::new(OffsetTable {
             nx: n,
             ny: n,
@@ -203,7 +216,10 @@ fn random_surface_full_contact_matches_mode_sum() {
     for speed in [0.01, 0.1, 1.0, 10.0] {
         let (ms, mf, p) = full_contact_mu(&material, &g, n, n, a, speed, p0);
         assert!(p.iter().all(|&v| v > 0.0), "full contact needs p > 0");
-        let exact = -full_contact_friction_stress(&kmodes, &material, speed, 0.0) / p0;
+        let exact = -full_contact_friction_stress(
+            &kmodes,
+            &SlidingResponse::new(&material, speed, 0.0, None).unwrap(),
+        ) / p0;
         let rel = (ms - exact).abs() / exact;
         let same = (ms - mf).abs() / ms.abs();
         println!("v = {speed}: mu stencil {ms:.12e}, Fourier {mf:.12e}, exact {exact:.12e}; rel {rel:.2e}, stencil-Fourier {same:.2e}");
@@ -222,9 +238,17 @@ fn stencil_equals_fourier_sum_on_random_fields() {
         let a = 1e-4;
         let p: Vec<f64> = (0..nx * ny).map(|_| rng.random_range(0.0..1e5)).collect();
         for speed in [1e-3, 0.1, 10.0] {
-            let mut d = SpectralPeriodic::sliding_slope(nx, ny, a, &material, speed, dir);
-            let fs = friction_force_stencil(&mut d, &p, a);
-            let ff = friction_force_periodic(&p, nx, ny, a, &material, speed, dir);
+            let mut d = SpectralPeriodic::new(
+                &Grid::square(nx, ny, a).unwrap(),
+                &SlidingResponse::new(&material, speed, dir, None).unwrap(),
+                PeriodicResponse::SlidingSlope,
+            );
+            let fs = friction_force_stencil(&mut d, &p, a * a);
+            let ff = friction_force_periodic(
+                &p,
+                &Grid::square(nx, ny, a).unwrap(),
+                &SlidingResponse::new(&material, speed, dir, None).unwrap(),
+            );
             assert!(fs < 0.0, "friction must oppose sliding: {fs}");
             assert!(
                 (fs - ff).abs() <= 1e-10 * fs.abs(),

@@ -4,33 +4,33 @@
 //! an elastic layer, where Eq. 5 is exact.
 
 use crate::common;
+use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 
 use std::f64::consts::TAU;
 
 use num_complex::Complex64;
 use viscoslide::analysis::{
-    friction_force_periodic_with, friction_force_stencil, full_contact_friction_stress_layered,
+    friction_force_periodic, friction_force_stencil, full_contact_friction_stress,
 };
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::thickness::compliance_ratio;
-use viscoslide::kernel::{KernelParams, Layer, LayerBase, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::material::Material;
 use viscoslide::operator::{
     periodic_multiplier, GridOperator, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
 };
+use viscoslide::response::layer::compliance_ratio;
 use viscoslide::solver::{self, Control, SolverParams};
 
 /// Periodic full contact of `g = h0 (1 - cos k x)` at mean pressure `p0`:
 /// `(mu_stencil, mu_fourier, pressure)`.
 fn full_contact(
-    material: &Material,
-    params: &KernelParams,
+    response: &SlidingResponse,
     g: &[f64],
     (nx, ny, a): (usize, usize, f64),
     p0: f64,
 ) -> (f64, f64, Vec<f64>) {
-    let op =
-        SpectralPeriodic::with_params(nx, ny, a, material, params, PeriodicResponse::Displacement);
+    let grid = Grid::square(nx, ny, a).unwrap();
+    let op = SpectralPeriodic::new(&grid, response, PeriodicResponse::Displacement);
     let l00 = op.self_coefficient();
     let mut be = CpuBackend::new(op);
     let load = p0 * (nx * ny) as f64 * a * a;
@@ -40,10 +40,9 @@ fn full_contact(
     };
     let (sol, _) =
         solver::solve_full_contact(&mut be, g, a * a, l00, Control::Load(load), &sp).unwrap();
-    let mut d =
-        SpectralPeriodic::with_params(nx, ny, a, material, params, PeriodicResponse::SlidingSlope);
-    let fs = friction_force_stencil(&mut d, &sol.pressure, a);
-    let ff = friction_force_periodic_with(&sol.pressure, nx, ny, a, material, params);
+    let mut d = SpectralPeriodic::new(&grid, response, PeriodicResponse::SlidingSlope);
+    let fs = friction_force_stencil(&mut d, &sol.pressure, a * a);
+    let ff = friction_force_periodic(&sol.pressure, &grid, response);
     (-fs / load, -ff / load, sol.pressure)
 }
 
@@ -76,22 +75,12 @@ fn layered_sinusoid_friction_matches_closed_form() {
             let p0 = 2.0 * k * h0 * e_inf / (2.0 * material.composite_factor() * s);
             for decade in [-1.0, -0.5, 0.0, 0.5, 1.0] {
                 let speed = v_peak * 10f64.powf(decade);
-                let params = KernelParams {
-                    speed,
-                    direction_rad: 0.0,
-                    layer: Some(layer),
-                };
-                let (ms, mf, p) = full_contact(&material, &params, &g, (nx, ny, a), p0);
+                let response = SlidingResponse::new(&material, speed, 0.0, Some(layer)).unwrap();
+                let (ms, mf, p) = full_contact(&response, &g, (nx, ny, a), p0);
                 assert!(p.iter().all(|&v| v > 0.0), "full contact needs p > 0");
                 let e2 = material.spectrum.modulus(k * speed).im;
                 let exact = k * k * h0 * h0 * e2 / (4.0 * material.composite_factor() * p0 * s);
-                let lib = -full_contact_friction_stress_layered(
-                    &[(k, 0.0, h0)],
-                    &material,
-                    speed,
-                    0.0,
-                    Some(&layer),
-                ) / p0;
+                let lib = -full_contact_friction_stress(&[(k, 0.0, h0)], &response) / p0;
                 for m in [ms, mf, lib] {
                     let rel = (m - exact).abs() / exact;
                     worst = worst.max(rel);
@@ -116,26 +105,16 @@ fn thick_layer_is_the_half_space_in_the_periodic_cell() {
     let z = common::trig_surface(nx, length, 6, 0.8, 0.02, 5);
     let g = common::gap_of(&z);
     let speed = 1e-3;
-    let half = KernelParams {
-        speed,
-        direction_rad: 0.0,
-        layer: None,
-    };
-    let mut thick = half;
-    thick.layer = Some(Layer {
+    let half = SlidingResponse::new(&material, speed, 0.0, None).unwrap();
+    let thick = Some(Layer {
         thickness: 1e3 * length,
         base: LayerBase::Bonded,
     });
+    let thick = SlidingResponse::new(&material, speed, 0.0, thick).unwrap();
+    let grid = Grid::square(nx, ny, a).unwrap();
     let mut results = vec![];
-    for params in [half, thick] {
-        let op = SpectralPeriodic::with_params(
-            nx,
-            ny,
-            a,
-            &material,
-            &params,
-            PeriodicResponse::Displacement,
-        );
+    for response in [half, thick] {
+        let op = SpectralPeriodic::new(&grid, &response, PeriodicResponse::Displacement);
         let l00 = op.self_coefficient();
         let mut be = CpuBackend::new(op);
         let (sol, _) = solver::solve(
@@ -148,7 +127,7 @@ fn thick_layer_is_the_half_space_in_the_periodic_cell() {
             &mut solver::Silent,
         )
         .unwrap();
-        let ff = friction_force_periodic_with(&sol.pressure, nx, ny, a, &material, &params);
+        let ff = friction_force_periodic(&sol.pressure, &grid, &response);
         results.push((sol.pressure, ff));
     }
     let scale = results[0].0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -175,18 +154,14 @@ fn lattice_check(
     wavelength_cells: f64,
 ) -> (f64, Complex64, Complex64, f64) {
     let k = TAU / (wavelength_cells * a);
-    let params = KernelParams {
-        speed,
-        direction_rad: 0.0,
-        layer: Some(layer),
-    };
-    let kernel = SlidingKernel::new(material, params).unwrap();
+    let response = SlidingResponse::new(material, speed, 0.0, Some(layer)).unwrap();
+    let kernel = SlidingKernel::new(&response).unwrap();
     let reach = kernel.theta().unwrap().reach();
     let trail = 46.0 * speed * material.spectrum.terms[0].time;
     let margin = ((reach + trail) / a).ceil() as usize + 2;
     let ym = (reach / a).ceil() as usize + 2;
     let (nx, ny) = (2 * margin + 128, 2 * ym + 16);
-    let table = kernel.table(nx, ny, a);
+    let table = kernel.table(&Grid::square(nx, ny, a).unwrap()).unwrap();
     let mut op = ToeplitzFft::new(OffsetTable {
         nx,
         ny,
@@ -291,15 +266,8 @@ fn elastic_eq5_matches_the_exact_periodic_layer() {
         assert!(disc.abs() <= (k * a).powi(2) / 6.0, "{disc}");
         // The periodic operator's multiplier for this mode is m(k).
         let per = periodic_multiplier(
-            &material,
-            &KernelParams {
-                speed: 0.0,
-                direction_rad: 0.0,
-                layer: Some(layer),
-            },
-            wavelength_cells as usize,
-            4,
-            a,
+            &SlidingResponse::new(&material, 0.0, 0.0, Some(layer)).unwrap(),
+            &Grid::square(wavelength_cells as usize, 4, a).unwrap(),
             1,
             0,
             PeriodicResponse::Displacement,

@@ -8,13 +8,14 @@
 //! section 9.2 along either axis.
 
 use crate::common;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use std::f64::consts::{PI, TAU};
 
 use faer::Mat;
 use num_complex::Complex64;
 use viscoslide::config::Formulation;
-use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
+use viscoslide::kernel::{Axis, SlidingKernel};
 use viscoslide::material::Material;
 use viscoslide::operator::{GridOperator, PeriodicResponse, SpectralPeriodic};
 use viscoslide::problem::{Executor, Problem};
@@ -25,15 +26,7 @@ use viscoslide::surface::HeightMap;
 const TAU_C: f64 = 0.01;
 
 fn kernel(m: &Material, speed: f64, direction_rad: f64) -> SlidingKernel {
-    SlidingKernel::new(
-        m,
-        KernelParams {
-            speed,
-            direction_rad,
-            layer: None,
-        },
-    )
-    .unwrap()
+    SlidingKernel::new(&SlidingResponse::new(m, speed, direction_rad, None).unwrap()).unwrap()
 }
 
 /// Johnson, Contact Mechanics, Eq. 3.25 (Love 1929): the integral of `1/r`
@@ -60,7 +53,7 @@ fn relaxed_table_is_loves_rectangle() {
     let pref = m.composite_factor() / (PI * e0);
     for (ax, ay) in [(2e-4, 1e-4), (1e-4, 2.5e-4)] {
         let (nx, ny) = (9, 7);
-        let t = k.table_rect(nx, ny, ax, ay);
+        let t = k.table(&Grid::new(nx, ny, (ax, ay)).unwrap()).unwrap();
         assert_eq!((t.cell_size, t.cell_size_y), (ax, ay));
         let mut worst = 0.0f64;
         for di in -5isize..=5 {
@@ -93,8 +86,8 @@ fn marched_tables_match_per_offset_on_rectangles() {
             let speed = lambda * ax / TAU_C;
             let k = kernel(&m, speed, dir);
             let (nx, ny) = (11, 9);
-            let fast = k.table_rect(nx, ny, ax, ay);
-            let slow = k.table_per_offset_rect(nx, ny, ax, ay, None);
+            let fast = k.table(&Grid::new(nx, ny, (ax, ay)).unwrap()).unwrap();
+            let slow = k.table_per_offset(&Grid::new(nx, ny, (ax, ay)).unwrap(), None);
             for di in 1 - nx as isize..nx as isize {
                 for dj in 1 - ny as isize..ny as isize {
                     let direct = k
@@ -111,7 +104,9 @@ fn marched_tables_match_per_offset_on_rectangles() {
                 }
             }
             let axis = if dir == 0.5 * PI { Axis::Y } else { Axis::X };
-            let fast = k.derivative_table_rect(nx, ny, ax, ay, axis);
+            let fast = k
+                .derivative_table(&Grid::new(nx, ny, (ax, ay)).unwrap(), axis)
+                .unwrap();
             let scale = fast.values.iter().fold(0.0f64, |s, v| s.max(v.abs()));
             for di in 1 - nx as isize..nx as isize {
                 for dj in 1 - ny as isize..ny as isize {
@@ -293,16 +288,9 @@ fn periodic_solve_matches_dense_mode_sum() {
                 }
             }
         }
-        let params = KernelParams {
-            speed,
-            ..Default::default()
-        };
-        let mut op = SpectralPeriodic::with_cells(
-            nx,
-            ny,
-            (ax, ay),
-            &m,
-            &params,
+        let mut op = SpectralPeriodic::new(
+            &Grid::new(nx, ny, (ax, ay)).unwrap(),
+            &SlidingResponse::new(&m, speed, 0.0, None).unwrap(),
             PeriodicResponse::Displacement,
         );
         let p: Vec<f64> = (0..n).map(|k| ((k * 37 % 11) as f64) - 4.3).collect();

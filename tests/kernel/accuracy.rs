@@ -11,8 +11,9 @@
 //! Tolerance: 1e-9 relative (the task's accuracy target); the reference
 //! itself is converged to ~1e-13.
 
-use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
+use viscoslide::kernel::{Axis, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, CreepTerm, Material};
+use viscoslide::response::{Grid, SlidingResponse};
 
 const A: f64 = 1e-3;
 const TOL: f64 = 1e-9;
@@ -244,15 +245,7 @@ fn offsets() -> Vec<(isize, isize)> {
 }
 
 fn kernel(m: &Material, speed: f64, theta: f64) -> SlidingKernel {
-    SlidingKernel::new(
-        m,
-        KernelParams {
-            speed,
-            direction_rad: theta,
-            layer: None,
-        },
-    )
-    .unwrap()
+    SlidingKernel::new(&SlidingResponse::new(m, speed, theta, None).unwrap()).unwrap()
 }
 
 #[test]
@@ -342,7 +335,9 @@ fn sls_table_matches_reference() {
     let mut worst = 0.0f64;
     for xi in [1e-3, 0.3, 3.0, 30.0, 3000.0] {
         let v = xi * A / 0.01;
-        let t = kernel(&m, v, 0.0).table(n, n, A);
+        let t = kernel(&m, v, 0.0)
+            .table(&Grid::square(n, n, A).unwrap())
+            .unwrap();
         for (i, j) in table_offsets(n as isize) {
             let want = k_ref(&m, v, 0.0, i as f64 * A, j as f64 * A);
             let e = rel(t.get(i, j), want);
@@ -363,7 +358,9 @@ fn spectrum34_table_matches_reference() {
     let n = 40;
     let mut worst = 0.0f64;
     for v in [1e-6, 1e-2, 1e3] {
-        let t = kernel(&m, v, 0.0).table(n, n, A);
+        let t = kernel(&m, v, 0.0)
+            .table(&Grid::square(n, n, A).unwrap())
+            .unwrap();
         for (i, j) in table_offsets(n as isize) {
             let want = k_ref(&m, v, 0.0, i as f64 * A, j as f64 * A);
             let e = rel(t.get(i, j), want);
@@ -379,7 +376,9 @@ fn long_row_table_matches_reference() {
     let n = 1001;
     let mut worst = 0.0f64;
     for (m, v) in [(sls(), 3.0 * A / 0.01), (spectrum34(), 1e-2)] {
-        let t = kernel(&m, v, 0.0).table(n, 1, A);
+        let t = kernel(&m, v, 0.0)
+            .table(&Grid::square(n, 1, A).unwrap())
+            .unwrap();
         for i in (-(n as isize - 1)..=(n as isize - 1))
             .step_by(97)
             .chain([-1000, -4, -1, 0, 1, 4, 1000])
@@ -417,7 +416,9 @@ fn derivative_matches_reference() {
         let v = xi * A / 0.01;
         let k = kernel(&m, v, 0.0);
         let n = 12;
-        let t = k.derivative_table(n, n, A, Axis::X);
+        let t = k
+            .derivative_table(&Grid::square(n, n, A).unwrap(), Axis::X)
+            .unwrap();
         for (i, j) in [
             (0, 0),
             (1, 0),
@@ -461,13 +462,15 @@ fn fast_table_matches_per_offset_table() {
         (1, sls(), 3.0 * A / 0.01),
     ] {
         let k = kernel(&m, v, 0.0);
-        let fast = k.table(n, n, A);
-        let slow = k.table_per_offset(n, n, A, None);
+        let fast = k.table(&Grid::square(n, n, A).unwrap()).unwrap();
+        let slow = k.table_per_offset(&Grid::square(n, n, A).unwrap(), None);
         for (a, b) in fast.values.iter().zip(&slow.values) {
             worst = worst.max(rel(*a, *b));
         }
-        let fast = k.derivative_table(n, n, A, Axis::X);
-        let slow = k.table_per_offset(n, n, A, Some(Axis::X));
+        let fast = k
+            .derivative_table(&Grid::square(n, n, A).unwrap(), Axis::X)
+            .unwrap();
+        let slow = k.table_per_offset(&Grid::square(n, n, A).unwrap(), Some(Axis::X));
         let scale = slow.values.iter().fold(0.0f64, |s, v| s.max(v.abs()));
         for (a, b) in fast.values.iter().zip(&slow.values) {
             worst = worst.max((a - b).abs() / b.abs().max(1e-6 * scale));

@@ -2,8 +2,9 @@
 //! input is rejected with a one-line error.
 
 use std::process::Command;
+use viscoslide::response::SlidingResponse;
 
-use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
+use viscoslide::kernel::{Axis, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, Material};
 
 const CONFIG: &str = "[material]\nmodel = \"sls\"\nrelaxed_modulus = 2e6\nglassy_modulus = 1e7\ncreep_time = 0.01\npoisson = 0.5\n";
@@ -50,14 +51,7 @@ fn json_output_matches_the_library() {
         0.5,
     )
     .unwrap();
-    let k = SlidingKernel::new(
-        &m,
-        KernelParams {
-            speed: 0.3,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let k = SlidingKernel::new(&SlidingResponse::new(&m, 0.3, 0.0, None).unwrap()).unwrap();
     let r = &rows[1];
     assert_eq!(r["i"], -2);
     assert_eq!(r["j"], 1);

@@ -10,10 +10,9 @@
 //! between the corner directions and Gauss-Legendre panels for `T`.
 
 use viscoslide::kernel::quad::{adaptive, gauss_legendre_unit};
-use viscoslide::kernel::{
-    Axis, KernelParams, Layer, LayerBase, SlidingKernel, ThetaRule, ThetaTable,
-};
+use viscoslide::kernel::{Axis, SlidingKernel, ThetaRule, ThetaTable};
 use viscoslide::material::{CreepSpectrum, Material};
+use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 
 const A: f64 = 3.125e-4;
 
@@ -80,15 +79,16 @@ fn m_polar(theta: &ThetaTable, x: f64, y: f64, a: f64) -> f64 {
 
 fn kernel(h_cells: f64, base: LayerBase, speed: f64) -> SlidingKernel {
     SlidingKernel::new(
-        &sls(),
-        KernelParams {
+        &SlidingResponse::new(
+            &sls(),
             speed,
-            layer: Some(Layer {
+            0.0,
+            Some(Layer {
                 thickness: h_cells * A,
                 base,
             }),
-            ..Default::default()
-        },
+        )
+        .unwrap(),
     )
     .unwrap()
 }
@@ -176,23 +176,22 @@ fn sliding_coefficients_are_cell_integrals() {
 #[test]
 fn layer_tables_match_per_offset() {
     for (h_cells, dir) in [(0.6, 0.0), (1.0, 0.0), (2.0, -90.0f64), (5.0, 0.0)] {
-        let mut k = kernel(h_cells, LayerBase::Bonded, 3.0 * A / 0.01);
-        k = SlidingKernel::new(
-            &sls(),
-            KernelParams {
-                direction_rad: dir.to_radians(),
-                ..*k.params()
-            },
+        let layered = kernel(h_cells, LayerBase::Bonded, 3.0 * A / 0.01);
+        let r = layered.response();
+        let k = SlidingKernel::new(
+            &SlidingResponse::new(&sls(), r.speed(), dir.to_radians(), r.layer()).unwrap(),
         )
         .unwrap();
         let n = 12;
         let axis = if dir == 0.0 { Axis::X } else { Axis::Y };
         for d in [None, Some(axis)] {
             let fast = match d {
-                None => k.table(n, n, A),
-                Some(ax) => k.derivative_table(n, n, A, ax),
+                None => k.table(&Grid::square(n, n, A).unwrap()).unwrap(),
+                Some(ax) => k
+                    .derivative_table(&Grid::square(n, n, A).unwrap(), ax)
+                    .unwrap(),
             };
-            let slow = k.table_per_offset(n, n, A, d);
+            let slow = k.table_per_offset(&Grid::square(n, n, A).unwrap(), d);
             let peak = slow.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let worst = fast
                 .values
@@ -222,15 +221,16 @@ fn refinement_of_a_fixed_layer() {
     for n in [1usize, 3, 9, 27] {
         let a = side / n as f64;
         let k = SlidingKernel::new(
-            &sls(),
-            KernelParams {
-                speed: 0.0,
-                layer: Some(Layer {
+            &SlidingResponse::new(
+                &sls(),
+                0.0,
+                0.0,
+                Some(Layer {
                     thickness: h,
                     base: LayerBase::Bonded,
                 }),
-                ..Default::default()
-            },
+            )
+            .unwrap(),
         )
         .unwrap();
         let c = k.clone().with_theta_rule(ThetaRule::Collocation);

@@ -3,8 +3,9 @@
 //! direction of the memory shift (the trailing, -v, neighbour gets the larger
 //! coefficient), rotation of the sliding direction, input validation.
 
-use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
+use viscoslide::kernel::{Axis, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, Material};
+use viscoslide::response::{Grid, SlidingResponse};
 
 const A: f64 = 1e-3;
 const TAU: f64 = 0.01;
@@ -18,15 +19,7 @@ fn sls() -> Material {
 }
 
 fn kernel(speed: f64, theta: f64) -> SlidingKernel {
-    SlidingKernel::new(
-        &sls(),
-        KernelParams {
-            speed,
-            direction_rad: theta,
-            layer: None,
-        },
-    )
-    .unwrap()
+    SlidingKernel::new(&SlidingResponse::new(&sls(), speed, theta, None).unwrap()).unwrap()
 }
 
 const OFFSETS: [(f64, f64); 7] = [
@@ -69,8 +62,8 @@ fn slow_and_fast_limits_are_elastic() {
     }
     println!("speed limits: max rel deviation {worst:e}");
     // Tables too.
-    let t0 = relaxed.table(6, 6, A);
-    let ts = slow.table(6, 6, A);
+    let t0 = relaxed.table(&Grid::square(6, 6, A).unwrap()).unwrap();
+    let ts = slow.table(&Grid::square(6, 6, A).unwrap()).unwrap();
     for (a, b) in t0.values.iter().zip(&ts.values) {
         assert!((a - b).abs() < 1e-9 * a);
     }
@@ -84,7 +77,7 @@ fn mirror_symmetry_in_y() {
         let b = k.coefficient(i * A, -j * A, A, A).total();
         assert!((a - b).abs() <= 1e-15 * a, "({i},{j}) {a} {b}");
     }
-    let t = k.table(9, 7, A);
+    let t = k.table(&Grid::square(9, 7, A).unwrap()).unwrap();
     for di in -8..=8 {
         for dj in 0..=6 {
             assert_eq!(t.get(di, dj).to_bits(), t.get(di, -dj).to_bits());
@@ -103,12 +96,14 @@ fn trailing_neighbour_gets_the_larger_coefficient() {
             let ahead = k.coefficient(d * A, 0.0, A, A).total();
             assert!(behind > ahead, "xi={xi} d={d}: {behind} <= {ahead}");
         }
-        let t = k.table(8, 8, A);
+        let t = k.table(&Grid::square(8, 8, A).unwrap()).unwrap();
         assert!(t.get(-1, 0) > t.get(1, 0));
         assert!(t.get(-6, 2) > t.get(6, 2));
         // Friction stencil: sum_i p_i sum_k D_x(i-k) p_k < 0 for a uniform
         // block of pressure (the solid pushes the indenter back).
-        let d = k.derivative_table(5, 5, A, Axis::X);
+        let d = k
+            .derivative_table(&Grid::square(5, 5, A).unwrap(), Axis::X)
+            .unwrap();
         let mut work = 0.0;
         for i in 0..5isize {
             for j in 0..5isize {
@@ -123,7 +118,9 @@ fn trailing_neighbour_gets_the_larger_coefficient() {
     }
     // And in the relaxed limit the friction stencil is antisymmetric.
     let k = kernel(0.0, 0.0);
-    let d = k.derivative_table(4, 4, A, Axis::X);
+    let d = k
+        .derivative_table(&Grid::square(4, 4, A).unwrap(), Axis::X)
+        .unwrap();
     for di in -3..=3 {
         for dj in -3..=3 {
             let s = d.get(di, dj) + d.get(-di, dj);
@@ -148,8 +145,8 @@ fn ninety_degrees_is_the_transpose() {
             "D ({i},{j}) {da} {db}"
         );
     }
-    let t0 = k0.table(7, 5, A);
-    let t90 = k90.table(5, 7, A);
+    let t0 = k0.table(&Grid::square(7, 5, A).unwrap()).unwrap();
+    let t90 = k90.table(&Grid::square(5, 7, A).unwrap()).unwrap();
     for di in -6..=6 {
         for dj in -4..=4 {
             let (a, b) = (t0.get(di, dj), t90.get(dj, di));
@@ -157,8 +154,12 @@ fn ninety_degrees_is_the_transpose() {
         }
     }
     // Derivative tables rotate with the direction.
-    let d0 = k0.derivative_table(7, 5, A, Axis::X);
-    let d90 = k90.derivative_table(5, 7, A, Axis::Y);
+    let d0 = k0
+        .derivative_table(&Grid::square(7, 5, A).unwrap(), Axis::X)
+        .unwrap();
+    let d90 = k90
+        .derivative_table(&Grid::square(5, 7, A).unwrap(), Axis::Y)
+        .unwrap();
     let peak = d0.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     for di in -6..=6 {
         for dj in -4..=4 {
@@ -166,7 +167,9 @@ fn ninety_degrees_is_the_transpose() {
             assert!((a - b).abs() <= 1e-13 * peak, "D90 ({di},{dj}) {a} {b}");
         }
     }
-    let d180 = kernel(v, std::f64::consts::PI).derivative_table(7, 5, A, Axis::X);
+    let d180 = kernel(v, std::f64::consts::PI)
+        .derivative_table(&Grid::square(7, 5, A).unwrap(), Axis::X)
+        .unwrap();
     for di in -6..=6 {
         for dj in -4..=4 {
             let (a, b) = (d0.get(di, dj), -d180.get(-di, dj));
@@ -175,7 +178,7 @@ fn ninety_degrees_is_the_transpose() {
     }
     // Sliding along -x mirrors x.
     let k180 = kernel(v, std::f64::consts::PI);
-    let t180 = k180.table(7, 5, A);
+    let t180 = k180.table(&Grid::square(7, 5, A).unwrap()).unwrap();
     for di in -6..=6 {
         for dj in -4..=4 {
             let (a, b) = (t0.get(di, dj), t180.get(-di, dj));
@@ -188,16 +191,12 @@ fn ninety_degrees_is_the_transpose() {
 fn invalid_inputs_are_rejected() {
     let m = sls();
     for speed in [-1.0, f64::NAN] {
-        let p = KernelParams {
-            speed,
-            ..Default::default()
-        };
-        assert!(SlidingKernel::new(&m, p).is_err());
+        assert!(SlidingResponse::new(&m, speed, 0.0, None).is_err());
     }
     let k = kernel(1.0, 0.0);
     assert!(k.try_coefficient(0.0, 0.0, 0.0, A).is_err());
     assert!(k.try_coefficient(0.0, 0.0, A, f64::NAN).is_err());
-    assert!(k.try_table(4, 4, -1.0).is_err());
-    assert!(k.try_table(0, 4, A).is_err());
+    assert!(Grid::square(4, 4, -1.0).is_err());
+    assert!(Grid::square(0, 4, A).is_err());
     assert!(k.coefficient(0.0, 0.0, -A, A).total().is_nan());
 }

@@ -1,10 +1,12 @@
 //! Finite thickness (paper Eq. 5; physics.md section 3): `S(qh)` limits,
 //! `Theta(r/h)` tabulation, and coefficients for layers.
 
-use viscoslide::kernel::thickness::{compliance_ratio, theta_direct};
-use viscoslide::kernel::{KernelParams, SlidingKernel};
-use viscoslide::kernel::{Layer, LayerBase, LayerConfig, ThetaTable};
+use viscoslide::kernel::thickness::theta_direct;
+use viscoslide::kernel::SlidingKernel;
+use viscoslide::kernel::ThetaTable;
 use viscoslide::material::{CreepSpectrum, Material};
+use viscoslide::response::layer::compliance_ratio;
+use viscoslide::response::{Grid, Layer, LayerBase, LayerConfig, SlidingResponse};
 
 const A: f64 = 1e-3;
 
@@ -110,15 +112,8 @@ fn theta_integral_equals_the_long_wave_compliance() {
 }
 
 fn kernel(layer: Option<Layer>, nu: f64) -> SlidingKernel {
-    SlidingKernel::new(
-        &sls(nu),
-        KernelParams {
-            speed: 0.3 * A / 0.01,
-            direction_rad: 0.0,
-            layer,
-        },
-    )
-    .unwrap()
+    SlidingKernel::new(&SlidingResponse::new(&sls(nu), 0.3 * A / 0.01, 0.0, layer).unwrap())
+        .unwrap()
 }
 
 #[test]
@@ -166,8 +161,8 @@ fn bonded_layer_is_stiffer() {
         assert!(b < f && f < s, "({i},{j}) {b} {f} {s}");
     }
     // Fast table with a layer agrees with the per-offset path.
-    let t = kb.table(10, 10, A);
-    let r = kb.table_per_offset(10, 10, A, None);
+    let t = kb.table(&Grid::square(10, 10, A).unwrap()).unwrap();
+    let r = kb.table_per_offset(&Grid::square(10, 10, A).unwrap(), None);
     // Theta changes sign near r ~ 1.3 h, so compare against the largest
     // coefficient (the self-influence) rather than entry by entry.
     let peak = r.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));

@@ -4,6 +4,7 @@
 //! exact local contact, and the bound below which layers are refused.
 
 use crate::common;
+use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 
 use std::time::Instant;
 
@@ -11,9 +12,7 @@ use common::*;
 use viscoslide::analysis::friction::friction_force_dissipation_thin_law;
 use viscoslide::analysis::friction_force_stencil;
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{
-    Axis, KernelParams, Layer, LayerBase, SlidingKernel, ThetaTable, THIN_RATIO_MIN,
-};
+use viscoslide::kernel::{Axis, SlidingKernel, ThetaTable, THIN_RATIO_MIN};
 use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::operator::{
     GridOperator, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
@@ -30,12 +29,7 @@ fn material(nu: f64) -> Material {
 
 fn kernel(m: &Material, h: f64, base: LayerBase, speed: f64) -> SlidingKernel {
     SlidingKernel::new(
-        m,
-        KernelParams {
-            speed,
-            layer: Some(Layer { thickness: h, base }),
-            ..Default::default()
-        },
+        &SlidingResponse::new(m, speed, 0.0, Some(Layer { thickness: h, base })).unwrap(),
     )
     .unwrap()
 }
@@ -60,7 +54,7 @@ fn thin_layer_at_rest_is_the_oedometric_compliance() {
         let m = material(nu);
         let k = kernel(&m, h, base, 0.0);
         k.check_layer_cells(a, a).unwrap();
-        let t = k.table(5, 5, a);
+        let t = k.table(&Grid::square(5, 5, a).unwrap()).unwrap();
         let s = t.get(0, 0);
         assert!(
             (s - expected).abs() < 1e-9 * expected,
@@ -171,7 +165,8 @@ fn thin_bonded_incompressible_layer_is_the_thin_layer_law() {
     .rho_end();
     let h = 0.499 * a / reach;
     let general = kernel(&m, h, LayerBase::Bonded, 0.0).without_local_limit();
-    let half_space = SlidingKernel::new(&m, KernelParams::default()).unwrap();
+    let half_space =
+        SlidingKernel::new(&SlidingResponse::new(&m, 0.0, 0.0, None).unwrap()).unwrap();
     let s = general.coefficient(0.0, 0.0, a, a).total();
     let s_half = half_space.coefficient(0.0, 0.0, a, a).total();
     assert!(s.abs() < 1e-9 * s_half, "{s:e} vs {s_half:e}");
@@ -181,7 +176,7 @@ fn thin_bonded_incompressible_layer_is_the_thin_layer_law() {
     for speed in [0.0, 3.0 * a / 0.01] {
         let k = kernel(&m, h, LayerBase::Bonded, speed);
         k.check_layer_cells(a, a).unwrap();
-        let table = k.table(n, n, a);
+        let table = k.table(&Grid::square(n, n, a).unwrap()).unwrap();
         // At rest: h^3 / (E0 a^2) times 4 on the cell, -1 on its four
         // neighbours (Eq. of kernel/thin_law.rs with S3 = 2/3).
         if speed == 0.0 {
@@ -196,16 +191,15 @@ fn thin_bonded_incompressible_layer_is_the_thin_layer_law() {
             ny: n,
             values: &table.values,
         });
-        let params = KernelParams {
-            speed,
-            layer: Some(Layer {
-                thickness: h,
-                base: LayerBase::Bonded,
-            }),
-            ..Default::default()
-        };
-        let mut exact =
-            SpectralPeriodic::with_params(n, n, a, &m, &params, PeriodicResponse::Displacement);
+        let layer = Some(Layer {
+            thickness: h,
+            base: LayerBase::Bonded,
+        });
+        let mut exact = SpectralPeriodic::new(
+            &Grid::square(n, n, a).unwrap(),
+            &SlidingResponse::new(&m, speed, 0.0, layer).unwrap(),
+            PeriodicResponse::Displacement,
+        );
         let mut err = |sigma: f64| {
             let c = 0.5 * (n as f64 - 1.0);
             let p: Vec<f64> = (0..n * n)
@@ -259,17 +253,12 @@ fn thin_law_friction_routes_agree() {
         base: LayerBase::Bonded,
     };
     for (dir, axis) in [(0.0, Axis::X), (-std::f64::consts::FRAC_PI_2, Axis::Y)] {
-        let k = SlidingKernel::new(
-            &m,
-            KernelParams {
-                speed,
-                direction_rad: dir,
-                layer: Some(layer),
-            },
-        )
-        .unwrap();
+        let k = SlidingKernel::new(&SlidingResponse::new(&m, speed, dir, Some(layer)).unwrap())
+            .unwrap();
         assert!(k.is_thin_law(a, a));
-        let d = k.derivative_table(n, n, a, axis);
+        let d = k
+            .derivative_table(&Grid::square(n, n, a).unwrap(), axis)
+            .unwrap();
         let mut op = ToeplitzFft::new(OffsetTable {
             nx: n,
             ny: n,
@@ -285,17 +274,11 @@ fn thin_law_friction_routes_agree() {
                 .collect();
             // The stencil's axis is +x or +y; sliding along -y flips it.
             let sign = if dir == 0.0 { 1.0 } else { -1.0 };
-            let stencil = sign * friction_force_stencil(&mut op, &p, a);
+            let stencil = sign * friction_force_stencil(&mut op, &p, a * a);
             let diss = friction_force_dissipation_thin_law(
                 &p,
-                n,
-                n,
-                (a, a),
-                &m.spectrum,
-                m.poisson,
-                speed,
-                dir,
-                &layer,
+                &Grid::square(n, n, a).unwrap(),
+                &SlidingResponse::new(&m, speed, dir, Some(layer)).unwrap(),
             );
             eprintln!("sigma {sigma}: stencil {stencil:e}, dissipation {diss:e}");
             (stencil / diss - 1.0).abs()
@@ -326,7 +309,7 @@ fn thin_bonded_incompressible_layer_solve_obeys_the_law() {
     let load = 3e4 * length * length;
     let k = kernel(&m, h, LayerBase::Bonded, 0.0);
     k.check_layer_cells(a, a).unwrap();
-    let table = k.table(n, n, a);
+    let table = k.table(&Grid::square(n, n, a).unwrap()).unwrap();
     let tab = OffsetTable {
         nx: n,
         ny: n,
@@ -404,7 +387,7 @@ fn below_the_bound_is_one_line_and_fast() {
             "{e}"
         );
         // The tables themselves neither abort nor hang below the bound.
-        let tab = k.table(8, 8, a);
+        let tab = k.table(&Grid::square(8, 8, a).unwrap()).unwrap();
         assert!(tab.values.iter().all(|v| v.is_finite()));
         assert!(t.elapsed().as_secs_f64() < 5.0, "{:?}", t.elapsed());
     }
@@ -426,7 +409,7 @@ fn thin_frictionless_layer_solve_is_the_local_contact() {
     let g = gap_of(&z);
     let load = 3e3 * length * length;
     let k = kernel(&m, h, LayerBase::Frictionless, 0.0);
-    let table = k.table(n, n, a);
+    let table = k.table(&Grid::square(n, n, a).unwrap()).unwrap();
     let tab = OffsetTable {
         nx: n,
         ny: n,
@@ -474,8 +457,10 @@ fn thin_frictionless_layer_solve_is_the_local_contact() {
 
     let t = Instant::now();
     let ks = kernel(&m, THIN_RATIO_MIN * a, LayerBase::Frictionless, 1.17e-2);
-    let kt = ks.table(64, 64, a);
-    let dt = ks.derivative_table(64, 64, a, Axis::X);
+    let kt = ks.table(&Grid::square(64, 64, a).unwrap()).unwrap();
+    let dt = ks
+        .derivative_table(&Grid::square(64, 64, a).unwrap(), Axis::X)
+        .unwrap();
     let secs = t.elapsed().as_secs_f64();
     eprintln!("64 x 64 K and D_x tables at h/a = 1e-3: {secs:.3} s");
     assert!(kt.values.iter().chain(&dt.values).all(|v| v.is_finite()));
@@ -505,12 +490,9 @@ fn local_limit_derivative_across_the_sliding_direction() {
     .rho_end();
     let h = 0.499 * a / reach;
     let across = |k: SlidingKernel| {
+        let r = k.response();
         SlidingKernel::new(
-            &m,
-            KernelParams {
-                direction_rad: std::f64::consts::FRAC_PI_2,
-                ..*k.params()
-            },
+            &SlidingResponse::new(&m, r.speed(), std::f64::consts::FRAC_PI_2, r.layer()).unwrap(),
         )
         .unwrap()
     };
@@ -549,7 +531,9 @@ fn local_limit_derivative_across_the_sliding_direction() {
         "{sum:e} vs {:e}",
         -0.5 * c / a
     );
-    let tab = local.derivative_table(8, 8, a, Axis::X);
+    let tab = local
+        .derivative_table(&Grid::square(8, 8, a).unwrap(), Axis::X)
+        .unwrap();
     assert!(tab.values.iter().all(|v| v.is_finite()));
 }
 
@@ -568,19 +552,18 @@ fn sub_cell_layer_tables_carry_rows_by_their_memory() {
     let a = 1.5625e-4;
     let m = paper_material();
     let h = 1e-5;
-    let params = KernelParams {
-        speed: 0.0117,
-        direction_rad: -std::f64::consts::FRAC_PI_2,
-        layer: Some(Layer {
-            thickness: h,
-            base: LayerBase::Frictionless,
-        }),
-    };
-    let k = SlidingKernel::new(&m, params).unwrap();
+    let layer = Some(Layer {
+        thickness: h,
+        base: LayerBase::Frictionless,
+    });
+    let response = SlidingResponse::new(&m, 0.0117, -std::f64::consts::FRAC_PI_2, layer).unwrap();
+    let k = SlidingKernel::new(&response).unwrap();
     assert!(!k.is_thin(a, a));
     let t = Instant::now();
-    let kt = k.table(64, 64, a);
-    let dt = k.derivative_table(64, 64, a, Axis::Y);
+    let kt = k.table(&Grid::square(64, 64, a).unwrap()).unwrap();
+    let dt = k
+        .derivative_table(&Grid::square(64, 64, a).unwrap(), Axis::Y)
+        .unwrap();
     let secs = t.elapsed().as_secs_f64();
     eprintln!("64 x 64 K and D_y tables at h/a = 0.064: {secs:.2} s");
     assert!(kt.values.iter().chain(&dt.values).all(|v| v.is_finite()));

@@ -6,11 +6,13 @@
 //! solution; and a solve that cannot converge still fails loudly.
 
 use crate::common;
+use viscoslide::operator::PeriodicResponse;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use common::*;
 use faer::Mat;
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::operator::{
     DenseOperator, GridOperator, OffsetTable, SpectralPeriodic, ToeplitzFft,
 };
@@ -93,14 +95,7 @@ fn assert_matches(label: &str, sol: &ContactSolution, info: &SolveInfo, p_ref: &
 }
 
 fn kernel(speed: f64) -> SlidingKernel {
-    SlidingKernel::new(
-        &paper_material(),
-        KernelParams {
-            speed,
-            ..Default::default()
-        },
-    )
-    .unwrap()
+    SlidingKernel::new(&SlidingResponse::new(&paper_material(), speed, 0.0, None).unwrap()).unwrap()
 }
 
 /// The preconditioned Toeplitz iteration under `control`, from the
@@ -154,7 +149,9 @@ fn preconditioned_toeplitz_matches_dense_from_far_starts() {
     let load = 3e3 * LENGTH * LENGTH;
     for xi in [0.0, 3e-3, 1.17e-2, 1.0] {
         let speed = xi * LENGTH / 0.01;
-        let table = kernel(speed).table(n, n, a);
+        let table = kernel(speed)
+            .table(&Grid::square(n, n, a).unwrap())
+            .unwrap();
         let tab = OffsetTable {
             nx: n,
             ny: n,
@@ -184,13 +181,22 @@ fn preconditioned_periodic_matches_dense_from_far_starts() {
     let load = 3e3 * LENGTH * LENGTH;
     for xi in [0.0, 1.17e-2, 0.1] {
         let speed = xi * LENGTH / 0.01;
-        let mut plain = SpectralPeriodic::new(n, n, a, &m, speed, 0.0);
+        let mut plain = SpectralPeriodic::new(
+            &Grid::square(n, n, a).unwrap(),
+            &SlidingResponse::new(&m, speed, 0.0, None).unwrap(),
+            PeriodicResponse::Displacement,
+        );
         let matrix = dense_of(&mut plain);
         let (p_ref, d_ref) =
             reference::solve_dense(&matrix, &g, a * a, Control::Load(load), 500).unwrap();
         let set: Vec<bool> = p_ref.iter().map(|&p| p > 0.0).collect();
         assert!(set.iter().filter(|&&c| c).count() > 3);
-        let op = SpectralPeriodic::new(n, n, a, &m, speed, 0.0).with_preconditioner();
+        let op = SpectralPeriodic::new(
+            &Grid::square(n, n, a).unwrap(),
+            &SlidingResponse::new(&m, speed, 0.0, None).unwrap(),
+            PeriodicResponse::Displacement,
+        )
+        .with_preconditioner();
         let l00 = op.self_coefficient();
         let mut be = CpuBackend::new(op);
         let mut starts = vec![None];
@@ -231,7 +237,7 @@ fn cascade_matches_dense_on_the_fine_grid() {
     assert_eq!(shapes, vec![(8, 8), (16, 16), (32, 32)]);
     for xi in [3e-3, 1.17e-2, 1.0] {
         let k = kernel(xi * LENGTH / 0.01);
-        let table = k.table(n, n, a);
+        let table = k.table(&Grid::square(n, n, a).unwrap()).unwrap();
         let tab = OffsetTable {
             nx: n,
             ny: n,
@@ -253,7 +259,7 @@ fn cascade_matches_dense_on_the_fine_grid() {
             |level, (lx, ly)| {
                 built.push((lx, ly));
                 let cell = LENGTH / lx as f64;
-                let t = k.table(lx, ly, cell);
+                let t = k.table(&Grid::square(lx, ly, cell).unwrap()).unwrap();
                 let tab = OffsetTable {
                     nx: lx,
                     ny: ly,
@@ -299,7 +305,12 @@ fn periodic_cascade_equals_the_single_grid_solve() {
     let speed = 1.17e-2 * LENGTH / 0.01;
     let g = gap_of(&trig_surface(n, LENGTH, 12, 0.8, 0.02, 3));
     let load = 3e3 * LENGTH * LENGTH;
-    let op = SpectralPeriodic::new(n, n, a, &m, speed, 0.0).with_preconditioner();
+    let op = SpectralPeriodic::new(
+        &Grid::square(n, n, a).unwrap(),
+        &SlidingResponse::new(&m, speed, 0.0, None).unwrap(),
+        PeriodicResponse::Displacement,
+    )
+    .with_preconditioner();
     let l00 = op.self_coefficient();
     let (single, _) = solver::solve(
         &mut CpuBackend::new(op),
@@ -321,7 +332,12 @@ fn periodic_cascade_equals_the_single_grid_solve() {
         &shapes,
         |level, (lx, ly)| {
             let cell = LENGTH / lx as f64;
-            let op = SpectralPeriodic::new(lx, ly, cell, &m, speed, 0.0).with_preconditioner();
+            let op = SpectralPeriodic::new(
+                &Grid::square(lx, ly, cell).unwrap(),
+                &SlidingResponse::new(&m, speed, 0.0, None).unwrap(),
+                PeriodicResponse::Displacement,
+            )
+            .with_preconditioner();
             let l00 = op.self_coefficient();
             Ok(CascadeLevel {
                 backend: CpuBackend::new(op),
@@ -360,7 +376,7 @@ fn a_solve_out_of_matvecs_fails_loudly() {
     };
     let build = |_: usize, (lx, ly): (usize, usize)| {
         let cell = LENGTH / lx as f64;
-        let t = k.table(lx, ly, cell);
+        let t = k.table(&Grid::square(lx, ly, cell).unwrap()).unwrap();
         let tab = OffsetTable {
             nx: lx,
             ny: ly,
@@ -457,7 +473,7 @@ fn approach_control_on_a_few_cells_matches_dense() {
     sorted.sort_by(f64::total_cmp);
     for xi in [0.0, 1.17e-2, 1.0] {
         let k = kernel(xi * LENGTH / 0.01);
-        let table = k.table(n, n, a);
+        let table = k.table(&Grid::square(n, n, a).unwrap()).unwrap();
         let tab = OffsetTable {
             nx: n,
             ny: n,

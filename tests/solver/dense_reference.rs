@@ -3,12 +3,13 @@
 //! an active-set loop), with the real viscoelastic coefficients.
 
 use crate::common;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use common::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::operator::{DenseOperator, GridOperator, OffsetTable, ToeplitzFft};
 use viscoslide::solver::{self, reference, Control, SolverParams};
 
@@ -23,15 +24,9 @@ fn fft_operator_matches_dense_on_random_vectors() {
         (32, 32, 0.03),
     ] {
         let a = 1e-4;
-        let kernel = SlidingKernel::new(
-            &m,
-            KernelParams {
-                speed,
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        let table = kernel.table(nx, ny, a);
+        let kernel =
+            SlidingKernel::new(&SlidingResponse::new(&m, speed, 0.0, None).unwrap()).unwrap();
+        let table = kernel.table(&Grid::square(nx, ny, a).unwrap()).unwrap();
         let tab = OffsetTable {
             nx,
             ny,
@@ -71,15 +66,9 @@ fn iterative_matches_dense_direct_across_the_friction_peak() {
         // xi = v tau / L from well below to well above the peak (1.17e-2).
         for xi in [1e-4, 3e-3, 1.17e-2, 5e-2, 1.0] {
             let speed = xi * length / 0.01;
-            let kernel = SlidingKernel::new(
-                &m,
-                KernelParams {
-                    speed,
-                    ..Default::default()
-                },
-            )
-            .unwrap();
-            let table = kernel.table(n, n, a);
+            let kernel =
+                SlidingKernel::new(&SlidingResponse::new(&m, speed, 0.0, None).unwrap()).unwrap();
+            let table = kernel.table(&Grid::square(n, n, a).unwrap()).unwrap();
             let tab = OffsetTable {
                 nx: n,
                 ny: n,

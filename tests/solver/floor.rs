@@ -8,9 +8,10 @@
 //! every cell, or one cell's gap lowered so that the set toggles it.
 
 use crate::common;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
 use viscoslide::solver::{self, ContactSolution, Control, SolveInfo, SolverError, SolverParams};
 
@@ -84,14 +85,10 @@ fn solve_with<O: GridOperator + 'static>(
     let a = 0.01 / n as f64;
     let z = common::trig_surface(n, 0.01, 4, 0.8, 0.02, 1);
     let k = SlidingKernel::new(
-        &common::paper_material(),
-        KernelParams {
-            speed: 1e-2,
-            ..Default::default()
-        },
+        &SlidingResponse::new(&common::paper_material(), 1e-2, 0.0, None).unwrap(),
     )
     .unwrap();
-    let t = k.table(n, n, a);
+    let t = k.table(&Grid::square(n, n, a).unwrap()).unwrap();
     let tab = OffsetTable {
         nx: n,
         ny: n,

@@ -3,10 +3,11 @@
 //! and a refinement study (physics.md section 9, checks 2, 4 and 5).
 
 use crate::common;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use common::*;
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{Axis, KernelParams, SlidingKernel};
+use viscoslide::kernel::{Axis, SlidingKernel};
 use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
 use viscoslide::solver::{self, Control, SolverParams};
 
@@ -18,21 +19,16 @@ use viscoslide::solver::{self, Control, SolverParams};
 /// loaded pad (`p0` added), to confirm full contact with the contact solver.
 fn texture_friction(speed: f64, h0: f64, k: f64, p0: f64, n: usize, a: f64) -> (f64, f64) {
     let m = paper_material();
-    let kernel = SlidingKernel::new(
-        &m,
-        KernelParams {
-            speed,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let table = kernel.table(n, n, a);
+    let kernel = SlidingKernel::new(&SlidingResponse::new(&m, speed, 0.0, None).unwrap()).unwrap();
+    let table = kernel.table(&Grid::square(n, n, a).unwrap()).unwrap();
     let tab = OffsetTable {
         nx: n,
         ny: n,
         values: &table.values,
     };
-    let d = kernel.derivative_table(n, n, a, Axis::X);
+    let d = kernel
+        .derivative_table(&Grid::square(n, n, a).unwrap(), Axis::X)
+        .unwrap();
     let mut g = vec![0.0; n * n];
     for i in 0..n {
         let x = (i as f64 + 0.5) * a;

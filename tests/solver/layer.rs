@@ -2,11 +2,12 @@
 //! stiffer than the half-space, and the two friction routes still agree.
 
 use crate::common;
+use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 
 use common::*;
 use viscoslide::analysis;
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{Axis, KernelParams, Layer, LayerBase, SlidingKernel};
+use viscoslide::kernel::{Axis, SlidingKernel};
 use viscoslide::operator::{OffsetTable, ToeplitzFft};
 use viscoslide::solver::{self, Control, SolverParams};
 
@@ -27,16 +28,9 @@ fn bonded_layer_is_stiffer_and_friction_routes_agree() {
             base: LayerBase::Bonded,
         }),
     ] {
-        let kernel = SlidingKernel::new(
-            &m,
-            KernelParams {
-                speed,
-                layer,
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        let table = kernel.table(n, n, a);
+        let kernel =
+            SlidingKernel::new(&SlidingResponse::new(&m, speed, 0.0, layer).unwrap()).unwrap();
+        let table = kernel.table(&Grid::square(n, n, a).unwrap()).unwrap();
         let tab = OffsetTable {
             nx: n,
             ny: n,
@@ -53,23 +47,19 @@ fn bonded_layer_is_stiffer_and_friction_routes_agree() {
             &mut solver::Silent,
         )
         .unwrap();
-        let d = kernel.derivative_table(n, n, a, Axis::X);
+        let d = kernel
+            .derivative_table(&Grid::square(n, n, a).unwrap(), Axis::X)
+            .unwrap();
         let mut op = ToeplitzFft::new(OffsetTable {
             nx: n,
             ny: n,
             values: &d.values,
         });
-        let fs = analysis::friction_force_stencil(&mut op, &sol.pressure, a);
-        let fd = analysis::friction::friction_force_dissipation_layered(
+        let fs = analysis::friction_force_stencil(&mut op, &sol.pressure, a * a);
+        let fd = analysis::friction::friction_force_dissipation(
             &sol.pressure,
-            n,
-            n,
-            a,
-            &m.spectrum,
-            m.poisson,
-            speed,
-            0.0,
-            layer.as_ref(),
+            &Grid::square(n, n, a).unwrap(),
+            &SlidingResponse::new(&m, speed, 0.0, layer.as_ref().copied()).unwrap(),
         );
         let frac = sol.contact.iter().filter(|&&c| c > 0.5).count() as f64 / (n * n) as f64;
         let rel = (fs - fd).abs() / fs.abs();

@@ -7,6 +7,7 @@
 //! formulations, three speeds across the loss peak and two layers.
 
 use std::path::Path;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use viscoslide::backend::{Backend, CpuBackend};
 use viscoslide::config;
@@ -141,16 +142,11 @@ fn f32_operator_products() {
     )
     .unwrap();
     let (nx, ny, a) = (96, 80, 1e-4);
-    let params = viscoslide::kernel::KernelParams {
-        speed: 0.05,
-        direction_rad: 0.3,
-        layer: None,
-    };
+    let response = SlidingResponse::new(&material, 0.05, 0.3, None).unwrap();
+    let grid = Grid::square(nx, ny, a).unwrap();
     let resp = PeriodicResponse::Displacement;
-    let mut wide = SpectralPeriodic::with_cells(nx, ny, (a, a), &material, &params, resp);
-    let mut narrow =
-        SpectralPeriodic::<f32>::in_precision(nx, ny, (a, a), &material, &params, resp)
-            .with_exact();
+    let mut wide = SpectralPeriodic::new(&grid, &response, resp);
+    let mut narrow = SpectralPeriodic::<f32>::in_precision(&grid, &response, resp).with_exact();
     let x: Vec<f64> = (0..nx * ny)
         .map(|k| ((k * 7919 % 1013) as f64 / 1013.0 - 0.3) * 1e4)
         .collect();

@@ -6,10 +6,11 @@
 //! work is pinned (BENCHMARKS.md, "Near-full contact").
 
 use crate::common;
+use viscoslide::response::{Grid, SlidingResponse};
 
 use common::*;
 use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::operator::{DenseOperator, GridOperator, OffsetTable, ToeplitzFft, CHAN_FRACTION};
 use viscoslide::solver::{self, reference, Control, SolveInfo, SolverParams};
 
@@ -18,15 +19,13 @@ const LENGTH: f64 = 0.01;
 const SPEED: f64 = 1.17e-2 * LENGTH / 0.01;
 
 fn table(n: usize) -> Vec<f64> {
-    let kernel = SlidingKernel::new(
-        &paper_material(),
-        KernelParams {
-            speed: SPEED,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    kernel.table(n, n, LENGTH / n as f64).values
+    let kernel =
+        SlidingKernel::new(&SlidingResponse::new(&paper_material(), SPEED, 0.0, None).unwrap())
+            .unwrap();
+    kernel
+        .table(&Grid::square(n, n, LENGTH / n as f64).unwrap())
+        .unwrap()
+        .values
 }
 
 /// The padded circulant's restricted inverse only, whatever the contact

@@ -18,6 +18,7 @@ use viscoslide::backend::CpuBackend;
 use viscoslide::config;
 use viscoslide::operator::{PeriodicResponse, SpectralPeriodic};
 use viscoslide::problem::{Executor, Problem};
+use viscoslide::response::Grid;
 use viscoslide::solver::{self, Control, SolverParams};
 
 /// The base case: `configs/default.toml`'s material with
@@ -100,14 +101,10 @@ fn converges_to_full_contact(name: &str, text: &str) {
     assert!(info.matvecs <= 6_000, "{name}: {} matvecs", info.matvecs);
 
     let map = &problem.surface;
-    let (nx, ny) = (map.nx, map.ny);
     let cell = (map.cell_size, map.cell_size_y);
-    let op = SpectralPeriodic::with_cells(
-        nx,
-        ny,
-        cell,
-        &problem.material,
-        &problem.kernel_params(),
+    let op = SpectralPeriodic::new(
+        &problem.grid().unwrap(),
+        &problem.response().unwrap(),
         PeriodicResponse::Displacement,
     );
     let l00 = op.self_coefficient();
@@ -220,7 +217,11 @@ fn non_periodic_random_prony_case_converges() {
 
     let map = &problem.surface;
     let (nx, ny, a) = (map.nx, map.ny, map.cell_size);
-    let table = problem.sliding_kernel().unwrap().table(nx, ny, a);
+    let table = problem
+        .sliding_kernel()
+        .unwrap()
+        .table(&Grid::square(nx, ny, a).unwrap())
+        .unwrap();
     let table = OffsetTable {
         nx,
         ny,

@@ -31,10 +31,8 @@ use rayon::prelude::*;
 use realfft::RealFftPlanner;
 use rustfft::FftPlanner;
 
-use crate::kernel::thickness::compliance_ratio;
-use crate::kernel::{KernelParams, Layer};
-use crate::material::{CreepSpectrum, Material};
 use crate::operator::{column_weight, half_spectrum, multiplier_half_spectrum, PeriodicResponse};
+use crate::response::{Grid, SlidingResponse};
 
 /// Alias images summed on each side in each direction.
 const ALIASES: i32 = 3;
@@ -42,92 +40,22 @@ const ALIASES: i32 = 3;
 /// Zero-padding factor of the Fourier quadrature.
 const PAD: usize = 4;
 
-/// `F_T` \[N\] from the dissipated power in Fourier space (Appendix A3-A4),
-/// for a half-space.
-#[allow(clippy::too_many_arguments)]
+/// `F_T` \[N\] from the dissipated power in Fourier space (Appendix A3-A4)
+/// of the cell pressures on `grid` (C order, axis 0 = x). On a layer the
+/// half-space transfer function is multiplied by the layer's compliance
+/// ratio `S(|q| h)`: the Fourier transform of the paper's Eq. 4-5 (`Theta`
+/// at the displaced point along the trail), whose cell integrals the
+/// coefficients of [`crate::kernel`] are, so the two routes evaluate the
+/// same integral (up to this quadrature's zone sampling and alias
+/// truncation). On cells of sides `(a_x, a_y)` (physics.md section 11) the
+/// zone is `2 pi / a_x x 2 pi / a_y` and `S` the product of the sincs of
+/// each side.
 pub fn friction_force_dissipation(
     pressure: &[f64],
-    nx: usize,
-    ny: usize,
-    a: f64,
-    spectrum: &CreepSpectrum,
-    poisson: f64,
-    speed: f64,
-    direction_rad: f64,
+    grid: &Grid,
+    response: &SlidingResponse,
 ) -> f64 {
-    friction_force_dissipation_cells(
-        pressure,
-        nx,
-        ny,
-        (a, a),
-        spectrum,
-        poisson,
-        speed,
-        direction_rad,
-        None,
-    )
-}
-
-/// [`friction_force_dissipation`] for a layer of finite thickness: the
-/// half-space transfer function is multiplied by the layer's compliance
-/// ratio `S(|q| h)`. This is the Fourier transform of the paper's Eq. 4-5
-/// (`Theta` at the displaced point along the trail), whose cell integrals
-/// the coefficients of [`crate::kernel`] are, so the two routes evaluate the
-/// same integral (up to this quadrature's zone sampling and alias
-/// truncation).
-#[allow(clippy::too_many_arguments)]
-pub fn friction_force_dissipation_layered(
-    pressure: &[f64],
-    nx: usize,
-    ny: usize,
-    a: f64,
-    spectrum: &CreepSpectrum,
-    poisson: f64,
-    speed: f64,
-    direction_rad: f64,
-    layer: Option<&Layer>,
-) -> f64 {
-    friction_force_dissipation_cells(
-        pressure,
-        nx,
-        ny,
-        (a, a),
-        spectrum,
-        poisson,
-        speed,
-        direction_rad,
-        layer,
-    )
-}
-
-/// [`friction_force_dissipation_layered`] on cells of sides
-/// `cell = (a_x, a_y)` \[m\] (physics.md section 11): the zone is
-/// `2 pi / a_x x 2 pi / a_y` and `S` the product of the sincs of each side.
-#[allow(clippy::too_many_arguments)]
-pub fn friction_force_dissipation_cells(
-    pressure: &[f64],
-    nx: usize,
-    ny: usize,
-    (ax, ay): (f64, f64),
-    spectrum: &CreepSpectrum,
-    poisson: f64,
-    speed: f64,
-    direction_rad: f64,
-    layer: Option<&Layer>,
-) -> f64 {
-    zone_sum(
-        pressure,
-        nx,
-        ny,
-        (ax, ay),
-        spectrum,
-        poisson,
-        speed,
-        direction_rad,
-        layer,
-        true,
-        false,
-    )
+    zone_sum(pressure, grid, response, true, false)
 }
 
 /// The dissipation route for a layer on the thin-layer law of
@@ -139,54 +67,30 @@ pub fn friction_force_dissipation_cells(
 /// would add the displacement spikes at its jumps (`|c2| a / (2 h)` times
 /// the law's response), which the law's discretisation leaves out; the
 /// routes then agree to the stencil's `O((q a)^2)`.
-#[allow(clippy::too_many_arguments)]
 pub fn friction_force_dissipation_thin_law(
     pressure: &[f64],
-    nx: usize,
-    ny: usize,
-    cell: (f64, f64),
-    spectrum: &CreepSpectrum,
-    poisson: f64,
-    speed: f64,
-    direction_rad: f64,
-    layer: &Layer,
+    grid: &Grid,
+    response: &SlidingResponse,
 ) -> f64 {
-    zone_sum(
-        pressure,
-        nx,
-        ny,
-        cell,
-        spectrum,
-        poisson,
-        speed,
-        direction_rad,
-        Some(layer),
-        false,
-        true,
-    )
+    zone_sum(pressure, grid, response, false, true)
 }
 
-/// The zone quadrature of [`friction_force_dissipation_layered`]. With
+/// The zone quadrature of [`friction_force_dissipation`]. With
 /// `fast`, sliding along x on a half-space (the common case) takes the
 /// fast path: the weight of a mode, a sum over its 49 alias images, is
 /// computed once for `+-q_x` (it is even in `q_x`: `q_x Im J*(-q_x v)` is)
 /// from per-row factors, with `sqrt` in place of `hypot`, in a loop the
 /// compiler vectorises; otherwise, and always without `fast`, every image
 /// is evaluated in full (the reference, equal to round-off).
-#[allow(clippy::too_many_arguments)]
 fn zone_sum(
     pressure: &[f64],
-    nx: usize,
-    ny: usize,
-    (ax, ay): (f64, f64),
-    spectrum: &CreepSpectrum,
-    poisson: f64,
-    speed: f64,
-    direction_rad: f64,
-    layer: Option<&Layer>,
+    grid: &Grid,
+    response: &SlidingResponse,
     fast: bool,
     band_limited: bool,
 ) -> f64 {
+    let ((nx, ny), (ax, ay)) = (grid.size(), grid.cell());
+    let speed = response.speed();
     if speed == 0.0 || !speed.is_finite() {
         return 0.0;
     }
@@ -211,10 +115,11 @@ fn zone_sum(
         },
     );
     let fft = FftPlanner::<f64>::new().plan_fft_forward(mx);
-    let (ex, ey) = (direction_rad.cos(), direction_rad.sin());
+    let (ex, ey) = response.direction();
+    let layer = response.layer();
     let two_pi = 2.0 * std::f64::consts::PI;
     let (gx, gy) = (two_pi / ax, two_pi / ay);
-    let composite = 1.0 - poisson * poisson;
+    let composite = response.material().composite_factor();
     let sinc = |t: f64| {
         if t.abs() < 1e-8 {
             1.0 - t * t / 6.0
@@ -246,7 +151,7 @@ fn zone_sum(
             qxs[i * na + k] = qx;
             sx2s[i * na + k] = s * s;
             if along_x {
-                imj_cache[i * na + k] = spectrum.compliance(-qx * ex * speed).im;
+                imj_cache[i * na + k] = response.compliance_along(qx * ex).im;
             }
         }
     }
@@ -324,12 +229,10 @@ fn zone_sum(
                             let imj = if along_x {
                                 imj_cache[i * na + mi]
                             } else {
-                                spectrum.compliance(-qv * speed).im
+                                response.compliance_along(qv).im
                             };
                             // Re[i q_v G^] = -q_v Im G^ = -q_v 2 (1-nu^2) S Im J* / |q|
-                            let ratio = layer.map_or(1.0, |l| {
-                                compliance_ratio(l.base, poisson, q * l.thickness)
-                            });
+                            let ratio = response.layer_ratio(q);
                             w += sx2 * sy2[k] * ratio * (-qv * 2.0 * composite * imj / q);
                         }
                     }
@@ -344,51 +247,15 @@ fn zone_sum(
     total * ax * ay / (mx as f64 * my as f64)
 }
 
-/// `F_T` \[N\] of a periodic pressure field (C order, axis 0 = x) from the
-/// Fourier dissipation sum (Appendix Eq. A3-A4), on a half-space.
-pub fn friction_force_periodic(
-    pressure: &[f64],
-    nx: usize,
-    ny: usize,
-    a: f64,
-    material: &Material,
-    speed: f64,
-    direction_rad: f64,
-) -> f64 {
-    let params = KernelParams {
-        speed,
-        direction_rad,
-        layer: None,
-    };
-    friction_force_periodic_with(pressure, nx, ny, a, material, &params)
-}
-
-/// [`friction_force_periodic`] for `params`: speed, direction and an
-/// optional layer (its compliance ratio `S(|q| h)` multiplies every mode,
-/// exactly as in [`crate::operator::SpectralPeriodic::with_params`]).
-pub fn friction_force_periodic_with(
-    pressure: &[f64],
-    nx: usize,
-    ny: usize,
-    a: f64,
-    material: &Material,
-    params: &KernelParams,
-) -> f64 {
-    friction_force_periodic_cells(pressure, nx, ny, (a, a), material, params)
-}
-
-/// [`friction_force_periodic_with`] on cells of sides `cell = (a_x, a_y)`
-/// \[m\]: the mode sum times the cell area `a_x a_y / N`.
-pub fn friction_force_periodic_cells(
-    pressure: &[f64],
-    nx: usize,
-    ny: usize,
-    cell: (f64, f64),
-    material: &Material,
-    params: &KernelParams,
-) -> f64 {
+/// `F_T` \[N\] of a periodic pressure field on `grid` (C order, axis 0 =
+/// x) from the Fourier dissipation sum (Appendix Eq. A3-A4): the mode sum
+/// times the cell area `a_x a_y / N`. A layer's compliance ratio
+/// `S(|q| h)` multiplies every mode, exactly as in
+/// [`crate::operator::SpectralPeriodic`].
+pub fn friction_force_periodic(pressure: &[f64], grid: &Grid, response: &SlidingResponse) -> f64 {
+    let ((nx, ny), cell) = (grid.size(), grid.cell());
     assert_eq!(pressure.len(), nx * ny, "pressure must hold nx * ny cells");
-    if params.speed == 0.0 || !params.speed.is_finite() {
+    if response.speed() == 0.0 || !response.speed().is_finite() {
         return 0.0;
     }
     // |P|^2 and column_weight * Re[i q_v m(q)] on the half spectrum, both
@@ -397,14 +264,7 @@ pub fn friction_force_periodic_cells(
         .iter()
         .map(|c| c.norm_sqr())
         .collect();
-    let slope = multiplier_half_spectrum(
-        material,
-        params,
-        nx,
-        ny,
-        cell,
-        PeriodicResponse::SlidingSlope,
-    );
+    let slope = multiplier_half_spectrum(response, grid, PeriodicResponse::SlidingSlope);
     let weights: Vec<f64> = slope
         .chunks_exact(nx)
         .enumerate()
@@ -417,6 +277,7 @@ pub fn friction_force_periodic_cells(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::material::{CreepSpectrum, Material};
 
     #[test]
     fn fast_path_equals_the_image_by_image_sum() {
@@ -424,6 +285,7 @@ mod tests {
         // at the friction peak: the fast path (sliding along x, half-space)
         // against the full evaluation of every alias image.
         let spectrum = CreepSpectrum::standard_linear_solid(1e7 / 3.0, 1e7, 0.01).unwrap();
+        let material = Material::new(spectrum, 0.5).unwrap();
         let (nx, ny, a) = (21, 13, 1e-5);
         let p: Vec<f64> = (0..nx * ny)
             .map(|k| {
@@ -432,21 +294,9 @@ mod tests {
             })
             .collect();
         for speed in [1e-4, 3e-3, 0.1] {
-            let run = |fast| {
-                zone_sum(
-                    &p,
-                    nx,
-                    ny,
-                    (a, a),
-                    &spectrum,
-                    0.5,
-                    speed,
-                    0.0,
-                    None,
-                    fast,
-                    false,
-                )
-            };
+            let response = SlidingResponse::new(&material, speed, 0.0, None).unwrap();
+            let grid = Grid::square(nx, ny, a).unwrap();
+            let run = |fast| zone_sum(&p, &grid, &response, fast, false);
             let (fast, slow) = (run(true), run(false));
             // The same terms summed in another order, sqrt for hypot:
             // round-off of a sum of ~1e5 terms of one sign per mode.

@@ -3,8 +3,8 @@
 //!
 //! | route | non-periodic grid | periodic cell |
 //! |---|---|---|
-//! | stencil (paper Eq. 9), [`stencil`] | [`friction_force_stencil`] with the cell-averaged derivative tables of [`crate::kernel`] | [`friction_force_stencil`] with [`crate::operator::SpectralPeriodic::sliding_slope`] |
-//! | dissipation (Appendix A3-A4), [`dissipation`] | [`friction_force_dissipation`], [`friction_force_dissipation_layered`]: the integral over the plane | [`friction_force_periodic`], [`friction_force_periodic_with`]: the sum over the cell's modes |
+//! | stencil (paper Eq. 9), [`stencil`] | [`friction_force_stencil`] with the cell-averaged derivative tables of [`crate::kernel`] | [`friction_force_stencil`] with [`crate::operator::SpectralPeriodic`]'s sliding slope |
+//! | dissipation (Appendix A3-A4), [`dissipation`] | [`friction_force_dissipation`]: the integral over the plane | [`friction_force_periodic`]: the sum over the cell's modes |
 //!
 //! [`full_contact`] holds the exact friction of a periodic surface held in
 //! full contact, the reference both periodic routes are checked against.
@@ -18,9 +18,7 @@ pub mod full_contact;
 pub mod stencil;
 
 pub use dissipation::{
-    friction_force_dissipation, friction_force_dissipation_cells,
-    friction_force_dissipation_layered, friction_force_dissipation_thin_law,
-    friction_force_periodic, friction_force_periodic_cells, friction_force_periodic_with,
+    friction_force_dissipation, friction_force_dissipation_thin_law, friction_force_periodic,
 };
-pub use full_contact::{full_contact_friction_stress, full_contact_friction_stress_layered};
-pub use stencil::{friction_force_stencil, friction_force_stencil_area};
+pub use full_contact::full_contact_friction_stress;
+pub use stencil::friction_force_stencil;

@@ -8,18 +8,13 @@
 
 use crate::operator::{GridOperator, GridWork};
 
-/// `F_T = a^2 p . (D p)` \[N\] with `D` the cell-averaged derivative operator
-/// along the sliding direction.
-pub fn friction_force_stencil(derivative: &mut dyn GridOperator, pressure: &[f64], a: f64) -> f64 {
-    friction_force_stencil_area(derivative, pressure, a * a)
-}
-
-/// [`friction_force_stencil`] on cells of area `cell_area = a_x a_y`
-/// \[m^2\] (rectangular cells): `F_T = a_x a_y p . (D p)`. Only the loaded
-/// cells contribute, so `D p` is evaluated on them alone
+/// `F_T = a_x a_y p . (D p)` \[N\] with `D` the cell-averaged derivative
+/// operator along the sliding direction, on cells of area
+/// `cell_area = a_x a_y` \[m^2\]. Only the loaded cells
+/// contribute, so `D p` is evaluated on them alone
 /// ([`GridOperator::apply_set`]: no grid-size vector beside the pressure
 /// for the FFT operators); the sum is that over every cell, bit for bit.
-pub fn friction_force_stencil_area(
+pub fn friction_force_stencil(
     derivative: &mut dyn GridOperator,
     pressure: &[f64],
     cell_area: f64,

@@ -21,8 +21,7 @@
 use super::context::GpuError;
 use super::engine::{groups_for, Buf, Engine, Kernel, Params, WORKGROUP};
 use super::plan::{grid, plan, read_scaled, MAX_GROUPS_X};
-use crate::kernel::KernelParams;
-use crate::material::Material;
+use crate::response::SlidingResponse;
 
 /// Invocations per workgroup of the pair kernel (`PWG`).
 const PAIR_WORKGROUP: u64 = 64;
@@ -85,8 +84,7 @@ impl MeshCells {
 /// CPU twin: `SlidingKernel::coefficient(dx, dy, side, side).total()`.
 pub fn pair_coefficients(
     engine: &mut Engine,
-    material: &Material,
-    params: &KernelParams,
+    response: &SlidingResponse,
     targets: &[(f64, f64)],
     sources: &[(f64, f64, f64)],
 ) -> Result<Vec<f64>, GpuError> {
@@ -116,7 +114,7 @@ pub fn pair_coefficients(
         )));
     }
     let unit = cells.fine_side();
-    let plan = plan(material, params, unit)?;
+    let plan = plan(response, unit)?;
     let count = sources.len();
     engine.check_kernel(
         &format!("the coefficients of {count} source-target pairs"),
@@ -319,14 +317,13 @@ impl AdaptiveMatvec {
     /// Plan the operator of `cells` for one material and sliding state.
     pub fn new(
         engine: &mut Engine,
-        material: &Material,
-        params: &KernelParams,
+        response: &SlidingResponse,
         cells: &MeshCells,
     ) -> Result<Self, GpuError> {
         cells.check()?;
         let n = cells.len();
         let a = cells.fine_side();
-        let plan = plan(material, params, a)?;
+        let plan = plan(response, a)?;
         let pairs = PairWork::new(engine, n, plan.terms_bytes())?;
         // Centres in fine sides from the lower-left centre: on a quadtree
         // they are multiples of a / 2, exact in f32.

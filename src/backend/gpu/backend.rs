@@ -28,8 +28,7 @@ pub use super::fft::{FftChoice, SpectrumPrecision};
 use super::level_tables::{GpuLevelTables, LevelMatvec};
 use super::pool::{Pool, Slot};
 use crate::backend::Backend;
-use crate::kernel::KernelParams;
-use crate::material::Material;
+use crate::response::SlidingResponse;
 
 /// Workgroups of a grid-stride reduction at most (partials per slot).
 const REDUCE_GROUPS: usize = 256;
@@ -155,11 +154,10 @@ impl GpuBackend {
     /// `self_coefficient` that of a fine cell. Half-spaces only.
     pub fn with_adaptive(
         mut engine: Engine,
-        material: &Material,
-        params: &KernelParams,
+        response: &SlidingResponse,
         cells: &MeshCells,
     ) -> Result<Self, GpuError> {
-        let matvec = AdaptiveMatvec::new(&mut engine, material, params, cells)?;
+        let matvec = AdaptiveMatvec::new(&mut engine, response, cells)?;
         let n = matvec.len();
         Ok(Self::assemble(engine, n, Operator::Adaptive(matvec)))
     }

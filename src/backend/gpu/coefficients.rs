@@ -8,43 +8,22 @@
 
 use super::context::GpuError;
 use super::engine::{Engine, Kernel, Params};
-use super::plan::{grid, plan, read_scaled};
-use crate::kernel::KernelParams;
-use crate::material::Material;
+use super::plan::{grid as dispatch_grid, plan, read_scaled};
+use crate::response::{Grid, SlidingResponse};
 /// Invocations per workgroup of the coefficient kernel (`CWG`).
 const COEFF_WORKGROUP: u64 = 64;
 
-/// The `(2nx-1) x (2ny-1)` offset table [m/Pa] of a square-cell grid (cell
-/// side `cell` \[m\]) in the layout of [`crate::kernel::CoefficientTable`].
+/// The `(2nx-1) x (2ny-1)` offset table [m/Pa] of `grid` in the layout of
+/// [`crate::kernel::CoefficientTable`]. On cells of sides `(a_x, a_y)`
+/// (Love's rectangle, physics.md section 11) lengths are in units of `a_x`,
+/// the source cell `1 x a_y / a_x`.
 pub fn coefficient_table(
     engine: &mut Engine,
-    material: &Material,
-    params: &KernelParams,
-    nx: usize,
-    ny: usize,
-    cell: f64,
+    response: &SlidingResponse,
+    grid: &Grid,
 ) -> Result<Vec<f64>, GpuError> {
-    coefficient_table_rect(engine, material, params, nx, ny, (cell, cell))
-}
-
-/// [`coefficient_table`] on cells of sides `(a_x, a_y)` \[m\] (Love's
-/// rectangle, physics.md section 11): lengths in units of `a_x`, the source
-/// cell `1 x a_y / a_x`.
-pub fn coefficient_table_rect(
-    engine: &mut Engine,
-    material: &Material,
-    params: &KernelParams,
-    nx: usize,
-    ny: usize,
-    (ax, ay): (f64, f64),
-) -> Result<Vec<f64>, GpuError> {
-    let ok = |a: f64| a.is_finite() && a > 0.0;
-    if !ok(ax) || !ok(ay) || nx == 0 || ny == 0 {
-        return Err(GpuError::Invalid(format!(
-            "grid {nx} x {ny} with cell {ax} m x {ay} m"
-        )));
-    }
-    let plan = plan(material, params, ax)?;
+    let ((nx, ny), (ax, ay)) = (grid.size(), grid.cell());
+    let plan = plan(response, ax)?;
     let count = (2 * nx - 1) * (2 * ny - 1);
     // The table is written through binding windows when larger than one
     // binding (shaders/coefficients.wgsl, backend::gpu::split).
@@ -67,7 +46,7 @@ pub fn coefficient_table_rect(
             j: [0; 4],
             f: [plan.e[0], plan.e[1], plan.instantaneous, (ay / ax) as f32],
         },
-        grid((count as u64).div_ceil(COEFF_WORKGROUP)),
+        dispatch_grid((count as u64).div_ceil(COEFF_WORKGROUP)),
     );
     Ok(read_scaled(engine, &out, count, plan.scale))
 }

@@ -22,9 +22,8 @@ use super::adaptive::SourceList;
 use super::context::GpuError;
 use super::engine::{groups_for, Buf, Engine, Kernel, Params};
 use super::plan::{grid, plan, read_scaled};
-use crate::kernel::KernelParams;
-use crate::material::Material;
 use crate::mesh::QuadMesh;
+use crate::response::SlidingResponse;
 
 /// Invocations per workgroup of `level_table.wgsl` (`LWG`).
 const TABLE_WORKGROUP: u64 = 64;
@@ -73,8 +72,7 @@ impl GpuLevelTables {
     /// (half-spaces only). Ranges as in [`crate::operator::LevelTables`].
     pub fn new(
         engine: &mut Engine,
-        material: &Material,
-        params: &KernelParams,
+        response: &SlidingResponse,
         nx: usize,
         ny: usize,
         cell: f64,
@@ -85,7 +83,7 @@ impl GpuLevelTables {
                 "level tables for {nx} x {ny} cells of {cell} m up to level {max_level}"
             )));
         }
-        let plan = plan(material, params, cell)?;
+        let plan = plan(response, cell)?;
         let grow = if max_level == 0 {
             0
         } else {

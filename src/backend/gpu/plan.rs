@@ -7,8 +7,7 @@
 
 use super::context::GpuError;
 use super::engine::{Buf, Engine};
-use crate::kernel::KernelParams;
-use crate::material::Material;
+use crate::response::SlidingResponse;
 
 /// Memory lengths below this many cells act as relaxed compliance (the
 /// neglected part is about `l |grad L| / L`, below 1e-7).
@@ -37,47 +36,37 @@ impl Plan {
     }
 }
 
-/// Classify the creep terms of `material` at the sliding state `params`
-/// with lengths in units of `unit` \[m\] (half-spaces only).
-pub fn plan(material: &Material, params: &KernelParams, unit: f64) -> Result<Plan, GpuError> {
-    if params.layer.is_some() {
+/// Classify the creep terms of `response` with lengths in units of
+/// `unit` \[m\] (half-spaces only).
+pub fn plan(response: &SlidingResponse, unit: f64) -> Result<Plan, GpuError> {
+    if response.layer().is_some() {
         return Err(GpuError::Invalid(
             "the GPU coefficient kernels cover half-spaces only; finite-thickness coefficients are computed on the host".into(),
         ));
     }
-    if params.speed.is_nan() || params.speed < 0.0 || !params.direction_rad.is_finite() {
-        return Err(GpuError::Invalid(format!(
-            "speed {} m/s and direction {} rad",
-            params.speed, params.direction_rad
-        )));
-    }
-    let spectrum = &material.spectrum;
-    let total =
-        spectrum.glassy_compliance() + spectrum.terms.iter().map(|t| t.compliance).sum::<f64>();
-    let mut instantaneous = spectrum.glassy_compliance();
+    let total = response.relaxed_compliance();
+    let mut instantaneous = response.glassy_compliance();
     let mut terms: Vec<f32> = Vec::new();
-    for t in &spectrum.terms {
+    for (compliance, l) in response.creep_lengths(unit) {
         // Relaxed at the unit (the finest side) means relaxed at every
         // larger source; the kernel classifies the rest per source size.
-        let l = params.speed * t.time / unit;
         if l.is_nan() || l < RELAXED_CELLS {
-            instantaneous += t.compliance;
+            instantaneous += compliance;
         } else if l.is_finite() {
-            terms.extend([(t.compliance / total) as f32, (1.0 / l) as f32]);
+            terms.extend([(compliance / total) as f32, (1.0 / l) as f32]);
         }
     }
     let count = (terms.len() / 2) as u32;
     if terms.is_empty() {
         terms = vec![0.0, 1.0];
     }
-    let (s, c) = params.direction_rad.sin_cos();
-    let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
+    let (ex, ey) = response.direction();
     Ok(Plan {
         terms,
         count,
         instantaneous: (instantaneous / total) as f32,
-        scale: material.composite_factor() / std::f64::consts::PI * unit * total,
-        e: [snap(c) as f32, snap(s) as f32],
+        scale: response.prefactor() * unit * total,
+        e: [ex as f32, ey as f32],
     })
 }
 

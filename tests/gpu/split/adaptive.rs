@@ -7,7 +7,7 @@
 //! the CPU twins with the bounds of `tests/gpu/adaptive.rs`.
 
 use crate::adaptive::{
-    dense, gpu_apply, offsets, pair_error, params, rel_l2, ring_mesh, sparse_pressures,
+    dense, gpu_apply, offsets, pair_error, params, rel_l2, response, ring_mesh, sparse_pressures,
     table_error, DenseCells, A, TAU,
 };
 use crate::common;
@@ -58,13 +58,13 @@ fn split_level_tables_and_matvec_equal_unsplit() {
     assert_eq!(es.windows(4 * n as u64), 2, "the vectors must split");
     let m = common::paper_material();
     let p = params(3.0 * A / TAU, 0.4);
-    let kernel = SlidingKernel::new(&m, p).unwrap();
+    let kernel = SlidingKernel::new(&response(&m, p)).unwrap();
     let host = std::sync::Arc::new(LevelTables::new(&kernel, nx, ny, A, levels).unwrap());
     let mut ef = Engine::new(full);
     let mut es = es;
     let t0 = std::time::Instant::now();
-    let ts = GpuLevelTables::new(&mut es, &m, &p, nx, ny, A, levels).unwrap();
-    let tf = GpuLevelTables::new(&mut ef, &m, &p, nx, ny, A, levels).unwrap();
+    let ts = GpuLevelTables::new(&mut es, &response(&m, p), nx, ny, A, levels).unwrap();
+    let tf = GpuLevelTables::new(&mut ef, &response(&m, p), nx, ny, A, levels).unwrap();
     let mut worst = 0.0f64;
     for level in 0..=levels {
         for parity in 0..2usize {
@@ -115,10 +115,10 @@ fn split_pairwise_matvec_equals_unsplit() {
     assert_eq!(es.windows(4 * n as u64), 2, "the vectors must split");
     let m = common::paper_material();
     let p = params(0.0, 0.0);
-    let mat = dense(&cells, &SlidingKernel::new(&m, p).unwrap());
-    let mut gs = GpuBackend::with_adaptive(es, &m, &p, &cells).unwrap();
+    let mat = dense(&cells, &SlidingKernel::new(&response(&m, p)).unwrap());
+    let mut gs = GpuBackend::with_adaptive(es, &response(&m, p), &cells).unwrap();
     let ef = Engine::new(full);
-    let mut gf = GpuBackend::with_adaptive(ef, &m, &p, &cells).unwrap();
+    let mut gf = GpuBackend::with_adaptive(ef, &response(&m, p), &cells).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let x = sparse_pressures(&mut rng, n, 0.2);
     let nonzero = x.iter().filter(|&&v| v != 0.0).count();
@@ -159,8 +159,8 @@ fn split_pair_coefficients_equal_unsplit() {
     assert_eq!(es.windows(16 * count), 8, "the pairs must split");
     assert_eq!(es.windows(4 * count), 2);
     let mut ef = Engine::new(full);
-    let split = pair_coefficients(&mut es, &m, &p, &targets, &sources).unwrap();
-    let whole = pair_coefficients(&mut ef, &m, &p, &targets, &sources).unwrap();
+    let split = pair_coefficients(&mut es, &response(&m, p), &targets, &sources).unwrap();
+    let whole = pair_coefficients(&mut ef, &response(&m, p), &targets, &sources).unwrap();
     assert_eq!(split, whole);
     let e = pair_error(&mut es, &m, p);
     println!("split pair coefficients ({count} pairs): worst relative error {e:.2e}");
@@ -181,7 +181,7 @@ fn adaptive_arrays_beyond_the_limits_are_refused_clearly() {
     let m = common::paper_material();
     let p = params(3.0 * A / TAU, 0.0);
     let mut engine = Engine::new(ctx);
-    let e = GpuLevelTables::new(&mut engine, &m, &p, 200, 200, A, 2).unwrap_err();
+    let e = GpuLevelTables::new(&mut engine, &response(&m, p), 200, 200, A, 2).unwrap_err();
     println!("{e}");
     assert!(
         matches!(
@@ -199,7 +199,7 @@ fn adaptive_arrays_beyond_the_limits_are_refused_clearly() {
     let limit = ctx.device.limits().max_storage_buffers_per_shader_stage as u64;
     let mut engine = Engine::new(ctx);
     assert_eq!(engine.windows(48_400), 48);
-    match GpuLevelTables::new(&mut engine, &m, &p, 52, 52, A, 2) {
+    match GpuLevelTables::new(&mut engine, &response(&m, p), 52, 52, A, 2) {
         Err(e) => {
             println!("{e}");
             assert!(

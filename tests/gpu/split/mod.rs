@@ -11,6 +11,7 @@
 use crate::common;
 use crate::conformance::paper_table;
 use crate::refine::differing_cells;
+use viscoslide::response::{Grid, SlidingResponse};
 
 mod adaptive;
 mod radix2;
@@ -21,7 +22,7 @@ use viscoslide::backend::gpu::fft_plan::Path as FftPath;
 use viscoslide::backend::gpu::{self, coefficients, FftChoice, GpuBackend, GpuError, GpuOptions};
 use viscoslide::backend::gpu::{shaders, split};
 use viscoslide::backend::{Backend, CpuBackend};
-use viscoslide::kernel::{KernelParams, SlidingKernel};
+use viscoslide::kernel::SlidingKernel;
 use viscoslide::operator::{OffsetTable, ToeplitzFft};
 use viscoslide::problem::{Executor, Problem};
 use viscoslide::solver::Silent;
@@ -264,18 +265,14 @@ fn split_coefficient_table_equals_unsplit() {
     let small = gpu::context_for_tests_with_limits(Some(SMALL), None).unwrap();
     let n = 65;
     let m = common::paper_material();
-    let params = KernelParams {
-        speed: 1e-3,
-        ..Default::default()
-    };
+    let response = SlidingResponse::new(&m, 1e-3, 0.0, None).unwrap();
+    let grid = Grid::square(n, n, 1e-6).unwrap();
     let count = (2 * n - 1) * (2 * n - 1);
     let mut es = Engine::new(small);
     assert_eq!(es.windows(4 * count as u64), 2, "the table must split");
-    let split =
-        coefficients::coefficient_table_rect(&mut es, &m, &params, n, n, (1e-6, 1e-6)).unwrap();
+    let split = coefficients::coefficient_table(&mut es, &response, &grid).unwrap();
     let mut ef = Engine::new(full);
-    let whole =
-        coefficients::coefficient_table_rect(&mut ef, &m, &params, n, n, (1e-6, 1e-6)).unwrap();
+    let whole = coefficients::coefficient_table(&mut ef, &response, &grid).unwrap();
     assert_eq!(split, whole);
 }
 
@@ -407,14 +404,12 @@ fn split_vector_kernels_equal_unsplit() {
     assert_eq!(Engine::new(small.clone()).windows(4 * n as u64), 2);
     let table = {
         let k = SlidingKernel::new(
-            &common::paper_material(),
-            KernelParams {
-                speed: 1e-3,
-                ..Default::default()
-            },
+            &SlidingResponse::new(&common::paper_material(), 1e-3, 0.0, None).unwrap(),
         )
         .unwrap();
-        k.table(nx, ny, 1e-6).values
+        k.table(&Grid::square(nx, ny, 1e-6).unwrap())
+            .unwrap()
+            .values
     };
     let run = |ctx: gpu::GpuContext| -> Vec<Vec<f64>> {
         let mut g = GpuBackend::new(ctx, nx, ny, &table, GpuOptions::default()).unwrap();
