@@ -3,9 +3,64 @@
 
 use std::path::PathBuf;
 
+use indicatif::{ProgressBar, ProgressStyle};
+
 use crate::backend::BackendChoice;
 use crate::error::{Error, Result};
-use crate::sweep::{self, Shard};
+use crate::sweep::{self, Shard, SweepObserver};
+
+/// A sweep's progress on the terminal: the executor's line, a bar over the
+/// points this run solves, warnings and notes on stderr.
+#[derive(Default)]
+struct SweepBar {
+    bar: Option<ProgressBar>,
+}
+
+impl SweepBar {
+    fn say(&self, line: String) {
+        match &self.bar {
+            Some(bar) => bar.suspend(|| eprintln!("{line}")),
+            None => eprintln!("{line}"),
+        }
+    }
+}
+
+impl SweepObserver for SweepBar {
+    fn executor(&mut self, line: &str) {
+        self.say(line.to_string());
+    }
+
+    fn point_started(&mut self, _done: usize, count: usize, id: &str) {
+        let bar = self.bar.get_or_insert_with(|| {
+            let bar = ProgressBar::new(count as u64);
+            bar.set_style(
+                ProgressStyle::with_template(
+                    "{bar:30} {pos}/{len} points, {elapsed_precise} elapsed, ETA {eta_precise} {msg}",
+                )
+                .expect("valid template"),
+            );
+            bar
+        });
+        bar.set_message(id.to_string());
+    }
+
+    fn point_finished(&mut self, done: usize, count: usize, _id: &str) {
+        if let Some(bar) = &self.bar {
+            bar.set_position(done as u64);
+            if done == count {
+                bar.finish_and_clear();
+            }
+        }
+    }
+
+    fn warning(&mut self, id: &str, message: &str) {
+        self.say(format!("warning: point {id}: {message}"));
+    }
+
+    fn note(&mut self, message: &str) {
+        self.say(format!("note: {message}"));
+    }
+}
 
 #[derive(Debug, clap::Args)]
 pub struct SweepArgs {
@@ -27,7 +82,7 @@ pub struct SweepArgs {
     pub no_merge: bool,
     /// Executor: auto (GPU when available), gpu or cpu; default from
     /// VISCOSLIDE_BACKEND, else auto.
-    #[arg(long, value_enum)]
+    #[arg(long, value_name = "auto|gpu|cpu")]
     pub backend: Option<BackendChoice>,
 }
 
@@ -41,8 +96,20 @@ pub fn run(args: SweepArgs) -> Result<()> {
     let cfg = args.config.load()?;
     let shard = args.shard.unwrap_or(Shard::ALL);
     let backend = BackendChoice::resolve(args.backend).map_err(Error::Invalid)?;
-    let (r, rows) =
-        sweep::run_and_merge(&cfg, &args.out, shard, args.limit, backend, !args.no_merge)?;
+    let mut bar = SweepBar::default();
+    let result = sweep::run_and_merge(
+        &cfg,
+        &args.out,
+        shard,
+        args.limit,
+        backend,
+        !args.no_merge,
+        &mut bar,
+    );
+    if let Some(b) = &bar.bar {
+        b.finish_and_clear();
+    }
+    let (r, rows) = result?;
     println!(
         "{} points in the sweep, {} in this shard: {} already done, {} solved now",
         r.total, r.in_shard, r.skipped, r.solved
@@ -58,7 +125,7 @@ pub fn run(args: SweepArgs) -> Result<()> {
 }
 
 pub fn merge(args: MergeArgs) -> Result<()> {
-    let rows = sweep::merge(&args.dir)?;
+    let rows = sweep::merge(&args.dir, &mut SweepBar::default())?;
     println!(
         "merged {} rows into {}",
         rows.len(),
@@ -80,7 +147,12 @@ pub struct CompareArgs {
 }
 
 pub fn compare(args: CompareArgs) -> Result<()> {
-    sweep::compare(&args.dir, &args.measured, args.coulomb)?;
+    sweep::compare(
+        &args.dir,
+        &args.measured,
+        args.coulomb,
+        &mut SweepBar::default(),
+    )?;
     println!(
         "wrote {} and {}",
         args.dir.join("compare.csv").display(),

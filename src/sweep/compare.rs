@@ -81,14 +81,19 @@ pub fn read_measured(path: &Path) -> Result<Vec<Measured>> {
 }
 
 /// Write `compare.csv` and `compare.png` into the merged sweep `dir`.
-pub fn compare(dir: &Path, measured_csv: &Path, coulomb: f64) -> Result<()> {
+pub fn compare(
+    dir: &Path,
+    measured_csv: &Path,
+    coulomb: f64,
+    observer: &mut dyn super::SweepObserver,
+) -> Result<()> {
     if !(coulomb.is_finite() && coulomb >= 0.0) {
         return Err(Error::Invalid(format!(
             "--coulomb {coulomb} must be finite and >= 0 (the Coulomb friction coefficient subtracted from the measured one)"
         )));
     }
     let measured = read_measured(measured_csv)?;
-    let rows = super::merge::aggregate(dir)?;
+    let rows = super::merge::aggregate(dir, observer)?;
     let computed: Vec<(f64, f64, f64)> = rows
         .iter()
         .filter(|r| r.speed > 0.0)

@@ -19,7 +19,7 @@ use serde::Deserialize;
 
 use super::row::MergedRow;
 use super::theory::{recorded_curves, theory_curves, theory_for};
-use super::{master, Point};
+use super::{master, Point, SweepObserver};
 
 use crate::error::{Error, Result};
 use crate::io::{LockMode, StagedOutput, StudyLock};
@@ -92,7 +92,7 @@ struct Headline {
     lambda: Option<f64>,
 }
 
-fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
+fn read_points(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<PointResult>> {
     let points_dir = dir.join("points");
     if !points_dir.is_dir() {
         return Err(Error::Invalid(format!(
@@ -144,11 +144,11 @@ fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
         });
     }
     if foreign > 0 {
-        eprintln!(
-            "note: {foreign} point files in {} belong to another study than {} pins; left out",
+        observer.note(&format!(
+            "{foreign} point files in {} belong to another study than {} pins; left out",
             points_dir.display(),
             pin.display()
-        );
+        ));
     }
     if out.is_empty() {
         return Err(Error::Invalid(format!(
@@ -174,8 +174,8 @@ fn read_points(dir: &Path) -> Result<Vec<PointResult>> {
 /// Aggregate the points of `dir` into rows, ordered by `[sweep.vary]`
 /// combination (plan order), planned load, then speed (the group keys are
 /// bit patterns of non-negative floats, whose order is the numeric order).
-pub fn aggregate(dir: &Path) -> Result<Vec<MergedRow>> {
-    let mut points = read_points(dir)?;
+pub fn aggregate(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<MergedRow>> {
+    let mut points = read_points(dir, observer)?;
     let key = |p: &PointResult| (p.key_combo, p.key_load.to_bits(), p.key_speed.to_bits());
     points.sort_by_key(|p| (key(p), p.seed));
     // Static areas per (combination, planned load, seed) for A / A(0).
@@ -264,15 +264,21 @@ pub fn csv(rows: &[MergedRow]) -> String {
 }
 
 /// Merge the finished points of `dir` into `dir/sweep.csv` and the plots
-/// (written atomically together). Returns the rows.
-pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
+/// (written atomically together). Returns the rows; notes (points left
+/// out, Persson's theory from the points' own values) go to `observer`.
+pub fn merge(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<MergedRow>> {
     if !dir.join("points").is_dir() {
         // aggregate's error, before the lock (which would make `dir`).
-        return aggregate(dir);
+        return aggregate(dir, observer);
     }
     // One writer: no sweep adds points while they are merged.
     let _lock = StudyLock::acquire(dir, LockMode::Exclusive)?;
-    let mut rows = aggregate(dir)?;
+    merge_locked(dir, observer)
+}
+
+/// [`merge`] with `dir` already locked.
+pub(super) fn merge_locked(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<MergedRow>> {
+    let mut rows = aggregate(dir, observer)?;
     let use_xi = rows.iter().all(|r| r.xi.is_some());
     let x_of = |r: &MergedRow| if use_xi { r.xi.unwrap_or(0.0) } else { r.speed };
     let x_label = if use_xi { "xi = v tau / L" } else { "v [m/s]" };
@@ -304,7 +310,9 @@ pub fn merge(dir: &Path) -> Result<Vec<MergedRow>> {
         match theory_for(dir, &chunk[0].vary) {
             Ok(inputs) => curves.extend(theory_curves(&inputs, chunk, &label, use_xi)?),
             Err(why) => {
-                eprintln!("note: Persson's theory drawn from the points' own values ({why})");
+                observer.note(&format!(
+                    "Persson's theory drawn from the points' own values ({why})"
+                ));
                 curves.extend(recorded_curves(chunk, &label, &x_of));
             }
         }

@@ -22,7 +22,6 @@ pub use store::{study_id, PointStore};
 
 use std::path::Path;
 
-use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::Value;
 
 use crate::backend::BackendChoice;
@@ -39,6 +38,27 @@ pub const CONFIG_FILE: &str = "sweep.toml";
 /// File in the sweep directory holding the directory the configuration's
 /// relative paths (a material file, a surface file) are resolved against.
 pub const CONFIG_DIR_FILE: &str = "sweep.config_dir";
+
+/// Hears about a sweep's progress: the front ends draw it (a progress bar
+/// on the command line, nothing in Python); the library prints nothing.
+pub trait SweepObserver {
+    /// The executor the points run on, in one line (as `solve` states it).
+    fn executor(&mut self, _line: &str) {}
+    /// Point `done + 1` of `count` to solve in this run starts.
+    fn point_started(&mut self, _done: usize, _count: usize, _id: &str) {}
+    /// A point is finished and written.
+    fn point_finished(&mut self, _done: usize, _count: usize, _id: &str) {}
+    /// A warning of point `id`'s solve (it is also in the point's file).
+    fn warning(&mut self, _id: &str, _message: &str) {}
+    /// A note on a merge: points left out, where Persson's curves come from.
+    fn note(&mut self, _message: &str) {}
+}
+
+/// A [`SweepObserver`] that ignores everything.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Quiet;
+
+impl SweepObserver for Quiet {}
 
 /// What a sweep run did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -66,15 +86,16 @@ pub fn run_sweep(
     shard: Shard,
     limit: Option<usize>,
     backend: BackendChoice,
+    observer: &mut dyn SweepObserver,
 ) -> Result<SweepRun> {
-    Ok(run_and_merge(cfg, dir, shard, limit, backend, false)?.0)
+    Ok(run_and_merge(cfg, dir, shard, limit, backend, false, observer)?.0)
 }
 
 /// [`run_sweep`], then with `merge`, when the run covers every point
 /// (no shard) and all are done, [`merge`] under the same lock: no other
 /// writer comes between the last point and the merge. The points are
 /// solved on the executor `backend` selects (as `solve` selects it, for
-/// the first point's problem; its line goes to stderr).
+/// the first point's problem; its line goes to the observer).
 pub fn run_and_merge(
     cfg: &LoadedConfig,
     dir: &Path,
@@ -82,6 +103,7 @@ pub fn run_and_merge(
     limit: Option<usize>,
     backend: BackendChoice,
     merge: bool,
+    observer: &mut dyn SweepObserver,
 ) -> Result<(SweepRun, Option<Vec<MergedRow>>)> {
     let sweep = cfg.config.sweep.clone().ok_or_else(|| {
         Error::Invalid(format!(
@@ -108,7 +130,7 @@ pub fn run_and_merge(
         }
     }
     let (executor, line) = selected.expect("a plan has points");
-    eprintln!("{line}");
+    observer.executor(&line);
     let mode = if shard == Shard::ALL {
         LockMode::Exclusive
     } else {
@@ -127,25 +149,17 @@ pub fn run_and_merge(
         .collect();
     let skipped = mine.len() - todo.len();
     let count = limit.map_or(todo.len(), |l| l.min(todo.len()));
-    let bar = ProgressBar::new(count as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:30} {pos}/{len} points, {elapsed_precise} elapsed, ETA {eta_precise} {msg}",
-        )
-        .expect("valid template"),
-    );
     let mut solved = 0;
     for point in todo.into_iter().take(count) {
-        bar.set_message(point.id.clone());
+        observer.point_started(solved, count, &point.id);
         let value = solve_point(cfg, point, &executor)?;
         for w in value["warnings"].as_array().into_iter().flatten() {
-            bar.suspend(|| eprintln!("warning: point {}: {}", point.id, w.as_str().unwrap_or("")));
+            observer.warning(&point.id, w.as_str().unwrap_or(""));
         }
         store.write(&point.id, &value)?;
         solved += 1;
-        bar.inc(1);
+        observer.point_finished(solved, count, &point.id);
     }
-    bar.finish_and_clear();
     let run = SweepRun {
         total: plan.points.len(),
         in_shard: mine.len(),
@@ -153,7 +167,8 @@ pub fn run_and_merge(
         solved,
     };
     let rows = if merge && shard == Shard::ALL && run.skipped + run.solved == run.in_shard {
-        Some(self::merge(dir)?)
+        // The run holds the directory alone (no shard): merge under its lock.
+        Some(merge::merge_locked(dir, observer)?)
     } else {
         None
     };
