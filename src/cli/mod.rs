@@ -10,6 +10,7 @@ mod material;
 pub mod persson;
 mod refine;
 mod solve;
+mod stage_bar;
 mod surface;
 mod sweep;
 
@@ -81,6 +82,7 @@ impl ConfigArgs {
 /// Parse the process arguments and run the command.
 pub fn run() -> Result<()> {
     let cli = Cli::parse();
+    crate::kernel::progress::set_stage_observer(Box::new(stage_bar::StageBars));
     match cli.command {
         Command::Material(c) => material::run(c),
         Command::Surface(c) => surface::run(c),

@@ -1,54 +1,55 @@
-//! Progress of long coefficient stages: a bar with an ETA on stderr that
-//! appears only once a stage has run for [`SHOW_AFTER`] (and only when
-//! stderr is a terminal), so quick tables print nothing.
+//! Progress of long coefficient stages, reported to the one
+//! [`StageObserver`] a front end installs ([`set_stage_observer`]; the
+//! command line draws a bar on stderr once a stage has run a while).
+//! Without one, stages report nothing: the library prints nothing itself.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::sync::OnceLock;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+/// Counts the steps of one stage; shared across rayon tasks.
+pub trait StageTicker: Send + Sync {
+    /// One step done.
+    fn inc(&self);
+    /// The stage is over.
+    fn finish(&self);
+}
 
-/// A stage shows its bar once it has run this long.
-pub const SHOW_AFTER: Duration = Duration::from_secs(2);
+/// Hears about long coefficient stages.
+pub trait StageObserver: Send + Sync {
+    /// A stage called `label` of `total` steps starts.
+    fn stage(&self, label: &str, total: u64) -> Box<dyn StageTicker>;
+}
+
+static OBSERVER: OnceLock<Box<dyn StageObserver>> = OnceLock::new();
+
+/// Install the process's stage observer (the first one installed stays).
+pub fn set_stage_observer(observer: Box<dyn StageObserver>) {
+    let _ = OBSERVER.set(observer);
+}
 
 /// Progress of one stage of `total` steps; shareable across rayon tasks.
 pub(crate) struct Progress {
-    bar: ProgressBar,
-    start: Instant,
-    shown: AtomicBool,
+    ticker: Option<Box<dyn StageTicker>>,
 }
 
 impl Progress {
-    /// A hidden bar for a stage called `label`.
+    /// A stage called `label`, reported to the installed observer if any.
     pub(crate) fn new(label: &str, total: u64) -> Self {
-        let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::hidden());
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{msg} {bar:30} {pos}/{len} rows, {elapsed_precise} elapsed, ETA {eta_precise}",
-            )
-            .expect("valid template"),
-        );
-        bar.set_message(label.to_string());
         Self {
-            bar,
-            start: Instant::now(),
-            shown: AtomicBool::new(false),
+            ticker: OBSERVER.get().map(|o| o.stage(label, total)),
         }
     }
 
-    /// One step done; shows the bar once the stage is older than
-    /// [`SHOW_AFTER`].
+    /// One step done.
     pub(crate) fn inc(&self) {
-        self.bar.inc(1);
-        if !self.shown.load(Ordering::Relaxed)
-            && self.start.elapsed() >= SHOW_AFTER
-            && !self.shown.swap(true, Ordering::Relaxed)
-        {
-            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+        if let Some(t) = &self.ticker {
+            t.inc();
         }
     }
 
-    /// Clear the bar.
+    /// The stage is over.
     pub(crate) fn finish(&self) {
-        self.bar.finish_and_clear();
+        if let Some(t) = &self.ticker {
+            t.finish();
+        }
     }
 }
