@@ -160,7 +160,7 @@ pub trait Backend {
 use serde::{Deserialize, Serialize};
 
 /// Which executor runs a computation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum BackendChoice {
     /// The GPU when an adapter exists, otherwise the CPU (with a notice).
@@ -175,6 +175,20 @@ pub enum BackendChoice {
 /// Environment variable that selects the backend when no flag is given.
 pub const BACKEND_ENV: &str = "VISCOSLIDE_BACKEND";
 
+impl std::str::FromStr for BackendChoice {
+    type Err = String;
+
+    /// `auto`, `gpu` or `cpu` (any case).
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "auto" => Ok(BackendChoice::Auto),
+            "gpu" => Ok(BackendChoice::Gpu),
+            "cpu" => Ok(BackendChoice::Cpu),
+            other => Err(format!("{other}: expected auto, gpu or cpu")),
+        }
+    }
+}
+
 impl BackendChoice {
     /// The flag if given, else `VISCOSLIDE_BACKEND`, else `auto`.
     pub fn resolve(flag: Option<BackendChoice>) -> Result<BackendChoice, String> {
@@ -182,12 +196,8 @@ impl BackendChoice {
             return Ok(f);
         }
         match std::env::var(BACKEND_ENV) {
-            Ok(v) => match v.trim().to_ascii_lowercase().as_str() {
-                "auto" | "" => Ok(BackendChoice::Auto),
-                "gpu" => Ok(BackendChoice::Gpu),
-                "cpu" => Ok(BackendChoice::Cpu),
-                other => Err(format!("{BACKEND_ENV}={other}: expected auto, gpu or cpu")),
-            },
+            Ok(v) if v.trim().is_empty() => Ok(BackendChoice::Auto),
+            Ok(v) => v.parse().map_err(|e| format!("{BACKEND_ENV}={e}")),
             Err(_) => Ok(BackendChoice::Auto),
         }
     }

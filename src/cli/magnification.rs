@@ -37,7 +37,7 @@ pub struct MagnificationArgs {
     pub speeds: Option<String>,
     /// Executor: auto (GPU when available), gpu or cpu; default from
     /// VISCOSLIDE_BACKEND, else auto.
-    #[arg(long, value_enum)]
+    #[arg(long, value_name = "auto|gpu|cpu")]
     pub backend: Option<BackendChoice>,
     /// Run only the points (a level at a speed) with index = K mod N.
     #[arg(long, value_name = "K/N")]

@@ -21,7 +21,7 @@ pub struct RefineArgs {
     pub levels: String,
     /// Executor: auto (GPU when available), gpu or cpu; default from
     /// VISCOSLIDE_BACKEND, else auto.
-    #[arg(long, value_enum)]
+    #[arg(long, value_name = "auto|gpu|cpu")]
     pub backend: Option<BackendChoice>,
     /// Start every level from the previous level's solution instead of the
     /// solver's own coarse-to-fine cascade (the cascade needs fewer

@@ -16,7 +16,7 @@ pub struct SolveArgs {
     pub config: super::ConfigArgs,
     /// Executor: auto (GPU when available), gpu or cpu; default from
     /// VISCOSLIDE_BACKEND, else auto.
-    #[arg(long, value_enum)]
+    #[arg(long, value_name = "auto|gpu|cpu")]
     pub backend: Option<BackendChoice>,
     /// Output directory (created; files appear only when the solve succeeds).
     #[arg(long)]
