@@ -372,6 +372,22 @@ fn the_sliding_response_has_one_constructor() {
     assert!(elsewhere.is_empty(), "{}", elsewhere.join("\n"));
 }
 
+/// Progress, warnings and notes reach the front ends through observers
+/// (`solver::Observer`, `sweep::SweepObserver`, `kernel::progress`, ...):
+/// nothing below the command line names `clap` or `indicatif` or prints.
+#[test]
+fn nothing_below_the_front_ends_prints_or_parses_arguments() {
+    let mut found = Vec::new();
+    for (module, code) in engine_files() {
+        for needle in ["clap", "indicatif", "eprintln!", "println!", "eprint!("] {
+            if code.contains(needle) {
+                found.push(format!("{}: {needle}", module.join("::")));
+            }
+        }
+    }
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}
+
 #[test]
 fn the_files_form_no_circle() {
     let g = graph();

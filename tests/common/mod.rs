@@ -221,3 +221,28 @@ pub fn friction(
     );
     (-fs / load, -fd / load)
 }
+
+/// Open a GPU for a test or explain why not. With `REQUIRE_GPU=1` a missing
+/// adapter is a failure (CI installs lavapipe); otherwise the caller skips
+/// with the printed reason.
+pub fn gpu_context() -> Option<viscoslide::backend::gpu::GpuContext> {
+    gpu_context_with_limits(None, None)
+}
+
+/// As [`gpu_context`] with the largest storage binding and buffer lowered
+/// (`GpuContext::open_with_limits`).
+pub fn gpu_context_with_limits(
+    binding: Option<u64>,
+    buffer: Option<u64>,
+) -> Option<viscoslide::backend::gpu::GpuContext> {
+    match viscoslide::backend::gpu::GpuContext::open_with_limits(binding, buffer) {
+        Ok(c) => Some(c),
+        Err(e) => {
+            if std::env::var("REQUIRE_GPU").is_ok_and(|v| v == "1") {
+                panic!("REQUIRE_GPU=1 but no usable GPU: {e}");
+            }
+            eprintln!("skipping GPU test: {e}");
+            None
+        }
+    }
+}

@@ -18,7 +18,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use viscoslide::backend::gpu::adaptive::{pair_coefficients, MeshCells};
 use viscoslide::backend::gpu::engine::Engine;
-use viscoslide::backend::gpu::{self, shaders, GpuBackend};
+use viscoslide::backend::gpu::{shaders, GpuBackend};
 use viscoslide::backend::{Backend, CpuBackend};
 use viscoslide::kernel::SlidingKernel;
 use viscoslide::material::Material;
@@ -187,7 +187,7 @@ pub(crate) fn pair_error(engine: &mut Engine, material: &Material, p: Sliding) -
 /// (f32 evaluation of a kernel the CPU integrates to 1e-14).
 #[test]
 fn pair_coefficients_match_cpu_sls() {
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let mut engine = Engine::new(ctx);
@@ -230,7 +230,7 @@ fn pair_coefficients_match_cpu_sls() {
 /// relaxed (below 1e-7 source sides) to glassy at the same speed.
 #[test]
 fn pair_coefficients_match_cpu_broad_spectra() {
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let mut engine = Engine::new(ctx);
@@ -348,7 +348,7 @@ impl GridOperator for DenseCells {
 /// error about 1e-6 summed with Kahan compensation).
 #[test]
 fn adaptive_matvec_matches_dense_cpu() {
-    if gpu::context_for_tests().is_none() {
+    if crate::common::gpu_context().is_none() {
         return;
     }
     let m = common::paper_material();
@@ -364,7 +364,7 @@ fn adaptive_matvec_matches_dense_cpu() {
         let t0 = Instant::now();
         let mat = dense(&cells, &SlidingKernel::new(&response(&m, p)).unwrap());
         let t_cpu = t0.elapsed().as_secs_f64();
-        let engine = Engine::new(gpu::context_for_tests().unwrap());
+        let engine = Engine::new(crate::common::gpu_context().unwrap());
         let mut g = GpuBackend::with_adaptive(engine, &response(&m, p), &cells).unwrap();
         assert_eq!(g.grid_len(), n);
         let x = sparse_pressures(&mut rng, n, zeros);
@@ -397,7 +397,7 @@ fn adaptive_matvec_matches_dense_cpu() {
 /// runs in f32 with its tolerance clamped to f32 epsilon).
 #[test]
 fn adaptive_solve_matches_dense_cpu() {
-    if gpu::context_for_tests().is_none() {
+    if crate::common::gpu_context().is_none() {
         return;
     }
     let m = common::paper_material();
@@ -430,7 +430,7 @@ fn adaptive_solve_matches_dense_cpu() {
         )
         .unwrap();
         let t_cpu = t0.elapsed().as_secs_f64();
-        let engine = Engine::new(gpu::context_for_tests().unwrap());
+        let engine = Engine::new(crate::common::gpu_context().unwrap());
         let mut be = GpuBackend::with_adaptive(engine, &response(&m, p), &cells).unwrap();
         let t1 = Instant::now();
         let (sg, ig) = solver::solve(
@@ -474,7 +474,7 @@ fn adaptive_solve_matches_dense_cpu() {
 fn adaptive_refuses_invalid_input() {
     use viscoslide::backend::gpu::{AdaptiveMatvec, GpuError};
 
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let mut engine = Engine::new(ctx);
@@ -534,7 +534,7 @@ fn adaptive_refuses_invalid_input() {
 fn gpu_level_tables_match_the_host() {
     use viscoslide::backend::gpu::GpuLevelTables;
     use viscoslide::operator::LevelTables;
-    if gpu::context_for_tests().is_none() {
+    if crate::common::gpu_context().is_none() {
         return;
     }
     let (nx, ny, levels) = (20usize, 14usize, 3u8);
@@ -550,7 +550,7 @@ fn gpu_level_tables_match_the_host() {
         ),
         ("34 terms", &dense34, params(1e-3, 0.3)),
     ];
-    let mut engine = Engine::new(gpu::context_for_tests().unwrap());
+    let mut engine = Engine::new(crate::common::gpu_context().unwrap());
     let mut worst: f64 = 0.0;
     for (name, m, p) in cases {
         let kernel = SlidingKernel::new(&response(m, p)).unwrap();
@@ -614,7 +614,7 @@ fn gpu_level_matvec_matches_the_host_operator() {
     use viscoslide::backend::gpu::GpuLevelTables;
     use viscoslide::mesh::QuadMesh;
     use viscoslide::operator::{AdaptiveOperator, LevelTables};
-    if gpu::context_for_tests().is_none() {
+    if crate::common::gpu_context().is_none() {
         return;
     }
     let levels = 3u8;
@@ -653,7 +653,7 @@ fn gpu_level_matvec_matches_the_host_operator() {
     assert!(many.level_counts()[0] > 3000, "{:?}", many.level_counts());
     let m = common::paper_material();
     let mut rng = ChaCha8Rng::seed_from_u64(11);
-    let mut engine = Some(Engine::new(gpu::context_for_tests().unwrap()));
+    let mut engine = Some(Engine::new(crate::common::gpu_context().unwrap()));
     let cases: [(&QuadMesh, f64, f64, f64, Option<u8>); 6] = [
         (&small, 3.0, 0.0, 0.3, None),
         (&small, 30.0, 2.2, 0.8, None),

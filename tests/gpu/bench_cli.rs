@@ -29,7 +29,7 @@ fn json_of(out: &std::process::Output) -> serde_json::Value {
 
 #[test]
 fn adapters_are_listed_with_limits_and_features() {
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let v = json_of(&viscoslide(&["gpu", "--json"]));
@@ -67,7 +67,7 @@ fn adapters_are_listed_with_limits_and_features() {
 
 #[test]
 fn bench_agrees_with_the_host_and_counts_the_plans_bytes() {
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let n = 48;

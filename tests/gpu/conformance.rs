@@ -36,7 +36,7 @@ pub(crate) fn paper_table(nx: usize, ny: usize, a: f64, v: f64) -> Vec<f64> {
 }
 
 fn both(nx: usize, ny: usize, table: &[f64]) -> Option<(GpuBackend, CpuBackend<ToeplitzFft>)> {
-    let ctx = gpu::context_for_tests()?;
+    let ctx = crate::common::gpu_context()?;
     let g = GpuBackend::new(ctx, nx, ny, table, GpuOptions::default()).unwrap();
     let c = CpuBackend::new(ToeplitzFft::new(OffsetTable {
         nx,
@@ -218,7 +218,7 @@ fn matvec_error_with(
     precision: SpectrumPrecision,
     fft: FftChoice,
 ) -> Option<f64> {
-    let ctx = gpu::context_for_tests()?;
+    let ctx = crate::common::gpu_context()?;
     let mut g = GpuBackend::new(
         ctx,
         nx,
@@ -318,7 +318,7 @@ fn inverse_circulant(
 /// displacement-like inputs (the preconditioner maps displacements to
 /// pressures): relative L2 error and the largest one.
 fn preconditioner_error(nx: usize, ny: usize, table: &[f64], fft: FftChoice) -> Option<f64> {
-    let ctx = gpu::context_for_tests()?;
+    let ctx = crate::common::gpu_context()?;
     let options = GpuOptions {
         fft,
         preconditioner: true,
@@ -374,7 +374,7 @@ fn preconditioner_matches_cpu_toeplitz_fft() {
         }
     }
     let table = paper_table(16, 16, l / 16.0, 0.1);
-    if let Some(ctx) = gpu::context_for_tests() {
+    if let Some(ctx) = crate::common::gpu_context() {
         let g = GpuBackend::new(ctx, 16, 16, &table, GpuOptions::default()).unwrap();
         assert!(!g.has_preconditioner());
     }
@@ -425,7 +425,7 @@ fn matvec_matches_cpu_toeplitz_fft() {
 /// the one the traffic model reports.
 #[test]
 fn default_matvec_runs_the_shared_memory_plan() {
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let n = 64;
@@ -468,7 +468,7 @@ fn f16_spectrum_error_is_measured() {
 /// contact cells in one set only)`.
 fn solve_both(n: usize, xi: f64, precondition: bool) -> Option<(f64, f64, f64, f64, f64, usize)> {
     use viscoslide::solver;
-    let ctx = gpu::context_for_tests()?;
+    let ctx = crate::common::gpu_context()?;
     // xi = v tau / L with tau = 0.01 s and L = 0.01 m.
     let speed = xi;
     let p = common::rough_patch(n, speed);
@@ -564,7 +564,7 @@ fn table_error(
     direction: f64,
 ) -> Option<f64> {
     use viscoslide::backend::gpu::{coefficients, engine::Engine};
-    let ctx = gpu::context_for_tests()?;
+    let ctx = crate::common::gpu_context()?;
     let mut engine = Engine::new(ctx);
     let a = 0.01 / n as f64;
     let response = SlidingResponse::new(material, speed, direction, None).unwrap();
@@ -634,7 +634,7 @@ fn coefficient_table_34_terms_matches_cpu() {
 /// (lavapipe: 2 GiB per buffer, first refused at 8193^2).
 #[test]
 fn oversized_grid_is_refused_clearly() {
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     for k in 1..15 {
@@ -666,7 +666,7 @@ fn oversized_grid_is_refused_clearly() {
 #[test]
 fn coefficient_table_on_rectangles_matches_cpu() {
     use viscoslide::backend::gpu::{coefficients, engine::Engine};
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let m = common::paper_material();
@@ -706,7 +706,7 @@ fn rectangular_cell_solve_matches_cpu() {
     use viscoslide::problem::{Executor, Problem};
     use viscoslide::solver::{Control, Silent};
     use viscoslide::surface::HeightMap;
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let m = common::paper_material();

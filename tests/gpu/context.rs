@@ -5,7 +5,7 @@ use viscoslide::backend::gpu;
 
 #[test]
 fn adapter_is_listed_and_device_opens() {
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let listed = gpu::list_adapters();

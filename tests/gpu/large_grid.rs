@@ -30,7 +30,7 @@ fn grid_2048_runs_within_the_binding_limit() {
         eprintln!("skipping the 2048^2 GPU run: set VISCOSLIDE_GPU_LARGE=1 (minutes on lavapipe)");
         return;
     }
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let n = 2048;
@@ -113,7 +113,7 @@ fn grid_beyond_one_binding_is_split() {
         eprintln!("skipping the 2049^2 GPU run: set VISCOSLIDE_GPU_LARGE=1 (minutes on lavapipe)");
         return;
     }
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let n = 2049;

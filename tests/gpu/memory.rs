@@ -31,7 +31,7 @@ fn allocations(ctx: gpu::GpuContext, n: usize) -> (Allocations, (usize, usize)) 
 
 #[test]
 fn device_memory_by_array() {
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let mut vectors_per_grid = Vec::new();

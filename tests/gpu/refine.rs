@@ -4,7 +4,6 @@
 //! `solver.gpu_refine = false` it keeps the device's f32 answer. Skips with
 //! a reason without an adapter; fails under `REQUIRE_GPU=1`.
 
-use viscoslide::backend::gpu;
 use viscoslide::problem::{Executor, Problem, Solution};
 use viscoslide::solver::Silent;
 
@@ -35,7 +34,7 @@ pub(crate) fn differing_cells(a: &Solution, b: &Solution) -> usize {
 
 #[test]
 fn refined_gpu_solve_equals_the_cpu_f64_solve() {
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let p = problem(&[]);
@@ -81,7 +80,7 @@ fn refined_gpu_solve_equals_the_cpu_f64_solve() {
 
 #[test]
 fn unrefined_gpu_solve_keeps_the_device_answer() {
-    let Some(ctx) = gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     // The option as `--set` gives it (the config path of CLI and Python).

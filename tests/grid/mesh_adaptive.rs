@@ -320,7 +320,7 @@ fn config_errors_name_the_problem() {
 /// coefficient is a full line integral, slow on a CPU-emulated adapter.
 #[test]
 fn adaptive_mesh_on_the_gpu_matches_the_cpu() {
-    let Some(ctx) = viscoslide::backend::gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let tiny = ROUGH

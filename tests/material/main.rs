@@ -3,6 +3,9 @@
 //! One test binary per area (docs/ARCHITECTURE.md, "Tests"): each file
 //! here is a module; run one with `cargo test --release --test material FILE::`.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod cli;
 mod config;
 mod conversion;

@@ -203,7 +203,7 @@ fn persson_at_temperature_equals_the_shifted_speed_at_t_ref() {
 /// while the unshifted problem is 10 % away. Skips without an adapter.
 #[test]
 fn gpu_solve_at_temperature_matches_the_cpu() {
-    let Some(ctx) = viscoslide::backend::gpu::context_for_tests() else {
+    let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
     let t = 7.0;

@@ -240,28 +240,3 @@ impl GpuContext {
         })
     }
 }
-
-/// Test helper: open a GPU or explain why not. With `REQUIRE_GPU=1` a
-/// missing adapter is a failure (CI installs lavapipe); otherwise the caller
-/// skips with the printed reason.
-pub fn context_for_tests() -> Option<GpuContext> {
-    context_for_tests_with_limits(None, None)
-}
-
-/// As [`context_for_tests`] with the largest storage binding and buffer
-/// lowered ([`GpuContext::open_with_limits`]).
-pub fn context_for_tests_with_limits(
-    binding: Option<u64>,
-    buffer: Option<u64>,
-) -> Option<GpuContext> {
-    match GpuContext::open_with_limits(binding, buffer) {
-        Ok(c) => Some(c),
-        Err(e) => {
-            if std::env::var("REQUIRE_GPU").is_ok_and(|v| v == "1") {
-                panic!("REQUIRE_GPU=1 but no usable GPU: {e}");
-            }
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-    }
-}

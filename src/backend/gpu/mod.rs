@@ -40,7 +40,7 @@ pub mod split;
 pub use adaptive::{AdaptiveMatvec, MeshCells};
 pub use backend::{FftChoice, GpuBackend, GpuIndex, GpuOptions, GpuVector, SpectrumPrecision};
 pub use context::{
-    adapter_details, context_for_tests, context_for_tests_with_limits, list_adapters,
-    AdapterDetails, AdapterLimits, AdapterSummary, GpuContext, GpuError,
+    adapter_details, list_adapters, AdapterDetails, AdapterLimits, AdapterSummary, GpuContext,
+    GpuError,
 };
 pub use level_tables::{GpuLevelTables, LevelMatvec};

@@ -16,7 +16,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use viscoslide::backend::gpu::adaptive::pair_coefficients;
 use viscoslide::backend::gpu::engine::Engine;
-use viscoslide::backend::gpu::{self, GpuBackend, GpuLevelTables};
+use viscoslide::backend::gpu::{GpuBackend, GpuLevelTables};
 use viscoslide::kernel::SlidingKernel;
 use viscoslide::mesh::QuadMesh;
 use viscoslide::operator::{AdaptiveOperator, GridOperator, LevelTables};
@@ -33,10 +33,10 @@ use viscoslide::operator::{AdaptiveOperator, GridOperator, LevelTables};
 /// 1e-5 for the product (f32 entries, Kahan-compensated sums).
 #[test]
 fn split_level_tables_and_matvec_equal_unsplit() {
-    let Some(full) = gpu::context_for_tests() else {
+    let Some(full) = crate::common::gpu_context() else {
         return;
     };
-    let small = gpu::context_for_tests_with_limits(Some(8 << 10), None).unwrap();
+    let small = crate::common::gpu_context_with_limits(Some(8 << 10), None).unwrap();
     let (nx, ny, levels) = (52usize, 52usize, 2u8);
     let allowed: Vec<u8> = (0..nx * ny)
         .map(|f| match (f / ny, f % ny) {
@@ -103,10 +103,10 @@ fn split_level_tables_and_matvec_equal_unsplit() {
 /// against the dense CPU matrix relative L2 <= 1e-5 (that test's bound).
 #[test]
 fn split_pairwise_matvec_equals_unsplit() {
-    let Some(full) = gpu::context_for_tests() else {
+    let Some(full) = crate::common::gpu_context() else {
         return;
     };
-    let small = gpu::context_for_tests_with_limits(Some(1 << 10), None).unwrap();
+    let small = crate::common::gpu_context_with_limits(Some(1 << 10), None).unwrap();
     let cells = ring_mesh(6, 3);
     let n = cells.len();
     assert_eq!(n, 360);
@@ -139,10 +139,10 @@ fn split_pairwise_matvec_equals_unsplit() {
 /// where |K| >= 1e-6 max |K| (`pair_coefficients_match_cpu_sls`).
 #[test]
 fn split_pair_coefficients_equal_unsplit() {
-    let Some(full) = gpu::context_for_tests() else {
+    let Some(full) = crate::common::gpu_context() else {
         return;
     };
-    let small = gpu::context_for_tests_with_limits(Some(512), None).unwrap();
+    let small = crate::common::gpu_context_with_limits(Some(512), None).unwrap();
     let m = common::paper_material();
     let p = params(3.0 * A / TAU, 0.3);
     let mut targets = Vec::new();
@@ -175,7 +175,7 @@ fn split_pair_coefficients_equal_unsplit() {
 #[test]
 fn adaptive_arrays_beyond_the_limits_are_refused_clearly() {
     use viscoslide::backend::gpu::GpuError;
-    let Some(ctx) = gpu::context_for_tests_with_limits(Some(16 << 10), Some(256 << 10)) else {
+    let Some(ctx) = crate::common::gpu_context_with_limits(Some(16 << 10), Some(256 << 10)) else {
         return;
     };
     let m = common::paper_material();
@@ -195,7 +195,7 @@ fn adaptive_arrays_beyond_the_limits_are_refused_clearly() {
         "{e}"
     );
     assert!(e.to_string().contains("level table"), "{e}");
-    let ctx = gpu::context_for_tests_with_limits(Some(1 << 10), None).unwrap();
+    let ctx = crate::common::gpu_context_with_limits(Some(1 << 10), None).unwrap();
     let limit = ctx.device.limits().max_storage_buffers_per_shader_stage as u64;
     let mut engine = Engine::new(ctx);
     assert_eq!(engine.windows(48_400), 48);

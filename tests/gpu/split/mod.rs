@@ -225,10 +225,10 @@ fn agreement(split: &[f64], full: &[f64], cpu: &[f64]) -> (f64, f64, f64) {
 /// passes (strided column passes that cross every window boundary).
 #[test]
 fn split_matvec_matches_unsplit_and_cpu() {
-    let Some(full) = gpu::context_for_tests() else {
+    let Some(full) = crate::common::gpu_context() else {
         return;
     };
-    let small = gpu::context_for_tests_with_limits(Some(SMALL), None).unwrap();
+    let small = crate::common::gpu_context_with_limits(Some(SMALL), None).unwrap();
     assert_eq!(small.adapter.max_storage_binding, SMALL);
     let n = 128;
     let table = paper_table(n, n, 1e-6, 1e-3);
@@ -259,10 +259,10 @@ fn split_matvec_matches_unsplit_and_cpu() {
 /// computed independently; only the store address differs).
 #[test]
 fn split_coefficient_table_equals_unsplit() {
-    let Some(full) = gpu::context_for_tests() else {
+    let Some(full) = crate::common::gpu_context() else {
         return;
     };
-    let small = gpu::context_for_tests_with_limits(Some(SMALL), None).unwrap();
+    let small = crate::common::gpu_context_with_limits(Some(SMALL), None).unwrap();
     let n = 65;
     let m = common::paper_material();
     let response = SlidingResponse::new(&m, 1e-3, 0.0, None).unwrap();
@@ -302,10 +302,10 @@ fn split_vector_solve_matches_unsplit_and_cpu() {
 }
 
 fn split_solve(n: usize, binding: u64) {
-    let Some(full) = gpu::context_for_tests() else {
+    let Some(full) = crate::common::gpu_context() else {
         return;
     };
-    let small = gpu::context_for_tests_with_limits(Some(binding), None).unwrap();
+    let small = crate::common::gpu_context_with_limits(Some(binding), None).unwrap();
     let grid = format!("surface.generate.n={n}");
     let p = problem(&["solver.gpu_refine=false", &grid]);
     let a = p.solve(&Executor::Gpu(small.clone()), &mut Silent).unwrap();
@@ -354,7 +354,8 @@ fn split_solve(n: usize, binding: u64) {
 /// into four 16 KiB windows.
 #[test]
 fn oversized_buffers_are_refused_clearly() {
-    let Some(small) = gpu::context_for_tests_with_limits(Some(16 << 10), Some(256 << 10)) else {
+    let Some(small) = crate::common::gpu_context_with_limits(Some(16 << 10), Some(256 << 10))
+    else {
         return;
     };
     assert!(GpuBackend::check_fits(&small, 64, 64).is_ok());
@@ -395,10 +396,10 @@ fn random(n: usize, seed: u64) -> Vec<f64> {
 /// matvec. Same arithmetic in the same order, so the results are equal.
 #[test]
 fn split_vector_kernels_equal_unsplit() {
-    let Some(full) = gpu::context_for_tests() else {
+    let Some(full) = crate::common::gpu_context() else {
         return;
     };
-    let small = gpu::context_for_tests_with_limits(Some(32 << 10), None).unwrap();
+    let small = crate::common::gpu_context_with_limits(Some(32 << 10), None).unwrap();
     let (nx, ny) = (100, 90);
     let n = nx * ny;
     assert_eq!(Engine::new(small.clone()).windows(4 * n as u64), 2);

@@ -21,10 +21,10 @@ use viscoslide::solver;
 /// one.
 #[test]
 fn split_radix2_matvec_matches_unsplit_and_cpu() {
-    let Some(full) = gpu::context_for_tests() else {
+    let Some(full) = crate::common::gpu_context() else {
         return;
     };
-    let small = gpu::context_for_tests_with_limits(Some(SMALL), None).unwrap();
+    let small = crate::common::gpu_context_with_limits(Some(SMALL), None).unwrap();
     let n = 128;
     let engine = Engine::new(small.clone());
     assert_eq!(
@@ -81,10 +81,10 @@ fn split_radix2_matvec_matches_unsplit_and_cpu() {
 /// iteration counts identical, pressures to f32 rounding.
 #[test]
 fn split_radix2_solve_equals_unsplit() {
-    let Some(full) = gpu::context_for_tests() else {
+    let Some(full) = crate::common::gpu_context() else {
         return;
     };
-    let small = gpu::context_for_tests_with_limits(Some(16 << 10), None).unwrap();
+    let small = crate::common::gpu_context_with_limits(Some(16 << 10), None).unwrap();
     assert_eq!(Engine::new(small.clone()).windows(8 * 128 * 128), 8);
     let n = 64;
     let speed = 1.17e-2;
