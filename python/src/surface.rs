@@ -42,7 +42,7 @@ pub struct NativeSurface {
 impl NativeSurface {
     /// The surface of a `[surface]` section, relative paths resolved
     /// against `base_dir`.
-    fn from_config(section: SurfaceConfig, base_dir: &Path) -> PyResult<Self> {
+    pub(crate) fn from_config(section: SurfaceConfig, base_dir: &Path) -> PyResult<Self> {
         let map = section.load(base_dir).map_err(value_error)?;
         let source = SurfaceSource::of(&section, base_dir).map_err(value_error)?;
         let seed = section.generate.as_ref().map(|g| g.seed.unwrap_or(0));

@@ -350,13 +350,6 @@ def _native_args(
     )
 
 
-def _check(surface: Any, material: Material, **options: Any) -> None:
-    """Every check :func:`solve` makes of its problem (``options`` are its
-    arguments but ``progress``), without solving: the problem is built and
-    checked as the solve builds and checks it."""
-    _native.check(*_native_args(surface, material, **options))
-
-
 def _warned(result: Result) -> Result:
     """``result`` after its warnings are issued with ``warnings.warn``."""
     for w in result.summary.get("warnings", []):
