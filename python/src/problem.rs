@@ -17,7 +17,7 @@ use crate::surface::NativeSurface;
 use pyo3::prelude::*;
 
 /// A section given as JSON, as a TOML value.
-fn json_section(name: &str, json: &str) -> PyResult<toml::Value> {
+pub fn json_section(name: &str, json: &str) -> PyResult<toml::Value> {
     let value: serde_json::Value =
         serde_json::from_str(json).map_err(|e| value_error(format!("[{name}] {e}")))?;
     toml::Value::try_from(value).map_err(|e| value_error(format!("[{name}] {e}")))
@@ -54,6 +54,16 @@ pub fn parse(document: &toml::Table, name: &str) -> PyResult<Config> {
 pub fn config_message(e: ConfigError) -> String {
     match e {
         ConfigError::Parse { path, message } => format!("{path}: {}", without_line(&message)),
+        other => load_message(other),
+    }
+}
+
+/// An error loading a configuration file with overrides, an override
+/// named as Python's `set=` argument gives it (not as the command line's
+/// flag).
+pub fn load_message(e: ConfigError) -> String {
+    match e {
+        ConfigError::Override { arg, message } => format!("set '{arg}': {message}"),
         other => other.to_string(),
     }
 }

@@ -98,7 +98,7 @@ pub fn solve_config(
     backend: Option<&str>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<NativeResult> {
-    let cfg = config::load(&path, &overrides).map_err(value_error)?;
+    let cfg = config::load(&path, &overrides).map_err(|e| value_error(problem::load_message(e)))?;
     let problem = Problem::from_config(&cfg).map_err(|e| to_py(py, e))?;
     run(py, &problem, backend, progress)
 }

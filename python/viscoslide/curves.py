@@ -35,8 +35,8 @@ COLUMNS = (
     "shift_factor",
 )
 
-def _frame(columns: Dict[str, np.ndarray], as_frame: bool) -> Any:
-    if not as_frame:
+def _frame(columns: Dict[str, np.ndarray], as_frame: Any) -> Any:
+    if not _checks.flag("as_frame", as_frame):
         return columns
     try:
         import pandas
@@ -48,7 +48,7 @@ def _frame(columns: Dict[str, np.ndarray], as_frame: bool) -> Any:
 def _axis(name: str, values: Any) -> Optional[np.ndarray]:
     if values is None:
         return None
-    arr = _checks.real_array(name, np.atleast_1d(np.asarray(values)), 1)
+    arr = np.asarray(_checks.reals(name, values), dtype=float)
     if arr.size == 0:
         raise ValueError(f"{name} is empty: give at least one value")
     return arr
@@ -129,6 +129,7 @@ def sweep(
     ``shift_factor`` columns give ``a_T``: ``mu(v, T) = mu(a_T v, T_ref)``.
     """
     surf = Surface.coerce(surface)
+    _checks.flag("as_frame", as_frame)
     speeds = _axis("speed", speed)
     xis = _axis("xi", xi)
     loads = _axis("normal_load", normal_load)
@@ -191,6 +192,9 @@ def friction_curve(
     over ``speeds`` [m/s] (or ``xi``) at ``normal_load`` [N] or
     ``mean_pressure`` [Pa]; ``temperature=`` [C] (among ``options``)
     shifts the material by its WLF factor as in :func:`solve`."""
+    if speeds is not None and xi is None:
+        # Checked here to be named as this function's argument.
+        speeds = _axis("speeds", speeds)
     return sweep(
         surface,
         material,
@@ -239,6 +243,9 @@ def persson(
     rms slope by more than 20 % is warned about (``warnings.warn``).
     """
     surf = Surface.coerce(surface, fill_missing=fill_missing, detrend=detrend, window=window)
+    if not isinstance(material, Material):
+        raise TypeError(f"material must be a viscoslide.Material, got {type(material).__name__}")
+    _checks.flag("as_frame", as_frame)
     v = _axis("speeds", speeds)
     loading = _loading(0.0, None, normal_load, mean_pressure, None, None, temperature)
     mu, area, g, kind, sigma0, report, shift = _native.persson(
@@ -288,6 +295,8 @@ def kernel_table(
     Returns an array of shape ``(2 nx - 1, 2 ny - 1)``; offset ``(i, j)``
     is at index ``(i + nx - 1, j + ny - 1)``.
     """
+    if not isinstance(material, Material):
+        raise TypeError(f"material must be a viscoslide.Material, got {type(material).__name__}")
     n = _checks.count("nx", nx)
     m = n if ny is None else _checks.count("ny", ny)
     return _native.kernel_table(
@@ -298,6 +307,6 @@ def kernel_table(
         _checks.number("speed", speed),
         _checks.number("direction_deg", direction_deg),
         _layer(thickness, layer_base),
-        bool(derivative),
+        _checks.flag("derivative", derivative),
         None if cell_size_y is None else _checks.positive("cell_size_y", cell_size_y, "m"),
     )
