@@ -472,7 +472,7 @@ const PYTHON_MAY_USE: &[(&str, &[&str])] = &[
     ),
     ("backend", &["BackendChoice"]),
     ("magnification", &[]),
-    ("sweep", &["Shard"]),
+    ("sweep", &[]),
     ("Error", &[]),
     ("Result", &[]),
     ("VERSION", &[]),

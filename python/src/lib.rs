@@ -9,6 +9,7 @@
 //! - [`problem`]: a problem from a surface, a material and config sections.
 //! - [`solve`]: solves with the GIL released, interruptible, with progress.
 //! - [`results`]: a solution's fields, scalars, summary and analysis.
+//! - [`sweep`]: sweeps planned by the library's sweep planner.
 //! - [`theory`]: Persson's theory and the influence coefficients.
 //! - [`magnification`]: magnification studies of a configuration file.
 //! - [`errors`]: library errors as Python exceptions.
@@ -23,6 +24,7 @@ mod problem;
 mod results;
 mod solve;
 mod surface;
+mod sweep;
 mod theory;
 
 /// Native extension of the viscoslide package; use `import viscoslide`.
@@ -33,7 +35,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<surface::NativeSurface>()?;
     m.add_class::<results::NativeResult>()?;
     m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
-    m.add_function(wrap_pyfunction!(solve::check, m)?)?;
+    m.add_class::<sweep::NativeSweepPlan>()?;
     m.add_function(wrap_pyfunction!(solve::solve_config, m)?)?;
     m.add_function(wrap_pyfunction!(theory::persson, m)?)?;
     m.add_function(wrap_pyfunction!(theory::kernel_table, m)?)?;

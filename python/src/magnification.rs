@@ -16,6 +16,7 @@ use viscoslide::Error;
 
 use crate::errors::{to_py, value_error};
 use crate::observer::PyObserver;
+use crate::problem;
 use crate::solve::backend_choice;
 
 struct Progress(PyObserver);
@@ -51,7 +52,7 @@ pub fn magnification(
         Some(s) => s.parse().map_err(value_error)?,
         None => Shard::ALL,
     };
-    let cfg = config::load(&path, &overrides).map_err(value_error)?;
+    let cfg = config::load(&path, &overrides).map_err(|e| value_error(problem::load_message(e)))?;
     let params = MagnificationParams::from_options(q1, scales, cells_per_wavelength, speeds)
         .map_err(|e| to_py(py, e))?;
     let mut observer = Progress(PyObserver::new(None));

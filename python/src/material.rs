@@ -30,7 +30,7 @@ pub fn section_table(section: &MaterialConfig) -> toml::Table {
 }
 
 impl NativeMaterial {
-    fn build(section: MaterialConfig, base_dir: &Path) -> PyResult<Self> {
+    pub(crate) fn build(section: MaterialConfig, base_dir: &Path) -> PyResult<Self> {
         let material = section.build(base_dir).map_err(value_error)?;
         Self::finish(material, section, base_dir)
     }

@@ -1,9 +1,13 @@
 //! A library `Problem` from a Python surface and material and the
 //! `[loading]`, `[solver]` and `[layer]` sections (JSON, config key names),
-//! with the configuration document that reproduces it (recorded in
-//! `summary.json`; for a generated or file surface it is a valid config).
+//! typed by the configuration's parser (the command line's: a bad key or
+//! value is named with its unit), with the configuration document that
+//! reproduces it (recorded in `summary.json`; for a generated or file
+//! surface it is a valid config).
 
-use viscoslide::config::{Formulation, LayerConfig, LoadingConfig, SolverConfig};
+use viscoslide::config::{
+    self, Config, ConfigError, Formulation, LayerConfig, LoadingConfig, SolverConfig,
+};
 use viscoslide::problem::{check_memory, Problem};
 use viscoslide::solver::Control;
 
@@ -12,9 +16,71 @@ use crate::material::{section_table, NativeMaterial};
 use crate::surface::NativeSurface;
 use pyo3::prelude::*;
 
-/// `T` from a JSON section named `name` (unknown keys refused by name).
-fn section<T: serde::de::DeserializeOwned>(name: &str, json: &str) -> PyResult<T> {
-    serde_json::from_str(json).map_err(|e| value_error(format!("[{name}] {e}")))
+/// A section given as JSON, as a TOML value.
+pub fn json_section(name: &str, json: &str) -> PyResult<toml::Value> {
+    let value: serde_json::Value =
+        serde_json::from_str(json).map_err(|e| value_error(format!("[{name}] {e}")))?;
+    toml::Value::try_from(value).map_err(|e| value_error(format!("[{name}] {e}")))
+}
+
+/// The `[loading]`, `[solver]` and optional `[layer]` sections (JSON) as a
+/// configuration document.
+pub fn document(
+    loading_json: &str,
+    solver_json: &str,
+    layer_json: Option<&str>,
+) -> PyResult<toml::Table> {
+    let mut document = toml::Table::new();
+    for (name, json) in [
+        ("loading", Some(loading_json)),
+        ("solver", Some(solver_json)),
+        ("layer", layer_json),
+    ] {
+        if let Some(json) = json {
+            document.insert(name.into(), json_section(name, json)?);
+        }
+    }
+    Ok(document)
+}
+
+/// `document` typed as a configuration, by the parser of configuration
+/// files; errors are named `name: key ...` in one line.
+pub fn parse(document: &toml::Table, name: &str) -> PyResult<Config> {
+    config::parse_document(document, name).map_err(|e| value_error(config_message(e)))
+}
+
+/// A configuration error without the line of the document it names (a
+/// document built from arguments: its lines are nobody's).
+pub fn config_message(e: ConfigError) -> String {
+    match e {
+        ConfigError::Parse { path, message } => format!("{path}: {}", without_line(&message)),
+        other => load_message(other),
+    }
+}
+
+/// An error loading a configuration file with overrides, an override
+/// named as Python's `set=` argument gives it (not as the command line's
+/// flag).
+pub fn load_message(e: ConfigError) -> String {
+    match e {
+        ConfigError::Override { arg, message } => format!("set '{arg}': {message}"),
+        other => other.to_string(),
+    }
+}
+
+/// `message` without a leading `line N, ` or `line N: `.
+fn without_line(message: &str) -> &str {
+    let Some(rest) = message.strip_prefix("line ") else {
+        return message;
+    };
+    let digits = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_digit()).len();
+    if digits == 0 {
+        return message;
+    }
+    let rest = &rest[digits..];
+    rest.strip_prefix(", ")
+        .or_else(|| rest.strip_prefix(": "))
+        .unwrap_or(message)
 }
 
 /// A TOML table of a serialisable section.
@@ -30,9 +96,24 @@ pub fn build(
     solver_json: &str,
     layer_json: Option<&str>,
 ) -> PyResult<Problem> {
-    let loading: LoadingConfig = section("loading", loading_json)?;
-    let solver: SolverConfig = section("solver", solver_json)?;
-    let layer: Option<LayerConfig> = layer_json.map(|j| section("layer", j)).transpose()?;
+    let config = parse(&document(loading_json, solver_json, layer_json)?, "solve")?;
+    from_sections(
+        surface,
+        material,
+        &config.loading.unwrap_or_default(),
+        &config.solver.unwrap_or_default(),
+        config.layer.as_ref(),
+    )
+}
+
+/// The problem of `surface` under `material` with typed sections.
+pub fn from_sections(
+    surface: &NativeSurface,
+    material: &NativeMaterial,
+    loading: &LoadingConfig,
+    solver: &SolverConfig,
+    layer: Option<&LayerConfig>,
+) -> PyResult<Problem> {
     // The periodic formulation takes a measured map as one period.
     let period = match solver.formulation.unwrap_or_default() {
         Formulation::Periodic => surface.as_period()?,
@@ -59,11 +140,11 @@ pub fn build(
         Control::Load(0.0),
         0.0,
     )
-    .with_loading(&loading)
+    .with_loading(loading)
     .map_err(value_error)?
-    .with_solver_config(&solver)
+    .with_solver_config(solver)
     .map_err(value_error)?;
-    if let Some(l) = &layer {
+    if let Some(l) = layer {
         problem = problem.with_layer(l.build().map_err(value_error)?);
     }
     problem.source = surface.source.clone();
@@ -77,9 +158,9 @@ pub fn build(
     if let Some(s) = &surface.section {
         document.insert("surface".into(), table(s));
     }
-    document.insert("loading".into(), table(&loading));
-    document.insert("solver".into(), table(&solver));
-    if let Some(l) = &layer {
+    document.insert("loading".into(), table(loading));
+    document.insert("solver".into(), table(solver));
+    if let Some(l) = layer {
         document.insert("layer".into(), table(l));
     }
     problem.document = document;

@@ -40,7 +40,7 @@ pub(crate) fn backend_choice(name: Option<&str>) -> PyResult<BackendChoice> {
 }
 
 /// Solve `problem` and run its configured analysis with the GIL released.
-fn run(
+pub(crate) fn run(
     py: Python<'_>,
     problem: &Problem,
     backend: Option<&str>,
@@ -87,24 +87,6 @@ pub fn solve(
     run(py, &problem, backend, progress)
 }
 
-/// Build and check the problem `solve` would solve with these arguments
-/// (and the backend's name), without solving: a sweep checks every point
-/// before its first solve.
-#[pyfunction]
-#[pyo3(signature = (surface, material, loading_json, solver_json, layer_json, backend))]
-pub fn check(
-    surface: PyRef<'_, NativeSurface>,
-    material: PyRef<'_, NativeMaterial>,
-    loading_json: &str,
-    solver_json: &str,
-    layer_json: Option<&str>,
-    backend: Option<&str>,
-) -> PyResult<()> {
-    backend_choice(backend)?;
-    problem::build(&surface, &material, loading_json, solver_json, layer_json)?;
-    Ok(())
-}
-
 /// Solve the configuration at `path` with `overrides` (`section.key=value`,
 /// TOML values), as `viscoslide solve` does.
 #[pyfunction]
@@ -116,7 +98,7 @@ pub fn solve_config(
     backend: Option<&str>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<NativeResult> {
-    let cfg = config::load(&path, &overrides).map_err(value_error)?;
+    let cfg = config::load(&path, &overrides).map_err(|e| value_error(problem::load_message(e)))?;
     let problem = Problem::from_config(&cfg).map_err(|e| to_py(py, e))?;
     run(py, &problem, backend, progress)
 }

@@ -13,11 +13,12 @@ use pyo3::prelude::*;
 use viscoslide::problem::SurfaceSource;
 use viscoslide::surface::{
     parse_detrend, parse_window, prepare, psd_2d, radial_average, rms_slope_real, slope_warning,
-    stats_with_window, Detrend, GenerateConfig, HeightMap, MissingData, Preprocessing,
-    SurfaceConfig, Topography, Window,
+    stats_with_window, Detrend, HeightMap, MissingData, Preprocessing, SurfaceConfig, Topography,
+    Window,
 };
 
 use crate::errors::value_error;
+use crate::problem;
 
 /// A height map on a grid of square cells (axis 0 = x = sliding direction).
 #[pyclass(name = "Surface", module = "viscoslide._native", frozen)]
@@ -42,7 +43,7 @@ pub struct NativeSurface {
 impl NativeSurface {
     /// The surface of a `[surface]` section, relative paths resolved
     /// against `base_dir`.
-    fn from_config(section: SurfaceConfig, base_dir: &Path) -> PyResult<Self> {
+    pub(crate) fn from_config(section: SurfaceConfig, base_dir: &Path) -> PyResult<Self> {
         let map = section.load(base_dir).map_err(value_error)?;
         let source = SurfaceSource::of(&section, base_dir).map_err(value_error)?;
         let seed = section.generate.as_ref().map(|g| g.seed.unwrap_or(0));
@@ -105,8 +106,18 @@ impl NativeSurface {
     /// relative to `base_dir`).
     #[staticmethod]
     fn generate(generate_json: &str, base_dir: PathBuf) -> PyResult<Self> {
-        let generate: GenerateConfig = serde_json::from_str(generate_json)
-            .map_err(|e| value_error(format!("[surface.generate] {e}")))?;
+        // Typed by the configuration's parser: a bad key or value named.
+        let mut surface = toml::Table::new();
+        surface.insert(
+            "generate".into(),
+            problem::json_section("surface.generate", generate_json)?,
+        );
+        let mut document = toml::Table::new();
+        document.insert("surface".into(), toml::Value::Table(surface));
+        let generate = problem::parse(&document, "Surface.generate")?
+            .surface
+            .and_then(|s| s.generate)
+            .unwrap_or_default();
         let mut section = SurfaceConfig {
             generate: Some(generate),
             ..Default::default()

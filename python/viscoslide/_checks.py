@@ -1,10 +1,12 @@
-"""Checks and conversions of user input: every failure is a ValueError
-that names the argument and what is wrong with it."""
+"""Checks and conversions of user input: every failure names the argument
+and the value. A bad number (a boolean, a string, NaN, inf, out of range)
+is a ValueError; a string, path or flag of the wrong type a TypeError."""
 
 from __future__ import annotations
 
 import math
 import numbers
+import os
 from typing import Any, Optional
 
 import numpy as np
@@ -42,10 +44,12 @@ def real_array(name: str, value: Any, ndim: int, allow_nan: bool = False) -> np.
     if not finite.all():
         bad = int(arr.size - np.count_nonzero(finite))
         first = tuple(int(i) for i in np.argwhere(~finite)[0])
-        raise ValueError(
-            f"{name} has {bad} non-finite value(s) (NaN or inf), the first at index {first}; "
-            "pass fill_missing=True to fill missing (NaN or masked) points by harmonic interpolation, or crop them"
+        hint = (
+            "; pass fill_missing=True to fill missing (NaN or masked) points by harmonic interpolation, or crop them"
+            if ndim == 2
+            else ""
         )
+        raise ValueError(f"{name} has {bad} non-finite value(s) (NaN or inf), the first at index {first}{hint}")
     return arr
 
 
@@ -97,3 +101,50 @@ COUNT_MAX = 2**63 - 1
 def drop_none(d: dict) -> dict:
     """``d`` without its ``None`` values (absent config keys)."""
     return {k: v for k, v in d.items() if v is not None}
+
+
+def reals(name: str, value: Any) -> list:
+    """A number or a 1-D sequence of numbers as a list of finite floats;
+    a boolean, a string or a non-finite value is refused, named by its
+    position (``q1[0] must be finite, got nan``)."""
+    if isinstance(value, np.ndarray):
+        if value.ndim > 1:
+            raise ValueError(f"{name} must be a number or a 1-D sequence of numbers, got shape {value.shape}")
+        if value.ndim == 0:
+            return [number(name, value)]
+        value = value.tolist()
+    if isinstance(value, (list, tuple)):
+        return [number(f"{name}[{i}]", v) for i, v in enumerate(value)]
+    return [number(name, value)]
+
+
+def text(name: str, value: Any, expected: str) -> Optional[str]:
+    """``None`` or a string (``expected`` says which, for the message)."""
+    if value is None or isinstance(value, str):
+        return value
+    raise TypeError(f"{name} must be {expected}, got {value!r}")
+
+
+def flag(name: str, value: Any) -> bool:
+    """``True`` or ``False`` (numpy's booleans too)."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise TypeError(f"{name} must be True or False, got {value!r}")
+
+
+def optional_flag(name: str, value: Any) -> Optional[bool]:
+    """``None``, ``True`` or ``False``."""
+    return None if value is None else flag(name, value)
+
+
+def path(name: str, value: Any) -> str:
+    """A file system path (``str`` or ``os.PathLike``) as a string."""
+    if isinstance(value, (str, os.PathLike)):
+        return os.fspath(value)
+    raise TypeError(f"{name} must be a path (str or os.PathLike), got {value!r}")
+
+
+def shard(value: Any) -> Optional[str]:
+    """``None`` or a ``"K/N"`` string (checked as the command line's
+    ``--shard``)."""
+    return text("shard", value, "a string 'K/N' such as '0/4' (0 <= K < N)")

@@ -116,14 +116,25 @@ def solve(
     backend: Optional[str],
     progress: Progress = None,
 ) -> Result: ...
-def check(
-    surface: Surface,
-    material: Material,
-    loading_json: str,
-    solver_json: str,
-    layer_json: Optional[str],
-    backend: Optional[str],
-) -> None: ...
+class SweepPlan:
+    def __init__(
+        self,
+        surface: Surface,
+        material: Material,
+        loading_json: str,
+        solver_json: str,
+        layer_json: Optional[str],
+        backend: Optional[str],
+        sliding: str,
+        speeds: List[float],
+        load: str,
+        loads: List[float],
+        vary: List[Tuple[str, List[Any]]],
+    ) -> None: ...
+    def __len__(self) -> int: ...
+    def points_json(self) -> str: ...
+    def solve(self, index: int, backend: Optional[str], progress: Progress = None) -> Result: ...
+
 def solve_config(path: str, overrides: List[str], backend: Optional[str], progress: Progress = None) -> Result: ...
 def persson(
     surface: Surface, material: Material, loading_json: str, speeds: List[float]

@@ -5,16 +5,15 @@ pressure) and :func:`kernel_table` (the influence coefficients)."""
 
 from __future__ import annotations
 
-import itertools
 import json
 import warnings
-from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
 from . import _checks, _native, _progress
 from .material import Material
-from .solve import _check, _layer, _loading, solve
+from .solve import Result, _layer, _loading, _native_args, _warned
 from .surface import Surface
 
 #: Columns of :func:`sweep`, in order.
@@ -36,33 +35,8 @@ COLUMNS = (
     "shift_factor",
 )
 
-#: The config keys :func:`sweep` can vary (``vary=``) and the argument of
-#: :func:`solve` each sets; ``surface.generate.*`` keys of a generated
-#: surface regenerate it (:meth:`Surface.generate`).
-VARY_KEYS = {
-    "loading.temperature": "temperature",
-    "loading.direction_deg": "direction_deg",
-    "layer.thickness": "thickness",
-    "layer.base": "layer_base",
-    "solver.formulation": "formulation",
-    "solver.tolerance": "tolerance",
-    "solver.max_iterations": "max_iterations",
-    "solver.max_matvecs": "max_matvecs",
-    "solver.cascade_levels": "cascade_levels",
-    "solver.mesh": "mesh",
-    "solver.precision": "precision",
-}
-
-#: Arguments of ``VARY_KEYS`` that take a number, and a whole number.
-_NUMBER_ARGS = ("temperature", "direction_deg", "thickness", "tolerance")
-_COUNT_ARGS = ("max_iterations", "max_matvecs", "cascade_levels")
-
-#: Keys the axes of :func:`sweep` set themselves.
-_AXIS_KEYS = ("loading.speed", "loading.xi", "loading.normal_load", "loading.mean_pressure", "loading.approach")
-
-
-def _frame(columns: Dict[str, np.ndarray], as_frame: bool) -> Any:
-    if not as_frame:
+def _frame(columns: Dict[str, np.ndarray], as_frame: Any) -> Any:
+    if not _checks.flag("as_frame", as_frame):
         return columns
     try:
         import pandas
@@ -74,96 +48,41 @@ def _frame(columns: Dict[str, np.ndarray], as_frame: bool) -> Any:
 def _axis(name: str, values: Any) -> Optional[np.ndarray]:
     if values is None:
         return None
-    arr = _checks.real_array(name, np.atleast_1d(np.asarray(values)), 1)
+    arr = np.asarray(_checks.reals(name, values), dtype=float)
     if arr.size == 0:
         raise ValueError(f"{name} is empty: give at least one value")
     return arr
 
 
-def _vary_axes(vary: Any, surf: Surface, options: Dict[str, Any]) -> list:
-    """``vary`` checked: ``[(key, values), ...]`` in key order, as the
-    command line's ``[sweep.vary]`` (one line per refusal)."""
+def _vary_lists(vary: Any) -> List[Tuple[str, list]]:
+    """``vary`` as ``[(key, values), ...]`` for the sweep planner (which
+    checks the keys and values as ``[sweep.vary]``): a number or string is
+    a list of one, numpy values are Python's."""
     if vary is None:
         return []
     if not isinstance(vary, Mapping):
-        raise ValueError(f"vary must be a dict of config key -> list of values, got {type(vary).__name__}")
-    axes = []
-    for key in sorted(vary):
-        values = vary[key]
-        if not isinstance(key, str) or "." not in key:
-            raise ValueError(f"vary {key!r}: expected a dotted config key such as 'loading.temperature'")
-        if key in _AXIS_KEYS:
-            raise ValueError(f"vary {key!r} is an axis of sweep already (speed, xi, normal_load, mean_pressure)")
-        if key.startswith("surface.generate."):
-            section = surf.section
-            if section is None or section.get("generate") is None:
-                raise ValueError(f"vary {key!r} needs a generated surface (Surface.generate or Surface.self_affine)")
-        elif key not in VARY_KEYS:
-            raise ValueError(
-                f"vary {key!r}: unknown key; sweep varies {', '.join(sorted(VARY_KEYS))} and surface.generate.* "
-                "(any key of a configuration file: viscoslide sweep with [sweep.vary])"
-            )
-        elif VARY_KEYS[key] in options:
-            raise ValueError(f"vary {key!r} and the argument {VARY_KEYS[key]} both set it: give one")
+        raise TypeError(f"vary must be a dict of config key -> list of values, got {type(vary).__name__}")
+    lists = []
+    for key, values in vary.items():
+        if not isinstance(key, str):
+            raise TypeError(f"vary {key!r}: a key is a dotted config key such as 'loading.temperature'")
         if isinstance(values, (str, bytes)) or not isinstance(values, (Sequence, np.ndarray)):
             values = [values]
-        values = list(values)
-        if not values:
-            raise ValueError(f"vary {key!r} is empty: give at least one value")
-        values = [v.item() if isinstance(v, np.generic) else v for v in values]
-        arg = VARY_KEYS.get(key)
-        if arg in _NUMBER_ARGS:
-            values = [_checks.number(key, v) for v in values]
-        elif arg in _COUNT_ARGS:
-            values = [_checks.count(key, v) for v in values]
-        for i, v in enumerate(values):
-            if any(_same_value(v, w) for w in values[:i]):
-                raise ValueError(f"vary {key!r} lists {v!r} twice: give each value once")
-        axes.append((key, values))
-    combos = 1
-    for _, values in axes:
-        combos *= len(values)
-    if combos > MAX_VARY_COMBINATIONS:
-        sizes = " x ".join(str(len(v)) for _, v in axes)
-        raise ValueError(
-            f"vary makes {sizes} = {combos} combinations, above the limit of {MAX_VARY_COMBINATIONS}; "
-            "split the sweep into several"
-        )
-    return axes
+        lists.append((key, [v.item() if isinstance(v, np.generic) else v for v in values]))
+    return lists
 
 
-#: The most ``vary`` combinations :func:`sweep` takes (as ``[sweep.vary]``).
-MAX_VARY_COMBINATIONS = 10_000
-
-
-def _same_value(a: Any, b: Any) -> bool:
-    """Whether two values of one ``vary`` list are the same setting
-    (numbers by value, booleans never equal to numbers)."""
-    if isinstance(a, bool) or isinstance(b, bool):
-        return type(a) is type(b) and a == b
-    return a == b
-
-
-def _vary_point(surf: Surface, combo: Dict[str, Any]) -> Tuple[Surface, Dict[str, Any]]:
-    """The surface and :func:`solve` arguments of one ``vary`` combination."""
-    kwargs = {VARY_KEYS[k]: v for k, v in combo.items() if k in VARY_KEYS}
-    generate = {k[len("surface.generate.") :]: v for k, v in combo.items() if k.startswith("surface.generate.")}
-    if generate:
-        keys = dict(surf.section["generate"])
-        for k in generate:
-            if k not in keys and k not in _GENERATE_KEYS:
-                raise ValueError(f"vary 'surface.generate.{k}': unknown key of [surface.generate]")
-        # q1 and scales exclude each other, as rms_height and rms_slope do.
-        for a, b in (("q1", "scales"), ("scales", "q1"), ("rms_slope", "rms_height"), ("rms_height", "rms_slope")):
-            if a in generate:
-                keys.pop(b, None)
-        keys.update(generate)
-        surf = Surface.generate(**keys)
-    return surf, kwargs
-
-
-#: Keys of ``[surface.generate]`` (checked by the library when generating).
-_GENERATE_KEYS = ("n", "ny", "length", "hurst", "scales", "q1", "ql", "rolloff_q0", "rms_slope", "rms_height", "seed")
+def _set_by(sections: Tuple[str, str, Optional[str]], options: Mapping[str, Any]) -> Dict[str, str]:
+    """The config keys that the arguments in ``options`` set, each with its
+    argument: the keys of the sections are named as the arguments of
+    :func:`solve` (``layer.base`` is ``layer_base``)."""
+    given = {}
+    for section, text in zip(("loading", "solver", "layer"), sections):
+        for key in json.loads(text or "{}"):
+            arg = "layer_base" if (section, key) == ("layer", "base") else key
+            if options.get(arg) is not None:
+                given[f"{section}.{key}"] = arg
+    return given
 
 
 def sweep(
@@ -188,12 +107,21 @@ def sweep(
     (``formulation``, ``thickness``, ``backend``, ``tolerance``,
     ``temperature``, ...). ``vary`` maps config keys to lists of values,
     as ``[sweep.vary]`` of ``viscoslide sweep``: ``{"loading.temperature":
-    [7.0, 17.0, 27.0]}``, ``"layer.thickness"``, ``"surface.generate.q1"``
-    (of a generated surface), and the other keys of :data:`VARY_KEYS`;
-    each combination is crossed with the speeds and loads and each key is a
-    column of the result. ``progress=True`` shows a tqdm bar over points;
-    a callable gets a dict per finished point (``point``, ``points`` and
-    the point's columns).
+    [7.0, 17.0, 27.0]}``, ``"layer.thickness"``, ``"solver.tolerance"``,
+    ``"material.poisson"``, ``"surface.generate.q1"`` (of a surface made
+    from a ``[surface]`` section: generated or read from a file; ``q1``
+    replaces the surface's ``scales``, ``rms_slope`` its ``rms_height``
+    and the other way round) and any other key of the ``[material]``,
+    ``[surface]``, ``[loading]``, ``[solver]`` and ``[layer]`` sections.
+    The points are planned by the command line's sweep planner: the same
+    keys and values refused with the same messages, at most 10,000
+    combinations, the same order (keys in name order, the last fastest);
+    every point is built and checked before the first solve. A key that
+    an argument in ``options`` sets too is refused. Each combination is
+    crossed with the speeds and loads and each key is a column of the
+    result. ``progress=True`` shows a tqdm bar over points; a callable
+    gets a dict per finished point (``point``, ``points`` and the point's
+    columns).
 
     Returns a dict of 1-D arrays (:data:`COLUMNS` and the varied keys), or
     a pandas DataFrame with ``as_frame=True``. With ``temperature`` (or
@@ -201,6 +129,7 @@ def sweep(
     ``shift_factor`` columns give ``a_T``: ``mu(v, T) = mu(a_T v, T_ref)``.
     """
     surf = Surface.coerce(surface)
+    _checks.flag("as_frame", as_frame)
     speeds = _axis("speed", speed)
     xis = _axis("xi", xi)
     loads = _axis("normal_load", normal_load)
@@ -213,30 +142,32 @@ def sweep(
         raise ValueError("progress and speed are arguments of sweep itself")
     sliding_key, sliding = ("speed", speeds) if speeds is not None else ("xi", xis)
     load_key, load = ("normal_load", loads) if loads is not None else ("mean_pressure", pressures)
-    axes = _vary_axes(vary, surf, options)
-    combos = [dict(zip([k for k, _ in axes], c)) for c in itertools.product(*[v for _, v in axes])]
-    # Every point is checked before the first solve: its surface, its
-    # arguments and its problem, built as the solve builds it (a refused
-    # sweep solves nothing).
-    prepared = [_vary_point(surf, c) for c in combos]
-    grid = [(p, f, v) for p in range(len(combos)) for f in load for v in sliding]
-    for p, f, v in grid:
-        s_p, kwargs = prepared[p]
-        _check(s_p, material, **{sliding_key: float(v), load_key: float(f)}, **kwargs, **options)
-    keys = [k for k, _ in axes]
+    lists = _vary_lists(vary)
+    args = _native_args(surf, material, **options)
+    if args[4] is None and any(key.split(".")[0] == "layer" for key, _ in lists):
+        # A varied layer key makes a layer on solve's default base.
+        args = (*args[:4], json.dumps({"base": options.get("layer_base") or "bonded"}), args[5])
+    given = _set_by(args[2:5], options)
+    for key, _ in lists:
+        if key in given:
+            raise ValueError(f"vary {key!r} and the argument {given[key]} both set it: give one")
+    # The library's sweep planner: keys, values, limit and point order as
+    # `viscoslide sweep` plans them; every point is built and checked
+    # before the first solve (a refused sweep solves nothing).
+    plan = _native.SweepPlan(*args, sliding_key, sliding.tolist(), load_key, load.tolist(), lists)
+    points = json.loads(plan.points_json())
+    keys = sorted({k for p in points for k in p.get("vary", {})})
     rows: Dict[str, list] = {c: [] for c in (*COLUMNS, *keys)}
-    with _progress.points(progress, len(grid)) as callback:
-        for k, (p, f, v) in enumerate(grid):
-            s_p, kwargs = prepared[p]
-            result = solve(s_p, material, **{sliding_key: float(v), load_key: float(f)}, **kwargs, **options)
-            s = result.summary
+    with _progress.points(progress, len(points)) as callback:
+        for k, point in enumerate(points):
+            s = _warned(Result(plan.solve(k, args[5]))).summary
             row = {c: s.get(c) for c in COLUMNS}
             row["normal_load"] = s["normal_load"]
-            row.update(combos[p])
+            row.update(point.get("vary", {}))
             for c in rows:
                 rows[c].append(np.nan if row[c] is None else row[c])
             if callback is not None:
-                callback({"point": k + 1, "points": len(grid), **row})
+                callback({"point": k + 1, "points": len(points), **row})
     columns = {c: np.asarray(v, dtype=float) for c, v in rows.items() if c not in keys}
     for c in keys:
         columns[c] = np.asarray(rows[c])
@@ -261,6 +192,9 @@ def friction_curve(
     over ``speeds`` [m/s] (or ``xi``) at ``normal_load`` [N] or
     ``mean_pressure`` [Pa]; ``temperature=`` [C] (among ``options``)
     shifts the material by its WLF factor as in :func:`solve`."""
+    if speeds is not None and xi is None:
+        # Checked here to be named as this function's argument.
+        speeds = _axis("speeds", speeds)
     return sweep(
         surface,
         material,
@@ -309,6 +243,9 @@ def persson(
     rms slope by more than 20 % is warned about (``warnings.warn``).
     """
     surf = Surface.coerce(surface, fill_missing=fill_missing, detrend=detrend, window=window)
+    if not isinstance(material, Material):
+        raise TypeError(f"material must be a viscoslide.Material, got {type(material).__name__}")
+    _checks.flag("as_frame", as_frame)
     v = _axis("speeds", speeds)
     loading = _loading(0.0, None, normal_load, mean_pressure, None, None, temperature)
     mu, area, g, kind, sigma0, report, shift = _native.persson(
@@ -358,6 +295,8 @@ def kernel_table(
     Returns an array of shape ``(2 nx - 1, 2 ny - 1)``; offset ``(i, j)``
     is at index ``(i + nx - 1, j + ny - 1)``.
     """
+    if not isinstance(material, Material):
+        raise TypeError(f"material must be a viscoslide.Material, got {type(material).__name__}")
     n = _checks.count("nx", nx)
     m = n if ny is None else _checks.count("ny", ny)
     return _native.kernel_table(
@@ -368,6 +307,6 @@ def kernel_table(
         _checks.number("speed", speed),
         _checks.number("direction_deg", direction_deg),
         _layer(thickness, layer_base),
-        bool(derivative),
+        _checks.flag("derivative", derivative),
         None if cell_size_y is None else _checks.positive("cell_size_y", cell_size_y, "m"),
     )

@@ -12,9 +12,9 @@ from typing import Any, Dict, Mapping, Optional, Sequence
 
 import numpy as np
 
-from . import _native
+from . import _checks, _native
 from .curves import _frame
-from .solve import _toml_value
+from .solve import _overrides
 
 #: Columns of :func:`magnification`, in order (one row per level and speed).
 MAGNIFICATION_COLUMNS = (
@@ -38,15 +38,6 @@ MAGNIFICATION_COLUMNS = (
 )
 
 
-def _floats(name: str, values: Any) -> Optional[list]:
-    if values is None:
-        return None
-    arr = np.atleast_1d(np.asarray(values, dtype=float))
-    if arr.ndim != 1:
-        raise ValueError(f"{name} must be a number or a 1-D sequence")
-    return [float(v) for v in arr]
-
-
 def magnification(
     config: "os.PathLike[str] | str",
     q1: Optional[Sequence[float]] = None,
@@ -58,7 +49,7 @@ def magnification(
     backend: Optional[str] = None,
     shard: Optional[str] = None,
     out: "os.PathLike[str] | str | None" = None,
-    set: Optional[Mapping[str, Any]] = None,
+    set: "Optional[Mapping[str, Any] | str | Sequence[str]]" = None,
     as_frame: bool = False,
 ) -> Any:
     """The magnification study of the configuration file ``config``, as
@@ -71,7 +62,12 @@ def magnification(
     With ``out`` the points are stored in that directory (a rerun resumes;
     ``shard="K/N"`` runs a subset) and ``magnification.json``, ``.csv`` and
     ``.png`` are written there when every point is done. ``set`` overrides
-    configuration keys (the command's ``--set``).
+    configuration keys (the command's ``--set``): a mapping
+    ``{"section.key": value}``, a ``"section.key=value"`` string or a list
+    of them, as for :func:`solve_config`. Every argument is checked before
+    anything is solved or written: numbers (a boolean, a string or NaN is
+    a ``ValueError``), strings and paths (a ``TypeError``), each message
+    naming the argument and the value.
 
     Returns a dict of 1-D arrays (:data:`MAGNIFICATION_COLUMNS`, one entry
     per level and speed, speeds outer), or a pandas DataFrame with
@@ -80,23 +76,26 @@ def magnification(
     points of other shards missing. The study's warnings are also issued
     with ``warnings.warn``. Errors are the command's, as ``ValueError``.
     """
-    path = os.fspath(config)
+    path = _checks.path("config", config)
     if not os.path.exists(path):
         raise FileNotFoundError(f"{path}: no such file")
     if speed is not None and speeds is not None:
         raise ValueError("give at most one of speed (m/s) and speeds")
-    speed_list = _floats("speed", speed) if speed is not None else _floats("speeds", speeds)
-    overrides = [f"{key}={_toml_value(value)}" for key, value in (set or {}).items()]
+    if speed is not None:
+        speed_list: Optional[list] = [_checks.number("speed", speed)]
+    else:
+        speed_list = None if speeds is None else _checks.reals("speeds", speeds)
+    frame = _checks.flag("as_frame", as_frame)
     text = _native.magnification(
         path,
-        overrides,
-        _floats("q1", q1),
-        _floats("scales", scales),
-        float(cells_per_wavelength),
+        _overrides(set),
+        None if q1 is None else _checks.reals("q1", q1),
+        None if scales is None else _checks.reals("scales", scales),
+        _checks.number("cells_per_wavelength", cells_per_wavelength),
         speed_list,
-        backend,
-        shard,
-        None if out is None else os.fspath(out),
+        _checks.text("backend", backend, "'auto', 'cpu' or 'gpu'"),
+        _checks.shard(shard),
+        None if out is None else _checks.path("out", out),
     )
     if text is None:
         return None
@@ -109,12 +108,12 @@ def magnification(
     }
     for c in ("n", "ny", "matvecs", "iterations"):
         columns[c] = columns[c].astype(np.int64)
-    if as_frame:
-        frame = _frame(columns, True)
-        frame.attrs.update(
+    if frame:
+        table = _frame(columns, True)
+        table.attrs.update(
             warnings=report["warnings"],
             psd=report["psd"],
             nominal_pressure=report["nominal_pressure"],
         )
-        return frame
+        return table
     return columns

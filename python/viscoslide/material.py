@@ -161,7 +161,7 @@ class Material:
         """The material of a TOML file: a configuration with a ``[material]``
         section (its relative paths resolved against the file's directory),
         or a ``material.toml`` written by ``viscoslide material fit``."""
-        path = os.fspath(path)
+        path = _checks.path("path", path)
         if not os.path.exists(path):
             raise FileNotFoundError(f"{path}: no such file")
         return cls(_native.Material.from_toml(path))
@@ -206,11 +206,10 @@ class Material:
         in the returned material's ``fit_info``.
         """
         f = _checks.real_array("frequency", frequency, 1)
-        omega = f if angular else 2.0 * math.pi * f
+        omega = f if _checks.flag("angular", angular) else 2.0 * math.pi * f
         temps = None if temperatures is None else _checks.real_array("temperatures", temperatures, 1).tolist()
-        w = None if wlf is None else tuple(_checks.number(f"wlf[{i}]", v) for i, v in enumerate(wlf))
-        if w is not None and len(w) != 3:
-            raise ValueError(f"wlf must be (C1, C2, T_ref), got {wlf!r}")
+        checked = _wlf(wlf)
+        w = None if checked is None else (checked[0], checked[1], checked[2])
         native, info = _native.Material.fit_dma(
             omega.tolist(),
             _checks.real_array("storage", storage, 1).tolist(),
@@ -273,6 +272,8 @@ def _wlf(wlf: Any) -> Optional[list]:
     """``(C1, C2, T_ref)`` checked as three numbers, or ``None``."""
     if wlf is None:
         return None
+    if not isinstance(wlf, (tuple, list, np.ndarray)):
+        raise ValueError(f"wlf must be (C1, C2, T_ref), three numbers, got {wlf!r}")
     w = [_checks.number(f"wlf[{i}]", v) for i, v in enumerate(wlf)]
     if len(w) != 3:
         raise ValueError(f"wlf must be (C1, C2, T_ref), got {wlf!r}")

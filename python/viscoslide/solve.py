@@ -104,7 +104,7 @@ class Result:
         """Write summary.json, the maps (.npy, .png) and the analysis into
         ``directory``, as ``viscoslide solve --out``: all files or none.
         Returns the written paths."""
-        return [str(p) for p in self._native.write(os.fspath(directory))]
+        return [str(p) for p in self._native.write(_checks.path("directory", directory))]
 
     def __repr__(self) -> str:
         nx, ny = self._native.grid
@@ -118,9 +118,12 @@ class Result:
 
 
 def _layer(thickness: Optional[float], layer_base: str) -> Optional[str]:
+    base = _checks.text("layer_base", layer_base, "'bonded' or 'frictionless'")
+    if base not in ("bonded", "frictionless"):
+        raise ValueError(f"layer_base must be 'bonded' or 'frictionless', got {base!r}")
     if thickness is None:
         return None
-    return json.dumps({"thickness": _checks.positive("thickness", thickness, "m"), "base": layer_base})
+    return json.dumps({"thickness": _checks.positive("thickness", thickness, "m"), "base": base})
 
 
 def _loading(
@@ -155,6 +158,9 @@ def _solver(
     mesh: Optional[str],
     precision: Optional[str] = None,
 ) -> Dict[str, Any]:
+    _checks.text("formulation", formulation, "'auto', 'periodic' or 'nonperiodic'")
+    _checks.text("mesh", mesh, "'uniform' or 'adaptive'")
+    _checks.text("precision", precision, "'f64' or 'mixed'")
     if formulation == "auto":
         form = "periodic" if surface.periodic else "non_periodic"
     elif formulation in FORMULATIONS:
@@ -338,6 +344,7 @@ def _native_args(
     surf = Surface.coerce(surface, fill_missing=fill_missing, detrend=detrend, window=window)
     if not isinstance(material, Material):
         raise TypeError(f"material must be a viscoslide.Material, got {type(material).__name__}")
+    _checks.text("backend", backend, "'auto', 'cpu' or 'gpu'")
     loading = _loading(speed, xi, normal_load, mean_pressure, approach, direction_deg, temperature)
     solver = _solver(surf, formulation, tolerance, max_iterations, max_matvecs, cascade_levels, mesh, precision)
     return (
@@ -350,13 +357,6 @@ def _native_args(
     )
 
 
-def _check(surface: Any, material: Material, **options: Any) -> None:
-    """Every check :func:`solve` makes of its problem (``options`` are its
-    arguments but ``progress``), without solving: the problem is built and
-    checked as the solve builds and checks it."""
-    _native.check(*_native_args(surface, material, **options))
-
-
 def _warned(result: Result) -> Result:
     """``result`` after its warnings are issued with ``warnings.warn``."""
     for w in result.summary.get("warnings", []):
@@ -364,22 +364,45 @@ def _warned(result: Result) -> Result:
     return result
 
 
-def _toml_value(value: Any) -> str:
-    """A Python value as a TOML value for a ``--set`` override."""
-    if isinstance(value, bool):
+def _toml_value(value: Any, name: str = "set value") -> str:
+    """A Python value as a TOML value for a ``--set`` override (``name``
+    for messages: ``set 'loading.xi'``)."""
+    if isinstance(value, (bool, np.bool_)):
         return "true" if value else "false"
     if isinstance(value, (int, np.integer)):
         return str(int(value))
     if isinstance(value, (float, np.floating)):
-        x = _checks.number("set value", value)
+        x = _checks.number(name, value)
         return repr(x)
     if isinstance(value, str):
         return json.dumps(value)
     if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+        return "[" + ", ".join(_toml_value(v, name) for v in value) + "]"
     if isinstance(value, Mapping):
-        return "{" + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items()) + "}"
-    raise ValueError(f"cannot write {value!r} as a TOML value")
+        return "{" + ", ".join(f"{k} = {_toml_value(v, name)}" for k, v in value.items()) + "}"
+    raise ValueError(f"{name}: cannot write {value!r} as a TOML value")
+
+
+def _overrides(set: Any) -> list:
+    """``set`` (a mapping ``{"section.key": value}``, one
+    ``"section.key=value"`` string or a list of them) as the command line's
+    ``--set`` arguments."""
+    if set is None:
+        return []
+    if isinstance(set, Mapping):
+        for key in set:
+            if not isinstance(key, str):
+                raise TypeError(f"set: a key is a 'section.key' string, got {key!r}")
+        return [f"{key}={_toml_value(value, f'set {key!r}')}" for key, value in set.items()]
+    items = [set] if isinstance(set, str) else set
+    if not isinstance(items, (list, tuple)) or not all(isinstance(s, str) for s in items):
+        raise TypeError(
+            f"set must be a mapping {{'section.key': value}}, a 'section.key=value' string or a list of them, got {set!r}"
+        )
+    for item in items:
+        if "=" not in item:
+            raise ValueError(f"set {item!r}: expected 'section.key=value'")
+    return list(items)
 
 
 def solve_config(
@@ -407,20 +430,11 @@ def solve_config(
     progress : None, True or callable
         As for :func:`solve`.
     """
-    path = os.fspath(path)
+    path = _checks.path("path", path)
     if not os.path.exists(path):
         raise FileNotFoundError(f"{path}: no such file")
-    if isinstance(set, str):
-        # One override as the command line writes it.
-        overrides = [set]
-    elif isinstance(set, (list, tuple)) and all(isinstance(s, str) for s in set):
-        overrides = list(set)
-    elif set is None or isinstance(set, Mapping):
-        overrides = [f"{key}={_toml_value(value)}" for key, value in (set or {}).items()]
-    else:
-        raise TypeError(
-            f"set must be a mapping {{'section.key': value}}, a 'section.key=value' string or a list of them, got {type(set).__name__}"
-        )
+    overrides = _overrides(set)
+    _checks.text("backend", backend, "'auto', 'cpu' or 'gpu'")
     with _progress.iterations(progress) as callback:
         native = _native.solve_config(path, overrides, backend, callback)
     return _warned(Result(native))

@@ -25,6 +25,12 @@ from . import _checks
 from . import _native
 
 
+#: What ``detrend`` and ``window`` take (for messages; the values are
+#: checked by the engine).
+_DETREND = "'none', 'mean', 'plane' or 'quadratic'"
+_WINDOW = "'none', 'hann' or 'blackman_harris'"
+
+
 class Surface:
     """A rigid rough surface: heights [m] at cell centres on a grid of
     ``dx x dy`` cells (rectangular where the pixels are).
@@ -96,6 +102,8 @@ class Surface:
             "rolloff_q0": _checks.optional("rolloff_q0", rolloff_q0),
         }
         if anisotropy is not None:
+            if not isinstance(anisotropy, (tuple, list)) or len(anisotropy) != 2:
+                raise ValueError(f"anisotropy must be (ratio, angle_deg), got {anisotropy!r}")
             ratio, angle = anisotropy
             keys["anisotropy"] = {
                 "ratio": _checks.number("anisotropy ratio", ratio),
@@ -110,8 +118,11 @@ class Surface:
         ..., or ``psd`` with a ``q, C`` CSV path for a surface following a
         tabulated PSD). Unknown keys are refused by name."""
         section = _checks.drop_none(keys)
+        for key, value in section.items():
+            if isinstance(value, float) and not math.isfinite(value):
+                raise ValueError(f"{key} must be finite, got {value}")
         if "psd" in section:
-            section["psd"] = os.path.abspath(os.fspath(section["psd"]))
+            section["psd"] = os.path.abspath(_checks.path("psd", section["psd"]))
         return cls(_native.Surface.generate(json.dumps(section), os.getcwd()))
 
     @classmethod
@@ -137,18 +148,18 @@ class Surface:
         and before any PSD, whose ``window`` defaults to ``"hann"``
         (``"none"`` when ``periodic``).
         """
-        path = os.fspath(path)
+        path = _checks.path("path", path)
         if not os.path.exists(path):
             raise FileNotFoundError(f"{path}: no such file")
         native = _native.Surface.from_file(
             path,
             None if length is None else _checks.positive("length", length, "m"),
             None if length_y is None else _checks.positive("length_y", length_y, "m"),
-            format,
-            bool(fill_missing),
-            detrend,
-            window,
-            bool(periodic),
+            _checks.text("format", format, "'x3p', 'gwy', 'npy' or 'text'"),
+            _checks.flag("fill_missing", fill_missing),
+            _checks.text("detrend", detrend, _DETREND),
+            _checks.text("window", window, _WINDOW),
+            _checks.flag("periodic", periodic),
         )
         return cls(native, periodic=bool(periodic))
 
@@ -175,7 +186,11 @@ class Surface:
         ``periodic``, the map is a scan: ``detrend`` (default ``"plane"``)
         is removed and its PSDs use ``window`` (default ``"hann"``); a
         periodic map is taken as it is (defaults ``"none"``)."""
-        h = _checks.real_array("heights", heights, 2, allow_nan=bool(fill_missing))
+        fill = _checks.flag("fill_missing", fill_missing)
+        periodic = _checks.flag("periodic", periodic)
+        _checks.text("detrend", detrend, _DETREND)
+        _checks.text("window", window, _WINDOW)
+        h = _checks.real_array("heights", heights, 2, allow_nan=fill)
         lx = _checks.positive("length", length, "m")
         nx, ny = h.shape
         if nx < 2 or ny < 2:
@@ -185,7 +200,7 @@ class Surface:
             ly = _checks.positive("length_y", length_y, "m")
             if math.isclose(lx / nx, ly / ny, rel_tol=1e-9):
                 ly = None
-        native = _native.Surface.from_array(h, lx, ly, detrend, window, bool(periodic), bool(fill_missing))
+        native = _native.Surface.from_array(h, lx, ly, detrend, window, periodic, fill)
         return cls(native, periodic=periodic)
 
     @classmethod
@@ -204,6 +219,7 @@ class Surface:
         detrended, see :meth:`from_array`). A topography in other units is
         converted with its ``to_unit("m")``; its missing (masked) points are
         an error unless ``fill_missing``."""
+        _checks.flag("fill_missing", fill_missing)
         unit = getattr(topography, "unit", None)
         if unit is None:
             warnings.warn(
@@ -256,6 +272,9 @@ class Surface:
         ``fill_missing``, ``detrend`` and ``window``). A :class:`Surface` was
         prepared when it was built: giving the three keys with one is an
         error."""
+        _checks.optional_flag("fill_missing", fill_missing)
+        _checks.text("detrend", detrend, _DETREND)
+        _checks.text("window", window, _WINDOW)
         if isinstance(value, Surface):
             given = [k for k, v in (("fill_missing", fill_missing), ("detrend", detrend), ("window", window)) if v is not None]
             if given:
@@ -320,7 +339,7 @@ class Surface:
         ``"hann"`` or ``"blackman_harris"`` (measured, non-periodic maps);
         default: the map's own (``"hann"`` for a scan, ``"none"`` for a
         periodic or generated map)."""
-        q, c, _ = self._native.psd(window)
+        q, c, _ = self._native.psd(_checks.text("window", window, _WINDOW))
         return q, c
 
     def stats(self, window: Optional[str] = None) -> Dict[str, Any]:
@@ -329,7 +348,7 @@ class Surface:
         window defaults to the map's own (see :meth:`psd`). A PSD whose rms
         slope differs from the real-space rms slope by more than 20 % is
         warned about (``warnings`` key and ``warnings.warn``)."""
-        doc = json.loads(self._native.stats_json(window))
+        doc = json.loads(self._native.stats_json(_checks.text("window", window, _WINDOW)))
         for w in doc.get("warnings", []):
             warnings.warn(w, stacklevel=2)
         return doc
