@@ -21,10 +21,10 @@ mod common;
 
 use common::{material, surface_gap};
 use criterion::{criterion_group, criterion_main, Criterion};
-use viscoslide::backend::gpu::{FftChoice, GpuBackend, GpuContext, GpuOptions};
-use viscoslide::backend::Backend;
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::solver::{self, Control, SolverParams};
+use viscoslide::internals::backend::gpu::{FftChoice, GpuBackend, GpuContext, GpuOptions};
+use viscoslide::internals::backend::Backend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::solver::{self, Control, SolverParams};
 
 fn ci() -> bool {
     std::env::var_os("CI").is_some()
@@ -56,7 +56,7 @@ fn open() -> Option<GpuContext> {
 }
 
 fn bench_coefficients(c: &mut Criterion) {
-    use viscoslide::backend::gpu::{coefficients, engine::Engine};
+    use viscoslide::internals::backend::gpu::{coefficients, engine::Engine};
     let sizes: Vec<usize> = if ci() { vec![64] } else { vec![256, 512] };
     let mut group = c.benchmark_group("gpu_coefficients");
     group
@@ -159,8 +159,8 @@ fn bench_solve(c: &mut Criterion) {
 /// A quadtree-like mesh: a `2f x 2f` patch of fine cells (side `a`) centred
 /// at the origin, surrounded by `levels - 1` rings of 2a, 4a, ... cells, each
 /// ring doubling the half-width.
-fn ring_mesh(f: usize, levels: u32, a: f64) -> viscoslide::backend::gpu::MeshCells {
-    let mut cells = viscoslide::backend::gpu::MeshCells::default();
+fn ring_mesh(f: usize, levels: u32, a: f64) -> viscoslide::internals::backend::gpu::MeshCells {
+    let mut cells = viscoslide::internals::backend::gpu::MeshCells::default();
     let (mut inner, mut outer) = (0i64, f as i64);
     for level in 0..levels {
         let side = 1i64 << level;
@@ -195,7 +195,7 @@ fn bench_adaptive_matvec(c: &mut Criterion) {
     let cells = ring_mesh(f, levels, a);
     let n = cells.len();
     let params = 1.17e-2;
-    let engine = viscoslide::backend::gpu::engine::Engine::new(ctx);
+    let engine = viscoslide::internals::backend::gpu::engine::Engine::new(ctx);
     let mut be = GpuBackend::with_adaptive(engine, &response(&material(), params), &cells).unwrap();
     let host: Vec<f64> = (0..n)
         .map(|i| {
@@ -225,8 +225,8 @@ fn bench_adaptive_matvec(c: &mut Criterion) {
 /// bench surface at the friction peak), every fine cell carrying pressure.
 /// Under `CI`: a 64 x 64 grid.
 fn bench_level_matvec(c: &mut Criterion) {
-    use viscoslide::backend::gpu::{engine::Engine, GpuLevelTables};
-    use viscoslide::mesh::QuadMesh;
+    use viscoslide::internals::backend::gpu::{engine::Engine, GpuLevelTables};
+    use viscoslide::internals::mesh::QuadMesh;
     let n = if ci() { 64 } else { 256 };
     let mut group = c.benchmark_group("level_matvec");
     group

@@ -8,7 +8,7 @@ use std::hint::black_box;
 use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use viscoslide::kernel::{Axis, SlidingKernel};
+use viscoslide::internals::kernel::{Axis, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, CreepTerm, Material};
 
 fn sls() -> Material {

@@ -14,12 +14,14 @@ mod common;
 
 use common::{material, surface_gap};
 use criterion::{criterion_group, criterion_main, Criterion};
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::mesh::QuadMesh;
-use viscoslide::operator::{AdaptiveOperator, GridOperator, LevelTables, OffsetTable, ToeplitzFft};
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::mesh::QuadMesh;
+use viscoslide::internals::operator::{
+    AdaptiveOperator, GridOperator, LevelTables, OffsetTable, ToeplitzFft,
+};
+use viscoslide::internals::solver::{self, Control, SolverParams};
 use viscoslide::problem::adaptive::{self, AdaptiveParams};
-use viscoslide::solver::{self, Control, SolverParams};
 
 const SPEED: f64 = 1.17e-2; // xi = v tau / L = 1.17e-2 with tau = 0.01 s, L = 0.01 m
 const LOAD: f64 = 0.30;

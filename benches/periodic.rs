@@ -5,17 +5,17 @@
 
 use std::hint::black_box;
 use std::time::Duration;
-use viscoslide::operator::PeriodicResponse;
+use viscoslide::internals::operator::PeriodicResponse;
 use viscoslide::response::{Grid, SlidingResponse};
 
 mod common;
 
 use common::{material, sizes, surface_gap};
 use criterion::{criterion_group, criterion_main, Criterion};
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::operator::{GridOperator, OffsetTable, SpectralPeriodic, ToeplitzFft};
-use viscoslide::solver::{self, Control, SolverParams};
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::{GridOperator, OffsetTable, SpectralPeriodic, ToeplitzFft};
+use viscoslide::internals::solver::{self, Control, SolverParams};
 
 fn bench(c: &mut Criterion) {
     let m = material();

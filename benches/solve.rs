@@ -11,10 +11,10 @@ mod common;
 
 use common::{material, sizes, surface_gap};
 use criterion::{criterion_group, criterion_main, Criterion};
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
-use viscoslide::solver::{self, Control, SolverParams};
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::{GridOperator, OffsetTable, ToeplitzFft};
+use viscoslide::internals::solver::{self, Control, SolverParams};
 
 fn bench(c: &mut Criterion) {
     let m = material();

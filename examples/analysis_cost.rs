@@ -14,10 +14,12 @@ use std::path::Path;
 use std::time::Instant;
 use viscoslide::response::{Grid, SlidingResponse};
 
-use viscoslide::analysis::{self, figures, AnalysisInputs, AnalysisParams, Connectivity};
+use viscoslide::internals::analysis::{
+    self, figures, AnalysisInputs, AnalysisParams, Connectivity,
+};
+use viscoslide::internals::solver::ContactSolution;
 use viscoslide::io::npy;
 use viscoslide::problem::Problem;
-use viscoslide::solver::ContactSolution;
 use viscoslide::surface::{psd_2d, HeightMap};
 
 /// CPU time of this process (all threads) \[s\], from /proc (Linux; 0

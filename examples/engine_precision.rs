@@ -9,8 +9,10 @@
 use std::time::Instant;
 use viscoslide::response::{Grid, SlidingResponse};
 
+use viscoslide::internals::operator::{
+    GridOperator, GridWork, PeriodicResponse, Real, SpectralPeriodic,
+};
 use viscoslide::material::{CreepSpectrum, Material};
-use viscoslide::operator::{GridOperator, GridWork, PeriodicResponse, Real, SpectralPeriodic};
 
 /// Mean over `repeats` products after one warm-up, in ms.
 fn mean_ms(repeats: usize, mut product: impl FnMut()) -> f64 {

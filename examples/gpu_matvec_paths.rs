@@ -11,9 +11,9 @@
 use std::time::Instant;
 use viscoslide::response::{Grid, SlidingResponse};
 
-use viscoslide::backend::gpu::{FftChoice, GpuBackend, GpuContext, GpuOptions};
-use viscoslide::backend::Backend;
-use viscoslide::kernel::SlidingKernel;
+use viscoslide::internals::backend::gpu::{FftChoice, GpuBackend, GpuContext, GpuOptions};
+use viscoslide::internals::backend::Backend;
+use viscoslide::internals::kernel::SlidingKernel;
 use viscoslide::material::{CreepSpectrum, Material};
 
 fn median(v: &mut [f64]) -> f64 {

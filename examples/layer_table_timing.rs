@@ -7,7 +7,7 @@
 use std::time::Instant;
 use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 
-use viscoslide::kernel::{Axis, SlidingKernel};
+use viscoslide::internals::kernel::{Axis, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, Material};
 
 fn main() {

@@ -8,7 +8,7 @@ mod common;
 use std::path::Path;
 
 use common::domain::*;
-use viscoslide::plot::{xy_chart, Series, XyChart};
+use viscoslide::internals::plot::{xy_chart, Series, XyChart};
 
 fn main() {
     let ratios = [0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0];

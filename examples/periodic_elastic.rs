@@ -7,14 +7,14 @@
 //! operator construction plus solve.
 
 use std::time::Instant;
-use viscoslide::operator::PeriodicResponse;
+use viscoslide::internals::operator::PeriodicResponse;
 use viscoslide::response::{Grid, SlidingResponse};
 
-use viscoslide::backend::CpuBackend;
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::operator::SpectralPeriodic;
+use viscoslide::internals::solver::{self, Control, SolverParams};
 use viscoslide::io::npy;
 use viscoslide::material::{CreepSpectrum, Material};
-use viscoslide::operator::SpectralPeriodic;
-use viscoslide::solver::{self, Control, SolverParams};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -14,7 +14,7 @@
 //! ```
 //! use viscoslide::material::{CreepSpectrum, Material};
 //! use viscoslide::problem::{Executor, Problem};
-//! use viscoslide::solver::{Control, Silent};
+//! use viscoslide::problem::{Control, Silent};
 //! use viscoslide::surface::{GenerateParams, UpperCutoff};
 //!
 //! # fn main() -> viscoslide::Result<()> {
@@ -55,28 +55,26 @@
 //! configuration or a problem. `docs/ARCHITECTURE.md` says what each layer owns and
 //! may import; `tests/architecture.rs` keeps the imports pointing down.
 
-pub mod backend;
-pub mod cli;
 pub mod config;
 pub mod error;
-pub mod gauss;
 pub mod io;
-pub mod kernel;
 pub mod magnification;
 pub mod material;
-pub mod mesh;
-pub mod plot;
-pub mod surface;
-
-pub use error::{Error, Result};
-
-pub mod version;
-pub use version::VERSION;
-pub mod analysis;
-pub mod operator;
 pub mod persson;
 pub mod problem;
 pub mod refine;
 pub mod response;
-pub mod solver;
+pub mod surface;
 pub mod sweep;
+pub mod version;
+
+pub use error::{Error, Result};
+pub use version::VERSION;
+
+/// The `viscoslide` command line (clap): the binary's front end, not a
+/// library API.
+#[doc(hidden)]
+pub mod cli;
+
+pub mod internals;
+pub(crate) use internals::{analysis, backend, gauss, kernel, mesh, operator, plot, solver};

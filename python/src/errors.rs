@@ -7,7 +7,7 @@
 
 use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use viscoslide::solver::SolverError;
+use viscoslide::problem::SolverError;
 use viscoslide::Error;
 
 /// A `ValueError` with the message of `e`.

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use viscoslide::config;
 use viscoslide::magnification::{run, MagnificationParams, Study, StudyObserver};
 use viscoslide::problem::{Executor, Problem};
-use viscoslide::solver::{Observer, SolverError};
+use viscoslide::problem::{Observer, SolverError};
 use viscoslide::sweep::Shard;
 use viscoslide::Error;
 

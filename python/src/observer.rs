@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use viscoslide::solver::Observer;
+use viscoslide::problem::Observer;
 
 /// How often the signal handlers run during a solve.
 pub const POLL: Duration = Duration::from_millis(50);

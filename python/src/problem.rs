@@ -8,8 +8,8 @@
 use viscoslide::config::{
     self, Config, ConfigError, Formulation, LayerConfig, LoadingConfig, SolverConfig,
 };
+use viscoslide::problem::Control;
 use viscoslide::problem::{check_memory, Problem};
-use viscoslide::solver::Control;
 
 use crate::errors::value_error;
 use crate::material::{section_table, NativeMaterial};
@@ -125,7 +125,7 @@ pub fn from_sections(
     };
     let restart = solver
         .restart
-        .unwrap_or(viscoslide::solver::SolverParams::default().restart);
+        .unwrap_or(viscoslide::problem::SolverParams::default().restart);
     check_memory(
         map.nx,
         map.ny,

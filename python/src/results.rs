@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use numpy::{IntoPyArray, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
-use viscoslide::analysis::AnalysisReport;
+use viscoslide::problem::AnalysisReport;
 use viscoslide::problem::Solution;
 
 use crate::errors::to_py;

@@ -9,10 +9,10 @@ use std::path::PathBuf;
 
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
-use viscoslide::backend::BackendChoice;
 use viscoslide::config;
+use viscoslide::problem::BackendChoice;
+use viscoslide::problem::SolverError;
 use viscoslide::problem::{Executor, Problem};
-use viscoslide::solver::SolverError;
 use viscoslide::Error;
 
 use crate::errors::{to_py, value_error};

@@ -5,10 +5,10 @@
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use viscoslide::config::LayerConfig;
-use viscoslide::kernel::{Axis, SlidingKernel};
 use viscoslide::persson::{Persson, PerssonParams};
+use viscoslide::problem::Control;
+use viscoslide::problem::{Axis, SlidingKernel};
 use viscoslide::response::{Grid, SlidingResponse};
-use viscoslide::solver::Control;
 
 use crate::errors::{to_py, value_error};
 use crate::material::NativeMaterial;

@@ -3,8 +3,8 @@
 
 pub mod atomic;
 pub mod dirlock;
-pub mod fault;
-pub mod memory;
+pub(crate) mod fault;
+pub(crate) mod memory;
 pub mod npy;
 pub mod study_lock;
 

@@ -11,7 +11,7 @@
 //! FFT-friendly grid with `K` cells per shortest wavelength, with the same
 //! seed and the same `C0`, so every level holds exactly the same Fourier
 //! modes below its cut-off; its `rms_slope` is the one with which `viscoslide
-//! solve` generates exactly that surface ([`plan::level_config`]).
+//! solve` generates exactly that surface (`plan::level_config`).
 //!
 //! A level at one speed is a point: points are solved independently,
 //! written to `DIR/points/` through the sweep's [`PointStore`] and skipped
@@ -20,9 +20,9 @@
 //! writes `magnification.json`, `magnification.csv` and
 //! `magnification.png` together.
 
-pub mod grid;
-pub mod plan;
-pub mod report;
+mod grid;
+pub(crate) mod plan;
+mod report;
 
 pub use grid::level_grid;
 pub use plan::{

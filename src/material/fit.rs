@@ -1,5 +1,5 @@
 //! The non-negative least-squares fit of a relaxation spectrum to DMA data
-//! ([`super::dma`], shifted to one temperature by WLF) with characteristic times in geometric progression
+//! (`dma`, shifted to one temperature by WLF) with characteristic times in geometric progression
 //! (the paper fits SBR with 34 times of ratio e, Fig. 2; physics.md section 2).
 //!
 //! The fit uses route (b) of physics.md section 2: the generalized Maxwell

@@ -10,20 +10,20 @@
 //! * [`CreepSpectrum`] (Eq. 2) and [`PronySeries`] (generalized Maxwell), with
 //!   exact conversions both ways ([`PronySeries::to_creep`],
 //!   [`CreepSpectrum::to_prony`]; physics.md section 2, route (b));
-//! * [`eval`]: `E(w)`, `J*(w)`, `E1`, `E2`, `tan delta` over frequency arrays;
-//! * [`dma`]: DMA data from CSV, WLF shift ([`Wlf`]), NNLS spectrum fit
-//!   ([`fit_spectrum`], solver in [`nnls`]);
+//! * `eval`: `E(w)`, `J*(w)`, `E1`, `E2`, `tan delta` over frequency arrays;
+//! * `dma`: DMA data from CSV, WLF shift ([`Wlf`]), NNLS spectrum fit
+//!   ([`fit_spectrum`], solver in `nnls`);
 //! * [`mod@file`]: the `material.toml` written by `viscoslide material fit`;
 //! * [`MaterialConfig`]: the `[material]` section of a run config;
 //! * `temperature`: the WLF shift of every creep time to a temperature
 //!   ([`Material::at_temperature`], physics.md section 12).
 
 mod config;
-pub mod dma;
-pub mod eval;
+mod dma;
+pub(crate) mod eval;
 pub mod file;
 pub mod fit;
-pub mod nnls;
+pub(crate) mod nnls;
 mod prony;
 mod spectrum;
 mod temperature;

@@ -45,12 +45,19 @@ pub use setup::{check_memory, memory_estimate};
 pub use solution::{Solution, Timings};
 pub use solve::Discretisation;
 
+// The engine types the library API takes or returns (the engine itself is
+// under `crate::internals`).
+pub use crate::analysis::{AnalysisParams, AnalysisReport};
+pub use crate::backend::BackendChoice;
+pub use crate::kernel::{Axis, CoefficientTable, SlidingKernel};
+pub use crate::solver::{
+    ContactSolution, Control, Observer, Silent, SolveInfo, SolverError, SolverParams,
+};
+
 use crate::config::{AnalysisConfig, Formulation, MeshKind, Sliding, SphereConfig, XiScale};
 use crate::error::{Error, Result};
-use crate::kernel::SlidingKernel;
 use crate::material::Material;
 use crate::response::{Grid, Layer, SlidingResponse};
-use crate::solver::{Control, SolverParams};
 use crate::surface::{GenerateParams, HeightMap, Preprocessing, SynthParams, TabulatedPsd};
 
 /// Where the surface of a problem came from: what [`Problem::with_grid`]

@@ -7,7 +7,7 @@
 //! asymptotic range ([`richardson()`]). [`RefineReport::write`] puts
 //! `refine.json` and `refine.png` into a directory, both or neither.
 
-pub mod richardson;
+mod richardson;
 
 pub use richardson::{observed_order, richardson, Richardson, RichardsonParams, Verdict};
 

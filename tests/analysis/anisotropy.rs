@@ -12,8 +12,8 @@
 //! elliptical support with 64 scales on 256^2: measured well below 1 %) and
 //! 1 degree on `theta_P`.
 
-use viscoslide::analysis::anisotropy::wrap_axis_deg;
-use viscoslide::analysis::{analyze, AnalysisInputs, AnalysisParams, AnalysisReport};
+use viscoslide::internals::analysis::anisotropy::wrap_axis_deg;
+use viscoslide::internals::analysis::{analyze, AnalysisInputs, AnalysisParams, AnalysisReport};
 use viscoslide::surface::{generate, Anisotropy, GenerateParams, UpperCutoff, Window};
 
 const N: usize = 256;

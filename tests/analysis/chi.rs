@@ -13,8 +13,8 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use viscoslide::analysis::anisotropy::wrap_axis_deg;
-use viscoslide::analysis::{
+use viscoslide::internals::analysis::anisotropy::wrap_axis_deg;
+use viscoslide::internals::analysis::{
     analyze, find_spots, spot_statistics, AnalysisInputs, AnalysisParams, AnalysisReport,
     Connectivity,
 };

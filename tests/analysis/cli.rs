@@ -192,7 +192,7 @@ fn no_contact_still_writes_every_figure() {
 
 #[test]
 fn band_defaults_from_summary_config() {
-    use viscoslide::analysis::read_summary;
+    use viscoslide::internals::analysis::read_summary;
     let tmp = tempfile::tempdir().unwrap();
     let q0 = 2.0 * std::f64::consts::PI / L;
     let cases = [

@@ -7,9 +7,9 @@ use std::path::Path;
 use std::process::Command;
 
 use viscoslide::config::{self, AnalysisConfig, SweepConfig};
+use viscoslide::internals::solver::{Control, Silent};
 use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::problem::{Executor, Problem};
-use viscoslide::solver::{Control, Silent};
 use viscoslide::surface::{GenerateParams, UpperCutoff};
 use viscoslide::sweep::SweepPlan;
 

@@ -270,7 +270,7 @@ fn gwy_sizes_whose_product_wraps_are_errors() {
 
 #[test]
 fn kernel_tables_beyond_memory_are_refused() {
-    use viscoslide::kernel::SlidingKernel;
+    use viscoslide::internals::kernel::SlidingKernel;
     use viscoslide::material::{CreepSpectrum, Material};
     let m = Material::new(
         CreepSpectrum::standard_linear_solid(1e6, 1e7, 0.01).unwrap(),

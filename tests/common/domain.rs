@@ -2,12 +2,12 @@
 //! domain-size test and the example that regenerates the study in docs/.
 #![allow(dead_code)]
 
-use viscoslide::analysis::{friction_force_periodic, friction_force_stencil};
-use viscoslide::backend::CpuBackend;
-use viscoslide::operator::PeriodicResponse;
-use viscoslide::operator::SpectralPeriodic;
+use viscoslide::internals::analysis::{friction_force_periodic, friction_force_stencil};
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::operator::PeriodicResponse;
+use viscoslide::internals::operator::SpectralPeriodic;
+use viscoslide::internals::solver::{self, Control, SolverParams};
 use viscoslide::response::{Grid, SlidingResponse};
-use viscoslide::solver::{self, Control, SolverParams};
 
 pub const LENGTH: f64 = 0.01;
 pub const TAU: f64 = 0.01;

@@ -6,12 +6,12 @@ pub mod gwy;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::SlidingKernel;
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::{OffsetTable, ToeplitzFft};
+use viscoslide::internals::solver::{self, ContactSolution, Control, SolveInfo, SolverParams};
 use viscoslide::material::{CreepSpectrum, Material};
-use viscoslide::operator::{OffsetTable, ToeplitzFft};
 use viscoslide::response::{Grid, SlidingResponse};
-use viscoslide::solver::{self, ContactSolution, Control, SolveInfo, SolverParams};
 
 /// The source tree the tests read configs and shaders from: the directory
 /// named by `VISCOSLIDE_SOURCE_DIR` when set (a test executable run from a
@@ -149,7 +149,7 @@ pub struct RoughPatch {
 
 impl RoughPatch {
     /// The solver's default solve of the patch on `backend`.
-    pub fn solve<B: viscoslide::backend::Backend>(
+    pub fn solve<B: viscoslide::internals::backend::Backend>(
         &self,
         backend: &mut B,
     ) -> (ContactSolution, SolveInfo) {
@@ -202,8 +202,8 @@ pub fn friction(
     a: f64,
     speed: f64,
 ) -> (f64, f64) {
-    use viscoslide::analysis;
-    use viscoslide::kernel::Axis;
+    use viscoslide::internals::analysis;
+    use viscoslide::internals::kernel::Axis;
     let d = kernel
         .derivative_table(&Grid::square(n, n, a).unwrap(), Axis::X)
         .unwrap();
@@ -225,7 +225,7 @@ pub fn friction(
 /// Open a GPU for a test or explain why not. With `REQUIRE_GPU=1` a missing
 /// adapter is a failure (CI installs lavapipe); otherwise the caller skips
 /// with the printed reason.
-pub fn gpu_context() -> Option<viscoslide::backend::gpu::GpuContext> {
+pub fn gpu_context() -> Option<viscoslide::internals::backend::gpu::GpuContext> {
     gpu_context_with_limits(None, None)
 }
 
@@ -234,8 +234,8 @@ pub fn gpu_context() -> Option<viscoslide::backend::gpu::GpuContext> {
 pub fn gpu_context_with_limits(
     binding: Option<u64>,
     buffer: Option<u64>,
-) -> Option<viscoslide::backend::gpu::GpuContext> {
-    match viscoslide::backend::gpu::GpuContext::open_with_limits(binding, buffer) {
+) -> Option<viscoslide::internals::backend::gpu::GpuContext> {
+    match viscoslide::internals::backend::gpu::GpuContext::open_with_limits(binding, buffer) {
         Ok(c) => Some(c),
         Err(e) => {
             if std::env::var("REQUIRE_GPU").is_ok_and(|v| v == "1") {

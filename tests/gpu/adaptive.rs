@@ -16,14 +16,14 @@ use std::time::Instant;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use viscoslide::backend::gpu::adaptive::{pair_coefficients, MeshCells};
-use viscoslide::backend::gpu::engine::Engine;
-use viscoslide::backend::gpu::{shaders, GpuBackend};
-use viscoslide::backend::{Backend, CpuBackend};
-use viscoslide::kernel::SlidingKernel;
+use viscoslide::internals::backend::gpu::adaptive::{pair_coefficients, MeshCells};
+use viscoslide::internals::backend::gpu::engine::Engine;
+use viscoslide::internals::backend::gpu::{shaders, GpuBackend};
+use viscoslide::internals::backend::{Backend, CpuBackend};
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::GridOperator;
+use viscoslide::internals::solver::{self, Control, SolverParams};
 use viscoslide::material::Material;
-use viscoslide::operator::GridOperator;
-use viscoslide::solver::{self, Control, SolverParams};
 
 /// Finest cell side [m].
 pub(crate) const A: f64 = 1e-4;
@@ -472,7 +472,7 @@ fn adaptive_solve_matches_dense_cpu() {
 /// mismatched pair lists are refused with `GpuError::Invalid`.
 #[test]
 fn adaptive_refuses_invalid_input() {
-    use viscoslide::backend::gpu::{AdaptiveMatvec, GpuError};
+    use viscoslide::internals::backend::gpu::{AdaptiveMatvec, GpuError};
 
     let Some(ctx) = crate::common::gpu_context() else {
         return;
@@ -532,8 +532,8 @@ fn adaptive_refuses_invalid_input() {
 /// 5e-7, and each level adds four positive terms).
 #[test]
 fn gpu_level_tables_match_the_host() {
-    use viscoslide::backend::gpu::GpuLevelTables;
-    use viscoslide::operator::LevelTables;
+    use viscoslide::internals::backend::gpu::GpuLevelTables;
+    use viscoslide::internals::operator::LevelTables;
     if crate::common::gpu_context().is_none() {
         return;
     }
@@ -574,7 +574,7 @@ fn gpu_level_tables_match_the_host() {
 /// above 1e-6 of its largest, and where it is.
 #[allow(clippy::type_complexity)]
 pub(crate) fn table_error(
-    host: &viscoslide::operator::LevelTables,
+    host: &viscoslide::internals::operator::LevelTables,
     level: u8,
     parity: usize,
     read: &((i64, i64), (i64, i64), Vec<f64>),
@@ -611,9 +611,9 @@ pub(crate) fn table_error(
 /// entries of relative error below 1e-6, sums Kahan-compensated).
 #[test]
 fn gpu_level_matvec_matches_the_host_operator() {
-    use viscoslide::backend::gpu::GpuLevelTables;
-    use viscoslide::mesh::QuadMesh;
-    use viscoslide::operator::{AdaptiveOperator, LevelTables};
+    use viscoslide::internals::backend::gpu::GpuLevelTables;
+    use viscoslide::internals::mesh::QuadMesh;
+    use viscoslide::internals::operator::{AdaptiveOperator, LevelTables};
     if crate::common::gpu_context().is_none() {
         return;
     }

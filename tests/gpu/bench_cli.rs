@@ -6,7 +6,7 @@
 
 use std::process::Command;
 
-use viscoslide::backend::gpu;
+use viscoslide::internals::backend::gpu;
 
 use super::plan_cli::viscoslide_bin;
 

@@ -10,10 +10,12 @@ use viscoslide::response::{Grid, SlidingResponse};
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use viscoslide::backend::gpu::{self, FftChoice, GpuBackend, GpuOptions, SpectrumPrecision};
-use viscoslide::backend::{Backend, CpuBackend};
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
+use viscoslide::internals::backend::gpu::{
+    self, FftChoice, GpuBackend, GpuOptions, SpectrumPrecision,
+};
+use viscoslide::internals::backend::{Backend, CpuBackend};
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::{GridOperator, OffsetTable, ToeplitzFft};
 
 fn random(n: usize, seed: u64, lo: f64, hi: f64) -> Vec<f64> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -467,7 +469,7 @@ fn f16_spectrum_error_is_measured() {
 /// `(area fraction gpu, cpu, friction gpu, cpu, pressure relative L2,
 /// contact cells in one set only)`.
 fn solve_both(n: usize, xi: f64, precondition: bool) -> Option<(f64, f64, f64, f64, f64, usize)> {
-    use viscoslide::solver;
+    use viscoslide::internals::solver;
     let ctx = crate::common::gpu_context()?;
     // xi = v tau / L with tau = 0.01 s and L = 0.01 m.
     let speed = xi;
@@ -563,7 +565,7 @@ fn table_error(
     speed: f64,
     direction: f64,
 ) -> Option<f64> {
-    use viscoslide::backend::gpu::{coefficients, engine::Engine};
+    use viscoslide::internals::backend::gpu::{coefficients, engine::Engine};
     let ctx = crate::common::gpu_context()?;
     let mut engine = Engine::new(ctx);
     let a = 0.01 / n as f64;
@@ -665,7 +667,7 @@ fn oversized_grid_is_refused_clearly() {
 /// square cells (f32 on the device).
 #[test]
 fn coefficient_table_on_rectangles_matches_cpu() {
-    use viscoslide::backend::gpu::{coefficients, engine::Engine};
+    use viscoslide::internals::backend::gpu::{coefficients, engine::Engine};
     let Some(ctx) = crate::common::gpu_context() else {
         return;
     };
@@ -703,8 +705,8 @@ fn coefficient_table_on_rectangles_matches_cpu() {
 /// the square-cell solves above.
 #[test]
 fn rectangular_cell_solve_matches_cpu() {
+    use viscoslide::internals::solver::{Control, Silent};
     use viscoslide::problem::{Executor, Problem};
-    use viscoslide::solver::{Control, Silent};
     use viscoslide::surface::HeightMap;
     let Some(ctx) = crate::common::gpu_context() else {
         return;

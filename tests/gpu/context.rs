@@ -1,7 +1,7 @@
 //! The GPU context opens on whatever adapter exists (lavapipe in CI). With
 //! `REQUIRE_GPU=1` a missing adapter fails instead of skipping.
 
-use viscoslide::backend::gpu;
+use viscoslide::internals::backend::gpu;
 
 #[test]
 fn adapter_is_listed_and_device_opens() {

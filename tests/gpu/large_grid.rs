@@ -12,11 +12,11 @@ use std::time::Instant;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use viscoslide::backend::gpu::engine::Engine;
-use viscoslide::backend::gpu::{self, coefficients, GpuBackend, GpuOptions};
-use viscoslide::backend::Backend;
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
+use viscoslide::internals::backend::gpu::engine::Engine;
+use viscoslide::internals::backend::gpu::{self, coefficients, GpuBackend, GpuOptions};
+use viscoslide::internals::backend::Backend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::{GridOperator, OffsetTable, ToeplitzFft};
 
 fn rel_l2(a: &[f64], b: &[f64]) -> f64 {
     let num: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();

@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use viscoslide::backend::gpu::{self, GpuBackend, GpuOptions};
+use viscoslide::internals::backend::gpu::{self, GpuBackend, GpuOptions};
 
 /// `(label, buffers, bytes)` per array.
 type Allocations = Vec<(String, usize, u64)>;

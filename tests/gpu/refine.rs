@@ -4,8 +4,8 @@
 //! `solver.gpu_refine = false` it keeps the device's f32 answer. Skips with
 //! a reason without an adapter; fails under `REQUIRE_GPU=1`.
 
+use viscoslide::internals::solver::Silent;
 use viscoslide::problem::{Executor, Problem, Solution};
-use viscoslide::solver::Silent;
 
 /// `configs/default.toml` (32 scales, 8 cells per shortest wavelength at
 /// 256^2) on a 128^2 grid: 16 scales, a few hundred contact cells in many

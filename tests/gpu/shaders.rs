@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use viscoslide::backend::gpu::shaders;
+use viscoslide::internals::backend::gpu::shaders;
 
 fn wgsl_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
     for e in std::fs::read_dir(dir).unwrap() {

@@ -8,15 +8,17 @@ use viscoslide::response::{Grid, SlidingResponse};
 
 use std::sync::Arc;
 
-use viscoslide::backend::CpuBackend;
 use viscoslide::config;
-use viscoslide::kernel::SlidingKernel;
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::mesh::QuadMesh;
+use viscoslide::internals::operator::{
+    AdaptiveOperator, GridOperator, LevelTables, OffsetTable, ToeplitzFft,
+};
+use viscoslide::internals::solver::{self, Control, SolverParams};
 use viscoslide::material::Material;
-use viscoslide::mesh::QuadMesh;
-use viscoslide::operator::{AdaptiveOperator, GridOperator, LevelTables, OffsetTable, ToeplitzFft};
 use viscoslide::problem::adaptive::{self, AdaptiveParams};
 use viscoslide::problem::{Executor, Problem};
-use viscoslide::solver::{self, Control, SolverParams};
 
 fn kernel(material: &Material, speed: f64, direction_deg: f64) -> SlidingKernel {
     SlidingKernel::new(

@@ -4,21 +4,21 @@
 //! (Appendix Eq. A3-A4).
 
 use crate::common;
-use viscoslide::operator::PeriodicResponse;
+use viscoslide::internals::operator::PeriodicResponse;
 use viscoslide::response::{Grid, SlidingResponse};
 
 use std::f64::consts::TAU;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use viscoslide::analysis::{
+use viscoslide::internals::analysis::{
     friction_force_periodic, friction_force_stencil, full_contact_friction_stress,
 };
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::SlidingKernel;
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::{GridOperator, OffsetTable, SpectralPeriodic, ToeplitzFft};
+use viscoslide::internals::solver::{self, Control, SolverParams};
 use viscoslide::material::Material;
-use viscoslide::operator::{GridOperator, OffsetTable, SpectralPeriodic, ToeplitzFft};
-use viscoslide::solver::{self, Control, SolverParams};
 
 /// Solve the periodic full-contact problem for gap `g` at mean pressure `p0`
 /// and return `(mu_stencil, mu_fourier, pressure)`.

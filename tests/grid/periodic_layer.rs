@@ -9,17 +9,17 @@ use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 use std::f64::consts::TAU;
 
 use num_complex::Complex64;
-use viscoslide::analysis::{
+use viscoslide::internals::analysis::{
     friction_force_periodic, friction_force_stencil, full_contact_friction_stress,
 };
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::material::Material;
-use viscoslide::operator::{
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::{
     periodic_multiplier, GridOperator, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
 };
+use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::material::Material;
 use viscoslide::response::layer::compliance_ratio;
-use viscoslide::solver::{self, Control, SolverParams};
 
 /// Periodic full contact of `g = h0 (1 - cos k x)` at mean pressure `p0`:
 /// `(mu_stencil, mu_fourier, pressure)`.

@@ -15,11 +15,11 @@ use std::f64::consts::{PI, TAU};
 use faer::Mat;
 use num_complex::Complex64;
 use viscoslide::config::Formulation;
-use viscoslide::kernel::{Axis, SlidingKernel};
+use viscoslide::internals::kernel::{Axis, SlidingKernel};
+use viscoslide::internals::operator::{GridOperator, PeriodicResponse, SpectralPeriodic};
+use viscoslide::internals::solver::{reference, Control, Silent, SolverParams};
 use viscoslide::material::Material;
-use viscoslide::operator::{GridOperator, PeriodicResponse, SpectralPeriodic};
 use viscoslide::problem::{Executor, Problem};
-use viscoslide::solver::{reference, Control, Silent, SolverParams};
 use viscoslide::surface::HeightMap;
 
 /// Creep time of the paper material \[s\].

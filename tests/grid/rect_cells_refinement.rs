@@ -5,9 +5,9 @@
 use std::f64::consts::TAU;
 
 use rand::{Rng, SeedableRng};
+use viscoslide::internals::solver::{Control, Silent};
 use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::problem::{Executor, Problem};
-use viscoslide::solver::{Control, Silent};
 use viscoslide::surface::HeightMap;
 
 const LENGTH: f64 = 0.01;

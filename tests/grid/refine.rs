@@ -10,11 +10,11 @@ use std::path::Path;
 use std::process::Command;
 
 use viscoslide::config::Formulation;
+use viscoslide::internals::solver::{Control, Silent, SolverParams};
 use viscoslide::problem::{Executor, Problem};
 use viscoslide::refine::{
     observed_order, refine_problems, richardson, Quiet, RefineParams, RichardsonParams, Verdict,
 };
-use viscoslide::solver::{Control, Silent, SolverParams};
 use viscoslide::surface::{GenerateParams, HeightMap, Normalisation, UpperCutoff};
 
 /// `g = h0 (1 - cos k x)` on an `n x n/4` periodic cell of side 1 cm,

@@ -11,7 +11,7 @@
 //! Tolerance: 1e-9 relative (the task's accuracy target); the reference
 //! itself is converged to ~1e-13.
 
-use viscoslide::kernel::{Axis, SlidingKernel};
+use viscoslide::internals::kernel::{Axis, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, CreepTerm, Material};
 use viscoslide::response::{Grid, SlidingResponse};
 

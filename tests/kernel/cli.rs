@@ -4,7 +4,7 @@
 use std::process::Command;
 use viscoslide::response::SlidingResponse;
 
-use viscoslide::kernel::{Axis, SlidingKernel};
+use viscoslide::internals::kernel::{Axis, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, Material};
 
 const CONFIG: &str = "[material]\nmodel = \"sls\"\nrelaxed_modulus = 2e6\nglassy_modulus = 1e7\ncreep_time = 0.01\npoisson = 0.5\n";

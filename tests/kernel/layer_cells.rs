@@ -9,8 +9,8 @@
 //! (no singularity left: `Theta` is smooth), adaptive Gauss-Kronrod in `phi`
 //! between the corner directions and Gauss-Legendre panels for `T`.
 
-use viscoslide::kernel::quad::{adaptive, gauss_legendre_unit};
-use viscoslide::kernel::{Axis, SlidingKernel, ThetaRule, ThetaTable};
+use viscoslide::internals::kernel::quad::{adaptive, gauss_legendre_unit};
+use viscoslide::internals::kernel::{Axis, SlidingKernel, ThetaRule, ThetaTable};
 use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 

@@ -3,7 +3,7 @@
 //! direction of the memory shift (the trailing, -v, neighbour gets the larger
 //! coefficient), rotation of the sliding direction, input validation.
 
-use viscoslide::kernel::{Axis, SlidingKernel};
+use viscoslide::internals::kernel::{Axis, SlidingKernel};
 use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::response::{Grid, SlidingResponse};
 

@@ -8,8 +8,8 @@
 //! analytic in a Bernstein ellipse of parameter > 8 in each variable, so the
 //! rule is exact to below 1e-20 and the sum carries ~1e-16 relative error.
 
-use viscoslide::kernel::love::{LoveRect, SWITCH};
-use viscoslide::kernel::quad::gauss_legendre;
+use viscoslide::internals::kernel::love::{LoveRect, SWITCH};
+use viscoslide::internals::kernel::quad::gauss_legendre;
 
 fn reference(x: f64, y: f64, ax: f64, ay: f64) -> f64 {
     let (g, w) = gauss_legendre(24);

@@ -1,9 +1,9 @@
 //! Finite thickness (paper Eq. 5; physics.md section 3): `S(qh)` limits,
 //! `Theta(r/h)` tabulation, and coefficients for layers.
 
-use viscoslide::kernel::thickness::theta_direct;
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::kernel::ThetaTable;
+use viscoslide::internals::kernel::thickness::theta_direct;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::kernel::ThetaTable;
 use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::response::layer::compliance_ratio;
 use viscoslide::response::{Grid, Layer, LayerBase, LayerConfig, SlidingResponse};
@@ -81,7 +81,7 @@ fn theta_is_one_near_the_load_and_decays_far() {
 /// independent check of the Hankel-transform normalisation of Eq. 5.
 #[test]
 fn theta_integral_equals_the_long_wave_compliance() {
-    let (g, w) = viscoslide::kernel::quad::gauss_legendre(8);
+    let (g, w) = viscoslide::internals::kernel::quad::gauss_legendre(8);
     let nu: f64 = 0.3;
     for (base, want) in [
         (LayerBase::Frictionless, 0.5),

@@ -9,15 +9,15 @@ use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 use std::time::Instant;
 
 use common::*;
-use viscoslide::analysis::friction::friction_force_dissipation_thin_law;
-use viscoslide::analysis::friction_force_stencil;
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{Axis, SlidingKernel, ThetaTable, THIN_RATIO_MIN};
-use viscoslide::material::{CreepSpectrum, Material};
-use viscoslide::operator::{
+use viscoslide::internals::analysis::friction::friction_force_dissipation_thin_law;
+use viscoslide::internals::analysis::friction_force_stencil;
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::{Axis, SlidingKernel, ThetaTable, THIN_RATIO_MIN};
+use viscoslide::internals::operator::{
     GridOperator, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
 };
-use viscoslide::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::material::{CreepSpectrum, Material};
 
 fn material(nu: f64) -> Material {
     Material::new(

@@ -8,10 +8,10 @@
 use std::path::Path;
 
 use viscoslide::config;
+use viscoslide::internals::solver::Silent;
 use viscoslide::persson::{Persson, PerssonParams};
 use viscoslide::problem::persson::theory_inputs;
 use viscoslide::problem::{Executor, Problem};
-use viscoslide::solver::Silent;
 
 /// An SLS rubber with WLF constants `C1 = 8.86`, `C2 = 101.6 K`, `T_ref =
 /// 17 C` on a small generated surface; `FORMULATION`, `SPEED` and the

@@ -6,18 +6,18 @@
 //! solution; and a solve that cannot converge still fails loudly.
 
 use crate::common;
-use viscoslide::operator::PeriodicResponse;
+use viscoslide::internals::operator::PeriodicResponse;
 use viscoslide::response::{Grid, SlidingResponse};
 
 use common::*;
 use faer::Mat;
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::operator::{
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::{
     DenseOperator, GridOperator, OffsetTable, SpectralPeriodic, ToeplitzFft,
 };
-use viscoslide::solver::cascade::{cascade_shapes, restrict_mean};
-use viscoslide::solver::{
+use viscoslide::internals::solver::cascade::{cascade_shapes, restrict_mean};
+use viscoslide::internals::solver::{
     self, reference, CascadeLevel, ContactSolution, Control, SolveInfo, SolverError, SolverParams,
     WarmStart,
 };

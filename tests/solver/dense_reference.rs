@@ -8,10 +8,10 @@ use viscoslide::response::{Grid, SlidingResponse};
 use common::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::operator::{DenseOperator, GridOperator, OffsetTable, ToeplitzFft};
-use viscoslide::solver::{self, reference, Control, SolverParams};
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::{DenseOperator, GridOperator, OffsetTable, ToeplitzFft};
+use viscoslide::internals::solver::{self, reference, Control, SolverParams};
 
 #[test]
 fn fft_operator_matches_dense_on_random_vectors() {

@@ -10,10 +10,12 @@
 use crate::common;
 use viscoslide::response::{Grid, SlidingResponse};
 
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
-use viscoslide::solver::{self, ContactSolution, Control, SolveInfo, SolverError, SolverParams};
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::{GridOperator, OffsetTable, ToeplitzFft};
+use viscoslide::internals::solver::{
+    self, ContactSolution, Control, SolveInfo, SolverError, SolverParams,
+};
 
 struct Inconsistent {
     exact: ToeplitzFft,

@@ -6,10 +6,10 @@ use crate::common;
 use viscoslide::response::{Grid, SlidingResponse};
 
 use common::*;
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{Axis, SlidingKernel};
-use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
-use viscoslide::solver::{self, Control, SolverParams};
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::{Axis, SlidingKernel};
+use viscoslide::internals::operator::{GridOperator, OffsetTable, ToeplitzFft};
+use viscoslide::internals::solver::{self, Control, SolverParams};
 
 /// Friction force per unit area of a sinusoidal texture `g = h0 cos(k x)`
 /// in full contact on a square pad of `n x n` cells of side `a`: in full

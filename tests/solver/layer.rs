@@ -5,11 +5,11 @@ use crate::common;
 use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 
 use common::*;
-use viscoslide::analysis;
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::{Axis, SlidingKernel};
-use viscoslide::operator::{OffsetTable, ToeplitzFft};
-use viscoslide::solver::{self, Control, SolverParams};
+use viscoslide::internals::analysis;
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::{Axis, SlidingKernel};
+use viscoslide::internals::operator::{OffsetTable, ToeplitzFft};
+use viscoslide::internals::solver::{self, Control, SolverParams};
 
 #[test]
 fn bonded_layer_is_stiffer_and_friction_routes_agree() {

@@ -9,11 +9,11 @@
 use std::path::Path;
 use viscoslide::response::{Grid, SlidingResponse};
 
-use viscoslide::backend::{Backend, CpuBackend};
 use viscoslide::config;
-use viscoslide::operator::{GridOperator, PeriodicResponse, SpectralPeriodic};
+use viscoslide::internals::backend::{Backend, CpuBackend};
+use viscoslide::internals::operator::{GridOperator, PeriodicResponse, SpectralPeriodic};
+use viscoslide::internals::solver::Silent;
 use viscoslide::problem::{Executor, Problem, Solution};
-use viscoslide::solver::Silent;
 
 const BASE: &str = r#"
 [material]

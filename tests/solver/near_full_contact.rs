@@ -9,10 +9,12 @@ use crate::common;
 use viscoslide::response::{Grid, SlidingResponse};
 
 use common::*;
-use viscoslide::backend::CpuBackend;
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::operator::{DenseOperator, GridOperator, OffsetTable, ToeplitzFft, CHAN_FRACTION};
-use viscoslide::solver::{self, reference, Control, SolveInfo, SolverParams};
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::{
+    DenseOperator, GridOperator, OffsetTable, ToeplitzFft, CHAN_FRACTION,
+};
+use viscoslide::internals::solver::{self, reference, Control, SolveInfo, SolverParams};
 
 const LENGTH: f64 = 0.01;
 /// xi = v tau / L = 1.17e-2 (the friction peak of `configs/default.toml`).

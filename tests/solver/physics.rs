@@ -3,7 +3,7 @@
 use crate::common;
 
 use common::*;
-use viscoslide::solver::Control;
+use viscoslide::internals::solver::Control;
 
 /// Hertz: a sphere of radius `r` pressed with load `f` on a half-space of
 /// plane-strain modulus `e_star`: contact radius and peak pressure.

@@ -4,8 +4,8 @@
 //! solve.
 
 use viscoslide::config::{self, LoadingConfig, SolverConfig};
+use viscoslide::internals::solver::{Control, Observer, Silent, SolverError};
 use viscoslide::problem::{Executor, Problem};
-use viscoslide::solver::{Control, Observer, Silent, SolverError};
 use viscoslide::Error;
 
 const CONFIG: &str = r#"

@@ -14,12 +14,12 @@
 //! of the operator is positive definite on the zero-mean fields, and the
 //! load row fixes the mean).
 
-use viscoslide::backend::CpuBackend;
 use viscoslide::config;
-use viscoslide::operator::{PeriodicResponse, SpectralPeriodic};
+use viscoslide::internals::backend::CpuBackend;
+use viscoslide::internals::operator::{PeriodicResponse, SpectralPeriodic};
+use viscoslide::internals::solver::{self, Control, SolverParams};
 use viscoslide::problem::{Executor, Problem};
 use viscoslide::response::Grid;
-use viscoslide::solver::{self, Control, SolverParams};
 
 /// The base case: `configs/default.toml`'s material with
 /// `E0 = 1.9e5`, `E_inf = 1.6e7` (`E_inf / E0 = 84`), 64^2 cells,
@@ -202,7 +202,7 @@ speed = 1.1178211215202602e-08
 /// and the load.
 #[test]
 fn non_periodic_random_prony_case_converges() {
-    use viscoslide::operator::{GridOperator, OffsetTable, ToeplitzFft};
+    use viscoslide::internals::operator::{GridOperator, OffsetTable, ToeplitzFft};
     let problem = problem(RANDOM_PRONY);
     let solution = problem
         .solve(&Executor::Cpu, &mut solver::Silent)

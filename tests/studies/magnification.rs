@@ -11,11 +11,11 @@ use std::process::Command;
 use num_complex::Complex64;
 use serde_json::Value;
 use viscoslide::config;
+use viscoslide::internals::solver::Silent;
 use viscoslide::magnification::{
     self, LevelResult, LevelSpec, LevelSurface, MagnificationParams, Quiet, Study,
 };
 use viscoslide::problem::{Executor, Problem, Solution};
-use viscoslide::solver::Silent;
 use viscoslide::surface::{generate_with_target, HeightMap};
 use viscoslide::sweep::Shard;
 

@@ -486,7 +486,7 @@ fn a_surface_synthesised_from_a_table_uses_the_table() {
     // Block means of the fine map against the coarse map: equal up to the
     // modes beyond the coarse band (small on this steep spectrum).
     let (hc, hf) = (h(&coarse), h(&fine));
-    let restricted = viscoslide::solver::cascade::restrict_mean(&hf, 128, 128);
+    let restricted = viscoslide::internals::solver::cascade::restrict_mean(&hf, 128, 128);
     let rms = (hc.iter().map(|v| v * v).sum::<f64>() / hc.len() as f64).sqrt();
     let diff = (hc
         .iter()

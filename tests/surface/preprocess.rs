@@ -162,7 +162,7 @@ fn without_detrending_the_psd_slope_disagrees_and_is_warned_about() {
     let s = p
         .solve(
             &viscoslide::problem::Executor::Cpu,
-            &mut viscoslide::solver::Silent,
+            &mut viscoslide::internals::solver::Silent,
         )
         .unwrap();
     assert!(s.warnings.contains(&w), "{:?}", s.warnings);

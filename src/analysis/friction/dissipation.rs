@@ -13,7 +13,7 @@
 //! field on `nx x ny` cells of side `a`, discrete Parseval turns the
 //! friction stencil `F_T = a^2 sum_n p_n (D p)_n` (paper Eq. 9 with the
 //! spectral slope operator of
-//! [`crate::operator::SpectralPeriodic::sliding_slope`]) into the mode sum
+//! [`crate::operator::SpectralPeriodic`] with [`crate::operator::PeriodicResponse::SlidingSlope`]) into the mode sum
 //!
 //! `F_T = (a^2 / N) sum_q |P(q)|^2 Re[i q_v m(q)]
 //!      = (a^2 / N) sum_q |P(q)|^2 (-q_v) 2 (1 - nu^2) S(|q| h) Im J*(-q.v) / |q|`,

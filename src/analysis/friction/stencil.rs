@@ -4,7 +4,7 @@
 //! On a non-periodic grid `D` is the derivative table of [`crate::kernel`],
 //! whose elastic (`1/E_inf`) part is antisymmetric, so it contributes
 //! exactly nothing; on a periodic cell it is the spectral slope
-//! [`crate::operator::SpectralPeriodic::sliding_slope`].
+//! [`crate::operator::SpectralPeriodic`] with [`crate::operator::PeriodicResponse::SlidingSlope`].
 
 use crate::operator::{GridOperator, GridWork};
 

@@ -41,7 +41,7 @@ pub enum SurfaceCommand {
     Convert(ConvertArgs),
     /// Resample a height map to another pixel size (e.g. square pixels from
     /// a scan with non-square ones) by bicubic spline or Fourier
-    /// interpolation; writes heights.<ext> and resample.json into --out.
+    /// interpolation; writes `heights.<ext>` and `resample.json` into --out.
     Resample(Box<ResampleArgs>),
     /// Stitch the PSDs of several scans of one surface (maps or PSD CSVs);
     /// writes psd.csv, psd.png and stitch.json into --out.

@@ -45,7 +45,7 @@ pub struct ResampleArgs {
     /// Write .npy as float32.
     #[arg(long)]
     pub f32: bool,
-    /// Output directory (heights.<ext> and resample.json).
+    /// Output directory (`heights.<ext>` and `resample.json`).
     #[arg(long)]
     pub out: PathBuf,
 }

@@ -14,12 +14,12 @@ use crate::common;
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use viscoslide::backend::gpu::adaptive::pair_coefficients;
-use viscoslide::backend::gpu::engine::Engine;
-use viscoslide::backend::gpu::{GpuBackend, GpuLevelTables};
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::mesh::QuadMesh;
-use viscoslide::operator::{AdaptiveOperator, GridOperator, LevelTables};
+use viscoslide::internals::backend::gpu::adaptive::pair_coefficients;
+use viscoslide::internals::backend::gpu::engine::Engine;
+use viscoslide::internals::backend::gpu::{GpuBackend, GpuLevelTables};
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::mesh::QuadMesh;
+use viscoslide::internals::operator::{AdaptiveOperator, GridOperator, LevelTables};
 
 /// Level tables and the level matvec of a 52 x 52 quadtree (levels 0-2:
 /// fine cells but for a 16 x 16 block of level-1 and one of level-2
@@ -174,7 +174,7 @@ fn split_pair_coefficients_equal_unsplit() {
 /// (lavapipe: 32) when it has fewer than the 49 the level-0 kernel needs.
 #[test]
 fn adaptive_arrays_beyond_the_limits_are_refused_clearly() {
-    use viscoslide::backend::gpu::GpuError;
+    use viscoslide::internals::backend::gpu::GpuError;
     let Some(ctx) = crate::common::gpu_context_with_limits(Some(16 << 10), Some(256 << 10)) else {
         return;
     };

@@ -16,16 +16,18 @@ use viscoslide::response::{Grid, SlidingResponse};
 mod adaptive;
 mod radix2;
 
-use viscoslide::backend::gpu::engine::{Engine, Kernel};
-use viscoslide::backend::gpu::fft::check_device;
-use viscoslide::backend::gpu::fft_plan::Path as FftPath;
-use viscoslide::backend::gpu::{self, coefficients, FftChoice, GpuBackend, GpuError, GpuOptions};
-use viscoslide::backend::gpu::{shaders, split};
-use viscoslide::backend::{Backend, CpuBackend};
-use viscoslide::kernel::SlidingKernel;
-use viscoslide::operator::{OffsetTable, ToeplitzFft};
+use viscoslide::internals::backend::gpu::engine::{Engine, Kernel};
+use viscoslide::internals::backend::gpu::fft::check_device;
+use viscoslide::internals::backend::gpu::fft_plan::Path as FftPath;
+use viscoslide::internals::backend::gpu::{
+    self, coefficients, FftChoice, GpuBackend, GpuError, GpuOptions,
+};
+use viscoslide::internals::backend::gpu::{shaders, split};
+use viscoslide::internals::backend::{Backend, CpuBackend};
+use viscoslide::internals::kernel::SlidingKernel;
+use viscoslide::internals::operator::{OffsetTable, ToeplitzFft};
+use viscoslide::internals::solver::Silent;
 use viscoslide::problem::{Executor, Problem};
-use viscoslide::solver::Silent;
 
 /// The binding limit of the split tests: 64 KiB, so that a 128^2 grid
 /// vector (64 KiB) still fits one binding while its padded FFT (`256 x

@@ -7,11 +7,13 @@ use super::{agreement, matvec_case, matvec_with, SMALL};
 use crate::common;
 use crate::conformance::paper_table;
 
-use viscoslide::backend::gpu::engine::Engine;
-use viscoslide::backend::gpu::fft_plan::Path as FftPath;
-use viscoslide::backend::gpu::{self, FftChoice, GpuBackend, GpuOptions, SpectrumPrecision};
-use viscoslide::backend::Backend;
-use viscoslide::solver;
+use viscoslide::internals::backend::gpu::engine::Engine;
+use viscoslide::internals::backend::gpu::fft_plan::Path as FftPath;
+use viscoslide::internals::backend::gpu::{
+    self, FftChoice, GpuBackend, GpuOptions, SpectrumPrecision,
+};
+use viscoslide::internals::backend::Backend;
+use viscoslide::internals::solver;
 
 /// The radix-2 matvec of a 128^2 grid under a 64 KiB binding: the complex
 /// `256 x 256` work buffers and the f32 spectrum (512 KiB) in eight
