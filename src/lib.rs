@@ -48,12 +48,16 @@
 //! # Layers
 //!
 //! Data flows one way: `config` -> `material` and `surface` -> `mesh` ->
-//! `kernel` (influence coefficients) -> `operator` -> `backend` -> `solver`
-//! -> `analysis` -> `problem` (the API) -> `sweep` and `refine` -> `magnification` -> `cli`; `io` and `plot`
-//! serve every layer. `persson` (Persson's theory, the analytic reference)
-//! needs only `material` and `surface`; `problem` builds its inputs from a
-//! configuration or a problem. `docs/ARCHITECTURE.md` says what each layer owns and
-//! may import; `tests/architecture.rs` keeps the imports pointing down.
+//! `response` (one sliding response on one grid) -> `kernel` (influence
+//! coefficients) -> `operator` -> `backend` -> `solver` -> `analysis` ->
+//! `problem` (the API) -> `sweep` and `refine` -> `magnification` -> `cli`;
+//! `io` and `plot` serve every layer. `persson` (Persson's theory, the
+//! analytic reference) needs only `material` and `surface`. The engine
+//! (`kernel`, `operator`, `backend`, `solver`, `mesh`, `analysis`, `gauss`,
+//! `plot`) is public only under [`internals`], for tests and benches;
+//! [`problem`] re-exports the engine types the API takes and returns.
+//! `docs/ARCHITECTURE.md` says what each layer owns and may import;
+//! `tests/architecture.rs` keeps the imports pointing down.
 
 pub mod config;
 pub mod error;
