@@ -24,7 +24,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use viscoslide::internals::backend::gpu::{FftChoice, GpuBackend, GpuContext, GpuOptions};
 use viscoslide::internals::backend::Backend;
 use viscoslide::internals::kernel::SlidingKernel;
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 
 fn ci() -> bool {
     std::env::var_os("CI").is_some()
@@ -141,11 +141,9 @@ fn bench_solve(c: &mut Criterion) {
             b.iter(|| {
                 let (sol, info) = solver::solve(
                     &mut be,
-                    black_box(&g),
-                    a * a,
-                    l00,
-                    Control::Load(load),
+                    ContactProblem::new(black_box(&g), a * a, l00, Control::Load(load)),
                     &SolverParams::default(),
+                    None,
                     &mut solver::Silent,
                 )
                 .unwrap();

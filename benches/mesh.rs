@@ -20,7 +20,7 @@ use viscoslide::internals::mesh::QuadMesh;
 use viscoslide::internals::operator::{
     AdaptiveOperator, GridOperator, LevelTables, OffsetTable, ToeplitzFft,
 };
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 use viscoslide::problem::adaptive::{self, AdaptiveParams};
 
 const SPEED: f64 = 1.17e-2; // xi = v tau / L = 1.17e-2 with tau = 0.01 s, L = 0.01 m
@@ -48,17 +48,14 @@ fn adaptive_solve(tables: &Arc<LevelTables>, g: &[f64]) -> adaptive::AdaptiveSol
         1e-8,
         |m, gm, start, tol| {
             let mut be = CpuBackend::new(AdaptiveOperator::new(tables.clone(), m));
-            solver::solve_from(
+            solver::solve(
                 &mut be,
-                gm,
-                a * a,
-                l00,
-                Control::Load(LOAD),
+                ContactProblem::new(gm, a * a, l00, Control::Load(LOAD)),
                 &SolverParams {
                     tolerance: tol,
                     ..Default::default()
                 },
-                start,
+                (start).cloned(),
                 &mut solver::Silent,
             )
         },
@@ -133,11 +130,9 @@ fn bench_solves(c: &mut Criterion) {
                 black_box(
                     solver::solve(
                         &mut be,
-                        &g,
-                        a * a,
-                        tab.get(0, 0),
-                        Control::Load(LOAD),
+                        ContactProblem::new(&g, a * a, tab.get(0, 0), Control::Load(LOAD)),
                         &SolverParams::default(),
+                        None,
                         &mut solver::Silent,
                     )
                     .unwrap(),

@@ -15,7 +15,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use viscoslide::internals::backend::CpuBackend;
 use viscoslide::internals::kernel::SlidingKernel;
 use viscoslide::internals::operator::{GridOperator, OffsetTable, SpectralPeriodic, ToeplitzFft};
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 
 fn bench(c: &mut Criterion) {
     let m = material();
@@ -64,11 +64,9 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 let r = solver::solve(
                     &mut be,
-                    &g,
-                    a * a,
-                    l00,
-                    Control::Load(0.3),
+                    ContactProblem::new(&g, a * a, l00, Control::Load(0.3)),
                     &SolverParams::default(),
+                    None,
                     &mut solver::Silent,
                 )
                 .unwrap();

@@ -12,7 +12,7 @@ use viscoslide::response::{Grid, SlidingResponse};
 
 use viscoslide::internals::backend::CpuBackend;
 use viscoslide::internals::operator::SpectralPeriodic;
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 use viscoslide::io::npy;
 use viscoslide::material::{CreepSpectrum, Material};
 
@@ -55,11 +55,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut be = CpuBackend::new(op);
         let (sol, info) = solver::solve(
             &mut be,
-            &g,
-            a * a,
-            l00,
-            Control::Load(p0 * length * length),
+            ContactProblem::new(&g, a * a, l00, Control::Load(p0 * length * length)),
             &params,
+            None,
             &mut solver::Silent,
         )?;
         let seconds = start.elapsed().as_secs_f64();

@@ -76,10 +76,7 @@ impl Problem {
         // solve at the full tolerance stalls.
         let full = solver::solve_full_contact(
             &mut backend,
-            &flat,
-            ax * ay,
-            l00,
-            Control::Load(load),
+            &solver::ContactProblem::new(&flat, ax * ay, l00, Control::Load(load)),
             &params,
         );
         let spent = match &full {
@@ -92,11 +89,9 @@ impl Problem {
             _ => {
                 let (s, i) = solver::solve(
                     &mut backend,
-                    &flat,
-                    ax * ay,
-                    l00,
-                    Control::Load(load),
+                    solver::ContactProblem::new(&flat, ax * ay, l00, Control::Load(load)),
                     &params,
+                    None,
                     &mut Silent,
                 )?;
                 (s, spent + i.matvecs, "constrained")

@@ -171,12 +171,9 @@ impl Problem {
             tolerance,
             ..self.solver_params()
         };
-        solver::solve_owned(
+        solver::solve(
             backend,
-            g,
-            self.surface.cell_area(),
-            l00,
-            self.control,
+            solver::ContactProblem::new(g, self.surface.cell_area(), l00, self.control),
             &params,
             start,
             observer,

@@ -1,5 +1,5 @@
 //! The primal-dual active-set iteration (semismooth Newton) of
-//! [`solve_from`], with its inner Krylov solves on the bordered contact-set
+//! [`solve`], with its inner Krylov solves on the bordered contact-set
 //! system (module docs of [`super`]).
 
 use super::gmres::{gmres, AugOperator, AugVec, GmresWork};
@@ -7,10 +7,10 @@ use super::initial_guess::initial_guess;
 use super::inner_mode::InnerMode;
 use super::line_search::{update_set, Previous};
 use super::{
-    check_problem, tolerances, ContactSolution, Control, Observer, SolveInfo, SolverError,
-    SolverParams, WarmStart, FAST_FALL, FLOOR_TOGGLES, INNER_FLOOR, PRECONDITIONED_BUDGET,
-    ROUNDING_FLOOR, STAGNANT_ACCEPT, STAGNANT_ITERATIONS, STAGNATION, STALL_ABOVE, STALL_CYCLES,
-    STALL_GAIN, STALL_ITERATIONS,
+    check_problem, tolerances, ContactProblem, ContactSolution, Control, Observer, SolveInfo,
+    SolverError, SolverParams, WarmStart, FAST_FALL, FLOOR_TOGGLES, INNER_FLOOR,
+    PRECONDITIONED_BUDGET, ROUNDING_FLOOR, STAGNANT_ACCEPT, STAGNANT_ITERATIONS, STAGNATION,
+    STALL_ABOVE, STALL_CYCLES, STALL_GAIN, STALL_ITERATIONS,
 };
 use crate::backend::Backend;
 
@@ -188,46 +188,26 @@ impl<B: Backend> AugOperator<B> for Bordered<'_, B> {
     }
 }
 
-/// [`super::solve`] from a warm start (`None`: the bearing-area guess of
-/// [`super::solve`]). The start only changes the path, not the solution.
-#[allow(clippy::too_many_arguments)]
-pub fn solve_from<B: Backend>(
-    backend: &mut B,
-    g: &[f64],
-    cell_area: f64,
-    self_coefficient: f64,
-    control: Control,
-    params: &SolverParams,
-    start: Option<&WarmStart>,
-    observer: &mut dyn Observer,
-) -> Result<(ContactSolution, SolveInfo), SolverError> {
-    solve_owned(
-        backend,
-        g.to_vec(),
-        cell_area,
-        self_coefficient,
-        control,
-        params,
-        start.cloned(),
-        observer,
-    )
-}
-
-/// [`solve_from`] taking the gap profile and the start by value: the
-/// start's host vectors are freed once uploaded, and the profile becomes
+/// Solve `problem` on `backend` (paper Eq. 7 with the constraints of
+/// physics.md section 4), from a warm start or (`None`) the bearing-area
+/// guess. The start only changes the path, not the solution. The start's
+/// host vectors are freed once uploaded, and an owned gap profile becomes
 /// the iteration's vector (on the CPU without a copy; on the largest grids
 /// each is hundreds of MB).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn solve_owned<B: Backend>(
+pub fn solve<B: Backend>(
     backend: &mut B,
-    g: Vec<f64>,
-    cell_area: f64,
-    self_coefficient: f64,
-    control: Control,
+    problem: ContactProblem<'_>,
     params: &SolverParams,
     start: Option<WarmStart>,
     observer: &mut dyn Observer,
 ) -> Result<(ContactSolution, SolveInfo), SolverError> {
+    let ContactProblem {
+        gap,
+        cell_area,
+        self_coefficient,
+        control,
+    } = problem;
+    let g = gap.into_owned();
     let n = backend.grid_len();
     check_problem(&g, n, cell_area, self_coefficient, control)?;
     let stiffness = 1.0 / self_coefficient;

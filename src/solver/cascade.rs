@@ -14,8 +14,11 @@
 
 use serde::Serialize;
 
-use super::active_set::solve_owned;
-use super::{ContactSolution, Control, Observer, SolveInfo, SolverError, SolverParams, WarmStart};
+use super::active_set::solve;
+use super::{
+    ContactProblem, ContactSolution, Control, Observer, SolveInfo, SolverError, SolverParams,
+    WarmStart,
+};
 use crate::backend::Backend;
 
 /// One grid of a cascade, built by the caller.
@@ -171,12 +174,15 @@ where
                 ..params.clone()
             }
         };
-        let (solution, info) = solve_owned(
-            &mut level.backend,
+        let problem = ContactProblem::new(
             std::mem::take(&mut level.gap),
             level.cell_area,
             level.self_coefficient,
             control,
+        );
+        let (solution, info) = solve(
+            &mut level.backend,
+            problem,
             &level_params,
             warm.take(),
             observer,

@@ -4,7 +4,8 @@
 use super::active_set::Bordered;
 use super::gmres::{gmres, AugVec, GmresWork};
 use super::{
-    check_problem, tolerances, ContactSolution, Control, SolveInfo, SolverError, SolverParams,
+    check_problem, tolerances, ContactProblem, ContactSolution, Control, SolveInfo, SolverError,
+    SolverParams,
 };
 use crate::backend::Backend;
 
@@ -15,12 +16,15 @@ use crate::backend::Backend;
 /// `Control::Load(0.0)` it gives the pure response to the profile `g`.
 pub fn solve_full_contact<B: Backend>(
     backend: &mut B,
-    g: &[f64],
-    cell_area: f64,
-    self_coefficient: f64,
-    control: Control,
+    problem: &ContactProblem<'_>,
     params: &SolverParams,
 ) -> Result<(ContactSolution, SolveInfo), SolverError> {
+    let (g, cell_area, self_coefficient, control) = (
+        &problem.gap[..],
+        problem.cell_area,
+        problem.self_coefficient,
+        problem.control,
+    );
     let n = backend.grid_len();
     check_problem(g, n, cell_area, self_coefficient, control)?;
     let mask = backend.mask_from(&vec![1.0; n]);

@@ -24,7 +24,7 @@
 //!   with the restriction to `I` of an approximate inverse of `L` (the
 //!   spectral stiffness; operator preconditioning of a first-kind integral
 //!   equation), bordered by its Schur complement for the load row
-//!   ([`solve_from`]); their iteration counts then barely grow with the
+//!   ([`solve`]); their iteration counts then barely grow with the
 //!   resolution of the contact spots;
 //! - inexact Newton: each outer iteration reduces its inner residual by a
 //!   fixed factor relative to its warm start (1e-2 while the set moves a
@@ -35,7 +35,7 @@
 //!   its solution (instead of a bearing-area guess some 70 times too large
 //!   on many-scale surfaces).
 //!
-//! Written once against [`Backend`]: every vector stays in backend storage;
+//! Written once against [`crate::backend::Backend`]: every vector stays in backend storage;
 //! the host sees only scalars and, once per outer iteration, two counts.
 
 mod active_set;
@@ -47,12 +47,12 @@ mod inner_mode;
 mod line_search;
 pub mod reference;
 
-pub use active_set::solve_from;
-pub(crate) use active_set::solve_owned;
+pub use active_set::solve;
 pub use cascade::{solve_cascade, CascadeLevel, LevelInfo};
 pub use full_contact::solve_full_contact;
 
-use crate::backend::Backend;
+use std::borrow::Cow;
+
 pub use crate::config::Precision;
 
 /// What is prescribed.
@@ -68,7 +68,7 @@ pub enum Control {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolverParams {
     /// Relative complementarity residual to reach (default 1e-8). Clamped
-    /// to what the backend's arithmetic reaches ([`Backend::epsilon`]): in
+    /// to what the backend's arithmetic reaches ([`crate::backend::Backend::epsilon`]): in
     /// f32 the outer test accepts about `16 eps k |u| / |p|` (2.5e-5 on a
     /// 128 x 128 patch) and the inner solves stop at `16 eps`.
     pub tolerance: f64,
@@ -79,14 +79,14 @@ pub struct SolverParams {
     /// GMRES restart length.
     pub restart: usize,
     /// Right-precondition the inner solves with the backend's approximate
-    /// inverse of the operator where it has one ([`Backend::precondition`]).
+    /// inverse of the operator where it has one ([`crate::backend::Backend::precondition`]).
     pub precondition: bool,
     /// Grids of a coarse-to-fine cascade at most, the fine one included,
     /// for callers that run one ([`cascade::cascade_shapes`]; 1: none).
-    /// [`solve_from`] itself solves on one grid.
+    /// [`solve`] itself solves on one grid.
     pub cascade_levels: usize,
     /// Precision of the operator the caller builds (the solver follows the
-    /// backend: [`Backend::refines`]).
+    /// backend: [`crate::backend::Backend::refines`]).
     pub precision: Precision,
 }
 
@@ -114,11 +114,11 @@ pub struct SolveInfo {
     /// grid of a quarter of the cells counts 1/4), rounded up.
     pub matvecs: usize,
     /// Of `matvecs`, the f64 products of the GMRES restarts of mixed
-    /// precision (iterative refinement, [`Backend::refines`]; 0 in f64),
+    /// precision (iterative refinement, [`crate::backend::Backend::refines`]; 0 in f64),
     /// counted like `matvecs`.
     pub exact_matvecs: usize,
     /// Applications of the preconditioner (an approximate inverse of the
-    /// operator, [`Backend::precondition`]), counted like `matvecs`.
+    /// operator, [`crate::backend::Backend::precondition`]), counted like `matvecs`.
     pub preconditioner_applications: usize,
     /// Per grid of a cascade, coarse to fine (empty for a single grid).
     pub levels: Vec<LevelInfo>,
@@ -194,33 +194,39 @@ pub trait Observer {
 pub struct Silent;
 impl Observer for Silent {}
 
-/// Solve the contact problem for the gap profile `g` (>= 0, one value per
-/// cell) on a grid of square cells of area `cell_area`.
-///
-/// `self_coefficient` is `L_00` (the displacement of a cell under unit
-/// pressure on itself), used to scale gaps into pressures.
-pub fn solve<B: Backend>(
-    backend: &mut B,
-    g: &[f64],
-    cell_area: f64,
-    self_coefficient: f64,
-    control: Control,
-    params: &SolverParams,
-    observer: &mut dyn Observer,
-) -> Result<(ContactSolution, SolveInfo), SolverError> {
-    solve_from(
-        backend,
-        g,
-        cell_area,
-        self_coefficient,
-        control,
-        params,
-        None,
-        observer,
-    )
+/// One contact problem as the solver takes it (physics.md section 4): the
+/// gap profile `g >= 0` \[m\] (one value per cell, in the backend's cell
+/// order; borrowed, or owned to become the iteration's vector without a
+/// copy), the cell area \[m^2\] of the load constraint, `L_00` (the
+/// displacement of a cell under unit pressure on itself \[m/Pa\], which
+/// scales gaps into pressures) and what is prescribed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactProblem<'a> {
+    pub gap: Cow<'a, [f64]>,
+    pub cell_area: f64,
+    pub self_coefficient: f64,
+    pub control: Control,
 }
 
-/// A starting point for [`solve_from`]: a previous solution's contact set,
+impl<'a> ContactProblem<'a> {
+    /// The problem of `gap` on cells of area `cell_area` with `L_00 =
+    /// self_coefficient`, under `control`.
+    pub fn new(
+        gap: impl Into<Cow<'a, [f64]>>,
+        cell_area: f64,
+        self_coefficient: f64,
+        control: Control,
+    ) -> Self {
+        Self {
+            gap: gap.into(),
+            cell_area,
+            self_coefficient,
+            control,
+        }
+    }
+}
+
+/// A starting point for [`solve`]: a previous solution's contact set,
 /// pressure and approach (e.g. on a refined mesh).
 #[derive(Debug, Clone, PartialEq)]
 pub struct WarmStart {

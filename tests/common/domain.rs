@@ -6,7 +6,7 @@ use viscoslide::internals::analysis::{friction_force_periodic, friction_force_st
 use viscoslide::internals::backend::CpuBackend;
 use viscoslide::internals::operator::PeriodicResponse;
 use viscoslide::internals::operator::SpectralPeriodic;
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 use viscoslide::response::{Grid, SlidingResponse};
 
 pub const LENGTH: f64 = 0.01;
@@ -39,11 +39,9 @@ pub fn periodic(z: &[f64], n: usize, speed: f64, p0: f64) -> Outcome {
     let load = p0 * LENGTH * LENGTH;
     let (sol, _) = solver::solve(
         &mut be,
-        &super::gap_of(z),
-        a * a,
-        l00,
-        Control::Load(load),
+        ContactProblem::new(super::gap_of(z), a * a, l00, Control::Load(load)),
         &SolverParams::default(),
+        None,
         &mut solver::Silent,
     )
     .unwrap();

@@ -9,7 +9,9 @@ use rand_chacha::ChaCha8Rng;
 use viscoslide::internals::backend::CpuBackend;
 use viscoslide::internals::kernel::SlidingKernel;
 use viscoslide::internals::operator::{OffsetTable, ToeplitzFft};
-use viscoslide::internals::solver::{self, ContactSolution, Control, SolveInfo, SolverParams};
+use viscoslide::internals::solver::{
+    self, ContactProblem, ContactSolution, Control, SolveInfo, SolverParams,
+};
 use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::response::{Grid, SlidingResponse};
 
@@ -117,11 +119,9 @@ pub fn solve_grid(
     let mut be = CpuBackend::new(ToeplitzFft::new(tab));
     let (sol, info) = solver::solve(
         &mut be,
-        &gap_of(heights),
-        a * a,
-        tab.get(0, 0),
-        control,
+        ContactProblem::new(gap_of(heights), a * a, tab.get(0, 0), control),
         &SolverParams::default(),
+        None,
         &mut solver::Silent,
     )
     .unwrap();
@@ -155,11 +155,9 @@ impl RoughPatch {
     ) -> (ContactSolution, SolveInfo) {
         solver::solve(
             backend,
-            &self.gap,
-            self.a * self.a,
-            self.l00,
-            self.control,
+            ContactProblem::new(&self.gap, self.a * self.a, self.l00, self.control),
             &SolverParams::default(),
+            None,
             &mut solver::Silent,
         )
         .unwrap()

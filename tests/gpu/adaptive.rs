@@ -22,7 +22,7 @@ use viscoslide::internals::backend::gpu::{shaders, GpuBackend};
 use viscoslide::internals::backend::{Backend, CpuBackend};
 use viscoslide::internals::kernel::SlidingKernel;
 use viscoslide::internals::operator::GridOperator;
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 use viscoslide::material::Material;
 
 /// Finest cell side [m].
@@ -421,11 +421,9 @@ fn adaptive_solve_matches_dense_cpu() {
         let mut cpu = CpuBackend::new(DenseCells { n, m: mat });
         let (sc, ic) = solver::solve(
             &mut cpu,
-            &g,
-            A * A,
-            self_coefficient,
-            control,
+            ContactProblem::new(&g, A * A, self_coefficient, control),
             &sp,
+            None,
             &mut solver::Silent,
         )
         .unwrap();
@@ -435,11 +433,9 @@ fn adaptive_solve_matches_dense_cpu() {
         let t1 = Instant::now();
         let (sg, ig) = solver::solve(
             &mut be,
-            &g,
-            A * A,
-            self_coefficient,
-            control,
+            ContactProblem::new(&g, A * A, self_coefficient, control),
             &sp,
+            None,
             &mut solver::Silent,
         )
         .unwrap();

@@ -15,7 +15,7 @@ use viscoslide::internals::mesh::QuadMesh;
 use viscoslide::internals::operator::{
     AdaptiveOperator, GridOperator, LevelTables, OffsetTable, ToeplitzFft,
 };
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 use viscoslide::material::Material;
 use viscoslide::problem::adaptive::{self, AdaptiveParams};
 use viscoslide::problem::{Executor, Problem};
@@ -260,17 +260,14 @@ fn an_unsettled_mesh_is_refused() {
         1e-8,
         |m, g, start, tol| {
             let mut be = CpuBackend::new(AdaptiveOperator::new(tables.clone(), m));
-            solver::solve_from(
+            solver::solve(
                 &mut be,
-                g,
-                a * a,
-                l00,
-                Control::Load(0.30),
+                ContactProblem::new(g, a * a, l00, Control::Load(0.30)),
                 &SolverParams {
                     tolerance: tol,
                     ..Default::default()
                 },
-                start,
+                (start).cloned(),
                 &mut solver::Silent,
             )
         },
@@ -383,11 +380,9 @@ fn mixed_mesh_solve_matches_the_dense_direct_solve() {
     let mut be = CpuBackend::new(op);
     let (sol, _) = solver::solve(
         &mut be,
-        &g,
-        a * a,
-        l00,
-        control,
+        ContactProblem::new(&g, a * a, l00, control),
         &SolverParams::default(),
+        None,
         &mut solver::Silent,
     )
     .unwrap();

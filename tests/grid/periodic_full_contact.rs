@@ -17,7 +17,7 @@ use viscoslide::internals::analysis::{
 use viscoslide::internals::backend::CpuBackend;
 use viscoslide::internals::kernel::SlidingKernel;
 use viscoslide::internals::operator::{GridOperator, OffsetTable, SpectralPeriodic, ToeplitzFft};
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 use viscoslide::material::Material;
 
 /// Solve the periodic full-contact problem for gap `g` at mean pressure `p0`
@@ -43,8 +43,12 @@ fn full_contact_mu(
         tolerance: 1e-11,
         ..Default::default()
     };
-    let (sol, _) =
-        solver::solve_full_contact(&mut be, g, a * a, l00, Control::Load(load), &params).unwrap();
+    let (sol, _) = solver::solve_full_contact(
+        &mut be,
+        &ContactProblem::new(g, a * a, l00, Control::Load(load)),
+        &params,
+    )
+    .unwrap();
     let mut d = SpectralPeriodic::new(
         &Grid::square(nx, ny, a).unwrap(),
         &SlidingResponse::new(material, speed, 0.0, None).unwrap(),

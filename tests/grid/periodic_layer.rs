@@ -17,7 +17,7 @@ use viscoslide::internals::kernel::SlidingKernel;
 use viscoslide::internals::operator::{
     periodic_multiplier, GridOperator, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
 };
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 use viscoslide::material::Material;
 use viscoslide::response::layer::compliance_ratio;
 
@@ -38,8 +38,12 @@ fn full_contact(
         tolerance: 1e-11,
         ..Default::default()
     };
-    let (sol, _) =
-        solver::solve_full_contact(&mut be, g, a * a, l00, Control::Load(load), &sp).unwrap();
+    let (sol, _) = solver::solve_full_contact(
+        &mut be,
+        &ContactProblem::new(g, a * a, l00, Control::Load(load)),
+        &sp,
+    )
+    .unwrap();
     let mut d = SpectralPeriodic::new(&grid, response, PeriodicResponse::SlidingSlope);
     let fs = friction_force_stencil(&mut d, &sol.pressure, a * a);
     let ff = friction_force_periodic(&sol.pressure, &grid, response);
@@ -119,11 +123,9 @@ fn thick_layer_is_the_half_space_in_the_periodic_cell() {
         let mut be = CpuBackend::new(op);
         let (sol, _) = solver::solve(
             &mut be,
-            &g,
-            a * a,
-            l00,
-            Control::Load(3e3 * length * length),
+            ContactProblem::new(&g, a * a, l00, Control::Load(3e3 * length * length)),
             &SolverParams::default(),
+            None,
             &mut solver::Silent,
         )
         .unwrap();

@@ -16,7 +16,7 @@ use viscoslide::internals::kernel::{Axis, SlidingKernel, ThetaTable, THIN_RATIO_
 use viscoslide::internals::operator::{
     GridOperator, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
 };
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 use viscoslide::material::{CreepSpectrum, Material};
 
 fn material(nu: f64) -> Material {
@@ -322,11 +322,9 @@ fn thin_bonded_incompressible_layer_solve_obeys_the_law() {
     };
     let (sol, info) = solver::solve(
         &mut be,
-        &g,
-        a * a,
-        tab.get(0, 0),
-        Control::Load(load),
+        ContactProblem::new(&g, a * a, tab.get(0, 0), Control::Load(load)),
         &params,
+        None,
         &mut solver::Silent,
     )
     .unwrap();
@@ -424,11 +422,9 @@ fn thin_frictionless_layer_solve_is_the_local_contact() {
     };
     let (sol, _) = solver::solve(
         &mut be,
-        &g,
-        a * a,
-        tab.get(0, 0),
-        Control::Load(load),
+        ContactProblem::new(&g, a * a, tab.get(0, 0), Control::Load(load)),
         &params,
+        None,
         &mut solver::Silent,
     )
     .unwrap();

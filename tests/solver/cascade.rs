@@ -18,8 +18,8 @@ use viscoslide::internals::operator::{
 };
 use viscoslide::internals::solver::cascade::{cascade_shapes, restrict_mean};
 use viscoslide::internals::solver::{
-    self, reference, CascadeLevel, ContactSolution, Control, SolveInfo, SolverError, SolverParams,
-    WarmStart,
+    self, reference, CascadeLevel, ContactProblem, ContactSolution, Control, SolveInfo,
+    SolverError, SolverParams, WarmStart,
 };
 
 const LENGTH: f64 = 0.01;
@@ -117,14 +117,11 @@ fn toeplitz_matches_from_far_starts(
     let mut starts = vec![None];
     starts.extend(far_starts(g, load, a * a, &set).into_iter().map(Some));
     for (k, start) in starts.iter().enumerate() {
-        let (sol, info) = solver::solve_from(
+        let (sol, info) = solver::solve(
             &mut be,
-            g,
-            a * a,
-            tab.get(0, 0),
-            control,
+            ContactProblem::new(g, a * a, tab.get(0, 0), control),
             &SolverParams::default(),
-            start.as_ref(),
+            (start.as_ref()).cloned(),
             &mut solver::Silent,
         )
         .unwrap();
@@ -202,14 +199,11 @@ fn preconditioned_periodic_matches_dense_from_far_starts() {
         let mut starts = vec![None];
         starts.extend(far_starts(&g, load, a * a, &set).into_iter().map(Some));
         for (k, start) in starts.iter().enumerate() {
-            let (sol, info) = solver::solve_from(
+            let (sol, info) = solver::solve(
                 &mut be,
-                &g,
-                a * a,
-                l00,
-                Control::Load(load),
+                ContactProblem::new(&g, a * a, l00, Control::Load(load)),
                 &SolverParams::default(),
-                start.as_ref(),
+                (start.as_ref()).cloned(),
                 &mut solver::Silent,
             )
             .unwrap();
@@ -314,11 +308,9 @@ fn periodic_cascade_equals_the_single_grid_solve() {
     let l00 = op.self_coefficient();
     let (single, _) = solver::solve(
         &mut CpuBackend::new(op),
-        &g,
-        a * a,
-        l00,
-        Control::Load(load),
+        ContactProblem::new(&g, a * a, l00, Control::Load(load)),
         &SolverParams::default(),
+        None,
         &mut solver::Silent,
     )
     .unwrap();

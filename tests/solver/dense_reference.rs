@@ -11,7 +11,7 @@ use rand_chacha::ChaCha8Rng;
 use viscoslide::internals::backend::CpuBackend;
 use viscoslide::internals::kernel::SlidingKernel;
 use viscoslide::internals::operator::{DenseOperator, GridOperator, OffsetTable, ToeplitzFft};
-use viscoslide::internals::solver::{self, reference, Control, SolverParams};
+use viscoslide::internals::solver::{self, reference, ContactProblem, Control, SolverParams};
 
 #[test]
 fn fft_operator_matches_dense_on_random_vectors() {
@@ -81,11 +81,9 @@ fn iterative_matches_dense_direct_across_the_friction_peak() {
             let mut be = CpuBackend::new(ToeplitzFft::new(tab));
             let (sol, info) = solver::solve(
                 &mut be,
-                &g,
-                a * a,
-                tab.get(0, 0),
-                Control::Load(load),
+                ContactProblem::new(&g, a * a, tab.get(0, 0), Control::Load(load)),
                 &SolverParams::default(),
+                None,
                 &mut solver::Silent,
             )
             .unwrap();

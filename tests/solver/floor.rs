@@ -14,7 +14,7 @@ use viscoslide::internals::backend::CpuBackend;
 use viscoslide::internals::kernel::SlidingKernel;
 use viscoslide::internals::operator::{GridOperator, OffsetTable, ToeplitzFft};
 use viscoslide::internals::solver::{
-    self, ContactSolution, Control, SolveInfo, SolverError, SolverParams,
+    self, ContactProblem, ContactSolution, Control, SolveInfo, SolverError, SolverParams,
 };
 
 struct Inconsistent {
@@ -110,11 +110,9 @@ fn solve_with<O: GridOperator + 'static>(
     }
     solver::solve(
         &mut be,
-        &g,
-        a * a,
-        l00,
-        Control::Load(0.05),
+        ContactProblem::new(&g, a * a, l00, Control::Load(0.05)),
         &params,
+        None,
         &mut solver::Silent,
     )
 }

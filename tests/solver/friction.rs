@@ -9,7 +9,7 @@ use common::*;
 use viscoslide::internals::backend::CpuBackend;
 use viscoslide::internals::kernel::{Axis, SlidingKernel};
 use viscoslide::internals::operator::{GridOperator, OffsetTable, ToeplitzFft};
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 
 /// Friction force per unit area of a sinusoidal texture `g = h0 cos(k x)`
 /// in full contact on a square pad of `n x n` cells of side `a`: in full
@@ -40,10 +40,7 @@ fn texture_friction(speed: f64, h0: f64, k: f64, p0: f64, n: usize, a: f64) -> (
     let params = SolverParams::default();
     let (tex, _) = solver::solve_full_contact(
         &mut be,
-        &g,
-        a * a,
-        tab.get(0, 0),
-        Control::Load(0.0),
+        &ContactProblem::new(&g, a * a, tab.get(0, 0), Control::Load(0.0)),
         &params,
     )
     .unwrap();
@@ -68,11 +65,9 @@ fn texture_friction(speed: f64, h0: f64, k: f64, p0: f64, n: usize, a: f64) -> (
     let load = p0 * (n * n) as f64 * a * a;
     let (sol, _) = solver::solve(
         &mut be,
-        &g,
-        a * a,
-        tab.get(0, 0),
-        Control::Load(load),
+        ContactProblem::new(&g, a * a, tab.get(0, 0), Control::Load(load)),
         &params,
+        None,
         &mut solver::Silent,
     )
     .unwrap();

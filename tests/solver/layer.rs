@@ -9,7 +9,7 @@ use viscoslide::internals::analysis;
 use viscoslide::internals::backend::CpuBackend;
 use viscoslide::internals::kernel::{Axis, SlidingKernel};
 use viscoslide::internals::operator::{OffsetTable, ToeplitzFft};
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 
 #[test]
 fn bonded_layer_is_stiffer_and_friction_routes_agree() {
@@ -39,11 +39,9 @@ fn bonded_layer_is_stiffer_and_friction_routes_agree() {
         let mut be = CpuBackend::new(ToeplitzFft::new(tab));
         let (sol, _) = solver::solve(
             &mut be,
-            &g,
-            a * a,
-            tab.get(0, 0),
-            Control::Load(load),
+            ContactProblem::new(&g, a * a, tab.get(0, 0), Control::Load(load)),
             &SolverParams::default(),
+            None,
             &mut solver::Silent,
         )
         .unwrap();

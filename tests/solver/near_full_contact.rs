@@ -14,7 +14,9 @@ use viscoslide::internals::kernel::SlidingKernel;
 use viscoslide::internals::operator::{
     DenseOperator, GridOperator, OffsetTable, ToeplitzFft, CHAN_FRACTION,
 };
-use viscoslide::internals::solver::{self, reference, Control, SolveInfo, SolverParams};
+use viscoslide::internals::solver::{
+    self, reference, ContactProblem, Control, SolveInfo, SolverParams,
+};
 
 const LENGTH: f64 = 0.01;
 /// xi = v tau / L = 1.17e-2 (the friction peak of `configs/default.toml`).
@@ -61,11 +63,9 @@ fn solve<O: GridOperator>(
     let mut be = CpuBackend::new(op);
     solver::solve(
         &mut be,
-        g,
-        a * a,
-        l00,
-        Control::Load(load),
+        ContactProblem::new(g, a * a, l00, Control::Load(load)),
         &SolverParams::default(),
+        None,
         &mut solver::Silent,
     )
     .unwrap()

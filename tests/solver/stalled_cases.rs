@@ -17,7 +17,7 @@
 use viscoslide::config;
 use viscoslide::internals::backend::CpuBackend;
 use viscoslide::internals::operator::{PeriodicResponse, SpectralPeriodic};
-use viscoslide::internals::solver::{self, Control, SolverParams};
+use viscoslide::internals::solver::{self, ContactProblem, Control, SolverParams};
 use viscoslide::problem::{Executor, Problem};
 use viscoslide::response::Grid;
 
@@ -119,10 +119,12 @@ fn converges_to_full_contact(name: &str, text: &str) {
     };
     let (full, _) = solver::solve_full_contact(
         &mut backend,
-        &problem.gap_profile(),
-        cell.0 * cell.1,
-        l00,
-        Control::Load(load),
+        &ContactProblem::new(
+            problem.gap_profile(),
+            cell.0 * cell.1,
+            l00,
+            Control::Load(load),
+        ),
         &params,
     )
     .unwrap();
