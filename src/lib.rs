@@ -52,7 +52,9 @@
 //! -> `analysis` -> `problem` (the API) -> `sweep` and `refine` -> `magnification` -> `cli`; `io` and `plot`
 //! serve every layer. `persson` (Persson's theory, the analytic reference)
 //! needs only `material` and `surface`; `problem` builds its inputs from a
-//! configuration or a problem. `docs/ARCHITECTURE.md` says what each layer owns and
+//! configuration or a problem. `heat` (frictional heating's heat problem)
+//! sits beside `operator`, whose FFT embedding it uses, and knows nothing
+//! of contact. `docs/ARCHITECTURE.md` says what each layer owns and
 //! may import; `tests/architecture.rs` keeps the imports pointing down.
 
 pub mod backend;
@@ -60,6 +62,7 @@ pub mod cli;
 pub mod config;
 pub mod error;
 pub mod gauss;
+pub mod heat;
 pub mod io;
 pub mod kernel;
 pub mod magnification;

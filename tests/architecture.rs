@@ -17,6 +17,7 @@ const LAYERS: &[&[&str]] = &[
     &["mesh"],
     &["kernel"],
     &["operator"],
+    &["heat"],
     &["backend"],
     &["solver"],
     &["analysis"],
@@ -376,6 +377,7 @@ const PYTHON_MAY_USE: &[(&str, &[&str])] = &[
     ("surface", &[]),
     ("kernel", &[]),
     ("persson", &[]),
+    ("heat", &[]),
     ("analysis", &["AnalysisReport"]),
     (
         "solver",
