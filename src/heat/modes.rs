@@ -14,7 +14,7 @@
 
 use num_complex::Complex64;
 
-/// `m` of the wavevector `(kx, ky)` [1/m]: the root of
+/// `m` of the wavevector `(kx, ky)` \[1/m\]: the root of
 /// `m^2 = |k|^2 - i rate (k.e)` with `Re m > 0` (`rate = v / kappa`);
 /// `m(-k) = conj m(k)`.
 pub fn decay_rate(k: (f64, f64), e: (f64, f64), rate: f64) -> Complex64 {
@@ -40,7 +40,7 @@ fn expm1(w: Complex64) -> Complex64 {
     Complex64::new(x.exp_m1() * y.cos() - 2.0 * half * half, x.exp() * y.sin())
 }
 
-/// `Int_a^b [exp(-m |z - z'|) + exp(-m (z + z'))] dz'` [m], the depth
+/// `Int_a^b [exp(-m |z - z'|) + exp(-m (z + z'))] dz'` \[m\], the depth
 /// integral of a source constant on the layer `[a, b]` seen at depth `z`
 /// (all `>= 0`), in closed form.
 pub fn layer_integral(m: Complex64, (a, b): (f64, f64), z: f64) -> Complex64 {
@@ -67,7 +67,7 @@ pub struct Modes {
     pub length: (f64, f64),
     /// `e_v`.
     pub e: (f64, f64),
-    /// `v / kappa` [1/m].
+    /// `v / kappa` \[1/m\].
     pub rate: f64,
 }
 
