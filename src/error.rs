@@ -1,6 +1,6 @@
 //! The crate-wide error type. Each layer has its own typed error (config,
 //! material, surface, kernel, file formats and output, solver, GPU, mesh,
-//! analysis, plots); this enum sits above them all and wraps each by `From`,
+//! analysis, plots, heat); this enum sits above them all and wraps each by `From`,
 //! so the library API and the command line report any of them in one line.
 //! No lower layer imports it.
 
@@ -33,6 +33,8 @@ pub enum Error {
     Plot(#[from] crate::plot::PlotError),
     #[error(transparent)]
     Persson(#[from] crate::persson::PerssonError),
+    #[error(transparent)]
+    Heat(#[from] crate::heat::HeatError),
     #[error("{context}: {source}")]
     Io {
         context: String,

@@ -56,11 +56,14 @@
 //! (`kernel`, `operator`, `backend`, `solver`, `mesh`, `analysis`, `gauss`,
 //! `plot`) is public only under [`internals`], for tests and benches;
 //! [`problem`] re-exports the engine types the API takes and returns.
+//! `heat` (frictional heating's heat problem) sits beside `operator`,
+//! whose FFT embedding it uses, and knows nothing of contact.
 //! `docs/ARCHITECTURE.md` says what each layer owns and may import;
 //! `tests/architecture.rs` keeps the imports pointing down.
 
 pub mod config;
 pub mod error;
+pub mod heat;
 pub mod io;
 pub mod magnification;
 pub mod material;

@@ -38,6 +38,7 @@ pub fn to_py(py: Python<'_>, e: Error) -> PyErr {
         | Error::Solver(_)
         | Error::Analysis(_)
         | Error::Persson(_)
+        | Error::Heat(_)
         | Error::Invalid(_) => PyValueError::new_err(message),
     }
 }

@@ -12,11 +12,13 @@
 //! - [`sweep`]: sweeps planned by the library's sweep planner.
 //! - [`theory`]: Persson's theory and the influence coefficients.
 //! - [`magnification`]: magnification studies of a configuration file.
+//! - [`heat`]: the surface temperature rise under a heat flux map.
 //! - [`errors`]: library errors as Python exceptions.
 
 use pyo3::prelude::*;
 
 mod errors;
+mod heat;
 mod magnification;
 mod material;
 mod observer;
@@ -40,5 +42,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(theory::persson, m)?)?;
     m.add_function(wrap_pyfunction!(theory::kernel_table, m)?)?;
     m.add_function(wrap_pyfunction!(magnification::magnification, m)?)?;
+    m.add_function(wrap_pyfunction!(heat::surface_temperature, m)?)?;
     Ok(())
 }

@@ -14,13 +14,15 @@ The API mirrors the engine's layers: :class:`Material`, :class:`Surface`,
 :class:`Result`; :func:`sweep` and :func:`friction_curve` for many solves;
 :func:`persson` for Persson's theory; :func:`magnification` for friction
 and area against the cut-off ``q1``; :func:`kernel_table` for the
-influence coefficients. Errors: ``ValueError`` for bad input,
+influence coefficients; :func:`surface_temperature` for the temperature
+rise under a frictional heat flux map. Errors: ``ValueError`` for bad input,
 :class:`ConvergenceError` for a solve that did not converge.
 """
 
 from ._native import VERSION as __version__
 from .curves import COLUMNS, friction_curve, kernel_table, persson, sweep
 from .errors import ConvergenceError
+from .heat import surface_temperature
 from .magnification import MAGNIFICATION_COLUMNS, magnification
 from .material import Material
 from .solve import Result, solve, solve_config
@@ -40,5 +42,6 @@ __all__ = [
     "persson",
     "solve",
     "solve_config",
+    "surface_temperature",
     "sweep",
 ]

@@ -169,3 +169,14 @@ def magnification(
     shard: Optional[str],
     out: Optional[str],
 ) -> Optional[str]: ...
+def surface_temperature(
+    flux: npt.NDArray[np.float64],
+    cell_size: float,
+    speed: float,
+    conductivity: float,
+    diffusivity: float,
+    periodic: bool,
+    block_length: Optional[float],
+    direction_deg: float,
+    cell_size_y: Optional[float] = None,
+) -> npt.NDArray[np.float64]: ...

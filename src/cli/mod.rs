@@ -4,6 +4,7 @@
 mod analyze;
 mod gpu;
 mod gpu_bench;
+mod heat;
 mod kernel;
 mod magnification;
 mod material;
@@ -61,6 +62,10 @@ pub enum Command {
     /// Friction and contact area against the cut-off q1 (the PSD held
     /// fixed, cut at each level), boundary elements beside Persson.
     Magnification(magnification::MagnificationArgs),
+    /// Steady surface temperature rise of the rubber under a surface heat
+    /// flux map (frictional heating: moving heat source, pad or periodic
+    /// cell).
+    Heat(heat::HeatArgs),
 }
 
 /// A config file plus `--set section.key=value` overrides.
@@ -96,5 +101,6 @@ pub fn run() -> Result<()> {
         Command::Analyze(a) => analyze::run(a),
         Command::Persson(a) => persson::run(a),
         Command::Magnification(a) => magnification::run(a),
+        Command::Heat(a) => heat::run(a),
     }
 }

@@ -483,7 +483,7 @@ pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<()> {
 /// Write `path` once: `bytes` appear there whole unless the file exists
 /// already, in which case it is left alone and `false` returned (two
 /// writers racing to make it: exactly one wins, the other reads its file).
-pub fn write_new(path: impl AsRef<Path>, bytes: &[u8]) -> Result<bool> {
+pub(crate) fn write_new(path: impl AsRef<Path>, bytes: &[u8]) -> Result<bool> {
     let path = path.as_ref();
     let dir = path
         .parent()

@@ -150,7 +150,7 @@ pub fn process_alive(pid: u32) -> bool {
 
 /// The process id in a leftover name `PREFIX<pid>-<suffix>`, if `name`
 /// starts with `prefix`.
-pub fn owner(name: &str, prefix: &str) -> Option<u32> {
+pub(crate) fn owner(name: &str, prefix: &str) -> Option<u32> {
     let rest = name.strip_prefix(prefix)?;
     let (pid, suffix) = rest.split_once('-')?;
     if suffix.is_empty() || !suffix.bytes().all(|b| b.is_ascii_digit()) {
@@ -169,14 +169,14 @@ fn temp_owner(name: &str) -> Option<u32> {
 }
 
 /// Remove the temporary files (`.NAME.tmp-PID-*`) of dead writers in `dir`.
-pub fn remove_dead_temps(dir: &Path) {
+pub(crate) fn remove_dead_temps(dir: &Path) {
     remove_matching(dir, temp_owner);
 }
 
 /// Remove the entries of `dir` whose names start with one of `prefixes`
 /// followed by the id of a process no longer running. Errors are ignored:
 /// cleaning is a courtesy, never a reason to fail a write.
-pub fn remove_dead(dir: &Path, prefixes: &[String]) {
+pub(crate) fn remove_dead(dir: &Path, prefixes: &[String]) {
     remove_matching(dir, |name| prefixes.iter().find_map(|p| owner(name, p)));
 }
 

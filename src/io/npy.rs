@@ -71,7 +71,7 @@ pub fn encode_f64(shape: &[usize], data: &[f64]) -> Vec<u8> {
 }
 
 /// Encode `data` (C order, `shape`) as a version-1.0 `.npy` file of float32.
-pub fn encode_f32(shape: &[usize], data: &[f32]) -> Vec<u8> {
+pub(crate) fn encode_f32(shape: &[usize], data: &[f32]) -> Vec<u8> {
     assert_eq!(
         shape.iter().product::<usize>(),
         data.len(),

@@ -45,7 +45,7 @@ use crate::solver::{Control, Observer};
 use crate::sweep::{PointStore, Shard};
 
 /// File in the study directory that pins the study it holds.
-pub const PIN_FILE: &str = "magnification.toml";
+pub(crate) const PIN_FILE: &str = "magnification.toml";
 
 /// Controls of a study.
 #[derive(Debug, Clone, PartialEq)]

@@ -22,6 +22,7 @@ pub use adaptive::{AdaptiveOperator, LevelTables};
 pub use dense::DenseOperator;
 pub(crate) use fft_convolution::half_spectrum;
 pub use fft_convolution::Real;
+pub(crate) use fft_convolution::SpectralEngine;
 pub(crate) use periodic::{column_weight, multiplier_half_spectrum};
 pub use periodic::{periodic_multiplier, PeriodicResponse, SpectralPeriodic};
 pub use toeplitz::{chan_kernel, fast_size, ToeplitzFft, CHAN_FRACTION};

@@ -53,7 +53,7 @@ impl RefineParams {
 
 /// Parse `512,1024,2048` into grid sizes (any order; [`check_levels`]
 /// judges it).
-pub fn parse_levels(text: &str) -> Result<Vec<usize>> {
+pub(crate) fn parse_levels(text: &str) -> Result<Vec<usize>> {
     text.split(',')
         .map(|s| {
             let s = s.trim();
@@ -69,7 +69,7 @@ pub fn parse_levels(text: &str) -> Result<Vec<usize>> {
 /// Check a level list: at least two levels, strictly increasing (no
 /// duplicates), each at least 8 cells. Any sizes are accepted (ratio-2
 /// grids make the Richardson order the plain `log2`).
-pub fn check_levels(levels: &[usize]) -> Result<()> {
+pub(crate) fn check_levels(levels: &[usize]) -> Result<()> {
     if levels.len() < 2 {
         return Err(invalid(format!(
             "--levels needs at least two grids (three to observe the order of convergence), got {levels:?}"
@@ -99,7 +99,7 @@ pub fn check_levels(levels: &[usize]) -> Result<()> {
 
 /// Check every level of `problem` against the memory estimate
 /// ([`crate::problem::memory_estimate`]) before anything is solved.
-pub fn check_level_memory(problem: &Problem, levels: &[usize]) -> Result<()> {
+pub(crate) fn check_level_memory(problem: &Problem, levels: &[usize]) -> Result<()> {
     let (nx, ny) = (problem.surface.nx, problem.surface.ny);
     for &n in levels {
         let ny_n = ((ny as f64) * n as f64 / nx as f64).round().max(1.0) as usize;

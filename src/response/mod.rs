@@ -23,6 +23,17 @@ use num_complex::Complex64;
 
 use crate::material::{Material, MaterialError};
 
+/// The unit vector `e_v` of a sliding direction `direction_rad` from `+x`,
+/// components below 1e-15 snapped to zero so that 90 degrees is exactly
+/// `+y` and the tables of a direction along an axis are exactly
+/// mirror-symmetric (the one such rule: the response and the heat problem
+/// take it).
+pub fn unit_direction(direction_rad: f64) -> (f64, f64) {
+    let (s, c) = direction_rad.sin_cos();
+    let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
+    (snap(c), snap(s))
+}
+
 /// A sliding response that cannot be built; each names the offending value.
 #[derive(Debug, thiserror::Error)]
 pub enum ResponseError {
@@ -70,13 +81,11 @@ impl SlidingResponse {
         if let Some(l) = &layer {
             l.validate()?;
         }
-        let (s, c) = direction_rad.sin_cos();
-        let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
         Ok(Self {
             material: material.clone(),
             speed,
             direction_rad,
-            e: (snap(c), snap(s)),
+            e: unit_direction(direction_rad),
             layer,
         })
     }

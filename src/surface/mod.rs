@@ -11,7 +11,7 @@ mod config;
 mod format;
 mod generate;
 mod gwy;
-mod height_fft;
+pub(crate) mod height_fft;
 mod io;
 mod measured;
 mod preprocess;

@@ -37,7 +37,7 @@ pub const CONFIG_FILE: &str = "sweep.toml";
 
 /// File in the sweep directory holding the directory the configuration's
 /// relative paths (a material file, a surface file) are resolved against.
-pub const CONFIG_DIR_FILE: &str = "sweep.config_dir";
+pub(crate) const CONFIG_DIR_FILE: &str = "sweep.config_dir";
 
 /// Hears about a sweep's progress: the front ends draw it (a progress bar
 /// on the command line, nothing in Python); the library prints nothing.

@@ -1,0 +1,100 @@
+//! What a heat problem is given: the grid of cells, the solid's heat
+//! conduction, the sliding speed and direction, and whether the cells are
+//! a pad or one period of a periodic cell (physics.md section 14). Every
+//! check of these values lives here.
+
+use super::error::{positive, HeatError};
+use crate::response::Grid;
+
+/// Heat conduction of the solid (rubber: `lam` 0.2-0.3 W/(m K), `kappa`
+/// about 1e-7 m^2/s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Conduction {
+    /// Thermal conductivity `lam` \[W/(m K)\].
+    pub conductivity: f64,
+    /// Thermal diffusivity `kappa = lam / (rho c)` \[m^2/s\].
+    pub diffusivity: f64,
+}
+
+impl Conduction {
+    fn check(&self) -> Result<(), HeatError> {
+        positive("the conductivity", self.conductivity, "W/(m K)")?;
+        positive("the diffusivity", self.diffusivity, "m^2/s")?;
+        Ok(())
+    }
+}
+
+/// Where the cells sit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum HeatDomain {
+    /// A finite pad on an unbounded half-space: the steady moving-source
+    /// solution (no heat outside the cells' sources).
+    Pad,
+    /// One period of a periodic cell. Its mean (`k = 0`) has no steady
+    /// state; with the length `L_b` \[m\] of the block along the sliding
+    /// direction the mean is the block's background heating over a
+    /// passage, `(4/3) qbar sqrt(kappa t_c / pi) / lam`, `t_c = L_b / v`;
+    /// without it the rise is given about its unknown mean.
+    Periodic { block_length: Option<f64> },
+}
+
+/// A steady heat problem: a rubber half-space (`z >= 0`) moving past the
+/// cells with velocity `-v e_v`, `e_v` at `direction_rad` from +x.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeatSetup {
+    /// The cells of the source map ([`Grid`]: checked where it is built).
+    pub grid: Grid,
+    pub conduction: Conduction,
+    /// Sliding speed `v` \[m/s\].
+    pub speed: f64,
+    /// Sliding direction, radians from +x.
+    pub direction_rad: f64,
+    pub domain: HeatDomain,
+}
+
+impl HeatSetup {
+    /// Every value checked: positive, finite speed, conductivity,
+    /// diffusivity, cell sides and block length; a finite direction; a
+    /// grid with cells.
+    pub fn check(&self) -> Result<(), HeatError> {
+        self.conduction.check()?;
+        positive("the speed", self.speed, "m/s")?;
+        if !self.direction_rad.is_finite() {
+            return Err(HeatError::Direction(self.direction_rad));
+        }
+        if let HeatDomain::Periodic {
+            block_length: Some(l),
+        } = self.domain
+        {
+            positive("the block length", l, "m")?;
+        }
+        Ok(())
+    }
+
+    /// Unit vector `e_v` of the sliding direction
+    /// ([`crate::response::unit_direction`]).
+    pub fn direction(&self) -> (f64, f64) {
+        crate::response::unit_direction(self.direction_rad)
+    }
+
+    /// The cell Peclet number `v dx / kappa` (`dx` the side along x).
+    pub fn peclet(&self) -> f64 {
+        self.speed * self.grid.cell().0 / self.conduction.diffusivity
+    }
+
+    /// The time `t_c = L_b / v` \[s\] a rubber element spends in the
+    /// block's nominal contact (periodic cells with a block length).
+    pub fn contact_time(&self) -> Option<f64> {
+        match self.domain {
+            HeatDomain::Periodic {
+                block_length: Some(l),
+            } => Some(l / self.speed),
+            _ => None,
+        }
+    }
+
+    /// Whether the cells are one period of a periodic cell.
+    pub fn is_periodic(&self) -> bool {
+        matches!(self.domain, HeatDomain::Periodic { .. })
+    }
+}

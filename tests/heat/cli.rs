@@ -1,0 +1,236 @@
+//! `viscoslide heat` as a user meets it: the three files, the map read
+//! back with the input's shape and orientation (equal to the library's
+//! rise), the report's numbers, and refusals that write nothing.
+
+use std::path::Path;
+use std::process::{Command, Output};
+use viscoslide::response::Grid;
+
+use viscoslide::heat::{surface_temperature, Conduction, HeatDomain, HeatSetup};
+use viscoslide::io::npy;
+
+fn viscoslide(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// A 12 x 7 flux map with one hot spot off the middle, written as .npy.
+fn write_flux(dir: &Path) -> (String, Vec<f64>) {
+    let (nx, ny) = (12, 7);
+    let mut flux = vec![0.0; nx * ny];
+    flux[8 * ny + 2] = 4e6;
+    flux[8 * ny + 3] = 2e6;
+    let path = dir.join("flux.npy");
+    std::fs::write(&path, npy::encode_f64(&[nx, ny], &flux)).unwrap();
+    (path.display().to_string(), flux)
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+}
+
+#[test]
+fn heat_writes_the_map_the_figure_and_the_report() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (flux_path, flux) = write_flux(tmp.path());
+    let out = tmp.path().join("out");
+    let o = viscoslide(&[
+        "heat",
+        &flux_path,
+        "--cell-size",
+        "2e-6",
+        "--cell-size-y",
+        "3e-6",
+        "--speed",
+        "0.05",
+        "--conductivity",
+        "0.25",
+        "--diffusivity",
+        "1e-7",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in ["temperature.npy", "temperature.png", "heat.json"] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let (nx, ny, rise) = npy::read_2d(out.join("temperature.npy")).unwrap();
+    assert_eq!((nx, ny), (12, 7));
+    let setup = HeatSetup {
+        grid: Grid::new(nx, ny, (2e-6, 3e-6)).unwrap(),
+        conduction: Conduction {
+            conductivity: 0.25,
+            diffusivity: 1e-7,
+        },
+        speed: 0.05,
+        direction_rad: 0.0,
+        domain: HeatDomain::Pad,
+    };
+    let want = surface_temperature(setup, &flux).unwrap();
+    assert_eq!(rise, want.rise);
+    // The hottest cell is the hot spot's row (axis 0 = x), and it is
+    // warmer behind it (smaller x) than ahead.
+    let hottest = (0..rise.len())
+        .max_by(|&a, &b| rise[a].total_cmp(&rise[b]))
+        .unwrap();
+    assert_eq!(hottest / ny, 8, "{hottest}");
+    assert!(rise[7 * ny + 2] > rise[9 * ny + 2]);
+    let doc = json(&out.join("heat.json"));
+    assert_eq!(doc["grid"], serde_json::json!([12, 7]));
+    assert_eq!(doc["formulation"], "non-periodic");
+    let power = 6e6 * 2e-6 * 3e-6;
+    assert!((doc["total_power_w"].as_f64().unwrap() / power - 1.0).abs() < 1e-14);
+    assert!((doc["peclet_number"].as_f64().unwrap() / (0.05 * 2e-6 / 1e-7) - 1.0).abs() < 1e-14);
+    // serde_json reads floats back to within an ulp.
+    assert!((doc["max_rise_k"].as_f64().unwrap() / want.max() - 1.0).abs() < 1e-15);
+    assert!(doc["background_rise_k"].is_null());
+    assert_eq!(doc["notes"], serde_json::json!([]));
+
+    // A periodic cell without a block length says so; with one it reports
+    // the background.
+    let o = viscoslide(&[
+        "heat",
+        &flux_path,
+        "--cell-size",
+        "2e-6",
+        "--speed",
+        "0.05",
+        "--conductivity",
+        "0.25",
+        "--diffusivity",
+        "1e-7",
+        "--periodic",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("block length"));
+    let doc = json(&out.join("heat.json"));
+    assert_eq!(doc["formulation"], "periodic");
+    assert!(doc["notes"][0]
+        .as_str()
+        .unwrap()
+        .contains("no steady state"));
+    assert!(
+        doc["mean_rise_k"].as_f64().unwrap().abs() < 1e-12 * doc["max_rise_k"].as_f64().unwrap()
+    );
+    let o = viscoslide(&[
+        "heat",
+        &flux_path,
+        "--cell-size",
+        "2e-6",
+        "--speed",
+        "0.05",
+        "--conductivity",
+        "0.25",
+        "--diffusivity",
+        "1e-7",
+        "--periodic",
+        "--block-length",
+        "0.01",
+        "--direction-deg",
+        "90",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let doc = json(&out.join("heat.json"));
+    let qbar = 6e6 / 84.0;
+    let want = 4.0 / 3.0 * qbar * (1e-7 * 0.01 / 0.05 / std::f64::consts::PI).sqrt() / 0.25;
+    let got = doc["background_rise_k"].as_f64().unwrap();
+    assert!((got / want - 1.0).abs() < 1e-12, "{got} vs {want}");
+    assert!((doc["contact_time_s"].as_f64().unwrap() / 0.2 - 1.0).abs() < 1e-15);
+}
+
+/// Each refusal: exit status 1, one line on stderr naming the problem,
+/// and no output directory.
+#[test]
+fn refused_runs_write_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (flux_path, flux) = write_flux(tmp.path());
+    let mut nan = flux.clone();
+    nan[5] = f64::NAN;
+    let nan_path = tmp.path().join("nan.npy");
+    std::fs::write(&nan_path, npy::encode_f64(&[12, 7], &nan)).unwrap();
+    let empty_path = tmp.path().join("empty.npy");
+    std::fs::write(&empty_path, npy::encode_f64(&[0, 7], &[])).unwrap();
+    let flat_path = tmp.path().join("flat.npy");
+    std::fs::write(&flat_path, npy::encode_f64(&[84], &flux)).unwrap();
+    let out = tmp.path().join("out");
+    let base = |file: &str, speed: &str, lam: &str, kappa: &str, cell: &str| -> Vec<String> {
+        [
+            "heat",
+            file,
+            "--cell-size",
+            cell,
+            "--speed",
+            speed,
+            "--conductivity",
+            lam,
+            "--diffusivity",
+            kappa,
+            "--out",
+            out.to_str().unwrap(),
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
+    };
+    let nan_s = nan_path.to_str().unwrap();
+    let empty_s = empty_path.to_str().unwrap();
+    let flat_s = flat_path.to_str().unwrap();
+    let cases: Vec<(Vec<String>, &[&str])> = vec![
+        (
+            base(&flux_path, "0", "0.25", "1e-7", "1e-6"),
+            &["speed", "positive"],
+        ),
+        (base(&flux_path, "-0.1", "0.25", "1e-7", "1e-6"), &["speed"]),
+        (
+            base(&flux_path, "0.1", "-0.25", "1e-7", "1e-6"),
+            &["conductivity"],
+        ),
+        (
+            base(&flux_path, "0.1", "0.25", "0", "1e-6"),
+            &["diffusivity"],
+        ),
+        (base(&flux_path, "0.1", "0.25", "1e-7", "0"), &["cell size"]),
+        (
+            base(&flux_path, "0.1", "0.25", "1e-7", "nan"),
+            &["cell size"],
+        ),
+        (
+            base(nan_s, "0.1", "0.25", "1e-7", "1e-6"),
+            &["NaN", "(0, 5)"],
+        ),
+        (
+            base(empty_s, "0.1", "0.25", "1e-7", "1e-6"),
+            &["0 x 7", "at least one cell"],
+        ),
+        (base(flat_s, "0.1", "0.25", "1e-7", "1e-6"), &["2-D"]),
+        (
+            base("missing.npy", "0.1", "0.25", "1e-7", "1e-6"),
+            &["missing.npy"],
+        ),
+    ];
+    for (args, words) in &cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = viscoslide(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        for w in *words {
+            assert!(err.contains(w), "{args:?}: '{err}' lacks '{w}'");
+        }
+        assert!(!out.exists(), "{args:?} left {}", out.display());
+    }
+    // A block length needs a periodic cell (clap's refusal).
+    let mut args = base(&flux_path, "0.1", "0.25", "1e-7", "1e-6");
+    args.extend(["--block-length".to_string(), "0.01".to_string()]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = viscoslide(&args);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--periodic"));
+    assert!(!out.exists());
+}

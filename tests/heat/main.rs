@@ -1,0 +1,14 @@
+//! Integration tests of the heat room (physics.md section 14): the moving
+//! heat source against independent quadrature and closed forms, the
+//! periodic cell mode by mode, volume sources on depth layers, symmetry,
+//! limits, refusals, and `viscoslide heat`.
+//!
+//! One test binary per area (docs/ARCHITECTURE.md, "Tests"): each file
+//! here is a module; run one with `cargo test --release --test heat FILE::`.
+
+mod cli;
+mod closed_form;
+mod periodic;
+mod reference;
+mod symmetry;
+mod volume;
