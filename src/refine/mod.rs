@@ -31,7 +31,7 @@ fn invalid(msg: impl Into<String>) -> Error {
 #[derive(Debug, Clone, PartialEq)]
 pub struct RefineParams {
     /// Cells along x of each level, strictly increasing (see
-    /// [`check_levels`]).
+    /// `check_levels`).
     pub levels: Vec<usize>,
     /// Start each level from the previous one's solution; off (default),
     /// each level runs the solver's own coarse-to-fine cascade.
