@@ -280,9 +280,10 @@ impl MagnificationReport {
     }
 
     /// Write `magnification.json`, `.csv` and `.png` into `dir`: all three
-    /// or none.
+    /// or none, a crash at any step of the commit included (the study's
+    /// directory is swapped whole with its `points/`).
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>> {
-        let mut staged = StagedOutput::new(dir)?;
+        let mut staged = StagedOutput::for_study(dir, &["points"])?;
         staged.write(
             "magnification.json",
             serde_json::to_string_pretty(&self.to_json())
