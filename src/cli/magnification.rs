@@ -151,6 +151,12 @@ pub fn run(args: MagnificationArgs) -> Result<()> {
             for w in &report.warnings {
                 eprintln!("warning: {w}");
             }
+            if let Some(t) = report.temperature_shift {
+                println!(
+                    "material at {} C: WLF shift factor a_T = {:.6e} (T_ref = {} C)",
+                    t.temperature, t.shift_factor, t.reference_temperature
+                );
+            }
             println!(
                 "{:>12} {:>6} {:>10} {:>12} {:>12} {:>10} {:>10}",
                 "q1 [1/m]", "n", "rms slope", "mu", "mu Persson", "A/A0", "A Persson"

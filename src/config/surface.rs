@@ -59,7 +59,9 @@ pub struct SurfaceConfig {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub format: Option<String>,
     /// Side of `file` along y \[m\] (`.npy`/text; default square cells;
-    /// otherwise rectangular cells `length_y / ny` along y).
+    /// otherwise rectangular cells `length_y / ny` along y). A file key
+    /// only: a generated surface has square cells and takes its side
+    /// along y from `[surface.generate] ny`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub length_y: Option<f64>,
     /// Fill missing points of `file` by harmonic interpolation (default:

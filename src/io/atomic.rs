@@ -6,9 +6,12 @@
 //! whole new one, never a mixture. Where the file system cannot exchange,
 //! the old directory is renamed aside and the new one into place; a crash
 //! between the two renames is repaired by the next writer. A directory
-//! holding sub-directories (a sweep's `points/`, written by concurrent
-//! shards) or the working directory is not swapped: its files are staged
-//! inside it and renamed one by one.
+//! holding sub-directories of other writers, or the working directory, is
+//! not swapped: its files are staged inside it and renamed one by one, the
+//! first-named file last. A study's report ([`StagedOutput::for_study`])
+//! is swapped with the study's own sub-directories (`points/`), whose
+//! files the staging folder receives as hard links: the report of a study
+//! appears whole or not at all like any other output set.
 //!
 //! One writer per directory ([`DirLock`]): a second fails at once. Staging
 //! folders and temporary files of dead processes are removed by the next
@@ -119,6 +122,9 @@ pub struct StagedOutput {
     /// The directory did not exist before: removed again (when empty) if
     /// the write fails.
     created: bool,
+    /// Sub-directories carried into a swapped directory (hard links of
+    /// their files) instead of keeping it from being swapped.
+    owned: Vec<String>,
     _lock: DirLock,
 }
 
@@ -126,7 +132,24 @@ impl StagedOutput {
     /// Prepare to write into `dir` (created if missing). Fails at once if
     /// another process is writing there.
     pub fn new(dir: impl AsRef<Path>) -> Result<Self> {
-        let dir = dir.as_ref().to_path_buf();
+        Self::open(dir.as_ref(), &[])
+    }
+
+    /// [`StagedOutput::new`] for the report of a study in its directory:
+    /// the sub-directories `owned` (the study's `points/`) belong to the
+    /// study, whose writers all hold the directory's lock (shared by its
+    /// shards), so while this output holds it alone nobody writes there.
+    /// They are carried into the new directory as hard links of their
+    /// files (copies where the file system has no links), so the directory
+    /// is still swapped whole: the report's files appear together or not
+    /// at all, a crash at any step included.
+    pub fn for_study(dir: impl AsRef<Path>, owned: &[&str]) -> Result<Self> {
+        Self::open(dir.as_ref(), owned)
+    }
+
+    fn open(dir: &Path, owned: &[&str]) -> Result<Self> {
+        let owned: Vec<String> = owned.iter().map(|n| n.to_string()).collect();
+        let dir = dir.to_path_buf();
         let name = dir_name(&dir);
         let parent = parent_of(&dir);
         if let Some(name) = &name {
@@ -155,7 +178,7 @@ impl StagedOutput {
         remove_dead(&dir, &[".staging-".to_string()]);
         remove_dead_temps(&dir);
         let mode = match &name {
-            Some(name) if swappable(&dir) => {
+            Some(name) if swappable(&dir, &owned) => {
                 remove_dead(
                     &parent,
                     &[format!(".{name}.staging-"), format!(".{name}.aside-")],
@@ -188,6 +211,7 @@ impl StagedOutput {
             set: Vec::new(),
             committed: false,
             created,
+            owned,
             _lock: lock,
         };
         Ok(out)
@@ -262,15 +286,14 @@ impl StagedOutput {
             }
             let (from, to) = (e.path(), self.staging.join(&name));
             let ty = e.file_type().map_err(|err| OutputError::io(&from, err))?;
-            let linked = if ty.is_symlink() {
-                fs::read_link(&from).and_then(|t| std::os::unix::fs::symlink(t, &to))
-            } else if ty.is_dir() {
+            let owned = name
+                .to_str()
+                .is_some_and(|n| self.owned.iter().any(|m| m == n));
+            if ty.is_dir() && !owned {
                 // A directory appeared since `new`: do not swap it away.
                 return self.commit_in_place();
-            } else {
-                fs::hard_link(&from, &to).or_else(|_| fs::copy(&from, &to).map(|_| ()))
-            };
-            linked.map_err(|err| OutputError::io(&to, err))?;
+            }
+            link_entry(&from, &to, ty)?;
         }
         crash_point("staged");
         let exchanged = if super::fault::no_exchange() {
@@ -313,7 +336,11 @@ impl StagedOutput {
     }
 
     fn commit_in_place(&mut self) -> Result<()> {
-        for (k, name) in self.names.iter().enumerate() {
+        // The first-named file (the one a reader looks for: a report's
+        // json) last, so that it never stands without the others of a
+        // first write.
+        let order = self.names.iter().skip(1).chain(self.names.iter().take(1));
+        for (k, name) in order.enumerate() {
             let (from, to) = (self.staging.join(name), self.dir.join(name));
             if k > 0 {
                 crash_point("renaming");
@@ -363,18 +390,42 @@ fn parent_of(dir: &Path) -> PathBuf {
         .to_path_buf()
 }
 
-/// Whether `dir` may be swapped whole: it holds no sub-directory (whose
-/// writers hold no lock on `dir`), it is not the working directory or one
-/// of its ancestors, and it is on the same file system as its parent.
-fn swappable(dir: &Path) -> bool {
+/// `from` at `to`: a hard link of a file (a copy where links fail), a
+/// symbolic link re-made, a directory made and filled alike.
+fn link_entry(from: &Path, to: &Path, ty: fs::FileType) -> Result<()> {
+    let linked = if ty.is_symlink() {
+        fs::read_link(from).and_then(|t| std::os::unix::fs::symlink(t, to))
+    } else if ty.is_dir() {
+        fs::create_dir(to).map_err(|e| OutputError::io(to, e))?;
+        for e in fs::read_dir(from).map_err(|e| OutputError::io(from, e))? {
+            let e = e.map_err(|e| OutputError::io(from, e))?;
+            let ty = e
+                .file_type()
+                .map_err(|err| OutputError::io(e.path(), err))?;
+            link_entry(&e.path(), &to.join(e.file_name()), ty)?;
+        }
+        Ok(())
+    } else {
+        fs::hard_link(from, to).or_else(|_| fs::copy(from, to).map(|_| ()))
+    };
+    linked.map_err(|err| OutputError::io(to, err))
+}
+
+/// Whether `dir` may be swapped whole: it holds no sub-directory but the
+/// `owned` ones (the writers of others hold no lock on `dir`), it is not
+/// the working directory or one of its ancestors, and it is on the same
+/// file system as its parent.
+fn swappable(dir: &Path, owned: &[String]) -> bool {
     use std::os::unix::fs::MetadataExt;
     let Ok(entries) = fs::read_dir(dir) else {
         return false;
     };
     for e in entries.flatten() {
         let name = e.file_name();
-        let is_staging = name.to_str().is_some_and(|n| n.starts_with(".staging-"));
-        if !is_staging && e.file_type().is_ok_and(|t| t.is_dir()) {
+        let skip = name
+            .to_str()
+            .is_some_and(|n| n.starts_with(".staging-") || owned.iter().any(|m| m == n));
+        if !skip && e.file_type().is_ok_and(|t| t.is_dir()) {
             return false;
         }
     }
@@ -422,6 +473,17 @@ fn unsupported(e: &std::io::Error) -> bool {
         e.raw_os_error(),
         Some(libc::EINVAL) | Some(libc::ENOSYS) | Some(libc::EOPNOTSUPP)
     )
+}
+
+/// Repair what a writer of `dir` killed mid-commit left: where `dir` is
+/// missing and a dead writer's `.NAME.aside-PID-*` holds the old directory
+/// (a crash between the two renames of a commit on a file system without
+/// an exchange), it is renamed back. Call before making `dir` or reading
+/// it, so that the directory is found again instead of being made anew.
+pub fn recover(dir: &Path) {
+    if let Some(name) = dir_name(dir) {
+        recover_aside(&parent_of(dir), dir, &name);
+    }
 }
 
 /// Repair a crash between the two renames of [`StagedOutput::commit_aside`]:

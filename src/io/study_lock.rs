@@ -3,12 +3,14 @@
 //! the one `solve` takes) from its first write to its last, so a second
 //! writer fails at once, naming the directory and the process that holds
 //! it. The shards of one study (`--shard K/N`, each writing its own point
-//! files) share the lock; a whole run, a merge and a report take it alone.
+//! files) share the lock; a whole run, a merge and a report take it alone,
+//! so the report's commit may swap the directory with its `points/`
+//! ([`super::StagedOutput::for_study`]).
 
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use super::atomic::{check_output_dir, OutputError};
+use super::atomic::{check_output_dir, recover, OutputError};
 use super::dirlock::{holder, DirLock, LockMode};
 
 /// A study directory held by this process until dropped.
@@ -26,6 +28,10 @@ impl StudyLock {
     /// it is the study's first write) and lock it in `mode`; fails at once
     /// if another writer holds it.
     pub fn acquire(dir: &Path, mode: LockMode) -> Result<Self, OutputError> {
+        // A study directory a report's commit left renamed aside (a writer
+        // killed between its two renames) is the study: put it back
+        // rather than start an empty one.
+        recover(dir);
         check_output_dir(dir)?;
         let created = !dir.exists();
         fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))?;

@@ -426,6 +426,7 @@ pub fn run(
                     seed: study.levels[0].params.seed(),
                     document: study.cfg.document.clone(),
                     persson_curves: study.persson_curves()?,
+                    temperature_shift: study.material.temperature_shift(),
                 },
             );
             if shard != Shard::ALL {

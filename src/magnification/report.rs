@@ -12,6 +12,7 @@ use serde_json::{json, Value};
 
 use crate::error::Result;
 use crate::io::StagedOutput;
+use crate::material::TemperatureShift;
 use crate::plot::{self, Mark, Series, XyChart};
 
 use super::plan::FixedPsd;
@@ -76,6 +77,9 @@ pub struct ReportContext {
     /// Persson's theory on a fine set of cut-offs between the levels, per
     /// speed: `(speed, [(q1, mu, A/A0)])`, drawn as smooth curves.
     pub persson_curves: Vec<PerssonCurve>,
+    /// The temperature of the study's material and its WLF shift factor,
+    /// when the material has WLF constants.
+    pub temperature_shift: Option<TemperatureShift>,
 }
 
 /// A finished study.
@@ -92,6 +96,8 @@ pub struct MagnificationReport {
     pub warnings: Vec<String>,
     /// See [`ReportContext::persson_curves`].
     pub persson_curves: Vec<PerssonCurve>,
+    /// See [`ReportContext::temperature_shift`].
+    pub temperature_shift: Option<TemperatureShift>,
 }
 
 fn ratio_warning(what: &str, persson: f64, bem: f64, at: &str) -> Option<String> {
@@ -158,11 +164,17 @@ impl MagnificationReport {
             document: fixed.document,
             warnings,
             persson_curves: fixed.persson_curves,
+            temperature_shift: fixed.temperature_shift,
         }
     }
 
-    /// The `magnification.json` document. Key names are fixed.
+    /// The `magnification.json` document. Key names are fixed. As in a
+    /// solve's `summary.json`, `temperature` \[C\], `shift_factor` (WLF
+    /// `a_T`: `mu(v, T) = mu(a_T v, T_ref)`) and `reference_temperature`
+    /// \[C\] are those of the study's material, `null` for a material
+    /// without WLF constants.
     pub fn to_json(&self) -> Value {
+        let shift = self.temperature_shift;
         json!({
             "speed": (self.speeds.len() == 1).then(|| self.speeds[0]),
             "speeds": self.speeds,
@@ -171,6 +183,9 @@ impl MagnificationReport {
             "psd": self.psd,
             "nominal_pressure": self.nominal_pressure,
             "seed": self.seed,
+            "temperature": shift.map(|s| s.temperature),
+            "shift_factor": shift.map(|s| s.shift_factor),
+            "reference_temperature": shift.map(|s| s.reference_temperature),
             "matvecs_total": self.levels.iter().map(|l| l.matvecs).sum::<usize>(),
             "wall_time_s": self.levels.iter().map(|l| l.wall_time_s).sum::<f64>(),
             "theory": "Persson, J. Chem. Phys. 115, 3840 (2001), for the PSD cut at each level's q1; physics.md sections 10 and 12",
@@ -265,9 +280,10 @@ impl MagnificationReport {
     }
 
     /// Write `magnification.json`, `.csv` and `.png` into `dir`: all three
-    /// or none.
+    /// or none, a crash at any step of the commit included (the study's
+    /// directory is swapped whole with its `points/`).
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>> {
-        let mut staged = StagedOutput::new(dir)?;
+        let mut staged = StagedOutput::for_study(dir, &["points"])?;
         staged.write(
             "magnification.json",
             serde_json::to_string_pretty(&self.to_json())

@@ -156,30 +156,12 @@ impl Problem {
         if self.formulation != Formulation::Periodic || pre.periodic {
             return None;
         }
-        let (nx, ny, h) = (self.surface.nx, self.surface.ny, &self.surface.heights);
-        let n = h.len() as f64;
-        let mean = h.iter().sum::<f64>() / n;
-        let rms = (h.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
-        if nx < 2 || ny < 2 || rms == 0.0 {
-            return None;
-        }
-        let at = |i: usize, j: usize| h[i * ny + j];
-        let rms_of = |d: &mut dyn Iterator<Item = f64>| {
-            let (s, c) = d.fold((0.0, 0usize), |(s, c), v| (s + v * v, c + 1));
-            (s / c.max(1) as f64).sqrt() / rms
-        };
-        let edge_x = rms_of(&mut (0..ny).map(|j| at(0, j) - at(nx - 1, j)));
-        let edge_y = rms_of(&mut (0..nx).map(|i| at(i, 0) - at(i, ny - 1)));
-        let cell_x = rms_of(
-            &mut (0..nx - 1)
-                .flat_map(|i| (0..ny).map(move |j| (i, j)))
-                .map(|(i, j)| at(i + 1, j) - at(i, j)),
-        );
-        let cell_y = rms_of(
-            &mut (0..nx)
-                .flat_map(|i| (0..ny - 1).map(move |j| (i, j)))
-                .map(|(i, j)| at(i, j + 1) - at(i, j)),
-        );
+        let crate::surface::EdgeSteps {
+            edge_x,
+            edge_y,
+            cell_x,
+            cell_y,
+        } = crate::surface::edge_steps(self.surface.nx, self.surface.ny, &self.surface.heights)?;
         Some(format!(
             "the map is solved as one period of a periodic surface (formulation = \"periodic\") but is not marked periodic ([surface] periodic = true, Python periodic=True): its opposite edges meet with an rms step of {edge_x:.3} rms heights along x and {edge_y:.3} along y (neighbouring cells: {cell_x:.3} and {cell_y:.3}); detrend = \"{}\" was applied. A scan is not a period: use formulation = \"non_periodic\" for it, or mark a map that is one period as periodic",
             pre.detrend.name()

@@ -162,7 +162,7 @@ impl SurfaceConfig {
         .filter_map(|(g, name)| g.then_some(name))
         .collect();
         match given.len() {
-            1 => Ok(()),
+            1 => self.check_file_keys(),
             0 => Err(SurfaceError::Invalid(
                 "[surface] needs either `file` (with `length`, m), a [surface.generate] table or a [surface.sphere] table".into(),
             )),
@@ -171,6 +171,42 @@ impl SurfaceConfig {
                 given.join(" and ")
             ))),
         }
+    }
+
+    /// The keys that describe a surface `file` (`length_y`, `format`,
+    /// `fill_missing`, `detrend`, `window`, `periodic`) are refused beside
+    /// a generated surface or a sphere, which they would not change.
+    fn check_file_keys(&self) -> Result<(), SurfaceError> {
+        if self.file.is_some() {
+            return Ok(());
+        }
+        if let Some(ly) = self.length_y {
+            let hint = if self.generate.is_some() {
+                "a generated surface has square cells of length / n: give [surface.generate] ny (cells along y) for a side of ny * length / n along y"
+            } else {
+                "a [surface.sphere] map is n x n cells of side length"
+            };
+            return Err(SurfaceError::Invalid(format!(
+                "[surface] length_y = {ly} applies to a surface `file` only; {hint}"
+            )));
+        }
+        let given: Vec<&str> = [
+            (self.detrend.is_some(), "detrend"),
+            (self.window.is_some(), "window"),
+            (self.periodic.is_some(), "periodic"),
+            (self.format.is_some(), "format"),
+            (self.fill_missing.is_some(), "fill_missing"),
+        ]
+        .into_iter()
+        .filter_map(|(g, k)| g.then_some(k))
+        .collect();
+        if !given.is_empty() {
+            return Err(SurfaceError::Invalid(format!(
+                "[surface] {} apply to a surface `file`; generated surfaces and spheres are taken as they are",
+                given.join(", ")
+            )));
+        }
+        Ok(())
     }
 
     /// Generator parameters when the surface is generated, `None` for a file.
@@ -186,8 +222,8 @@ impl SurfaceConfig {
     /// How `file` is prepared ([`Preprocessing`], physics.md section 11):
     /// the `detrend` and `window` keys over the defaults of a scan (or of
     /// a periodic map with `periodic = true`). `None` for a generated
-    /// surface or a sphere, which are taken as they are; the three keys
-    /// are refused there.
+    /// surface or a sphere, which are taken as they are; the keys that
+    /// describe a file are refused there.
     pub fn preprocessing(&self) -> Result<Option<Preprocessing>, SurfaceError> {
         self.preprocessing_for(false)
     }
@@ -202,20 +238,7 @@ impl SurfaceConfig {
         periodic_solve: bool,
     ) -> Result<Option<Preprocessing>, SurfaceError> {
         if self.file.is_none() {
-            let given: Vec<&str> = [
-                (self.detrend.is_some(), "detrend"),
-                (self.window.is_some(), "window"),
-                (self.periodic.is_some(), "periodic"),
-            ]
-            .into_iter()
-            .filter_map(|(g, k)| g.then_some(k))
-            .collect();
-            if !given.is_empty() {
-                return Err(SurfaceError::Invalid(format!(
-                    "[surface] {} apply to a surface `file`; generated surfaces and spheres are taken as they are",
-                    given.join(", ")
-                )));
-            }
+            self.check_file_keys()?;
             return Ok(None);
         }
         let bad = |key: &str, e: String| SurfaceError::Invalid(format!("[surface] {key}: {e}"));

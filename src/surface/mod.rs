@@ -42,8 +42,8 @@ pub use measured::{
     MeasuredStats,
 };
 pub use preprocess::{
-    parse_detrend, parse_window, prepare, rms_slope_real, slope_warning, Preprocessing,
-    SLOPE_TOLERANCE,
+    edge_steps, parse_detrend, parse_window, prepare, rms_slope_real, slope_warning, EdgeSteps,
+    Preprocessing, SLOPE_TOLERANCE,
 };
 pub use psd::{
     fit_hurst, psd_2d, psd_grid, radial_average, stats, stats_with_window, window_weights,
@@ -51,7 +51,8 @@ pub use psd::{
 };
 pub use psd_table::{BelowTable, TabulatedPsd};
 pub use resample::{
-    resample, resample_grid, ResampleGrid, ResampleMethod, ResampleTarget, MAX_RESAMPLE_CELLS,
+    fourier_edge_warning, resample, resample_grid, ResampleGrid, ResampleMethod, ResampleTarget,
+    EDGE_STEP_RATIO, MAX_RESAMPLE_CELLS,
 };
 pub use stitch::{stitch, ScanPsd, StitchedPsd};
 pub use synth::{below_table_modes, generate_from_table, table_lattice_moments, SynthParams};

@@ -136,3 +136,49 @@ pub fn slope_warning(psd_slope: f64, real_slope: f64, what: &str) -> Option<Stri
         )
     })
 }
+
+/// How far a map is from one period of a periodic surface: the rms step
+/// between its opposite edges (`h[0, j] - h[nx-1, j]`, `h[i, 0] - h[i,
+/// ny-1]`), beside the rms step between neighbouring cells, along x and
+/// y, in units of the map's rms height. On a period the edge steps are
+/// neighbour steps; on a scan they are of the order of the rms height.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeSteps {
+    pub edge_x: f64,
+    pub edge_y: f64,
+    pub cell_x: f64,
+    pub cell_y: f64,
+}
+
+/// The [`EdgeSteps`] of `nx x ny` heights (`heights[i * ny + j]`); `None`
+/// for a map under 2 x 2 cells or a flat one.
+pub fn edge_steps(nx: usize, ny: usize, heights: &[f64]) -> Option<EdgeSteps> {
+    let n = heights.len() as f64;
+    if nx < 2 || ny < 2 || heights.len() != nx * ny {
+        return None;
+    }
+    let mean = heights.iter().sum::<f64>() / n;
+    let rms = (heights.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+    if !(rms > 0.0 && rms.is_finite()) {
+        return None;
+    }
+    let at = |i: usize, j: usize| heights[i * ny + j];
+    let rms_of = |d: &mut dyn Iterator<Item = f64>| {
+        let (s, c) = d.fold((0.0, 0usize), |(s, c), v| (s + v * v, c + 1));
+        (s / c.max(1) as f64).sqrt() / rms
+    };
+    Some(EdgeSteps {
+        edge_x: rms_of(&mut (0..ny).map(|j| at(0, j) - at(nx - 1, j))),
+        edge_y: rms_of(&mut (0..nx).map(|i| at(i, 0) - at(i, ny - 1))),
+        cell_x: rms_of(
+            &mut (0..nx - 1)
+                .flat_map(|i| (0..ny).map(move |j| (i, j)))
+                .map(|(i, j)| at(i + 1, j) - at(i, j)),
+        ),
+        cell_y: rms_of(
+            &mut (0..nx)
+                .flat_map(|i| (0..ny - 1).map(move |j| (i, j)))
+                .map(|(i, j)| at(i, j + 1) - at(i, j)),
+        ),
+    })
+}

@@ -20,7 +20,8 @@
 //!   period is kept, so the new pixel is `L / round(L / d)`; an even
 //!   map's Nyquist mode is split evenly between `+-q_N`. A surface whose
 //!   modes lie below both grids' Nyquist wavenumbers is reproduced to
-//!   round-off.
+//!   round-off. A map whose opposite edges do not meet (a scan) rings
+//!   near its edges: [`fourier_edge_warning`] says so.
 
 use std::f64::consts::PI;
 
@@ -54,6 +55,28 @@ impl std::str::FromStr for ResampleMethod {
             _ => Err(format!("'{s}': use spline or fourier")),
         }
     }
+}
+
+/// Edge steps above this many neighbour steps make Fourier interpolation
+/// ring ([`fourier_edge_warning`]).
+pub const EDGE_STEP_RATIO: f64 = 2.0;
+
+/// The warning for [`ResampleMethod::Fourier`] on a map that is not one
+/// period of a periodic surface: band-limited interpolation takes the map
+/// as a period, so where its opposite edges do not meet (an rms step
+/// across them above [`EDGE_STEP_RATIO`] times that between neighbouring
+/// cells, [`super::edge_steps`]) the jump is spread over the whole map as
+/// oscillations that are largest at the edges. `None` for a map whose
+/// edges meet like neighbouring cells.
+pub fn fourier_edge_warning(topo: &Topography) -> Option<String> {
+    let s = super::edge_steps(topo.nx, topo.ny, &topo.heights)?;
+    let off = |edge: f64, cell: f64| edge > EDGE_STEP_RATIO * cell;
+    (off(s.edge_x, s.cell_x) || off(s.edge_y, s.cell_y)).then(|| {
+        format!(
+            "Fourier interpolation takes the map as one period of a periodic surface, but its opposite edges do not meet: rms steps of {:.3} rms heights along x and {:.3} along y across them against {:.3} and {:.3} between neighbouring cells; the resampled heights ring near the edges. Use --method spline for a scan",
+            s.edge_x, s.edge_y, s.cell_x, s.cell_y
+        )
+    })
 }
 
 /// The grid asked for.

@@ -114,7 +114,7 @@ pub fn compare(
             m.std
         ));
     }
-    let mut staged = StagedOutput::new(dir)?;
+    let mut staged = StagedOutput::for_study(dir, &["points"])?;
     staged.write("compare.csv", csv.as_bytes())?;
     let mut model = Series::points(
         "computed mu_V",

@@ -267,6 +267,7 @@ pub fn csv(rows: &[MergedRow]) -> String {
 /// (written atomically together). Returns the rows; notes (points left
 /// out, Persson's theory from the points' own values) go to `observer`.
 pub fn merge(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<MergedRow>> {
+    crate::io::atomic::recover(dir);
     if !dir.join("points").is_dir() {
         // aggregate's error, before the lock (which would make `dir`).
         return aggregate(dir, observer);
@@ -318,7 +319,7 @@ pub(super) fn merge_locked(dir: &Path, observer: &mut dyn SweepObserver) -> Resu
         }
         start = end;
     }
-    let mut staged = StagedOutput::new(dir)?;
+    let mut staged = StagedOutput::for_study(dir, &["points"])?;
     staged.write("sweep.csv", csv(&rows).as_bytes())?;
     type Pick = fn(&MergedRow) -> Option<(f64, f64)>;
     type TheoryPick = Option<fn(&(f64, f64, f64, f64)) -> f64>;

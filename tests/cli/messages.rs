@@ -325,3 +325,54 @@ fn a_once_stalled_periodic_solve_converges() {
     let o = solve(tmp.path(), &cfg, &["solver.formulation=\"non_periodic\""]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// `[surface] length_y` (and the other keys of a surface file) beside a
+/// generated surface or a sphere was silently ignored: refused in one
+/// line naming the key and, for a generated surface, `ny`; a sweep and a
+/// magnification study refuse it before writing.
+#[test]
+fn file_keys_beside_a_generated_surface_or_a_sphere_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), "");
+    let o = solve(tmp.path(), &cfg, &["surface.length_y=0.005"]);
+    assert_refused(
+        &o,
+        &["length_y = 0.005", "[surface.generate] ny", "square cells"],
+    );
+    for (key, value) in [("format", "\"npy\""), ("fill_missing", "true")] {
+        let o = solve(tmp.path(), &cfg, &[&format!("surface.{key}={value}")]);
+        assert_refused(&o, &[key, "apply to a surface `file`"]);
+    }
+    let sphere = tmp.path().join("sphere.toml");
+    std::fs::write(
+        &sphere,
+        "[material]\nmodel = \"sls\"\nrelaxed_modulus = 3.3e6\nglassy_modulus = 1e7\ncreep_time = 0.01\n\
+         [surface]\nlength_y = 0.002\n[surface.sphere]\nn = 32\nlength = 0.001\nradius = 0.01\n\
+         [loading]\nnormal_load = 0.01\nspeed = 0.01\n",
+    )
+    .unwrap();
+    let o = solve(tmp.path(), &sphere, &[]);
+    assert_refused(&o, &["length_y = 0.002", "[surface.sphere]"]);
+    // The side along y of a generated surface is `ny` cells.
+    let o = solve(tmp.path(), &cfg, &["surface.generate.ny=16"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(tmp.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(s["length"], serde_json::json!([0.01, 0.005]));
+    let _ = std::fs::remove_dir_all(tmp.path().join("out"));
+    // Studies refuse it before their first write.
+    let out = tmp.path().join("study");
+    for args in [
+        vec!["magnification", cfg.to_str().unwrap(), "--scales", "2,4"],
+        vec!["refine", cfg.to_str().unwrap(), "--levels", "16,32"],
+    ] {
+        let mut args = args.clone();
+        args.extend(["--set", "surface.length_y=0.005", "--backend", "cpu"]);
+        args.extend(["--out", out.to_str().unwrap()]);
+        let o = viscoslide(&args);
+        assert_refused(&o, &["length_y"]);
+        assert!(!out.exists(), "{args:?} wrote {}", out.display());
+    }
+}

@@ -651,3 +651,38 @@ fn a_table_level_above_the_table_is_refused() {
     assert!(!out.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `magnification.json` states the temperature of the study's material and
+/// its WLF shift factor (as `summary.json` does), `null` without WLF
+/// constants.
+#[test]
+fn the_report_states_the_temperature_and_the_shift_factor() {
+    let dir = tmp("shift");
+    let with_wlf = CONFIG
+        .replace(
+            "creep_time = 0.01\n",
+            "creep_time = 0.01\nwlf = [8.86, 101.6, 17.0]\n",
+        )
+        .replace("speed = 0.01\n", "speed = 0.01\ntemperature = 7.0\n");
+    for (text, shift) in [(with_wlf.as_str(), true), (CONFIG, false)] {
+        let path = write_config(&dir, text);
+        let s = study(&path, vec![3.0 * ql(), 5.0 * ql()]);
+        let run = magnification::run(&s, &Executor::Cpu, None, Shard::ALL, &mut Quiet).unwrap();
+        let json = run.report.unwrap().to_json();
+        if shift {
+            let wlf = viscoslide::material::Wlf::new(8.86, 101.6, 17.0).unwrap();
+            assert_eq!(json["temperature"].as_f64(), Some(7.0), "{json}");
+            assert_eq!(json["reference_temperature"].as_f64(), Some(17.0));
+            assert_eq!(
+                json["shift_factor"].as_f64(),
+                Some(wlf.shift_factor(7.0).unwrap())
+            );
+            assert!(json["shift_factor"].as_f64().unwrap() > 9.0);
+        } else {
+            for key in ["temperature", "shift_factor", "reference_temperature"] {
+                assert!(json[key].is_null(), "{key}: {json}");
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -8,6 +8,8 @@ mod one_writer;
 mod persson_cli;
 mod persson_theory;
 mod refusals;
+mod study_faults;
+mod support;
 mod sweep;
 mod sweep_vary;
 mod vary_keys;

@@ -9,82 +9,10 @@
 //! first is at work.
 
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Child, Output};
 use std::time::{Duration, Instant};
 
-const SWEEP: &str = r#"
-[material]
-model = "sls"
-relaxed_modulus = 3.3333333333333335e6
-glassy_modulus = 1.0e7
-creep_time = 0.01
-
-[surface.generate]
-n = 32
-length = 0.01
-hurst = 0.8
-scales = 4
-rms_slope = 0.02
-seed = 1
-
-[loading]
-normal_load = 0.30
-xi = 1e-2
-
-[analysis]
-enabled = false
-
-[sweep]
-xi = [1e-3, 1e-2]
-seeds = [1, 2]
-"#;
-
-const STUDY: &str = r#"
-[material]
-model = "sls"
-relaxed_modulus = 3.3333333333333335e6
-glassy_modulus = 1.0e7
-creep_time = 0.01
-
-[surface.generate]
-n = 64
-length = 0.01
-hurst = 0.8
-q1 = 5026.548245743669
-rms_slope = 0.02
-seed = 3
-
-[loading]
-mean_pressure = 3.0e3
-speed = 0.01
-
-[solver]
-formulation = "periodic"
-"#;
-
-fn bin() -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_viscoslide"));
-    c.env_remove("VISCOSLIDE_TEST_FAULT");
-    c
-}
-
-fn start_slow(args: &[&str]) -> Child {
-    bin()
-        .args(args)
-        .env("VISCOSLIDE_TEST_FAULT", "slow-point")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap()
-}
-
-fn run(args: &[&str]) -> Output {
-    bin().args(args).output().unwrap()
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+use crate::support::{config, names, run, s, start_slow, text, STUDY, SWEEP};
 
 /// Wait until `path` exists (the first writer holds its directory).
 fn wait_for(path: &Path) {
@@ -113,16 +41,6 @@ fn assert_refused(second: &Output, took: Duration, dir: &Path, first: &Child) {
         assert!(err.contains(&format!("(pid {})", first.id())), "{all}");
     }
     assert!(took < Duration::from_secs(10), "refused after {took:?}");
-}
-
-fn config(dir: &Path, text: &str) -> String {
-    let p = dir.join("case.toml");
-    std::fs::write(&p, text).unwrap();
-    p.display().to_string()
-}
-
-fn s(p: &Path) -> String {
-    p.display().to_string()
 }
 
 #[test]
@@ -255,15 +173,6 @@ fn a_point_of_another_study_is_not_counted_as_done() {
         text(&again.stdout)
     );
     assert_eq!(std::fs::read_to_string(out.join("sweep.csv")).unwrap(), csv);
-}
-
-fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 /// A refinement study into a directory another writer holds is refused

@@ -154,3 +154,88 @@ fn resample_refuses_bad_input_in_one_line_and_writes_nothing() {
         "{json}"
     );
 }
+
+/// `--n 30` is 30 x 30 points: said on stdout and in `resample.json`.
+/// `--method fourier` on a scan (its opposite edges do not meet) warns
+/// that the map is taken as a period and rings at its edges, on stderr
+/// and in `resample.json`; on a periodic map it does not.
+#[test]
+fn a_single_n_is_stated_and_fourier_on_a_scan_is_warned_about() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let input = d.join("scan.x3p");
+    std::fs::write(&input, encode_x3p(&scan(), X3pType::F64, None).unwrap()).unwrap();
+    // One period of a smooth periodic surface on the scan's pixels.
+    let (nx, ny, dx, dy) = (60, 24, 1e-6, 2.5e-6);
+    let tau = 2.0 * std::f64::consts::PI;
+    let h = (0..nx * ny)
+        .map(|k| {
+            let (x, y) = (
+                ((k / ny) as f64 + 0.5) / nx as f64,
+                ((k % ny) as f64 + 0.5) / ny as f64,
+            );
+            1e-7 * ((tau * x).sin() * (2.0 * tau * y).cos() + 0.3 * (tau * (x + y)).cos())
+        })
+        .collect();
+    let period = d.join("period.x3p");
+    let p = Topography::new(nx, ny, dx, dy, h, "period").unwrap();
+    std::fs::write(&period, encode_x3p(&p, X3pType::F64, None).unwrap()).unwrap();
+    let read = |out: &Path| -> serde_json::Value {
+        serde_json::from_slice(&std::fs::read(out.join("resample.json")).unwrap()).unwrap()
+    };
+    for (file, method, ringing) in [
+        (&input, "fourier", true),
+        (&input, "spline", false),
+        (&period, "fourier", false),
+    ] {
+        let out = d.join(format!(
+            "{}-{method}",
+            file.file_stem().unwrap().to_string_lossy()
+        ));
+        let o = viscoslide(&[
+            "surface",
+            "resample",
+            file.to_str().unwrap(),
+            "--n",
+            "30",
+            "--method",
+            method,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let (stdout, stderr) = (
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr),
+        );
+        assert!(o.status.success(), "{stderr}");
+        let said = "--n 30: 30 x 30 points (one value: the same along x and y)";
+        assert!(stdout.contains(said), "{stdout}");
+        let json = read(&out);
+        assert_eq!(json["requested"], said, "{json}");
+        assert_eq!(json["to"]["shape"], serde_json::json!([30, 30]));
+        let warned = json["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("opposite edges do not meet"));
+        assert_eq!(warned, ringing, "{method} {}: {json}", file.display());
+        assert_eq!(
+            stderr.contains("warning: Fourier interpolation takes the map as one period"),
+            ringing,
+            "{stderr}"
+        );
+    }
+    // Two values are taken as given, without the note.
+    let out = d.join("two");
+    let o = viscoslide(&[
+        "surface",
+        "resample",
+        input.to_str().unwrap(),
+        "--n",
+        "30,20",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    assert_eq!(read(&out)["requested"], "--n 30,20: 30 x 20 points");
+}

@@ -28,11 +28,13 @@ pub struct ResampleArgs {
         required_unless_present = "n"
     )]
     pub pixel: Option<String>,
-    /// New number of points NX,NY over the same extent.
-    #[arg(long, value_name = "NX,NY")]
+    /// New number of points NX[,NY] over the same extent (NY defaults to
+    /// NX: one value gives NX x NX points).
+    #[arg(long, value_name = "NX[,NY]")]
     pub n: Option<String>,
     /// Interpolation: spline (not-a-knot bicubic; any map) or fourier
-    /// (band-limited; periodic maps).
+    /// (band-limited; periodic maps: on a map whose opposite edges do not
+    /// meet, a scan, it rings near the edges and says so).
     #[arg(long, default_value = "spline")]
     pub method: String,
     /// Format of the written heights: x3p, npy or text (default: the
@@ -67,7 +69,9 @@ fn numbers(flag: &str, s: &str) -> Result<Vec<String>> {
     Ok(parts)
 }
 
-fn target(args: &ResampleArgs) -> Result<ResampleTarget> {
+/// The grid asked for, and what the flag was taken to mean (a single
+/// value stands for both axes).
+fn target(args: &ResampleArgs) -> Result<(ResampleTarget, String)> {
     if let Some(p) = &args.pixel {
         let v = numbers("pixel", p)?
             .iter()
@@ -76,7 +80,16 @@ fn target(args: &ResampleArgs) -> Result<ResampleTarget> {
                     .map_err(|_| Error::Invalid(format!("--pixel: '{t}' is not a number")))
             })
             .collect::<Result<Vec<f64>>>()?;
-        return Ok(ResampleTarget::Pixel(v[0], *v.last().unwrap_or(&v[0])));
+        let (dx, dy) = (v[0], *v.last().unwrap_or(&v[0]));
+        let one = if v.len() == 1 {
+            " (one value: square pixels)"
+        } else {
+            ""
+        };
+        return Ok((
+            ResampleTarget::Pixel(dx, dy),
+            format!("--pixel {p}: pixel {dx:e} m x {dy:e} m{one}"),
+        ));
     }
     let s = args.n.as_deref().unwrap_or_default();
     let v = numbers("n", s)?
@@ -87,11 +100,20 @@ fn target(args: &ResampleArgs) -> Result<ResampleTarget> {
             })
         })
         .collect::<Result<Vec<usize>>>()?;
-    Ok(ResampleTarget::Shape(v[0], *v.last().unwrap_or(&v[0])))
+    let (nx, ny) = (v[0], *v.last().unwrap_or(&v[0]));
+    let one = if v.len() == 1 {
+        " (one value: the same along x and y)"
+    } else {
+        ""
+    };
+    Ok((
+        ResampleTarget::Shape(nx, ny),
+        format!("--n {s}: {nx} x {ny} points{one}"),
+    ))
 }
 
 pub(super) fn run(args: ResampleArgs) -> Result<()> {
-    let target = target(&args)?;
+    let (target, asked) = target(&args)?;
     let method: ResampleMethod = args
         .method
         .parse()
@@ -125,6 +147,9 @@ pub(super) fn run(args: ResampleArgs) -> Result<()> {
         what.push_str(&format!("; {n}"));
     }
     let mut warnings = Vec::new();
+    if method == ResampleMethod::Fourier {
+        warnings.extend(surface::fourier_edge_warning(&topo));
+    }
     if let ResampleTarget::Pixel(dx, dy) = target {
         let off = |got: f64, want: f64| (got / want - 1.0).abs() > 1e-9;
         if off(grid.dx, dx) || off(grid.dy, dy) {
@@ -157,6 +182,7 @@ pub(super) fn run(args: ResampleArgs) -> Result<()> {
         "version": crate::version::VERSION,
         "input": args.input_file.display().to_string(),
         "method": method,
+        "requested": asked,
         "description": what,
         "from": grid_json(topo.nx, topo.ny, topo.dx, topo.dy),
         "to": grid_json(grid.nx, grid.ny, grid.dx, grid.dy),
@@ -173,6 +199,7 @@ pub(super) fn run(args: ResampleArgs) -> Result<()> {
     for w in &warnings {
         eprintln!("warning: {w}");
     }
+    println!("{asked}");
     println!(
         "{} x {} points, pixel {:e} m x {:e} m -> {} x {} points, pixel {:e} m x {:e} m ({:.6e} m x {:.6e} m) by {method_name}: {}",
         topo.nx,
