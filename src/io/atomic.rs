@@ -480,7 +480,7 @@ fn unsupported(e: &std::io::Error) -> bool {
 /// (a crash between the two renames of a commit on a file system without
 /// an exchange), it is renamed back. Call before making `dir` or reading
 /// it, so that the directory is found again instead of being made anew.
-pub fn recover(dir: &Path) {
+pub(crate) fn recover(dir: &Path) {
     if let Some(name) = dir_name(dir) {
         recover_aside(&parent_of(dir), dir, &name);
     }

@@ -41,18 +41,19 @@ pub use measured::{
     analyse, detrend, line_psd, psd_topography, trusted_band, Analysis, Axis, Detrend, LinePsd,
     MeasuredStats,
 };
+pub(crate) use preprocess::{edge_steps, EdgeSteps};
 pub use preprocess::{
-    edge_steps, parse_detrend, parse_window, prepare, rms_slope_real, slope_warning, EdgeSteps,
-    Preprocessing, SLOPE_TOLERANCE,
+    parse_detrend, parse_window, prepare, rms_slope_real, slope_warning, Preprocessing,
+    SLOPE_TOLERANCE,
 };
 pub use psd::{
     fit_hurst, psd_2d, psd_grid, radial_average, stats, stats_with_window, window_weights,
     HurstFit, Psd2d, RadialPsd, SurfaceStats, Window,
 };
 pub use psd_table::{BelowTable, TabulatedPsd};
+pub(crate) use resample::fourier_edge_warning;
 pub use resample::{
-    fourier_edge_warning, resample, resample_grid, ResampleGrid, ResampleMethod, ResampleTarget,
-    EDGE_STEP_RATIO, MAX_RESAMPLE_CELLS,
+    resample, resample_grid, ResampleGrid, ResampleMethod, ResampleTarget, MAX_RESAMPLE_CELLS,
 };
 pub use stitch::{stitch, ScanPsd, StitchedPsd};
 pub use synth::{below_table_modes, generate_from_table, table_lattice_moments, SynthParams};

@@ -143,7 +143,7 @@ pub fn slope_warning(psd_slope: f64, real_slope: f64, what: &str) -> Option<Stri
 /// y, in units of the map's rms height. On a period the edge steps are
 /// neighbour steps; on a scan they are of the order of the rms height.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EdgeSteps {
+pub(crate) struct EdgeSteps {
     pub edge_x: f64,
     pub edge_y: f64,
     pub cell_x: f64,
@@ -152,7 +152,7 @@ pub struct EdgeSteps {
 
 /// The [`EdgeSteps`] of `nx x ny` heights (`heights[i * ny + j]`); `None`
 /// for a map under 2 x 2 cells or a flat one.
-pub fn edge_steps(nx: usize, ny: usize, heights: &[f64]) -> Option<EdgeSteps> {
+pub(crate) fn edge_steps(nx: usize, ny: usize, heights: &[f64]) -> Option<EdgeSteps> {
     let n = heights.len() as f64;
     if nx < 2 || ny < 2 || heights.len() != nx * ny {
         return None;

@@ -59,7 +59,7 @@ impl std::str::FromStr for ResampleMethod {
 
 /// Edge steps above this many neighbour steps make Fourier interpolation
 /// ring ([`fourier_edge_warning`]).
-pub const EDGE_STEP_RATIO: f64 = 2.0;
+pub(crate) const EDGE_STEP_RATIO: f64 = 2.0;
 
 /// The warning for [`ResampleMethod::Fourier`] on a map that is not one
 /// period of a periodic surface: band-limited interpolation takes the map
@@ -68,7 +68,7 @@ pub const EDGE_STEP_RATIO: f64 = 2.0;
 /// cells, [`super::edge_steps`]) the jump is spread over the whole map as
 /// oscillations that are largest at the edges. `None` for a map whose
 /// edges meet like neighbouring cells.
-pub fn fourier_edge_warning(topo: &Topography) -> Option<String> {
+pub(crate) fn fourier_edge_warning(topo: &Topography) -> Option<String> {
     let s = super::edge_steps(topo.nx, topo.ny, &topo.heights)?;
     let off = |edge: f64, cell: f64| edge > EDGE_STEP_RATIO * cell;
     (off(s.edge_x, s.cell_x) || off(s.edge_y, s.cell_y)).then(|| {
