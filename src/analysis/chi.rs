@@ -55,6 +55,8 @@
 //! Length: about 500 lines, one algorithm (PSD of chi, contour tracing, the
 //! ellipse fit) whose steps share their grid and contour types; splitting it
 //! would spread one method over files.
+//!
+//! Over 600 lines with its unit tests; the code is under 540.
 
 use std::f64::consts::PI;
 

@@ -12,6 +12,8 @@
 //! to wgpu for every kernel (the kernel table, pipeline and bind-group
 //! caches, the parameter ring, buffers, submission and read-back); splitting
 //! it would spread the device's state over files that all borrow it.
+//!
+//! Over 600 lines: the recorder, the kernel table and the binding checks share the engine's private state.
 
 use std::collections::HashMap;
 use std::sync::mpsc;
