@@ -21,7 +21,7 @@ pub use layer::{Layer, LayerBase, LayerConfig};
 
 use num_complex::Complex64;
 
-use crate::material::{Material, MaterialError};
+use crate::material::Material;
 
 /// The unit vector `e_v` of a sliding direction `direction_rad` from `+x`,
 /// components below 1e-15 snapped to zero so that 90 degrees is exactly
@@ -39,8 +39,6 @@ pub fn unit_direction(direction_rad: f64) -> (f64, f64) {
 pub enum ResponseError {
     #[error("{0}")]
     Invalid(String),
-    #[error(transparent)]
-    Material(#[from] MaterialError),
 }
 
 /// One steady-sliding response: the material (already at its temperature,
@@ -88,18 +86,6 @@ impl SlidingResponse {
             e: unit_direction(direction_rad),
             layer,
         })
-    }
-
-    /// The same response at another speed [m/s].
-    pub fn with_speed(&self, speed: f64) -> Result<Self, ResponseError> {
-        Self::new(&self.material, speed, self.direction_rad, self.layer)
-    }
-
-    /// The same response with the material at `temperature` \[C\] (WLF,
-    /// physics.md section 12): `mu(v, T) = mu(a_T v, T_ref)` exactly.
-    pub fn at_temperature(&self, temperature: f64) -> Result<Self, ResponseError> {
-        let m = self.material.at_temperature(temperature)?;
-        Self::new(&m, self.speed, self.direction_rad, self.layer)
     }
 
     /// The material, at the temperature of this response.
