@@ -1,6 +1,9 @@
 //! `viscoslide heat FLUX.npy ...`: the steady surface temperature rise of
 //! a rubber half-space sliding past a surface heat flux map (physics.md
-//! section 14; the numerics are `crate::heat`'s). Writes `temperature.npy`,
+//! section 14; the numerics are `crate::heat`'s); `viscoslide heat
+//! --from-run DIR ...`: the same for the heat source of a solved contact
+//! (the output directory of `viscoslide solve`), with its energy balance
+//! (`crate::problem::ContactHeating`). Writes `temperature.npy`,
 //! `temperature.png` and `heat.json` together, or nothing.
 
 use std::path::PathBuf;
@@ -9,29 +12,63 @@ use std::time::Instant;
 use serde_json::json;
 
 use crate::error::{Error, Result};
-use crate::heat::{Conduction, HeatDomain, HeatSetup, HeatSolver, Temperature};
+use crate::heat::{Conduction, HeatDomain, HeatSetup, HeatSolver, SourceKind, Temperature};
 use crate::io::{npy, StagedOutput};
 use crate::plot;
 use crate::response::Grid;
 
 /// The files one run writes (a new run replaces the whole set).
-const HEAT_FILES: &[&str] = &["temperature.npy", "temperature.png", "heat.json"];
+pub(super) const HEAT_FILES: &[&str] = &["temperature.npy", "temperature.png", "heat.json"];
 
 #[derive(Debug, clap::Args)]
 pub struct HeatArgs {
     /// Surface heat flux map [W/m^2]: a 2-D .npy (float64 or float32),
     /// axis 0 = x, one value per cell.
-    pub flux: PathBuf,
+    #[arg(required_unless_present = "from_run", conflicts_with = "from_run")]
+    pub flux: Option<PathBuf>,
+    /// Output directory of `viscoslide solve` (summary.json, pressure.npy):
+    /// heat the solved contact by its own heat source; the grid, speed,
+    /// direction, material and formulation are the run's.
+    #[arg(long, value_name = "DIR")]
+    pub from_run: Option<PathBuf>,
+    /// With --from-run: the creep elements' dissipation density on depth
+    /// layers (`volume`, periodic cells on a half-space) or the surface
+    /// work of the contact pressure (`surface`); default `volume` on a
+    /// periodic cell, `surface` on a pad.
+    #[arg(long, value_name = "KIND", requires = "from_run")]
+    pub source: Option<SourceKind>,
+    /// With --from-run and the volume source: the refined depth layers
+    /// (boundary ratio sqrt 2, 4 Gauss points; depth integrals to about
+    /// 5e-9 instead of 5e-5).
+    #[arg(long, requires = "from_run")]
+    pub refined_layers: bool,
     /// Side of a cell along x \[m\] (and along y unless --cell-size-y).
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
-    pub cell_size: f64,
+    #[arg(
+        long,
+        value_name = "M",
+        allow_negative_numbers = true,
+        required_unless_present = "from_run",
+        conflicts_with = "from_run"
+    )]
+    pub cell_size: Option<f64>,
     /// Side of a cell along y \[m\], for rectangular cells; default
     /// --cell-size.
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "M",
+        allow_negative_numbers = true,
+        conflicts_with = "from_run"
+    )]
     pub cell_size_y: Option<f64>,
     /// Sliding speed [m/s].
-    #[arg(long, value_name = "M/S", allow_negative_numbers = true)]
-    pub speed: f64,
+    #[arg(
+        long,
+        value_name = "M/S",
+        allow_negative_numbers = true,
+        required_unless_present = "from_run",
+        conflicts_with = "from_run"
+    )]
+    pub speed: Option<f64>,
     /// Thermal conductivity of the rubber [W/(m K)].
     #[arg(long, value_name = "W/(M K)", allow_negative_numbers = true)]
     pub conductivity: f64,
@@ -41,24 +78,21 @@ pub struct HeatArgs {
     pub diffusivity: f64,
     /// The map is one period of a periodic cell (default: a pad on an
     /// unbounded half-space).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "from_run")]
     pub periodic: bool,
     /// Length of the sliding block along the sliding direction \[m\]: the
     /// periodic cell's mean rise is the block's background heating over a
-    /// passage (without it the rise is given about its mean).
-    #[arg(
-        long,
-        value_name = "M",
-        requires = "periodic",
-        allow_negative_numbers = true
-    )]
+    /// passage (without it the rise is given about its mean). Periodic
+    /// cells only (--periodic, or a periodic run).
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub block_length: Option<f64>,
     /// Sliding direction, degrees from +x.
     #[arg(
         long,
         value_name = "DEG",
         default_value_t = 0.0,
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        conflicts_with = "from_run"
     )]
     pub direction_deg: f64,
     /// Output directory (temperature.npy, temperature.png, heat.json).
@@ -67,24 +101,32 @@ pub struct HeatArgs {
 }
 
 pub fn run(args: HeatArgs) -> Result<()> {
+    if let Some(dir) = &args.from_run {
+        return super::heat_run::run(&args, dir);
+    }
+    let (Some(flux_path), Some(cell_size), Some(speed)) = (&args.flux, args.cell_size, args.speed)
+    else {
+        unreachable!("clap requires the flux, --cell-size and --speed without --from-run")
+    };
+    if args.block_length.is_some() && !args.periodic {
+        return Err(Error::Invalid(
+            "--block-length is for a periodic cell: give --periodic too".into(),
+        ));
+    }
     if !args.direction_deg.is_finite() {
         return Err(Error::Invalid(format!(
             "--direction-deg {} must be finite",
             args.direction_deg
         )));
     }
-    let (nx, ny, flux) = npy::read_2d(&args.flux)?;
+    let (nx, ny, flux) = npy::read_2d(flux_path)?;
     let setup = HeatSetup {
-        grid: Grid::new(
-            nx,
-            ny,
-            (args.cell_size, args.cell_size_y.unwrap_or(args.cell_size)),
-        )?,
+        grid: Grid::new(nx, ny, (cell_size, args.cell_size_y.unwrap_or(cell_size)))?,
         conduction: Conduction {
             conductivity: args.conductivity,
             diffusivity: args.diffusivity,
         },
-        speed: args.speed,
+        speed,
         direction_rad: args.direction_deg.to_radians(),
         domain: if args.periodic {
             HeatDomain::Periodic {
@@ -98,37 +140,8 @@ pub fn run(args: HeatArgs) -> Result<()> {
     let temperature = crate::heat::surface_temperature(setup, &flux)?;
     let wall = t0.elapsed().as_secs_f64();
     let note = HeatSolver::note_for(&setup);
-    let doc = report(&args, &setup, &flux, &temperature, note, wall);
-
-    let mut out = StagedOutput::new(&args.out)?;
-    out.replaces(HEAT_FILES);
-    out.write(
-        "temperature.npy",
-        &npy::encode_f64(&[nx, ny], &temperature.rise),
-    )?;
-    let png = out.path("temperature.png");
-    let g = setup.grid;
-    plot::heatmap(
-        &png,
-        &format!(
-            "Surface temperature rise, v = {:.3e} m/s, {:.0} deg",
-            args.speed, args.direction_deg
-        ),
-        &plot::Field {
-            nx,
-            ny,
-            values: &temperature.rise,
-            extent: (0.0, nx as f64 * g.cell().0, 0.0, ny as f64 * g.cell().1),
-        },
-        "T - T0 [K]",
-        None,
-    )?;
-    let mut bytes = serde_json::to_vec_pretty(&doc)
-        .map_err(|e| Error::Invalid(format!("cannot encode JSON: {e}")))?;
-    bytes.push(b'\n');
-    out.write("heat.json", &bytes)?;
-    let dir = out.dir().to_path_buf();
-    out.commit()?;
+    let doc = report(&args, flux_path, &setup, &flux, &temperature, note, wall);
+    let dir = write(&args.out, &setup, args.direction_deg, &temperature, &doc)?;
     if let Some(n) = note {
         eprintln!("note: {n}");
     }
@@ -147,9 +160,52 @@ pub fn run(args: HeatArgs) -> Result<()> {
     Ok(())
 }
 
+/// Write `temperature.npy`, `temperature.png` and `heat.json` into `out`,
+/// all or none; returns the directory.
+pub(super) fn write(
+    out: &std::path::Path,
+    setup: &HeatSetup,
+    direction_deg: f64,
+    temperature: &Temperature,
+    doc: &serde_json::Value,
+) -> Result<PathBuf> {
+    let g = setup.grid;
+    let (nx, ny) = g.size();
+    let mut out = StagedOutput::new(out)?;
+    out.replaces(HEAT_FILES);
+    out.write(
+        "temperature.npy",
+        &npy::encode_f64(&[nx, ny], &temperature.rise),
+    )?;
+    let png = out.path("temperature.png");
+    plot::heatmap(
+        &png,
+        &format!(
+            "Surface temperature rise, v = {:.3e} m/s, {:.0} deg",
+            setup.speed, direction_deg
+        ),
+        &plot::Field {
+            nx,
+            ny,
+            values: &temperature.rise,
+            extent: (0.0, nx as f64 * g.cell().0, 0.0, ny as f64 * g.cell().1),
+        },
+        "T - T0 [K]",
+        None,
+    )?;
+    let mut bytes = serde_json::to_vec_pretty(doc)
+        .map_err(|e| Error::Invalid(format!("cannot encode JSON: {e}")))?;
+    bytes.push(b'\n');
+    out.write("heat.json", &bytes)?;
+    let dir = out.dir().to_path_buf();
+    out.commit()?;
+    Ok(dir)
+}
+
 /// `heat.json`: the inputs, the Peclet number, the rise and the power.
 fn report(
     args: &HeatArgs,
+    flux_path: &std::path::Path,
     setup: &HeatSetup,
     flux: &[f64],
     t: &Temperature,
@@ -160,7 +216,7 @@ fn report(
     let power = flux.iter().sum::<f64>() * g.cell_area();
     json!({
         "version": crate::version::VERSION,
-        "input": args.flux.display().to_string(),
+        "input": flux_path.display().to_string(),
         "grid": [g.nx(), g.ny()],
         "cell_size_m": [g.cell().0, g.cell().1],
         "speed_m_per_s": setup.speed,

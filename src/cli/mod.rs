@@ -5,6 +5,7 @@ mod analyze;
 mod gpu;
 mod gpu_bench;
 mod heat;
+mod heat_run;
 mod kernel;
 mod magnification;
 mod material;
@@ -63,7 +64,8 @@ pub enum Command {
     /// fixed, cut at each level), boundary elements beside Persson.
     Magnification(magnification::MagnificationArgs),
     /// Steady surface temperature rise of the rubber under a surface heat
-    /// flux map (frictional heating: moving heat source, pad or periodic
+    /// flux map, or under the heat source of a solved contact with
+    /// --from-run (frictional heating: moving heat source, pad or periodic
     /// cell).
     Heat(heat::HeatArgs),
 }

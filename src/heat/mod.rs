@@ -22,6 +22,9 @@
 //!   mean.
 //! - `layers.rs`: depth layers of a volume source.
 //! - `solve.rs`: [`HeatSolver`], planned once, applied to many sources.
+//! - `source/`: the heat source of a solved contact ([`HeatSource`]): the
+//!   creep elements' dissipation density on depth layers, or the surface
+//!   work of the contact pressure.
 //! - `error.rs`: [`HeatError`].
 
 mod background;
@@ -33,6 +36,7 @@ mod pad;
 mod periodic;
 mod setup;
 mod solve;
+mod source;
 
 pub use background::surface_background;
 pub use error::HeatError;
@@ -40,3 +44,4 @@ pub use layers::DepthLayers;
 pub use pad::moving_source_table;
 pub use setup::{Conduction, HeatDomain, HeatSetup};
 pub use solve::{surface_temperature, HeatSolver, Temperature, NO_BLOCK_NOTE};
+pub use source::{DepthRule, HeatSource, SourceKind};

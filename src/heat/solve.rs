@@ -8,6 +8,7 @@ use super::layers::{check_depths, DepthLayers};
 use super::pad::PadPlan;
 use super::periodic::PeriodicPlan;
 use super::setup::{HeatDomain, HeatSetup};
+use super::source::HeatSource;
 
 /// A temperature rise on the grid.
 #[derive(Debug, Clone, PartialEq)]
@@ -196,9 +197,49 @@ impl HeatSolver {
             .collect())
     }
 
+    /// The surface rise under `source`, and the source-weighted rise
+    /// `Int theta Q dV / Int Q dV` \[K\] (physics.md section 14's
+    /// `Theta`, the rise where the heat is released): for a volume source
+    /// the rise at each layer's middle weighted by the layer's source, for
+    /// a surface flux the surface rise weighted by the flux. The total
+    /// source must be positive.
+    pub fn under(&mut self, source: &HeatSource) -> Result<(Temperature, f64), HeatError> {
+        match source {
+            HeatSource::Surface { flux } => {
+                let t = self.surface(flux)?;
+                let total: f64 = flux.iter().sum();
+                let weighted: f64 = t.rise.iter().zip(flux).map(|(r, q)| r * q).sum();
+                Ok((t, weighted / positive_total(total)?))
+            }
+            HeatSource::Volume { layers, density } => {
+                let mut depths = vec![0.0];
+                depths.extend(layers.iter().map(|(a, b)| 0.5 * (a + b)));
+                let mut rises = self.volume(layers, density, &depths)?;
+                let n = self.setup.grid.cells();
+                let (mut total, mut weighted) = (0.0, 0.0);
+                for (l, (a, b)) in layers.iter().enumerate() {
+                    let d = &density[l * n..(l + 1) * n];
+                    total += (b - a) * d.iter().sum::<f64>();
+                    weighted += (b - a)
+                        * rises[l + 1]
+                            .rise
+                            .iter()
+                            .zip(d)
+                            .map(|(r, q)| r * q)
+                            .sum::<f64>();
+                }
+                Ok((rises.swap_remove(0), weighted / positive_total(total)?))
+            }
+        }
+    }
+
     fn shape(&self) -> (usize, usize) {
         (self.setup.grid.nx(), self.setup.grid.ny())
     }
+}
+
+fn positive_total(total: f64) -> Result<f64, HeatError> {
+    super::error::positive("the total heat source", total, "W")
 }
 
 fn add(rise: &mut [f64], background: Option<f64>) {

@@ -14,6 +14,7 @@
 //! - [`gpu_refine`]: the host f64 refinement of a uniform-grid GPU solve.
 //! - [`solution`]: the result, its summary, analysis and files.
 //! - [`warnings`]: what a solution says about its own validity.
+//! - `heating`: the heat of a solved contact ([`ContactHeating`]).
 //! - [`persson`]: Persson's theory for a configuration or a problem, the
 //!   analytic reference beside every simulation.
 //!
@@ -28,6 +29,7 @@ mod cascade;
 pub mod executor;
 mod friction;
 pub mod gpu_refine;
+mod heating;
 pub mod persson;
 pub mod resolution;
 pub mod setup;
@@ -40,6 +42,7 @@ use std::path::PathBuf;
 
 pub use adaptive::{AdaptiveParams, AdaptiveSolution, MeshReport};
 pub use executor::Executor;
+pub use heating::ContactHeating;
 pub use resolution::{ShortestWavelength, MIN_CELLS_PER_WAVELENGTH};
 pub use setup::{check_memory, memory_estimate};
 pub use solution::{Solution, Timings};

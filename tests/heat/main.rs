@@ -10,5 +10,6 @@ mod cli;
 mod closed_form;
 mod periodic;
 mod reference;
+mod source;
 mod symmetry;
 mod volume;

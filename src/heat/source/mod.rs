@@ -1,0 +1,149 @@
+//! The heat source of a solved contact (physics.md section 14): where the
+//! power `mu F_N v` the rubber dissipates is released.
+//!
+//! - [`SourceKind::Volume`]: the dissipation density `D` of the creep
+//!   elements on depth layers (`dissipation.rs`, the stresses of each
+//!   surface mode in `stress.rs`, the layers in `depth.rs`); a periodic
+//!   cell on a half-space. `D` is the dashpots' power where they are, in
+//!   the depth `~1/|q|` where each scale dissipates.
+//! - [`SourceKind::Surface`]: the work of the contact pressure,
+//!   `q_s = -v p (e_v . grad w)` (`work.rs`): the same total at the
+//!   surface, cheaper, for pads and periodic cells, with or without a
+//!   layer; it overstates flash temperatures.
+//!
+//! On a pad (non-periodic grid) only the surface flux is given: the heat
+//! solver has no volume source there, and the cells' piecewise-constant
+//! pressure, whose zero-padded transform the pad's friction integrates
+//! (Appendix A3), has stresses that jump at every cell edge at the
+//! surface, which a band-limited evaluation on the grid would not sum to
+//! the pad's friction; the surface flux's total is its stencil friction
+//! exactly.
+
+mod depth;
+mod dissipation;
+mod stress;
+mod work;
+
+pub use depth::DepthRule;
+
+use super::error::HeatError;
+use super::layers::DepthLayers;
+use crate::response::{Grid, SlidingResponse};
+
+pub(crate) use dissipation::Dissipation;
+
+/// Which heat source a solved contact gives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SourceKind {
+    /// The creep elements' dissipation density on depth layers (periodic
+    /// cells on a half-space).
+    Volume,
+    /// The work of the contact pressure at the surface.
+    Surface,
+}
+
+impl SourceKind {
+    /// `"volume"` or `"surface"`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Volume => "volume",
+            Self::Surface => "surface",
+        }
+    }
+}
+
+impl std::str::FromStr for SourceKind {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "volume" => Ok(Self::Volume),
+            "surface" => Ok(Self::Surface),
+            _ => Err(format!(
+                "the heat source is `volume` or `surface`, got `{s}`"
+            )),
+        }
+    }
+}
+
+/// A heat source on a grid, as [`super::HeatSolver`] takes it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum HeatSource {
+    /// A surface flux \[W/m^2\] per cell (C order, axis 0 = x).
+    Surface { flux: Vec<f64> },
+    /// A volume source \[W/m^3\]: layer `l`'s average over its depth at
+    /// `density[l * nx * ny..(l + 1) * nx * ny]`.
+    Volume {
+        layers: DepthLayers,
+        density: Vec<f64>,
+    },
+}
+
+impl HeatSource {
+    /// The heat source of the cell pressures `pressure` \[Pa\] (C order,
+    /// axis 0 = x) solved on `grid` under `response` (its material's creep
+    /// elements at the solve's temperature, speed and direction): `kind`
+    /// [`SourceKind::Volume`] on the layers of `rule` (periodic cells on a
+    /// half-space only, refused otherwise in one line), or
+    /// [`SourceKind::Surface`]. The speed must be positive and finite.
+    pub fn from_contact(
+        kind: SourceKind,
+        pressure: &[f64],
+        grid: &Grid,
+        response: &SlidingResponse,
+        rule: &DepthRule,
+    ) -> Result<Self, HeatError> {
+        super::error::check_map("the pressure", pressure, grid.size(), None)?;
+        super::error::positive("the speed", response.speed(), "m/s")?;
+        match kind {
+            SourceKind::Surface => Ok(Self::Surface {
+                flux: work::surface_work_flux(pressure, grid, response)?,
+            }),
+            SourceKind::Volume => {
+                if !grid.is_periodic() {
+                    return Err(HeatError::Unsupported(
+                        "the volume source (the creep elements' dissipation) is solved on periodic cells only; use the surface work flux (source = surface) on a pad",
+                    ));
+                }
+                let plan = Dissipation::new(pressure, grid, response)?;
+                let layers = rule.layers(grid)?;
+                let n = grid.cells();
+                let mut density = vec![0.0; layers.count() * n];
+                for (l, nodes) in rule.nodes(&layers).iter().enumerate() {
+                    let out = &mut density[l * n..(l + 1) * n];
+                    for &(z, w) in nodes {
+                        let d = plan.density_at(z)?;
+                        out.iter_mut().zip(&d).for_each(|(o, v)| *o += w * v);
+                    }
+                }
+                Ok(Self::Volume { layers, density })
+            }
+        }
+    }
+
+    /// The total power \[W\] on cells of area `cell_area` \[m^2\]: `sum
+    /// q_s a_x a_y`, or `sum_l h_l sum D_l a_x a_y`.
+    pub fn power(&self, cell_area: f64) -> f64 {
+        match self {
+            Self::Surface { flux } => cell_area * flux.iter().sum::<f64>(),
+            Self::Volume { layers, density } => {
+                let n = density.len() / layers.count();
+                layers
+                    .iter()
+                    .zip(density.chunks(n))
+                    .map(|((a, b), d)| (b - a) * d.iter().sum::<f64>())
+                    .sum::<f64>()
+                    * cell_area
+            }
+        }
+    }
+
+    /// Which kind of source this is.
+    pub fn kind(&self) -> SourceKind {
+        match self {
+            Self::Surface { .. } => SourceKind::Surface,
+            Self::Volume { .. } => SourceKind::Volume,
+        }
+    }
+}

@@ -1,0 +1,146 @@
+//! The heat of a solved contact (physics.md section 14): its heat source
+//! ([`crate::heat::HeatSource`], the creep elements' dissipation or the
+//! surface work of the pressure), the temperature rise it causes
+//! ([`crate::heat::HeatSolver`]) and the energy balance, the source's
+//! total against the friction power `mu F_N v`. The coupled solve (the
+//! effective-temperature fixed point) calls [`ContactHeating::new`] once
+//! per isothermal solve.
+
+use serde_json::{json, Value};
+
+use crate::error::Result;
+use crate::heat::{
+    Conduction, DepthRule, HeatDomain, HeatSetup, HeatSolver, HeatSource, SourceKind, Temperature,
+};
+use crate::response::{Grid, SlidingResponse};
+
+use super::{invalid, Problem, Solution};
+
+/// The heat source of a solved contact, its temperature rise and its
+/// energy balance.
+#[derive(Debug, Clone)]
+pub struct ContactHeating {
+    pub source: HeatSource,
+    /// The surface rise `T - T0` \[K\] at the cell centres (the block's
+    /// background included on a periodic cell with a block length).
+    pub temperature: Temperature,
+    /// The source-weighted rise `Theta` \[K\]: `Int theta D dV / Int D dV`
+    /// (or weighted by the surface flux), the rise where the heat is
+    /// released.
+    pub effective_rise: f64,
+    /// The source's total power \[W\]: `Int D dV`, or `sum q_s a_x a_y`.
+    pub heat_power_w: f64,
+    /// The friction power `mu F_N v` \[W\] it is checked against: the
+    /// dissipation route's `mu` for the volume source (Appendix A3-A4),
+    /// the stencil's (paper Eq. 9) for the surface flux.
+    pub friction_power_w: f64,
+    /// What the rise leaves out (a periodic cell without a block length).
+    pub note: Option<&'static str>,
+}
+
+impl ContactHeating {
+    /// The heat of the cell pressures `pressure` \[Pa\] solved on `grid`
+    /// under `response`, in a rubber of `conduction`; `block_length` \[m\]
+    /// gives a periodic cell its background heating; `friction_power_w`
+    /// is the solve's `mu F_N v` by the route matching `kind`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        pressure: &[f64],
+        grid: &Grid,
+        response: &SlidingResponse,
+        conduction: Conduction,
+        block_length: Option<f64>,
+        kind: SourceKind,
+        rule: &DepthRule,
+        friction_power_w: f64,
+    ) -> Result<Self> {
+        if block_length.is_some() && !grid.is_periodic() {
+            return Err(invalid(
+                "a block length is for periodic cells: a pad's steady rise needs none",
+            ));
+        }
+        let setup = HeatSetup {
+            grid: *grid,
+            conduction,
+            speed: response.speed(),
+            direction_rad: response.direction_rad(),
+            domain: if grid.is_periodic() {
+                HeatDomain::Periodic { block_length }
+            } else {
+                HeatDomain::Pad
+            },
+        };
+        setup.check()?;
+        let source = HeatSource::from_contact(kind, pressure, grid, response, rule)?;
+        let mut solver = HeatSolver::new(setup)?;
+        let (temperature, effective_rise) = solver.under(&source)?;
+        Ok(Self {
+            heat_power_w: source.power(grid.cell_area()),
+            source,
+            temperature,
+            effective_rise,
+            friction_power_w,
+            note: solver.note(),
+        })
+    }
+
+    /// `heat_power_w / friction_power_w - 1`.
+    pub fn balance(&self) -> f64 {
+        self.heat_power_w / self.friction_power_w - 1.0
+    }
+
+    /// The numbers of `heat.json`: source, rise, balance.
+    pub fn report(&self) -> Value {
+        let (layers, bounds) = match &self.source {
+            HeatSource::Volume { layers, .. } => (Some(layers.count()), Some(layers.bounds())),
+            HeatSource::Surface { .. } => (None, None),
+        };
+        json!({
+            "source": self.source.kind().name(),
+            "depth_layers": layers,
+            "layer_bounds_m": bounds,
+            "max_rise_k": self.temperature.max(),
+            "mean_rise_k": self.temperature.mean(),
+            "background_rise_k": self.temperature.background,
+            "effective_rise_k": self.effective_rise,
+            "heat_total_w": self.heat_power_w,
+            "friction_power_w": self.friction_power_w,
+            "energy_balance": self.balance(),
+            "notes": self.note.into_iter().collect::<Vec<_>>(),
+        })
+    }
+}
+
+impl Problem {
+    /// The heat of `solution` (solved from this problem) in a rubber of
+    /// `conduction` ([`ContactHeating::new`]); adaptive meshes are refused.
+    pub fn contact_heating(
+        &self,
+        solution: &Solution,
+        conduction: Conduction,
+        block_length: Option<f64>,
+        kind: SourceKind,
+        rule: &DepthRule,
+    ) -> Result<ContactHeating> {
+        if solution.mesh.is_some() {
+            return Err(invalid(
+                "the heat source of an adaptive-mesh solve is not computed; solve on a uniform grid",
+            ));
+        }
+        let mu = match kind {
+            SourceKind::Volume => solution.friction_coefficient_dissipation,
+            SourceKind::Surface => solution.friction_coefficient,
+        };
+        let power = mu * solution.stats.normal_load * self.speed;
+        ContactHeating::new(
+            &solution.fields.pressure,
+            &self.grid()?,
+            &self.response()?,
+            conduction,
+            block_length,
+            kind,
+            rule,
+            power,
+        )
+    }
+}
