@@ -253,8 +253,8 @@ pub(crate) const ROUNDING_FLOOR: f64 = 16.0;
 /// A residual less than 1 % below the best so far counts as stagnant.
 pub(crate) const STAGNATION: f64 = 0.99;
 
-/// An outer iteration that neither lowers the best residual by this factor
-/// nor completes its inner solve counts towards a stall.
+/// An outer iteration that lowers neither the best relative residual nor
+/// the best merit `|min(p, k gap)|` by this factor counts towards a stall.
 pub(crate) const STALL_GAIN: f64 = 0.9;
 /// Consecutive such iterations after which the solve stops as stalled
 /// (before the line search, the undamped iteration cycled on the periodic
@@ -286,6 +286,10 @@ pub(crate) const STAGNANT_ITERATIONS: usize = 3;
 /// Largest residual accepted at the floor (measured f32 floors: 5.8e-5 at
 /// 512^2, 1.3e-4 at 1024^2); above it a stagnant solve is an error.
 pub(crate) const STAGNANT_ACCEPT: f64 = 1e-3;
+/// The Krylov space of the inner solves may grow to this many times
+/// `SolverParams::restart` (doubling after each preconditioned solve that
+/// misses its target within its budget; module `active_set`).
+pub(crate) const RESTART_GROWTH: usize = 4;
 /// GMRES restart cycles one preconditioned inner solve may take before the
 /// next solve runs without the preconditioner (preconditioned inner solves
 /// on the experiment take one or two cycles; module `inner_mode`).

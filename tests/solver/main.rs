@@ -15,4 +15,5 @@ mod mixed_precision;
 mod near_full_contact;
 mod physics;
 mod problem_api;
+mod random_cases;
 mod stalled_cases;
