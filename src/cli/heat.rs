@@ -101,12 +101,9 @@ pub struct HeatArgs {
 }
 
 pub fn run(args: HeatArgs) -> Result<()> {
-    if let Some(dir) = &args.from_run {
-        return super::heat_run::run(&args, dir);
-    }
     let (Some(flux_path), Some(cell_size), Some(speed)) = (&args.flux, args.cell_size, args.speed)
     else {
-        unreachable!("clap requires the flux, --cell-size and --speed without --from-run")
+        unreachable!("clap requires the flux, --cell-size and --speed without --from-run, which the dispatch took")
     };
     if args.block_length.is_some() && !args.periodic {
         return Err(Error::Invalid(

@@ -115,7 +115,7 @@ fn read_run(dir: &Path) -> Result<Run> {
 pub(super) fn run(args: &HeatArgs, dir: &Path) -> Result<()> {
     let run = read_run(dir)?;
     let (nx, ny) = run.grid.size();
-    let (px, py, pressure) = npy::read_2d(&dir.join("pressure.npy"))?;
+    let (px, py, pressure) = npy::read_2d(dir.join("pressure.npy"))?;
     if (px, py) != (nx, ny) {
         return Err(Error::Invalid(format!(
             "{}: the pressure is {px} x {py}, the run's grid {nx} x {ny}",

@@ -21,9 +21,18 @@ use crate::gauss::gauss_legendre;
 /// `(4/3) qbar sqrt(kappa t_c / pi) / lam` \[K\]: the surface rise
 /// averaged over a passage of `t_c` \[s\] under the mean flux `qbar`
 /// \[W/m^2\].
-pub fn surface_background(qbar: f64, conduction: &Conduction, contact_time: f64) -> f64 {
+pub(crate) fn surface_background(qbar: f64, conduction: &Conduction, contact_time: f64) -> f64 {
     4.0 / 3.0 * qbar * (conduction.diffusivity * contact_time / std::f64::consts::PI).sqrt()
         / conduction.conductivity
+}
+
+impl Conduction {
+    /// The block's background surface rise \[K\] under the mean flux
+    /// `qbar` \[W/m^2\] averaged over a passage of `contact_time` \[s\]:
+    /// `(4/3) qbar sqrt(kappa t_c / pi) / lam`.
+    pub fn surface_background(&self, qbar: f64, contact_time: f64) -> f64 {
+        surface_background(qbar, self, contact_time)
+    }
 }
 
 /// The rise at depth `z` \[m\] averaged over a passage of `t_c` \[s\]

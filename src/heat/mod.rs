@@ -38,10 +38,8 @@ mod setup;
 mod solve;
 mod source;
 
-pub use background::surface_background;
 pub use error::HeatError;
 pub use layers::DepthLayers;
-pub use pad::moving_source_table;
 pub use setup::{Conduction, HeatDomain, HeatSetup};
-pub use solve::{surface_temperature, HeatSolver, Temperature, NO_BLOCK_NOTE};
+pub use solve::{surface_temperature, HeatSolver, Temperature};
 pub use source::{DepthRule, HeatSource, SourceKind};

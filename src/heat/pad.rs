@@ -20,7 +20,7 @@ use crate::operator::{GridOperator, OffsetTable, ToeplitzFft};
 /// [`OffsetTable`]). `setup` must pass [`HeatSetup::check`]. When the
 /// sliding direction is along a grid axis the table is exactly mirror
 /// symmetric across it (one half computed, the other copied).
-pub fn moving_source_table(setup: &HeatSetup) -> Vec<f64> {
+pub(crate) fn moving_source_table(setup: &HeatSetup) -> Vec<f64> {
     let g = setup.grid;
     let (nx, ny) = (g.nx() as isize, g.ny() as isize);
     let e = setup.direction();
@@ -63,6 +63,16 @@ pub fn moving_source_table(setup: &HeatSetup) -> Vec<f64> {
         }
     }
     values
+}
+
+impl HeatSetup {
+    /// The rise \[K\] at the centre of cell `(i, j)` per unit flux
+    /// \[W/m^2\] on cell `(i - di, j - dj)`, for every offset of the grid:
+    /// `values[(di + nx - 1) * (2 ny - 1) + (dj + ny - 1)]`; `self` must
+    /// pass [`HeatSetup::check`].
+    pub fn moving_source_table(&self) -> Vec<f64> {
+        moving_source_table(self)
+    }
 }
 
 /// The pad's operator: the table's FFT embedding, planned once.

@@ -34,7 +34,7 @@ impl Temperature {
 }
 
 /// What a periodic cell without a block length says about its mean.
-pub const NO_BLOCK_NOTE: &str = "periodic cell without a block length: the mean rise (k = 0) has no steady state, so the rise is given about its mean (zero mean); give the block length along the sliding direction for the block's background heating";
+pub(crate) const NO_BLOCK_NOTE: &str = "periodic cell without a block length: the mean rise (k = 0) has no steady state, so the rise is given about its mean (zero mean); give the block length along the sliding direction for the block's background heating";
 
 enum Plan {
     Pad(Box<PadPlan>),
@@ -48,6 +48,10 @@ pub struct HeatSolver {
 }
 
 impl HeatSolver {
+    /// What a periodic cell without a block length says about its mean
+    /// ([`HeatSolver::note`]).
+    pub const NO_BLOCK_NOTE: &'static str = NO_BLOCK_NOTE;
+
     /// Check `setup` and plan it: the pad's table of cell integrals and its
     /// FFT embedding, or the periodic cell's multiplier.
     pub fn new(setup: HeatSetup) -> Result<Self, HeatError> {

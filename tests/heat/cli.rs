@@ -234,3 +234,90 @@ fn refused_runs_write_nothing() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("--periodic"));
     assert!(!out.exists());
 }
+
+/// `viscoslide heat --from-run DIR` on a periodic solve: the volume source
+/// by default, its energy balance in heat.json within the default layers'
+/// 1e-3 (refined: 1e-6), the surface source's within 1e-10 (the stencil's
+/// own products); the map is the run's shape. On a pad run a block length
+/// and a volume source are refused in one line, writing nothing.
+#[test]
+fn heat_from_a_solved_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let solve = |formulation: &str| -> String {
+        let cfg = dir.path().join(format!("{formulation}.toml"));
+        std::fs::write(
+            &cfg,
+            format!(
+                "[material]\nmodel = \"sls\"\nrelaxed_modulus = 3.3e6\nglassy_modulus = 1e7\ncreep_time = 0.01\n\n[surface.generate]\nn = 24\nlength = 1e-3\nhurst = 0.8\nscales = 4\nrms_slope = 0.05\nseed = 2\n\n[loading]\nmean_pressure = 2e4\nspeed = 3e-3\n\n[solver]\ntolerance = 1e-10\nformulation = \"{formulation}\"\n"
+            ),
+        )
+        .unwrap();
+        let run = dir.path().join(formulation);
+        let o = viscoslide(&[
+            "solve",
+            cfg.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "--out",
+            run.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        run.display().to_string()
+    };
+    let periodic = solve("periodic");
+    let heat = |run: &str, out: &str, extra: &[&str]| -> Output {
+        let out = dir.path().join(out);
+        let mut args = vec![
+            "heat",
+            "--from-run",
+            run,
+            "--conductivity",
+            "0.25",
+            "--diffusivity",
+            "1e-7",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        viscoslide(&args)
+    };
+    for (out, extra, kind, tol) in [
+        ("v", &["--block-length", "0.01"][..], "volume", 1e-3),
+        ("vr", &["--refined-layers"][..], "volume", 1e-6),
+        ("s", &["--source", "surface"][..], "surface", 1e-10),
+    ] {
+        let o = heat(&periodic, out, extra);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let doc = json(&dir.path().join(out).join("heat.json"));
+        assert_eq!(doc["source"], kind);
+        let balance = doc["energy_balance"].as_f64().unwrap();
+        assert!(balance.abs() < tol, "{out}: {balance}");
+        assert!(doc["friction_power_w"].as_f64().unwrap() > 0.0);
+        assert!(doc["effective_rise_k"].as_f64().unwrap() > 0.0);
+        let (nx, ny, t) = npy::read_2d(dir.path().join(out).join("temperature.npy")).unwrap();
+        assert_eq!((nx, ny), (24, 24));
+        assert!(t.iter().all(|v| v.is_finite()));
+        assert!(dir.path().join(out).join("temperature.png").exists());
+    }
+    let pad = solve("non_periodic");
+    let o = heat(&pad, "p", &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let doc = json(&dir.path().join("p").join("heat.json"));
+    assert_eq!(doc["source"], "surface");
+    assert!(doc["energy_balance"].as_f64().unwrap().abs() < 1e-10);
+    for (extra, word) in [
+        (&["--block-length", "0.01"][..], "block-length"),
+        (&["--source", "volume"][..], "periodic cells only"),
+    ] {
+        let o = heat(&pad, "refused", extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(word), "{err}");
+        assert!(!dir.path().join("refused").exists());
+    }
+    let missing = dir.path().join("nothing").display().to_string();
+    let o = heat(&missing, "refused", &[]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("summary.json"));
+}

@@ -4,7 +4,7 @@
 //! heating with a block length).
 
 use num_complex::Complex64;
-use viscoslide::heat::{Conduction, HeatDomain, HeatSetup, HeatSolver, NO_BLOCK_NOTE};
+use viscoslide::heat::{Conduction, HeatDomain, HeatSetup, HeatSolver};
 use viscoslide::response::Grid;
 
 const LAMBDA: f64 = 0.25;
@@ -197,7 +197,7 @@ fn the_mean_is_the_blocks_background() {
     let (qbar, speed, block) = (3e4, 0.3, 0.01);
     let flux: Vec<f64> = mode.flux(1e5).iter().map(|q| q + qbar).collect();
     let mut free = HeatSolver::new(setup(32, 32, 5e-6, 5e-6, speed, 0.0, None)).unwrap();
-    assert_eq!(free.note(), Some(NO_BLOCK_NOTE));
+    assert_eq!(free.note(), Some(HeatSolver::NO_BLOCK_NOTE));
     let t = free.surface(&flux).unwrap();
     let mean = t.rise.iter().sum::<f64>() / t.rise.len() as f64;
     assert!(mean.abs() < 1e-12 * t.max(), "{mean}");

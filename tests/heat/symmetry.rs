@@ -5,8 +5,7 @@
 //! conduction into the depth, which carries the whole power); refusals.
 
 use viscoslide::heat::{
-    moving_source_table, surface_temperature, Conduction, HeatDomain, HeatError, HeatSetup,
-    HeatSolver,
+    surface_temperature, Conduction, HeatDomain, HeatError, HeatSetup, HeatSolver,
 };
 use viscoslide::internals::operator::{DenseOperator, GridOperator, OffsetTable};
 use viscoslide::response::Grid;
@@ -171,7 +170,7 @@ fn the_rise_scales_with_one_over_the_conductivity() {
 fn the_fft_embedding_matches_the_dense_product() {
     for (nx, ny, deg) in [(1, 9, 0.0), (7, 1, 30.0), (12, 9, 90.0), (15, 20, 137.0)] {
         let s = setup((nx, ny), (2e-6, 1e-6), 0.4, deg, HeatDomain::Pad);
-        let table = moving_source_table(&s);
+        let table = s.moving_source_table();
         let mut dense = DenseOperator::new(OffsetTable {
             nx,
             ny,

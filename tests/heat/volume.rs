@@ -5,9 +5,7 @@
 //! what a pad refuses.
 
 use num_complex::Complex64;
-use viscoslide::heat::{
-    surface_background, Conduction, DepthLayers, HeatDomain, HeatError, HeatSetup, HeatSolver,
-};
+use viscoslide::heat::{Conduction, DepthLayers, HeatDomain, HeatError, HeatSetup, HeatSolver};
 use viscoslide::internals::gauss::gauss_legendre;
 use viscoslide::response::Grid;
 
@@ -173,7 +171,7 @@ fn the_background_of_a_volume_source() {
     let t = solver
         .volume(&thin, &vec![qbar / h; nx * ny], &[0.0])
         .unwrap();
-    let want = surface_background(qbar, &conduction, tc);
+    let want = conduction.surface_background(qbar, tc);
     let got = t[0].background.unwrap();
     assert!((got / want - 1.0).abs() < 2e-4, "{got} vs {want}");
     assert!((t[0].mean() / want - 1.0).abs() < 2e-4);

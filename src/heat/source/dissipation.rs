@@ -196,9 +196,11 @@ impl Dissipation {
                 .into_par_iter()
                 .map(|k| self.parts(k % nx, k / nx, tau, z).unwrap_or_default())
                 .collect();
-            // The main fields: five deviatoric components and the trace.
+            // The main fields: five deviatoric components and the trace
+            // (whose weight `(1 - 2 nu) / 3` vanishes for `nu = 0.5`).
+            let count = if self.nu == 0.5 { 5 } else { 6 };
             let mut fields = Vec::with_capacity(6);
-            for c in 0..6 {
+            for c in 0..count {
                 let spec: Vec<Complex64> = parts.iter().map(|p| component(&p.mean, c)).collect();
                 fields.push(height_fft::inverse(spec, nx, ny).map_err(transform)?);
             }
@@ -213,7 +215,8 @@ impl Dissipation {
                         fields[3][n],
                         fields[4][n],
                     ];
-                    *d += weight * dissipation_form(&dev, fields[5][n], nu);
+                    let trace = fields.get(5).map_or(0.0, |f| f[n]);
+                    *d += weight * dissipation_form(&dev, trace, nu);
                 }
             });
             self.add_nyquist(&parts, weight, &mut density);
