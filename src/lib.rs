@@ -64,6 +64,7 @@
 pub mod config;
 pub mod error;
 pub mod heat;
+pub mod heating;
 pub mod io;
 pub mod magnification;
 pub mod material;

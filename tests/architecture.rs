@@ -25,6 +25,7 @@ const LAYERS: &[&[&str]] = &[
     &["persson"],
     &["error"],
     &["problem"],
+    &["heating"],
     &["sweep", "refine"],
     &["magnification"],
     &["cli", "internals"],

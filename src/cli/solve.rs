@@ -6,6 +6,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::backend::BackendChoice;
 use crate::error::{Error, Result};
+use crate::heating::{solve_heated, HeatingParams};
 use crate::io::check_output_dir;
 use crate::problem::{Executor, Problem};
 use crate::solver::Observer;
@@ -83,13 +84,46 @@ pub fn run(args: SolveArgs) -> Result<()> {
     bar.set_message("computing influence coefficients");
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
     let mut spinner = Spinner(bar);
-    let solution = problem.solve(&executor, &mut spinner);
-    spinner.0.finish_and_clear();
-    let solution = solution?;
-    for w in &solution.warnings {
-        eprintln!("warning: {w}");
+    let ambient = cfg.config.loading.as_ref().and_then(|l| l.temperature);
+    let heating = match &cfg.config.heating {
+        Some(h) => HeatingParams::from_config(h, &problem, ambient)?,
+        None => None,
+    };
+    let (solution, heated, written) = match heating {
+        Some(params) => {
+            let heated = solve_heated(&problem, &params, &executor, &mut spinner);
+            spinner.0.finish_and_clear();
+            let heated = heated?;
+            for w in &heated.solution.warnings {
+                eprintln!("warning: {w}");
+            }
+            let written = heated.write(&args.out)?;
+            (heated.solution.clone(), Some(heated.report), written)
+        }
+        None => {
+            let solution = problem.solve(&executor, &mut spinner);
+            spinner.0.finish_and_clear();
+            let solution = solution?;
+            for w in &solution.warnings {
+                eprintln!("warning: {w}");
+            }
+            let written = solution.write(&args.out)?;
+            (solution, None, written)
+        }
+    };
+    if let Some(h) = &heated {
+        println!(
+            "heated: effective temperature {:.4} C (T0 = {} C, rise {:.4e} K, peak surface rise {:.4e} K), {} branch of {} found, {} isothermal solves; friction at T0 without heating {:.6e}",
+            h.effective_temperature,
+            h.ambient_temperature,
+            h.temperature_rise.effective,
+            h.temperature_rise.peak_surface,
+            h.chosen_branch,
+            h.branches.len(),
+            h.fixed_point_evaluations,
+            h.isothermal_friction_coefficient
+        );
     }
-    let written = solution.write(&args.out)?;
     println!(
         "friction coefficient {:.6e} (dissipation: {:.6e}), contact area fraction {:.5}, {} iterations, {} matvecs, residual {:.2e}, {:.2} s",
         solution.friction_coefficient,

@@ -8,6 +8,7 @@
 //! `kernel`, the problem in `problem`, the sweep plan in `sweep`).
 
 pub mod analysis;
+pub mod heating;
 pub mod layer;
 pub mod loading;
 pub mod material;
@@ -20,6 +21,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 pub use analysis::AnalysisConfig;
+pub use heating::HeatingConfig;
 pub use layer::{LayerBase, LayerConfig};
 pub use loading::{LoadingConfig, Sliding, XiScale};
 pub use material::{MaterialConfig, MaterialModel};
@@ -56,6 +58,7 @@ pub struct Config {
     pub layer: Option<LayerConfig>,
     pub sweep: Option<SweepConfig>,
     pub analysis: Option<AnalysisConfig>,
+    pub heating: Option<HeatingConfig>,
 }
 
 /// A parsed config with the directory its relative paths refer to.

@@ -359,6 +359,13 @@ impl Solution {
     /// included: all files appear together or not at all. Returns the
     /// written paths.
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        self.write_with(dir, &SolveExtras::default())
+    }
+
+    /// [`Solution::write`] with what a layer above the solve adds (the
+    /// heated solve's `heating` object and temperature maps), in the same
+    /// all-or-nothing write.
+    pub fn write_with(&self, dir: &Path, extras: &SolveExtras) -> Result<Vec<PathBuf>> {
         let report = self.analyze_configured()?;
         let (nx, ny) = (self.record.nx, self.record.ny);
         let (ax, ay) = (self.record.cell_size, self.record.cell_size_y);
@@ -366,10 +373,14 @@ impl Solution {
         let set: Vec<&str> = SOLVE_FILES
             .iter()
             .chain(analysis::ANALYSIS_FILES.iter())
+            .chain(EXTRA_FILES.iter())
             .copied()
             .collect();
         staged.replaces(&set);
-        let doc = self.summary_with(report.as_ref());
+        let mut doc = self.summary_with(report.as_ref());
+        for (key, value) in &extras.summary {
+            doc[*key] = value.clone();
+        }
         staged.write(
             "summary.json",
             serde_json::to_string_pretty(&doc)
@@ -422,6 +433,34 @@ impl Solution {
         if let Some(r) = &report {
             analysis::write_analysis(&mut staged, &self.analysis_inputs(), r)?;
         }
+        for (name, bytes) in &extras.files {
+            debug_assert!(EXTRA_FILES.contains(name), "{name} is not in EXTRA_FILES");
+            staged.write(name, bytes)?;
+        }
+        for map in &extras.maps {
+            debug_assert!(
+                EXTRA_FILES.contains(&map.file),
+                "{} is not in EXTRA_FILES",
+                map.file
+            );
+            staged.write(
+                &format!("{}.npy", map.file.trim_end_matches(".png")),
+                &npy::encode_f64(&[nx, ny], &map.values),
+            )?;
+            let path = staged.path(map.file);
+            plot::heatmap(
+                &path,
+                &format!("{}, {title_suffix}", map.title),
+                &plot::Field {
+                    nx,
+                    ny,
+                    values: &map.values,
+                    extent,
+                },
+                map.unit,
+                None,
+            )?;
+        }
         Ok(staged.commit()?)
     }
 }
@@ -437,6 +476,40 @@ const SOLVE_FILES: [&str; 7] = [
     "pressure.png",
     "contact.png",
 ];
+
+/// The files a layer above the solve may add ([`SolveExtras`]); every
+/// write replaces them too, so that no stale map outlives its solve.
+const EXTRA_FILES: [&str; 4] = [
+    "temperature.npy",
+    "temperature.png",
+    "temperature_depth.csv",
+    "heat.json",
+];
+
+/// What a layer above the solve adds to its outputs.
+#[derive(Debug, Clone, Default)]
+pub struct SolveExtras {
+    /// `summary.json` keys and their values.
+    pub summary: Vec<(&'static str, Value)>,
+    /// Files by name (one of `temperature_depth.csv`, `heat.json`).
+    pub files: Vec<(&'static str, Vec<u8>)>,
+    /// Maps on the solve's grid, each written as `NAME.npy` and drawn as
+    /// `NAME.png` (`file` is the PNG's name: `temperature.png`).
+    pub maps: Vec<ExtraMap>,
+}
+
+/// One map of [`SolveExtras`].
+#[derive(Debug, Clone)]
+pub struct ExtraMap {
+    /// The PNG's file name.
+    pub file: &'static str,
+    /// The plot's title (the speed is appended).
+    pub title: String,
+    /// The colour bar's label.
+    pub unit: &'static str,
+    /// One value per cell (C order, axis 0 = x).
+    pub values: Vec<f64>,
+}
 
 /// The headline numbers of an analysis, as recorded in `summary.json`.
 fn analysis_headline(r: &AnalysisReport) -> Value {

@@ -8,6 +8,7 @@
 
 mod cli;
 mod closed_form;
+mod heated;
 mod periodic;
 mod reference;
 mod source;

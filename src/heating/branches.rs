@@ -1,0 +1,405 @@
+//! The self-consistent effective temperatures of a heated contact: every
+//! root of `g(T) = T0 + Theta(T) - T` in a stated bracket (physics.md
+//! section 14, "Feedback (closure)"), where `Theta(T)` is the
+//! dissipation-weighted temperature rise of the contact solved
+//! isothermally at `T`.
+//!
+//! `g(T0) = Theta(T0) >= 0`, so a root exists in `[T0, T0 + max_rise]`
+//! whenever `Theta(T0 + max_rise) <= max_rise`. Friction that rises with
+//! temperature (above the friction peak, where warming brings `a_T v` back
+//! towards it) makes `g` fold: a cold and a hot branch, stable where
+//! `g' < 0`, with an unstable root between them (the hysteresis of the hot
+//! branch).
+//!
+//! Each evaluation of `Theta` is a whole contact solve, so the search is
+//! frugal: `Theta(T0)` sets the scale of the rise, a geometric scan of
+//! rises `Theta(T0) r^i` (ratio `r`, default 3) up to `max_rise` finds the
+//! sign changes, and each is closed by the Illinois variant of regula falsi
+//! to `|g| <= tolerance`. Roots closer together than one scan step, or a
+//! tangent root (`g` touching zero without changing sign), can be missed;
+//! the report says how the bracket was scanned.
+
+use serde::Serialize;
+
+/// How the bracket is searched.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct BranchSearch {
+    /// Ambient temperature `T0` \[C\]: the bracket's lower end.
+    pub t0: f64,
+    /// The bracket's upper end is `T0 + max_rise` \[K\].
+    pub max_rise: f64,
+    /// Ratio of consecutive scanned rises (> 1).
+    pub scan_ratio: f64,
+    /// A root is accepted where `|g| <= tolerance` \[K\].
+    pub tolerance: f64,
+    /// At most this many evaluations of `Theta` in all.
+    pub max_evaluations: usize,
+}
+
+/// `Theta` at one temperature.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Evaluation {
+    /// Temperature of the isothermal solve \[C\].
+    pub temperature: f64,
+    /// Its dissipation-weighted temperature rise `Theta(T)` \[K\].
+    pub rise: f64,
+}
+
+impl Evaluation {
+    /// `g(T) = T0 + Theta(T) - T`.
+    fn residual(&self, t0: f64) -> f64 {
+        t0 + self.rise - self.temperature
+    }
+}
+
+/// One self-consistent effective temperature.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Branch {
+    /// `T_eff` \[C\].
+    pub temperature: f64,
+    /// `T_eff - T0` \[K\].
+    pub rise: f64,
+    /// `g(T_eff)` \[K\], at most the tolerance.
+    pub residual: f64,
+    /// Whether `g` falls through zero here (`g' < 0`: a perturbed
+    /// temperature returns to it); the unstable root between a cold and a
+    /// hot branch has `g' > 0`.
+    pub stable: bool,
+}
+
+/// Every root found and the evaluations spent.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Branches {
+    /// The roots, coldest first.
+    pub branches: Vec<Branch>,
+    /// Every evaluation, in the order made.
+    pub evaluations: Vec<Evaluation>,
+    /// The bracket searched \[C\].
+    pub bracket: [f64; 2],
+    /// How the bracket was searched, for the report.
+    pub method: String,
+}
+
+/// Why the search gave no root.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum SearchFailure<E> {
+    /// An evaluation failed.
+    Evaluation(E),
+    /// `g` stays positive up to the bracket's end: the rise exceeds
+    /// `max_rise`.
+    AboveBracket { rise_at_end: f64 },
+    /// The evaluation budget ran out before a root was closed.
+    Budget { evaluations: usize },
+}
+
+impl BranchSearch {
+    /// Check the controls; a one-line message naming the bad one.
+    pub(crate) fn check(&self) -> Result<(), String> {
+        if !self.t0.is_finite() {
+            return Err(format!("ambient temperature {} C must be finite", self.t0));
+        }
+        if !(self.max_rise.is_finite() && self.max_rise > 0.0) {
+            return Err(format!(
+                "[heating] max_rise = {} K must be positive and finite",
+                self.max_rise
+            ));
+        }
+        if !(self.scan_ratio.is_finite() && self.scan_ratio > 1.0) {
+            return Err(format!(
+                "scan ratio {} must be finite and above 1",
+                self.scan_ratio
+            ));
+        }
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(format!(
+                "[heating] tolerance = {} K must be positive and finite",
+                self.tolerance
+            ));
+        }
+        if self.max_evaluations < 3 {
+            return Err(format!(
+                "at least 3 evaluations are needed, {} given",
+                self.max_evaluations
+            ));
+        }
+        Ok(())
+    }
+
+    /// Every root of `g(T) = T0 + theta(T) - T` in `[T0, T0 + max_rise]`
+    /// (module docs). `theta(T)` is called with temperatures in the
+    /// bracket, nearest ones in succession where the scan allows (a caller
+    /// warm-starts each solve from the last).
+    pub(crate) fn find<E>(
+        &self,
+        mut theta: impl FnMut(f64) -> Result<f64, E>,
+    ) -> Result<Branches, SearchFailure<E>> {
+        let t0 = self.t0;
+        let end = t0 + self.max_rise;
+        let mut evaluations: Vec<Evaluation> = Vec::new();
+        let mut eval = |t: f64, evaluations: &mut Vec<Evaluation>| {
+            if evaluations.len() >= self.max_evaluations {
+                return Err(SearchFailure::Budget {
+                    evaluations: evaluations.len(),
+                });
+            }
+            let rise = theta(t).map_err(SearchFailure::Evaluation)?;
+            let e = Evaluation {
+                temperature: t,
+                rise,
+            };
+            evaluations.push(e);
+            Ok(e)
+        };
+
+        // The scan: T0, then rises Theta(T0) r^i up to max_rise (the
+        // bracket's end always included).
+        let first = eval(t0, &mut evaluations)?;
+        let mut scan = vec![first];
+        let mut rise = first.rise.max(self.tolerance).min(self.max_rise);
+        loop {
+            let e = eval(t0 + rise, &mut evaluations)?;
+            scan.push(e);
+            if rise >= self.max_rise {
+                break;
+            }
+            rise = (rise * self.scan_ratio).min(self.max_rise);
+        }
+
+        let mut branches = Vec::new();
+        for pair in scan.windows(2) {
+            let (a, b) = (pair[0], pair[1]);
+            let (ga, gb) = (a.residual(t0), b.residual(t0));
+            if ga.abs() <= self.tolerance
+                && !branches
+                    .iter()
+                    .any(|r: &Branch| r.temperature == a.temperature)
+            {
+                branches.push(self.branch(a, gb - ga, b.temperature - a.temperature));
+                continue;
+            }
+            if gb.abs() <= self.tolerance || ga.signum() == gb.signum() {
+                continue;
+            }
+            let root = self.illinois(a, b, &mut |t| eval(t, &mut evaluations))?;
+            branches.push(root);
+        }
+        if let Some(last) = scan.last() {
+            let g = last.residual(t0);
+            if g.abs() <= self.tolerance {
+                let prev = scan[scan.len() - 2];
+                branches.push(self.branch(
+                    *last,
+                    g - prev.residual(t0),
+                    last.temperature - prev.temperature,
+                ));
+            }
+        }
+        if branches.is_empty() {
+            let last = scan.last().copied().unwrap_or(first);
+            return Err(SearchFailure::AboveBracket {
+                rise_at_end: last.rise,
+            });
+        }
+        branches.sort_by(|a, b| a.temperature.total_cmp(&b.temperature));
+        // One root met at two neighbouring evaluations (`|g| <= tolerance`
+        // at both, e.g. `T0` and `T0 + tolerance` without heating) is one
+        // branch: the one nearer zero is kept.
+        branches.dedup_by(|later, earlier| {
+            let same = later.temperature - earlier.temperature <= 2.0 * self.tolerance;
+            if same && later.residual.abs() < earlier.residual.abs() {
+                std::mem::swap(later, earlier);
+            }
+            same
+        });
+        Ok(Branches {
+            branches,
+            evaluations,
+            bracket: [t0, end],
+            method: format!(
+                "rises Theta(T0) x {}^i scanned up to {} K, sign changes closed by Illinois regula falsi to |g| <= {} K",
+                self.scan_ratio, self.max_rise, self.tolerance
+            ),
+        })
+    }
+
+    /// A root at evaluation `e`, with `g`'s change `dg` over `dt` for its
+    /// stability.
+    fn branch(&self, e: Evaluation, dg: f64, dt: f64) -> Branch {
+        Branch {
+            temperature: e.temperature,
+            rise: e.temperature - self.t0,
+            residual: e.residual(self.t0),
+            stable: dg / dt < 0.0,
+        }
+    }
+
+    /// The root between `a` and `b` (residuals of opposite signs): regula
+    /// falsi with the Illinois halving of the retained end's residual.
+    fn illinois<E>(
+        &self,
+        a: Evaluation,
+        b: Evaluation,
+        eval: &mut dyn FnMut(f64) -> Result<Evaluation, SearchFailure<E>>,
+    ) -> Result<Branch, SearchFailure<E>> {
+        let t0 = self.t0;
+        let falling = b.residual(t0) < a.residual(t0);
+        let (mut x0, mut g0) = (a.temperature, a.residual(t0));
+        let (mut x1, mut g1) = (b.temperature, b.residual(t0));
+        let mut side = 0i8;
+        loop {
+            let x = (x0 * g1 - x1 * g0) / (g1 - g0);
+            let e = eval(x)?;
+            let g = e.residual(t0);
+            if g.abs() <= self.tolerance || (x1 - x0).abs() <= f64::EPSILON * x.abs().max(1.0) {
+                return Ok(Branch {
+                    temperature: e.temperature,
+                    rise: e.temperature - t0,
+                    residual: g,
+                    stable: falling,
+                });
+            }
+            if g.signum() == g1.signum() {
+                (x1, g1) = (x, g);
+                if side == -1 {
+                    g0 /= 2.0;
+                }
+                side = -1;
+            } else {
+                (x0, g0) = (x, g);
+                if side == 1 {
+                    g1 /= 2.0;
+                }
+                side = 1;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn search(t0: f64) -> BranchSearch {
+        BranchSearch {
+            t0,
+            max_rise: 200.0,
+            scan_ratio: 3.0,
+            tolerance: 1e-9,
+            max_evaluations: 200,
+        }
+    }
+
+    #[test]
+    fn one_root_of_a_falling_rise_is_the_fixed_point() {
+        // Theta(T) = 5 exp(-(T - 20) / 30): g is decreasing, one stable
+        // root, checked by substitution.
+        let s = search(20.0);
+        let r = s
+            .find(|t| Ok::<_, ()>(5.0 * (-(t - 20.0) / 30.0).exp()))
+            .unwrap();
+        assert_eq!(r.branches.len(), 1, "{r:?}");
+        let b = r.branches[0];
+        let theta = 5.0 * (-(b.temperature - 20.0) / 30.0).exp();
+        assert!((20.0 + theta - b.temperature).abs() <= 1e-9, "{b:?}");
+        assert!(b.stable);
+        assert!(
+            r.evaluations.len() < 30,
+            "{} evaluations",
+            r.evaluations.len()
+        );
+    }
+
+    #[test]
+    fn an_s_curve_gives_cold_unstable_and_hot_roots() {
+        // A constructed fold: Theta(T) = 2 + 80 / (1 + exp(-(T - 60) / 4))
+        // with T0 = 20: g = 22 + 80 s - T has roots near 22, between, and
+        // near 102. Each is checked by substitution; the stabilities
+        // alternate.
+        let theta = |t: f64| 2.0 + 80.0 / (1.0 + (-(t - 60.0) / 4.0).exp());
+        let s = search(20.0);
+        let r = s.find(|t| Ok::<_, ()>(theta(t))).unwrap();
+        assert_eq!(r.branches.len(), 3, "{r:?}");
+        for b in &r.branches {
+            assert!(
+                (20.0 + theta(b.temperature) - b.temperature).abs() <= 1e-9,
+                "{b:?}"
+            );
+        }
+        let stable: Vec<bool> = r.branches.iter().map(|b| b.stable).collect();
+        assert_eq!(stable, [true, false, true]);
+        assert!(
+            r.branches[0].rise < 5.0 && r.branches[2].rise > 70.0,
+            "{r:?}"
+        );
+    }
+
+    #[test]
+    fn a_rise_beyond_the_bracket_is_reported_not_a_root() {
+        let s = BranchSearch {
+            max_rise: 10.0,
+            ..search(0.0)
+        };
+        match s.find(|_| Ok::<_, ()>(50.0)) {
+            Err(SearchFailure::AboveBracket { rise_at_end }) => assert_eq!(rise_at_end, 50.0),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn no_heating_is_the_ambient_temperature() {
+        let r = search(25.0).find(|_| Ok::<_, ()>(0.0)).unwrap();
+        assert_eq!(r.branches.len(), 1);
+        assert!((r.branches[0].temperature - 25.0).abs() <= 1e-9, "{r:?}");
+        // A rise below the tolerance: T0 and T0 + tolerance both satisfy
+        // |g| <= tolerance, one branch.
+        let coarse = BranchSearch {
+            tolerance: 1e-3,
+            ..search(25.0)
+        };
+        let r = coarse.find(|_| Ok::<_, ()>(1e-8)).unwrap();
+        assert_eq!(r.branches.len(), 1, "{r:?}");
+        assert!(r.branches[0].residual.abs() <= 1e-3, "{r:?}");
+    }
+
+    #[test]
+    fn the_budget_and_evaluation_errors_stop_the_search() {
+        let s = BranchSearch {
+            max_evaluations: 3,
+            ..search(0.0)
+        };
+        assert!(matches!(
+            s.find(|t| Ok::<_, ()>(5.0 * (-t / 30.0).exp())),
+            Err(SearchFailure::Budget { evaluations: 3 })
+        ));
+        assert!(matches!(
+            search(0.0).find(|_| Err::<f64, _>("solve failed")),
+            Err(SearchFailure::Evaluation("solve failed"))
+        ));
+    }
+
+    #[test]
+    fn bad_controls_are_refused_in_one_line() {
+        for s in [
+            BranchSearch {
+                max_rise: 0.0,
+                ..search(0.0)
+            },
+            BranchSearch {
+                scan_ratio: 1.0,
+                ..search(0.0)
+            },
+            BranchSearch {
+                tolerance: f64::NAN,
+                ..search(0.0)
+            },
+            BranchSearch {
+                t0: f64::INFINITY,
+                ..search(0.0)
+            },
+        ] {
+            let e = s.check().unwrap_err();
+            assert!(!e.contains('\n'), "{e}");
+        }
+        search(0.0).check().unwrap();
+    }
+}

@@ -1,0 +1,17 @@
+//! The heated contact (physics.md section 14): the isothermal solve, its
+//! dissipation as a heat source, the temperature rise it causes, and the
+//! effective temperature at which the three agree.
+//!
+//! - `params.rs`: `[heating]` typed and checked ([`HeatingParams`]).
+//! - `branches.rs`: every root of `T0 + Theta(T) - T` in a bracket
+//!   ([`Branches`]).
+//! - `solve.rs`: the fixed point over isothermal solves
+//!   ([`solve_heated`], [`HeatedSolution`]).
+
+mod branches;
+mod params;
+mod solve;
+
+pub use branches::{Branch, Branches, Evaluation};
+pub use params::{BranchChoice, HeatingParams, DEFAULT_MAX_RISE, DEFAULT_TOLERANCE};
+pub use solve::{solve_heated, DepthRow, HeatedSolution, HeatingReport, Rises};

@@ -1,0 +1,187 @@
+//! `[heating]` typed and checked against the problem it heats: every
+//! default stated here, every refusal one line naming the key.
+
+use crate::config::HeatingConfig;
+use crate::config::{Formulation, MeshKind};
+use crate::error::{Error, Result};
+use crate::heat::{Conduction, SourceKind};
+use crate::problem::Problem;
+
+use super::branches::BranchSearch;
+
+/// The bracket's default height above the ambient temperature \[K\].
+pub const DEFAULT_MAX_RISE: f64 = 100.0;
+/// The default tolerance on `|T0 + Theta(T) - T|` \[K\].
+pub const DEFAULT_TOLERANCE: f64 = 1e-3;
+/// Ratio of consecutive rises scanned for sign changes.
+const SCAN_RATIO: f64 = 3.0;
+/// At most this many isothermal solves per heated solve.
+const MAX_EVALUATIONS: usize = 40;
+
+/// Which self-consistent temperature is the answer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BranchChoice {
+    /// The coldest stable root: the branch a contact reaches as its speed
+    /// rises from rest.
+    Cold,
+    /// The hottest stable root: the branch after the jump, as the speed
+    /// falls from above the fold.
+    Hot,
+}
+
+impl BranchChoice {
+    /// The name used in configs and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            BranchChoice::Cold => "cold",
+            BranchChoice::Hot => "hot",
+        }
+    }
+}
+
+/// A checked `[heating]` section.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeatingParams {
+    pub conduction: Conduction,
+    /// The block's length along the sliding direction \[m\] (periodic
+    /// cells).
+    pub block_length: Option<f64>,
+    pub source: SourceKind,
+    pub branch: BranchChoice,
+    /// Ambient temperature `T0` \[C\]: `[loading] temperature`.
+    pub ambient: f64,
+    /// The bracket is `[T0, T0 + max_rise]` \[K\].
+    pub max_rise: f64,
+    /// Accepted `|T0 + Theta(T) - T|` \[K\].
+    pub tolerance: f64,
+}
+
+fn invalid(msg: impl Into<String>) -> Error {
+    Error::Invalid(msg.into())
+}
+
+fn positive(key: &str, value: Option<f64>, unit: &str) -> Result<Option<f64>> {
+    match value {
+        Some(v) if !(v.is_finite() && v > 0.0) => Err(invalid(format!(
+            "[heating] {key} = {v} {unit} must be positive and finite"
+        ))),
+        v => Ok(v),
+    }
+}
+
+impl HeatingParams {
+    /// `[heating]` for `problem`, whose material is at the ambient
+    /// temperature `ambient` (`[loading] temperature`, `None` when not
+    /// given). `Ok(None)` when the section says `enabled = false`.
+    pub fn from_config(
+        cfg: &HeatingConfig,
+        problem: &Problem,
+        ambient: Option<f64>,
+    ) -> Result<Option<Self>> {
+        if cfg.enabled == Some(false) {
+            return Ok(None);
+        }
+        let conductivity = positive("conductivity", cfg.conductivity, "W/(m K)")?
+            .ok_or_else(|| invalid("[heating] needs conductivity (W/(m K); rubber 0.2-0.3)"))?;
+        let density = positive("density", cfg.density, "kg/m^3")?;
+        let specific_heat = positive("specific_heat", cfg.specific_heat, "J/(kg K)")?;
+        let diffusivity = match (positive("diffusivity", cfg.diffusivity, "m^2/s")?, density, specific_heat) {
+            (Some(k), None, None) => k,
+            (None, Some(rho), Some(c)) => conductivity / (rho * c),
+            (Some(_), _, _) => {
+                return Err(invalid(
+                    "[heating] give diffusivity or density and specific_heat, not both",
+                ))
+            }
+            (None, _, _) => {
+                return Err(invalid(
+                    "[heating] needs diffusivity (m^2/s; rubber about 1e-7) or density (kg/m^3) and specific_heat (J/(kg K))",
+                ))
+            }
+        };
+        let block_length = positive("block_length", cfg.block_length, "m")?;
+        let periodic = problem.formulation == Formulation::Periodic;
+        if periodic && block_length.is_none() {
+            return Err(invalid(
+                "[heating] block_length (m) is needed with formulation = \"periodic\": the periodic cell's mean heating is the block's background heating over its passage (physics.md section 14)",
+            ));
+        }
+        if !periodic && block_length.is_some() {
+            return Err(invalid(
+                "[heating] block_length applies to periodic cells; a finite pad's heat problem is steady without it: remove it or use formulation = \"periodic\"",
+            ));
+        }
+        // The volume source is solved on periodic cells (the heat module
+        // has no buried source on a pad): the default follows.
+        let default_source = if periodic { "volume" } else { "surface" };
+        let source = match cfg.source.as_deref().unwrap_or(default_source) {
+            "volume" if periodic => SourceKind::Volume,
+            "volume" => {
+                return Err(invalid(
+                    "[heating] source = \"volume\" (the creep elements' dissipation on depth layers) is solved on periodic cells only: use source = \"surface\" on a finite pad, or formulation = \"periodic\"",
+                ))
+            }
+            "surface" => SourceKind::Surface,
+            other => {
+                return Err(invalid(format!(
+                    "[heating] source = \"{other}\": expected \"volume\" or \"surface\""
+                )))
+            }
+        };
+        match cfg.closure.as_deref().unwrap_or("effective") {
+            "effective" => {}
+            other => {
+                return Err(invalid(format!(
+                    "[heating] closure = \"{other}\": expected \"effective\" (one dissipation-weighted temperature)"
+                )))
+            }
+        }
+        let branch = match cfg.branch.as_deref().unwrap_or("cold") {
+            "cold" => BranchChoice::Cold,
+            "hot" => BranchChoice::Hot,
+            other => {
+                return Err(invalid(format!(
+                    "[heating] branch = \"{other}\": expected \"cold\" or \"hot\""
+                )))
+            }
+        };
+        if problem.mesh == MeshKind::Adaptive {
+            return Err(invalid(
+                "[heating] needs a uniform grid (the heat source of an adaptive mesh is not computed): use mesh = \"uniform\"",
+            ));
+        }
+        if problem.material.wlf.is_none() {
+            return Err(invalid(
+                "[heating] needs the material's WLF constants (the friction's feedback is the modulus at the heated temperature): give [material] wlf = [C1, C2 (K), T_ref (C)]",
+            ));
+        }
+        let ambient = ambient.ok_or_else(|| {
+            invalid("[heating] needs [loading] temperature (C): the ambient temperature T0 the rubber is heated from")
+        })?;
+        let max_rise = positive("max_rise", cfg.max_rise, "K")?.unwrap_or(DEFAULT_MAX_RISE);
+        let tolerance = positive("tolerance", cfg.tolerance, "K")?.unwrap_or(DEFAULT_TOLERANCE);
+        Ok(Some(Self {
+            conduction: Conduction {
+                conductivity,
+                diffusivity,
+            },
+            block_length,
+            source,
+            branch,
+            ambient,
+            max_rise,
+            tolerance,
+        }))
+    }
+
+    /// The root search these parameters ask for.
+    pub(crate) fn search(&self) -> BranchSearch {
+        BranchSearch {
+            t0: self.ambient,
+            max_rise: self.max_rise,
+            scan_ratio: SCAN_RATIO,
+            tolerance: self.tolerance,
+            max_evaluations: MAX_EVALUATIONS,
+        }
+    }
+}

@@ -1,0 +1,541 @@
+//! The heated solve (physics.md section 14, "Feedback (closure)"): the
+//! effective temperature `T_eff = T0 + Theta(T_eff)`, where `Theta(T)` is
+//! the dissipation-weighted rise `Int theta Q dV / Int Q dV` of the
+//! contact solved isothermally at `T` (the material's creep times scaled
+//! by `a_T(T)`, section 12) and heated by its own dissipation `Q`.
+//!
+//! Each evaluation of `Theta` is one isothermal solve, warm-started from
+//! the previous evaluation's contact where the discretisation takes a
+//! start, then the heat source of its pressure
+//! ([`crate::heat::HeatSource::from_contact`]) and the rise under it
+//! ([`crate::heat::HeatSolver::under`], planned once: the heat problem
+//! does not depend on the temperature). The answer is the isothermal
+//! solve at the chosen root itself, so `mu_heated(v, T0) = mu(v, T_eff)`
+//! holds exactly.
+
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::heat::{DepthRule, HeatDomain, HeatSetup, HeatSolver, HeatSource, SourceKind};
+use crate::problem::{
+    Discretisation, Executor, ExtraMap, Observer, Problem, Solution, SolveExtras,
+};
+
+use super::branches::{Branch, Evaluation, SearchFailure};
+use super::params::{BranchChoice, HeatingParams};
+
+/// Heat balance `|Int Q dV / (mu F_N v) - 1|` above which a warning is
+/// given: the default depth layers hold it to 1e-3 (physics.md section 14).
+const BALANCE_WARNING: f64 = 1e-2;
+
+/// The background heating's formula holds while the dissipation depth
+/// (the cell's longest wavelength over `2 pi`) is below this share of the
+/// diffusion length `sqrt(kappa L_b / v)` of one passage.
+const BACKGROUND_DEPTH_SHARE: f64 = 0.3;
+
+/// The temperature rises of the answer \[K\].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Rises {
+    /// `T_eff - T0`: the dissipation-weighted rise.
+    pub effective: f64,
+    /// The surface's highest rise.
+    pub peak_surface: f64,
+    /// The surface rise averaged over the cells in contact.
+    pub mean_contact: f64,
+    /// The periodic cell's background heating (its mean over a block's
+    /// passage); none on a pad.
+    pub background: Option<f64>,
+}
+
+/// What the heated solve reports (`summary.json`'s `heating`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HeatingReport {
+    /// `T0` \[C\].
+    pub ambient_temperature: f64,
+    /// `T_eff` of the chosen branch \[C\].
+    pub effective_temperature: f64,
+    pub temperature_rise: Rises,
+    /// `"cold"` or `"hot"`.
+    pub chosen_branch: &'static str,
+    /// Every self-consistent temperature found in the bracket, coldest
+    /// first.
+    pub branches: Vec<Branch>,
+    /// `[T0, T0 + max_rise]` \[C\].
+    pub bracket: [f64; 2],
+    /// How the bracket was searched.
+    pub search: String,
+    /// Isothermal solves spent.
+    pub fixed_point_evaluations: usize,
+    /// `Theta(T)` at every temperature solved.
+    pub evaluations: Vec<Evaluation>,
+    /// `Int Q dV` of the answer \[W\].
+    pub heat_total_w: f64,
+    /// `mu F_N v` of the answer \[W\].
+    pub friction_power_w: f64,
+    /// `mu` of the isothermal solve at `T0`, for comparison.
+    pub isothermal_friction_coefficient: f64,
+    /// Persson's `mu` at `T_eff` (the answer's own estimate), when it
+    /// applies.
+    pub persson_friction_coefficient: Option<f64>,
+    /// `"volume"` or `"surface"`.
+    pub source: &'static str,
+    /// `"effective"`.
+    pub closure: &'static str,
+    /// `lam` \[W/(m K)\].
+    pub conductivity: f64,
+    /// `kappa` \[m^2/s\].
+    pub diffusivity: f64,
+    /// `L_b` \[m\], periodic cells.
+    pub block_length: Option<f64>,
+    /// `v L / kappa` with `L` the map's side along the sliding direction.
+    pub peclet: f64,
+    /// Where the answer may mislead.
+    pub warnings: Vec<String>,
+}
+
+/// One depth of the answer's temperature profile.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DepthRow {
+    /// Depth below the surface \[m\].
+    pub depth: f64,
+    /// The rise averaged over the cell's plane at that depth \[K\].
+    pub mean_rise: f64,
+    /// Its highest value \[K\].
+    pub max_rise: f64,
+    /// The volume source averaged over the layer holding that depth
+    /// \[W/m^3\] (volume sources; 0 at the surface).
+    pub mean_source: f64,
+}
+
+/// The heated contact.
+#[derive(Debug, Clone)]
+pub struct HeatedSolution {
+    /// The isothermal solve at `T_eff`: its friction is the heated
+    /// friction; its warnings include the heating's.
+    pub solution: Solution,
+    /// The surface rise `T - T0` at the cell centres \[K\] (C order, axis
+    /// 0 = x).
+    pub surface_rise: Vec<f64>,
+    /// The rise against depth (periodic cells; a pad's rise is solved at
+    /// its surface only).
+    pub depth_profile: Option<Vec<DepthRow>>,
+    pub report: HeatingReport,
+}
+
+impl HeatedSolution {
+    /// `summary.json`'s `heating` object, the temperature map and the
+    /// depth profile, for [`Solution::write_with`].
+    pub fn extras(&self) -> SolveExtras {
+        let mut heating = serde_json::to_value(&self.report).expect("the report is serialisable");
+        heating["depth_profile"] = match &self.depth_profile {
+            Some(_) => "temperature_depth.csv".into(),
+            None => "not solved below a pad's surface (periodic cells only)".into(),
+        };
+        let mut files = Vec::new();
+        if let Some(rows) = &self.depth_profile {
+            let mut csv = String::from("depth_m,mean_rise_k,max_rise_k,mean_source_w_m3\n");
+            for r in rows {
+                csv.push_str(&format!(
+                    "{:e},{:e},{:e},{:e}\n",
+                    r.depth, r.mean_rise, r.max_rise, r.mean_source
+                ));
+            }
+            files.push(("temperature_depth.csv", csv.into_bytes()));
+        }
+        SolveExtras {
+            summary: vec![("heating", heating)],
+            files,
+            maps: vec![ExtraMap {
+                file: "temperature.png",
+                title: format!(
+                    "Surface temperature rise (T_eff = {:.3} C, T0 = {} C)",
+                    self.report.effective_temperature, self.report.ambient_temperature
+                ),
+                unit: "T - T0 [K]",
+                values: self.surface_rise.clone(),
+            }],
+        }
+    }
+
+    /// Write the answer's outputs into `dir` (all or nothing): the solve's
+    /// files, `summary.json` with its `heating` object, `temperature.npy`
+    /// and `.png`, and `temperature_depth.csv` on periodic cells.
+    pub fn write(&self, dir: &std::path::Path) -> Result<Vec<std::path::PathBuf>> {
+        self.solution.write_with(dir, &self.extras())
+    }
+}
+
+/// One evaluation kept for the answer.
+struct Solved {
+    temperature: f64,
+    solution: Solution,
+    surface_rise: Vec<f64>,
+    background: Option<f64>,
+    rise: f64,
+    heat: f64,
+}
+
+/// The heated solve of `problem` (its material at `T0 =
+/// params.ambient`) on `executor` (module docs); `observer` sees every
+/// isothermal solve's iterations.
+pub fn solve_heated(
+    problem: &Problem,
+    params: &HeatingParams,
+    executor: &Executor,
+    observer: &mut dyn Observer,
+) -> Result<HeatedSolution> {
+    problem.check()?;
+    let search = params.search();
+    search.check().map_err(Error::Invalid)?;
+    let grid = problem.grid()?;
+    let periodic = grid.is_periodic();
+    let setup = HeatSetup {
+        grid,
+        conduction: params.conduction,
+        speed: problem.speed,
+        direction_rad: problem.direction_rad,
+        domain: if periodic {
+            HeatDomain::Periodic {
+                block_length: params.block_length,
+            }
+        } else {
+            HeatDomain::Pad
+        },
+    };
+    let mut heat = HeatSolver::new(setup).map_err(heat_error)?;
+    let rule = DepthRule::default();
+    let warm_starts = problem.discretisation() != Discretisation::Adaptive;
+    let mut last: Option<Solution> = None;
+    let mut kept: Vec<Solved> = Vec::new();
+    let mut isothermal: Option<f64> = None;
+    let tolerance = params.tolerance;
+
+    let mut evaluate = |t: f64| -> Result<f64> {
+        let solved = solve_at(
+            problem,
+            params,
+            &mut heat,
+            &rule,
+            t,
+            last.as_ref().filter(|_| warm_starts),
+            executor,
+            observer,
+        )?;
+        if isothermal.is_none() {
+            isothermal = Some(solved.solution.friction_coefficient);
+        }
+        let rise = solved.rise;
+        let keep = (params.ambient + rise - t).abs() <= tolerance;
+        last = Some(solved.solution.clone());
+        if keep {
+            kept.push(solved);
+        }
+        Ok(rise)
+    };
+    let found = match search.find(&mut evaluate) {
+        Ok(found) => found,
+        Err(SearchFailure::Evaluation(e)) => return Err(e),
+        Err(SearchFailure::AboveBracket { rise_at_end }) => {
+            return Err(Error::Invalid(format!(
+                "[heating] the rise at T0 + max_rise = {} C is {rise_at_end:.4e} K, above max_rise = {} K: no self-consistent temperature in the bracket; raise [heating] max_rise, or check the conductivity and the speed",
+                params.ambient + params.max_rise,
+                params.max_rise
+            )))
+        }
+        Err(SearchFailure::Budget { evaluations }) => {
+            return Err(Error::Invalid(format!(
+                "[heating] no self-consistent temperature closed within {evaluations} isothermal solves; loosen [heating] tolerance (now {} K)",
+                params.tolerance
+            )))
+        }
+    };
+
+    let stable: Vec<&Branch> = found.branches.iter().filter(|b| b.stable).collect();
+    let chosen = match params.branch {
+        BranchChoice::Cold => stable.first().copied(),
+        BranchChoice::Hot => stable.last().copied(),
+    }
+    .or(found.branches.first())
+    .copied()
+    .expect("the search returns at least one root");
+    let mut evaluations = found.evaluations.len();
+    let answer = match kept
+        .into_iter()
+        .find(|s| s.temperature == chosen.temperature)
+    {
+        Some(s) => s,
+        None => {
+            evaluations += 1;
+            solve_at(
+                problem,
+                params,
+                &mut heat,
+                &rule,
+                chosen.temperature,
+                last.as_ref().filter(|_| warm_starts),
+                executor,
+                observer,
+            )?
+        }
+    };
+
+    let solution = answer.solution;
+    // The route whose power the source carries exactly: the dissipation
+    // route's `mu` for the volume source (Appendix A3-A4), the stencil's
+    // (paper Eq. 9) for the surface work flux.
+    let mu_route = match params.source {
+        SourceKind::Volume => solution.friction_coefficient_dissipation,
+        SourceKind::Surface => solution.friction_coefficient,
+    };
+    let friction_power = mu_route * solution.stats.normal_load * problem.speed;
+    let contact: Vec<f64> = answer
+        .surface_rise
+        .iter()
+        .zip(&solution.fields.contact)
+        .filter(|(_, &c)| c > 0.5)
+        .map(|(&r, _)| r)
+        .collect();
+    let mean_contact = if contact.is_empty() {
+        0.0
+    } else {
+        contact.iter().sum::<f64>() / contact.len() as f64
+    };
+    let peak = answer
+        .surface_rise
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    let length = along_sliding(problem);
+    let mut warnings = Vec::new();
+    if found.branches.len() > 1 {
+        let list: Vec<String> = found
+            .branches
+            .iter()
+            .map(|b| {
+                format!(
+                    "{:.4} C ({})",
+                    b.temperature,
+                    if b.stable { "stable" } else { "unstable" }
+                )
+            })
+            .collect();
+        warnings.push(format!(
+            "{} self-consistent temperatures in [{}, {}] C: {}; the answer is the {} branch ([heating] branch = \"cold\" or \"hot\" chooses)",
+            found.branches.len(),
+            found.bracket[0],
+            found.bracket[1],
+            list.join(", "),
+            params.branch.name()
+        ));
+    }
+    let balance = answer.heat / friction_power - 1.0;
+    if friction_power > 0.0 && balance.abs() > BALANCE_WARNING {
+        warnings.push(format!(
+            "the heat source carries {:.6e} W against the friction's power mu F_N v = {friction_power:.6e} W ({:+.2e} relative): the depth layers or the grid do not resolve the dissipation",
+            answer.heat, balance
+        ));
+    }
+    if let Some(lb) = params.block_length {
+        let diffusion = (params.conduction.diffusivity * lb / problem.speed).sqrt();
+        let depth = length / (2.0 * std::f64::consts::PI);
+        if depth > BACKGROUND_DEPTH_SHARE * diffusion {
+            warnings.push(format!(
+                "the cell's longest wavelength dissipates down to about {depth:.3e} m, against the diffusion length sqrt(kappa L_b / v) = {diffusion:.3e} m of one passage: the background heating's formula (physics.md section 14) needs the first much smaller; take a smaller cell or a longer block"
+            ));
+        }
+    }
+    let report = HeatingReport {
+        ambient_temperature: params.ambient,
+        effective_temperature: answer.temperature,
+        temperature_rise: Rises {
+            effective: answer.rise,
+            peak_surface: peak,
+            mean_contact,
+            background: answer.background,
+        },
+        chosen_branch: params.branch.name(),
+        branches: found.branches.clone(),
+        bracket: found.bracket,
+        search: found.method.clone(),
+        fixed_point_evaluations: evaluations,
+        evaluations: found.evaluations.clone(),
+        heat_total_w: answer.heat,
+        friction_power_w: friction_power,
+        isothermal_friction_coefficient: isothermal.expect("T0 is evaluated first"),
+        persson_friction_coefficient: solution
+            .persson
+            .as_ref()
+            .ok()
+            .map(|p| p.friction_coefficient),
+        source: params.source.name(),
+        closure: "effective",
+        conductivity: params.conduction.conductivity,
+        diffusivity: params.conduction.diffusivity,
+        block_length: params.block_length,
+        peclet: problem.speed * length / params.conduction.diffusivity,
+        warnings,
+    };
+    let depth_profile = if periodic {
+        Some(depth_profile(
+            problem,
+            params,
+            &mut heat,
+            &rule,
+            &solution,
+            answer.temperature,
+        )?)
+    } else {
+        None
+    };
+    let mut solution = solution;
+    solution.warnings.extend(report.warnings.iter().cloned());
+    Ok(HeatedSolution {
+        solution,
+        surface_rise: answer.surface_rise,
+        depth_profile,
+        report,
+    })
+}
+
+/// Depths of the profile below the surface layer's: 24 per decade from a
+/// tenth of the smaller cell side to the map's side.
+const PROFILE_PER_DECADE: f64 = 24.0;
+
+/// The rise against depth of the answer (a periodic cell): at the volume
+/// source's layer middles, or at depths spaced geometrically below a
+/// surface flux.
+fn depth_profile(
+    problem: &Problem,
+    params: &HeatingParams,
+    heat: &mut HeatSolver,
+    rule: &DepthRule,
+    solution: &Solution,
+    t: f64,
+) -> Result<Vec<DepthRow>> {
+    let mut at = problem.clone();
+    at.material = problem
+        .material
+        .at_temperature(t)
+        .map_err(|e| Error::Invalid(e.to_string()))?;
+    let grid = at.grid()?;
+    let source = HeatSource::from_contact(
+        params.source,
+        &solution.fields.pressure,
+        &grid,
+        &at.response()?,
+        rule,
+    )
+    .map_err(heat_error)?;
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+    let max = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let n = grid.cells();
+    match &source {
+        HeatSource::Volume { layers, density } => {
+            let mut depths = vec![0.0];
+            depths.extend(layers.iter().map(|(a, b)| 0.5 * (a + b)));
+            let maps = heat.volume(layers, density, &depths).map_err(heat_error)?;
+            Ok(maps
+                .iter()
+                .zip(&depths)
+                .enumerate()
+                .map(|(i, (m, &z))| DepthRow {
+                    depth: z,
+                    mean_rise: mean(&m.rise),
+                    max_rise: max(&m.rise),
+                    mean_source: if i == 0 {
+                        0.0
+                    } else {
+                        mean(&density[(i - 1) * n..i * n])
+                    },
+                })
+                .collect())
+        }
+        HeatSource::Surface { flux } => {
+            let s = &problem.surface;
+            let shallow = 0.1 * s.cell_size.min(s.cell_size_y);
+            let deep = (s.nx as f64 * s.cell_size).max(s.ny as f64 * s.cell_size_y);
+            let count = ((deep / shallow).log10() * PROFILE_PER_DECADE).ceil() as usize;
+            let mut depths = vec![0.0];
+            depths.extend(
+                (0..=count).map(|i| shallow * (deep / shallow).powf(i as f64 / count as f64)),
+            );
+            let maps = heat.surface_at(flux, &depths).map_err(heat_error)?;
+            Ok(maps
+                .iter()
+                .zip(&depths)
+                .map(|(m, &z)| DepthRow {
+                    depth: z,
+                    mean_rise: mean(&m.rise),
+                    max_rise: max(&m.rise),
+                    mean_source: 0.0,
+                })
+                .collect())
+        }
+    }
+}
+
+/// The map's side along the sliding direction \[m\].
+fn along_sliding(problem: &Problem) -> f64 {
+    let s = &problem.surface;
+    let (lx, ly) = (s.nx as f64 * s.cell_size, s.ny as f64 * s.cell_size_y);
+    let (ex, ey) = crate::response::unit_direction(problem.direction_rad);
+    if ex.abs() >= ey.abs() {
+        lx
+    } else {
+        ly
+    }
+}
+
+fn heat_error(e: crate::heat::HeatError) -> Error {
+    Error::Invalid(e.to_string())
+}
+
+/// The isothermal solve at `t` \[C\] and its dissipation-weighted rise.
+#[allow(clippy::too_many_arguments)]
+fn solve_at(
+    problem: &Problem,
+    params: &HeatingParams,
+    heat: &mut HeatSolver,
+    rule: &DepthRule,
+    t: f64,
+    start: Option<&Solution>,
+    executor: &Executor,
+    observer: &mut dyn Observer,
+) -> Result<Solved> {
+    let mut at = problem.clone();
+    at.material = problem
+        .material
+        .at_temperature(t)
+        .map_err(|e| Error::Invalid(format!("[heating] the effective temperature {t} C: {e}")))?;
+    let solution = at.solve_warm(executor, start.map(Solution::warm_start), observer)?;
+    let source = HeatSource::from_contact(
+        params.source,
+        &solution.fields.pressure,
+        &at.grid()?,
+        &at.response()?,
+        rule,
+    )
+    .map_err(heat_error)?;
+    let heat_w = source.power(at.grid()?.cell_area());
+    let (temperature, rise) = if heat_w > 0.0 {
+        heat.under(&source).map_err(heat_error)?
+    } else {
+        // No dissipation (no contact, or a purely elastic response): no
+        // rise anywhere.
+        (
+            crate::heat::Temperature {
+                rise: vec![0.0; solution.fields.pressure.len()],
+                background: None,
+            },
+            0.0,
+        )
+    };
+    Ok(Solved {
+        temperature: t,
+        background: temperature.background,
+        surface_rise: temperature.rise,
+        rise,
+        heat: heat_w,
+        solution,
+    })
+}
