@@ -97,7 +97,7 @@ pub struct SlidingKernel {
     theta: Option<Arc<ThetaTable>>,
     rule: ThetaRule,
     /// Whether layers far below a cell take the local limit ([`thin`]) and
-    /// its law's continuation ([`thin_band`]).
+    /// its law's continuation (`kernel/thin_band.rs`).
     local: bool,
 }
 
@@ -109,7 +109,7 @@ pub(crate) struct Cell {
     pub(crate) layer: Option<LayerCell>,
     /// The local limit of a layer much thinner than the cell ([`thin`]).
     pub(crate) thin: Option<Arc<thin::ThinProfile>>,
-    /// The thin-layer law continued above the local limit ([`thin_band`]).
+    /// The thin-layer law continued above the local limit (`kernel/thin_band.rs`).
     pub(crate) band: Option<Arc<thin_band::BandStencil>>,
 }
 
@@ -146,7 +146,7 @@ impl SlidingKernel {
     }
 
     /// The same kernel without the local limit of layers far below a cell
-    /// nor the thin-layer law's continuation above it ([`thin_band`]): the
+    /// nor the thin-layer law's continuation above it (`kernel/thin_band.rs`): the
     /// general cell integral at every thickness (the reference of the
     /// local limit's tests, slow and memory-hungry for very thin layers).
     pub fn without_local_limit(mut self) -> Self {

@@ -368,7 +368,7 @@ pub const THIN_RATIO_MIN: f64 = 1e-3;
 impl SlidingKernel {
     /// Whether `ax x ay` cells are in the local limit of this kernel's
     /// layer, or take its thin-layer law's continuation above it
-    /// ([`super::thin_band`]): either way the layer is not resolved by
+    /// (`kernel/thin_band.rs`): either way the layer is not resolved by
     /// the cells.
     pub fn is_thin(&self, ax: f64, ay: f64) -> bool {
         self.thin_profile(ax, ay).is_some() || self.is_band(ax, ay)

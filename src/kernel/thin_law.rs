@@ -59,7 +59,7 @@ impl SlidingKernel {
     /// Whether `ax x ay` cells take the thin-layer law of this module (a
     /// layer in the local limit whose local compliance vanishes against
     /// its edge term: bonded, near incompressibility) or its continuation
-    /// above the local limit ([`super::thin_band`]).
+    /// above the local limit (`kernel/thin_band.rs`).
     pub fn is_thin_law(&self, ax: f64, ay: f64) -> bool {
         self.thin_profile(ax, ay)
             .is_some_and(|p| self.thin_law(&p, ax, ay))
