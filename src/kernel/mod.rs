@@ -31,10 +31,12 @@ pub mod quad;
 mod table;
 pub mod thickness;
 mod thin;
+mod thin_band;
 mod thin_cross;
 mod thin_law;
 mod window;
 pub use thin::THIN_RATIO_MIN;
+pub use thin_band::BAND_RATIO_MAX;
 pub use thin_law::thin_series;
 
 use std::sync::Arc;
@@ -94,7 +96,8 @@ pub struct SlidingKernel {
     e: (f64, f64),
     theta: Option<Arc<ThetaTable>>,
     rule: ThetaRule,
-    /// Whether layers far below a cell take the local limit ([`thin`]).
+    /// Whether layers far below a cell take the local limit ([`thin`]) and
+    /// its law's continuation (`kernel/thin_band.rs`).
     local: bool,
 }
 
@@ -106,6 +109,8 @@ pub(crate) struct Cell {
     pub(crate) layer: Option<LayerCell>,
     /// The local limit of a layer much thinner than the cell ([`thin`]).
     pub(crate) thin: Option<Arc<thin::ThinProfile>>,
+    /// The thin-layer law continued above the local limit (`kernel/thin_band.rs`).
+    pub(crate) band: Option<Arc<thin_band::BandStencil>>,
 }
 
 /// Relative tolerance asked of the adaptive line integrals on a half-space.
@@ -141,7 +146,8 @@ impl SlidingKernel {
     }
 
     /// The same kernel without the local limit of layers far below a cell
-    /// (the general cell integral at every thickness: the reference of the
+    /// nor the thin-layer law's continuation above it (`kernel/thin_band.rs`): the
+    /// general cell integral at every thickness (the reference of the
     /// local limit's tests, slow and memory-hungry for very thin layers).
     pub fn without_local_limit(mut self) -> Self {
         self.local = false;
@@ -161,14 +167,21 @@ impl SlidingKernel {
     /// A source cell `ax x ay` with its rules.
     pub(crate) fn cell(&self, ax: f64, ay: f64) -> Cell {
         let thin = self.thin_profile(ax, ay);
+        let band = match thin {
+            None => self.band_stencil(ax, ay).map(Arc::new),
+            Some(_) => None,
+        };
         let layer = match (&self.theta, self.rule) {
-            (Some(t), ThetaRule::CellIntegral) if thin.is_none() => Some(LayerCell::new(t, ax, ay)),
+            (Some(t), ThetaRule::CellIntegral) if thin.is_none() && band.is_none() => {
+                Some(LayerCell::new(t, ax, ay))
+            }
             _ => None,
         };
         Cell {
             love: LoveRect::new(ax, ay),
             layer,
             thin,
+            band,
         }
     }
 
@@ -252,6 +265,9 @@ impl SlidingKernel {
         if let Some(p) = &cell.thin {
             return self.thin_coefficient(p, cell, dx, dy);
         }
+        if let Some(b) = &cell.band {
+            return self.band_coefficient(b, cell.love.ax, cell.love.ay, dx, dy);
+        }
         if self.out_of_reach(cell, dx, dy, 0.0) {
             return Coefficient::default();
         }
@@ -291,6 +307,16 @@ impl SlidingKernel {
     pub(crate) fn derivative_with(&self, cell: &Cell, dx: f64, dy: f64, axis: Axis) -> f64 {
         if let Some(p) = &cell.thin {
             return self.thin_derivative(p, cell, dx, dy, axis);
+        }
+        if let Some(b) = &cell.band {
+            // The centred difference, as the law's (`thin_law`).
+            let (ax, ay) = (cell.love.ax, cell.love.ay);
+            let (ex, ey, a) = match axis {
+                Axis::X => (ax, 0.0, ax),
+                Axis::Y => (0.0, ay, ay),
+            };
+            let k = |x: f64, y: f64| self.band_coefficient(b, ax, ay, x, y).total();
+            return (k(dx + ex, dy + ey) - k(dx - ex, dy - ey)) / (2.0 * a);
         }
         let (ax, ay) = (cell.love.ax, cell.love.ay);
         match axis {

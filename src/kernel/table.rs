@@ -162,6 +162,20 @@ fn values(
     derivative: Option<Axis>,
     force_per_offset: bool,
 ) -> Vec<f64> {
+    if k.is_band(a.0, a.1) {
+        // The vertex offsets of the adaptive mesh lie off the band
+        // kernel's lattice: they keep the resolved cell integral.
+        if lat.vertex {
+            return values(
+                &k.clone().without_local_limit(),
+                lat,
+                a,
+                derivative,
+                force_per_offset,
+            );
+        }
+        return per_offset(k, lat, a, derivative);
+    }
     let orient = march_plan(k, a.0.max(a.1)).filter(|_| !force_per_offset);
     match orient {
         Some((slide_axis, sign)) if derivative.is_none_or(|d| d == slide_axis) => {

@@ -366,9 +366,12 @@ impl SlidingKernel {
 pub const THIN_RATIO_MIN: f64 = 1e-3;
 
 impl SlidingKernel {
-    /// Whether `ax x ay` cells are in the local limit of this kernel's layer.
+    /// Whether `ax x ay` cells are in the local limit of this kernel's
+    /// layer, or take its thin-layer law's continuation above it
+    /// (`kernel/thin_band.rs`): either way the layer is not resolved by
+    /// the cells.
     pub fn is_thin(&self, ax: f64, ay: f64) -> bool {
-        self.thin_profile(ax, ay).is_some()
+        self.thin_profile(ax, ay).is_some() || self.is_band(ax, ay)
     }
 
     /// Whether this kernel's layer can be discretised on `ax x ay` cells:

@@ -58,17 +58,19 @@ impl SlidingKernel {
 
     /// Whether `ax x ay` cells take the thin-layer law of this module (a
     /// layer in the local limit whose local compliance vanishes against
-    /// its edge term: bonded, near incompressibility).
+    /// its edge term: bonded, near incompressibility) or its continuation
+    /// above the local limit (`kernel/thin_band.rs`).
     pub fn is_thin_law(&self, ax: f64, ay: f64) -> bool {
         self.thin_profile(ax, ay)
             .is_some_and(|p| self.thin_law(&p, ax, ay))
+            || self.is_band(ax, ay)
     }
 
     /// `(elastic, memory)` parts of `J* p` at the along offset `x` from a
     /// unit cell-constant pressure on `[-aa/2, aa/2]`: `1/E_inf` times the
     /// step, plus per creep term `C_k (e^{-s1/l} - e^{-s2/l})`, `s1`, `s2`
     /// the distances along the trail to the cell's edges.
-    fn law_bracket(&self, x: f64, aa: f64) -> (f64, f64) {
+    pub(super) fn law_bracket(&self, x: f64, aa: f64) -> (f64, f64) {
         let d = 0.5 * aa - x.abs();
         let pv = if d.abs() <= 1e-9 * aa {
             0.5

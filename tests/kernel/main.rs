@@ -13,3 +13,4 @@ mod limits;
 mod love;
 mod thickness;
 mod thin_layer;
+mod thin_switch;

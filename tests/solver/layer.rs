@@ -73,3 +73,89 @@ fn bonded_layer_is_stiffer_and_friction_routes_agree() {
         "a bonded incompressible layer is stiffer: {areas:?}"
     );
 }
+
+/// `configs/default.toml`'s pad at 64^2 under 1 MPa on a bonded
+/// incompressible layer (contact on 2 cells), solved on either side of the
+/// local limit's switch `R h = a/2` (`h = 1.8806e-6` and `1.8844e-6` m, the
+/// thicknesses of issue #41): the friction jumped 225 times there (7.3e-4
+/// to 0.164: the resolved cell integral above the switch misses the
+/// layer's response at the cell centres, tests/kernel/thin_switch.rs).
+/// The law below and its grid continuation above differ by at most 0.13 %
+/// of the self coefficient (the kernel tests), so friction and contact,
+/// which on a few cells move by whole cells, must agree to a few percent:
+/// asserted 5 %, measured 0.19 % on the same 2 cells. The periodic
+/// formulation (no switch) is printed beside them: 3.6e-3 on 4 cells,
+/// against the non-periodic dissipation route's 5.6e-3; on 2-4 cells
+/// neither is a sharper reference. The upper switch (`h = a`, the grid
+/// continuation against the resolved cell integral) is printed, not
+/// asserted: near full contact the friction stencil's centred difference
+/// of the continuation reads 5.2e-4 against the resolved 8.6e-4 (the
+/// dissipation routes 9.2e-4 and 8.6e-4), an open item.
+#[test]
+fn friction_is_continuous_across_the_thin_layer_switches() {
+    use viscoslide::config::{self, SolverConfig};
+    use viscoslide::problem::{Executor, Problem};
+    let a = 0.01 / 64.0;
+    let solve = |h: f64, formulation: &str| {
+        let text = format!(
+            r#"
+[material]
+model = "sls"
+relaxed_modulus = 3.3333333333333335e6
+glassy_modulus = 1.0e7
+creep_time = 0.01
+poisson = 0.5
+
+[surface.generate]
+n = 64
+length = 0.01
+hurst = 0.8
+scales = 32
+rms_slope = 0.02
+rolloff_q0 = 5026.548
+seed = 1
+
+[loading]
+mean_pressure = 1e6
+xi = 1.17e-2
+
+[layer]
+thickness = {h:e}
+base = "bonded"
+
+[solver]
+tolerance = 1e-8
+"#
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("c.toml");
+        std::fs::write(&path, text).unwrap();
+        let sc: SolverConfig = toml::from_str(&format!("formulation = \"{formulation}\"")).unwrap();
+        let problem = Problem::from_config(&config::load(&path, &[]).unwrap())
+            .unwrap()
+            .with_solver_config(&sc)
+            .unwrap();
+        let s = problem.solve(&Executor::Cpu, &mut solver::Silent).unwrap();
+        let cells = s.fields.contact.iter().filter(|&&c| c > 0.5).count();
+        eprintln!(
+            "h = {h:.5e} {formulation}: mu = {:.4e} (dissipation {:.4e}), {cells} cells",
+            s.friction_coefficient, s.friction_coefficient_dissipation
+        );
+        (s.friction_coefficient, cells)
+    };
+    solve(0.999 * a, "non_periodic");
+    solve(1.001 * a, "non_periodic");
+    {
+        let (lo, hi) = (1.8806e-6, 1.8844e-6);
+        let (mu_lo, c_lo) = solve(lo, "non_periodic");
+        let (mu_hi, c_hi) = solve(hi, "non_periodic");
+        assert!(
+            (mu_hi / mu_lo - 1.0).abs() < 0.05,
+            "h = {lo:e}: mu {mu_lo:e}, h = {hi:e}: mu {mu_hi:e}"
+        );
+        assert_eq!(c_lo, c_hi, "contact cells");
+        // The periodic formulation beside them (no switch there): on 2-4
+        // contact cells it is no sharper reference than either side.
+        solve(hi, "periodic");
+    }
+}
