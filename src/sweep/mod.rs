@@ -27,6 +27,7 @@ use serde_json::Value;
 use crate::backend::BackendChoice;
 use crate::config::{self, Config, LoadedConfig};
 use crate::error::{Error, Result};
+use crate::heating::{solve_heated, HeatingParams};
 use crate::io::atomic::write_atomic;
 use crate::io::{LockMode, StudyLock};
 use crate::problem::{Executor, Problem};
@@ -124,7 +125,9 @@ pub fn run_and_merge(
             .iter()
             .find(|p| &p.vary == combo)
             .expect("a combination has points");
-        let problem = point_problem(cfg, first)?;
+        // Every combination's problem and `[heating]` checked before the
+        // first point is written.
+        let (problem, _heating) = point_problem(cfg, first)?;
         if selected.is_none() {
             selected = Some(Executor::select(backend, &problem)?);
         }
@@ -178,10 +181,19 @@ pub fn run_and_merge(
 /// Solve one point on `executor`: the base configuration with the point's
 /// speed, load and seed substituted.
 pub fn solve_point(cfg: &LoadedConfig, point: &Point, executor: &Executor) -> Result<Value> {
-    let problem = point_problem(cfg, point)?;
-    let solution = problem.solve(executor, &mut Silent)?;
+    let (problem, heating) = point_problem(cfg, point)?;
+    let (solution, heated) = match heating {
+        Some(params) => {
+            let h = solve_heated(&problem, &params, executor, &mut Silent)?;
+            (h.solution, Some(h.report))
+        }
+        None => (problem.solve(executor, &mut Silent)?, None),
+    };
     let analysis = solution.analyze_configured()?;
     let mut value = solution.summary_with(analysis.as_ref());
+    if let Some(report) = heated {
+        value["heating"] = serde_json::to_value(&report).expect("the report is serialisable");
+    }
     if let Value::Object(map) = &mut value {
         map.remove("config");
         map.remove("residual_history");
@@ -195,8 +207,9 @@ pub fn solve_point(cfg: &LoadedConfig, point: &Point, executor: &Executor) -> Re
 }
 
 /// The problem of one point: the base configuration with the point's
-/// speed, load and seed substituted, checked whole.
-fn point_problem(cfg: &LoadedConfig, point: &Point) -> Result<Problem> {
+/// speed, load and seed substituted, checked whole, and its `[heating]`
+/// when enabled.
+fn point_problem(cfg: &LoadedConfig, point: &Point) -> Result<(Problem, Option<HeatingParams>)> {
     let mut config = point_config(cfg, point)?;
     config.sweep = None;
     let loading = config.loading.get_or_insert_with(Default::default);
@@ -219,13 +232,20 @@ fn point_problem(cfg: &LoadedConfig, point: &Point) -> Result<Problem> {
     }
     let document = toml::Table::try_from(&config)
         .map_err(|e| Error::Invalid(format!("the configuration of point {}: {e}", point.id)))?;
+    let ambient = config.loading.as_ref().and_then(|l| l.temperature);
+    let heating = config.heating.clone();
     let point_cfg = LoadedConfig {
         config,
         path: cfg.path.clone(),
         base_dir: cfg.base_dir.clone(),
         document,
     };
-    Problem::from_config(&point_cfg)
+    let problem = Problem::from_config(&point_cfg)?;
+    let heating = match &heating {
+        Some(h) => HeatingParams::from_config(h, &problem, ambient)?,
+        None => None,
+    };
+    Ok((problem, heating))
 }
 
 /// The configuration of `point` before its speed, load and seed: the
