@@ -20,7 +20,9 @@ use serde::Serialize;
 use crate::error::Result;
 use crate::solver::{self, Control, Silent};
 
-use super::executor::toeplitz_backend;
+use crate::operator::OperatorDescription;
+
+use super::executor::{CpuExecutor, Executes};
 use super::Problem;
 
 /// A pad whose own part is above this share of the friction is warned
@@ -61,9 +63,11 @@ impl Problem {
         let t = Instant::now();
         let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
-        let table = kernel.table(&self.grid()?)?;
-        let (mut backend, l00) = toeplitz_backend::<f64>(nx, ny, &table.values);
-        drop(table);
+        let description = OperatorDescription::Toeplitz {
+            kernel: &kernel,
+            grid: self.grid()?,
+        };
+        let (mut backend, l00) = CpuExecutor::<f64>::new().build(&description, None)?;
         let flat = vec![0.0; nx * ny];
         let params = solver::SolverParams {
             max_matvecs: SMOOTH_PAD_MIN_MATVECS.max(3 * rough_matvecs),
