@@ -110,14 +110,17 @@ impl Problem {
             }
         }
         match executor {
-            Executor::Cpu => match self.params.precision {
-                Precision::F64 => {
-                    self.solve_on(&mut CpuExecutor::<f64>::new(), false, start, observer, t0)
-                }
-                Precision::Mixed => {
-                    self.solve_on(&mut CpuExecutor::<f32>::new(), false, start, observer, t0)
-                }
-            },
+            Executor::Cpu => {
+                let raw = match self.params.precision {
+                    Precision::F64 => self.run(&mut CpuExecutor::<f64>::new(), start, observer)?,
+                    Precision::Mixed => {
+                        self.run(&mut CpuExecutor::<f32>::new(), start, observer)?
+                    }
+                };
+                // The finite pad's reference in f64 whatever the rough
+                // solve's precision.
+                self.finish(raw, t0, &mut CpuExecutor::<f64>::new(), false)
+            }
             Executor::Gpu(ctx) => {
                 match kind {
                     Discretisation::Periodic => return Err(periodic_refused()),
@@ -133,42 +136,45 @@ impl Problem {
                 // for.
                 let refine = self.gpu_refine && kind == Discretisation::Uniform;
                 let mut gpu = GpuExecutor::new(ctx.clone(), self.params.precondition);
-                self.solve_on(&mut gpu, refine, start, observer, t0)
+                let raw = self.run(&mut gpu, start, observer)?;
+                let raw = if refine {
+                    self.refined(raw, observer)?
+                } else {
+                    raw
+                };
+                self.finish(raw, t0, &mut gpu, refine)
             }
         }
     }
 
-    /// The solve on `executor` (then refined in f64 on the host when
-    /// `refine`), and its finish.
-    fn solve_on<X: Executes>(
+    /// The iteration of this problem on `executor`: a uniform grid (one
+    /// grid or the cascade) or the adaptive mesh's rounds.
+    fn run<X: Executes>(
         &self,
         executor: &mut X,
-        refine: bool,
         start: Option<WarmStart>,
         observer: &mut dyn Observer,
-        t0: Instant,
-    ) -> Result<Solution> {
-        let raw = match self.discretisation() {
-            Discretisation::Adaptive => self.adaptive(executor, observer)?,
+    ) -> Result<Raw> {
+        match self.discretisation() {
+            Discretisation::Adaptive => self.adaptive(executor, observer),
             Discretisation::Uniform | Discretisation::Periodic => {
-                self.uniform(executor, start, observer)?
+                self.uniform(executor, start, observer)
             }
-        };
-        let raw = if refine {
-            let device = (raw.solution, raw.info, raw.t_iter);
-            let (solution, info, t_iter, report) = self.refine_on_host(device, observer)?;
-            Raw {
-                solution,
-                info,
-                backend: format!("{}, refined in f64 on the host", raw.backend),
-                t_iter,
-                refinement: Some(report),
-                ..raw
-            }
-        } else {
-            raw
-        };
-        self.finish(raw, t0)
+        }
+    }
+
+    /// A device's answer refined in f64 on the host ([`super::gpu_refine`]).
+    fn refined(&self, raw: Raw, observer: &mut dyn Observer) -> Result<Raw> {
+        let device = (raw.solution, raw.info, raw.t_iter);
+        let (solution, info, t_iter, report) = self.refine_on_host(device, observer)?;
+        Ok(Raw {
+            solution,
+            info,
+            backend: format!("{}, refined in f64 on the host", raw.backend),
+            t_iter,
+            refinement: Some(report),
+            ..raw
+        })
     }
 
     /// The solver's parameters for this problem: a layer on the thin-layer
@@ -385,8 +391,16 @@ impl Problem {
         })
     }
 
-    /// Friction by both routes, contact statistics and timings of any path.
-    fn finish(&self, raw: Raw, t0: Instant) -> Result<Solution> {
+    /// Friction by both routes, contact statistics and timings of any path;
+    /// a finite pad's own friction on `executor` (refined in f64 on the
+    /// host when `refine`, as the rough solve).
+    fn finish<X: Executes>(
+        &self,
+        raw: Raw,
+        t0: Instant,
+        executor: &mut X,
+        refine: bool,
+    ) -> Result<Solution> {
         let t2 = Instant::now();
         let (mu, mu_d, stats) = self.friction_and_stats(&raw.solution)?;
         let unknowns = raw
@@ -400,7 +414,7 @@ impl Problem {
             && raw.mesh.is_none()
             && stats.normal_load > 0.0
         {
-            match self.smooth_pad(stats.normal_load, mu, raw.info.matvecs) {
+            match self.smooth_pad(executor, refine, stats.normal_load, mu, raw.info.matvecs) {
                 Ok(pad) => Some(pad),
                 Err(e) => {
                     warnings.push(format!("the finite pad's own friction (the same pad without roughness) was not computed: {e}"));
