@@ -1,7 +1,7 @@
 //! Who runs the iteration: the CPU reference path or a GPU device, and the
 //! choice between them for `--backend auto | gpu | cpu`; the seam between
 //! the operator layer and the executors: each executor turns an
-//! [`OperatorDescription`] into its [`Backend`] ([`Executes`]). The only
+//! [`OperatorDescription`] into its [`Backend`] (`Executes`). The only
 //! module of `problem` that names the executors' concrete backends.
 
 use std::marker::PhantomData;

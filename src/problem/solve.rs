@@ -1,7 +1,7 @@
 //! The one path through a solve: the formulation and mesh
 //! ([`Discretisation`]) give operator descriptions
 //! ([`OperatorDescription`]), the executor ([`Executor`]) turns each into
-//! its backend ([`Executes`]), and every grid's constrained iteration runs
+//! its backend (`Executes`), and every grid's constrained iteration runs
 //! through one function (`Problem::iterate`, the only caller of the
 //! solver); the refinement of an f32 device answer, the friction by both
 //! routes, the finite pad's own friction, the contact statistics and the
