@@ -374,6 +374,40 @@ fn the_sliding_response_has_one_constructor() {
     assert!(elsewhere.is_empty(), "{}", elsewhere.join("\n"));
 }
 
+/// The seam between the operator layer and the executors: `problem`
+/// describes each grid's operator (`operator::OperatorDescription`) and
+/// only `problem/executor.rs` turns a description into a backend, so no
+/// other file of `problem` names an executor's concrete backend, its
+/// device types or its module (the solve, the cascade, the refinement and
+/// the smooth pad are written against `Executes` and `Backend`).
+#[test]
+fn only_the_executor_module_of_problem_names_the_executors() {
+    let mut found = Vec::new();
+    for (module, code) in engine_files() {
+        let in_problem = module.first().is_some_and(|t| t == "problem");
+        if !in_problem || module.get(1).is_some_and(|m| m == "executor") {
+            continue;
+        }
+        for needle in [
+            "CpuBackend",
+            "GpuBackend",
+            "GpuLevelTables",
+            "Engine",
+            "backend::cpu",
+            "backend::gpu",
+        ] {
+            if code.contains(needle) {
+                found.push(format!("{}: {needle}", module.join("::")));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "build backends in problem/executor.rs from an OperatorDescription:\n{}",
+        found.join("\n")
+    );
+}
+
 /// Progress, warnings and notes reach the front ends through observers
 /// (`solver::Observer`, `sweep::SweepObserver`, `kernel::progress`, ...):
 /// nothing below the command line names `clap` or `indicatif` or prints.

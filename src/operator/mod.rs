@@ -10,6 +10,7 @@
 
 mod adaptive;
 mod dense;
+mod description;
 mod fft_convolution;
 mod field;
 mod real;
@@ -20,6 +21,7 @@ mod toeplitz;
 
 pub use adaptive::{AdaptiveOperator, LevelTables};
 pub use dense::DenseOperator;
+pub use description::OperatorDescription;
 pub(crate) use fft_convolution::half_spectrum;
 pub use fft_convolution::Real;
 pub(crate) use fft_convolution::SpectralEngine;
@@ -98,6 +100,57 @@ pub trait GridOperator: Send + Sync {
     /// (the identity unless [`GridOperator::has_preconditioner`]).
     fn precondition(&mut self, x: &[f64], y: &mut [f64]) {
         y.copy_from_slice(x);
+    }
+}
+
+/// A boxed operator is the operator it holds (every method forwarded, the
+/// set products included): an executor holds the operator of any
+/// [`OperatorDescription`] behind one type.
+impl<O: GridOperator + ?Sized> GridOperator for Box<O> {
+    fn shape(&self) -> (usize, usize) {
+        (**self).shape()
+    }
+    fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+        (**self).apply(x, y);
+    }
+    fn apply_exact(&mut self, x: &[f64], y: &mut [f64]) {
+        (**self).apply_exact(x, y);
+    }
+    fn epsilon(&self) -> f64 {
+        (**self).epsilon()
+    }
+    fn apply_rows(&mut self, x: &[f64], rows: &[usize], scratch: &mut [f64], out: &mut [f64]) {
+        (**self).apply_rows(x, rows, scratch, out);
+    }
+    fn apply_set(&mut self, cells: &[usize], x: &[f64], out: &mut [f64], work: &mut GridWork) {
+        (**self).apply_set(cells, x, out, work);
+    }
+    fn apply_set_exact(
+        &mut self,
+        cells: &[usize],
+        x: &[f64],
+        out: &mut [f64],
+        work: &mut GridWork,
+    ) {
+        (**self).apply_set_exact(cells, x, out, work);
+    }
+    fn precondition_set(
+        &mut self,
+        cells: &[usize],
+        x: &[f64],
+        out: &mut [f64],
+        work: &mut GridWork,
+    ) {
+        (**self).precondition_set(cells, x, out, work);
+    }
+    fn has_preconditioner(&self) -> bool {
+        (**self).has_preconditioner()
+    }
+    fn set_contact_fraction(&mut self, fraction: f64) {
+        (**self).set_contact_fraction(fraction);
+    }
+    fn precondition(&mut self, x: &[f64], y: &mut [f64]) {
+        (**self).precondition(x, y);
     }
 }
 

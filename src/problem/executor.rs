@@ -1,13 +1,23 @@
 //! Who runs the iteration: the CPU reference path or a GPU device, and the
-//! choice between them for `--backend auto | gpu | cpu`; the CPU backend of
-//! a uniform grid.
+//! choice between them for `--backend auto | gpu | cpu`; the seam between
+//! the operator layer and the executors: each executor turns an
+//! [`OperatorDescription`] into its [`Backend`] (`Executes`). The only
+//! module of `problem` that names the executors' concrete backends.
 
-use crate::backend::gpu::{GpuBackend, GpuContext};
-use crate::backend::{BackendChoice, CpuBackend};
-use crate::error::Result;
-use crate::operator::{OffsetTable, Real, ToeplitzFft};
+use std::marker::PhantomData;
 
-use super::Problem;
+use crate::backend::gpu::engine::Engine;
+use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuLevelTables, GpuOptions};
+use crate::backend::{Backend, BackendChoice, CpuBackend};
+use crate::error::{Error, Result};
+use crate::mesh::QuadMesh;
+use crate::operator::{
+    AdaptiveOperator, GridOperator, OffsetTable, OperatorDescription, PeriodicResponse, Real,
+    SpectralPeriodic, ToeplitzFft,
+};
+use crate::response::Grid;
+
+use super::{invalid, Problem};
 
 /// Who runs the iteration.
 #[derive(Clone)]
@@ -60,18 +70,260 @@ impl Executor {
     }
 }
 
-/// The CPU backend of a uniform `nx x ny` grid from its offset table
-/// (`values` as in [`OffsetTable`]): the Toeplitz-FFT operator with its
-/// preconditioners and exact products in precision `T`, and the self
-/// coefficient `L_00`.
-pub(super) fn toeplitz_backend<T: Real>(
-    nx: usize,
-    ny: usize,
-    values: &[f64],
-) -> (CpuBackend<ToeplitzFft<T>>, f64) {
+/// An executor: turns operator descriptions into backends of its own kind.
+/// The cascade, the adaptive rounds, the refinement and the smooth-pad
+/// reference are written once against it.
+pub(crate) trait Executes {
+    /// The backend every description becomes.
+    type Backend: Backend;
+
+    /// The executor as `summary.json` names it (`"cpu"`, `"gpu: ADAPTER"`).
+    fn name(&self) -> String;
+
+    /// Work done once for the fine grid's description before the
+    /// iteration (coefficient tables, timed as such): the next
+    /// [`Executes::build`] of the same grid uses it. Default: nothing.
+    fn prepare(&mut self, description: &OperatorDescription<'_>) -> Result<()> {
+        let _ = description;
+        Ok(())
+    }
+
+    /// The backend of `description` and its self coefficient `L_00`
+    /// (`mesh`: the round's quadtree for [`OperatorDescription::Levels`]).
+    fn build(
+        &mut self,
+        description: &OperatorDescription<'_>,
+        mesh: Option<&QuadMesh>,
+    ) -> Result<(Self::Backend, f64)>;
+
+    /// Take back a backend after its solve (the GPU keeps its engine for
+    /// the next round). Default: drop it.
+    fn release(&mut self, backend: Self::Backend) {
+        drop(backend);
+    }
+}
+
+/// The CPU executor with transforms in `T` (f32: with f64 products for the
+/// refinement, [`Backend::refines`]).
+pub(crate) struct CpuExecutor<T> {
+    /// The fine grid's host table, computed by [`Executes::prepare`].
+    fine: Option<crate::kernel::CoefficientTable>,
+    precision: PhantomData<T>,
+}
+
+impl<T> CpuExecutor<T> {
+    pub(crate) fn new() -> Self {
+        Self {
+            fine: None,
+            precision: PhantomData,
+        }
+    }
+}
+
+impl<T: Real> Executes for CpuExecutor<T> {
+    type Backend = CpuBackend<Box<dyn GridOperator>>;
+
+    fn name(&self) -> String {
+        "cpu".into()
+    }
+
+    fn prepare(&mut self, description: &OperatorDescription<'_>) -> Result<()> {
+        if let Some(table) = description.host_table() {
+            self.fine = Some(table?);
+        }
+        Ok(())
+    }
+
+    fn build(
+        &mut self,
+        description: &OperatorDescription<'_>,
+        mesh: Option<&QuadMesh>,
+    ) -> Result<(Self::Backend, f64)> {
+        let (op, l00): (Box<dyn GridOperator>, f64) = match description {
+            OperatorDescription::Toeplitz { kernel, grid } => {
+                let table = match self.fine.take() {
+                    Some(t) if (t.nx, t.ny) == grid.size() => t,
+                    other => {
+                        self.fine = other;
+                        kernel.table(grid)?
+                    }
+                };
+                let (op, l00) = toeplitz::<T>(grid, &table.values);
+                (Box::new(op), l00)
+            }
+            OperatorDescription::Periodic { response, grid } => {
+                let op = SpectralPeriodic::<T>::in_precision(
+                    grid,
+                    response,
+                    PeriodicResponse::Displacement,
+                )
+                .with_preconditioner()
+                .with_exact();
+                let l00 = op.self_coefficient();
+                (Box::new(op), l00)
+            }
+            OperatorDescription::Levels { tables, .. } => {
+                let mesh = mesh.ok_or_else(|| invalid("the level tables need a mesh"))?;
+                let l00 = tables.coefficient(0, 0, 0);
+                (
+                    Box::new(AdaptiveOperator::new(std::sync::Arc::clone(tables), mesh)),
+                    l00,
+                )
+            }
+        };
+        Ok((CpuBackend::new(op), l00))
+    }
+}
+
+/// The Toeplitz-FFT operator of `grid` from its offset table (`values` as
+/// in [`OffsetTable`]) with its preconditioners and exact products in
+/// precision `T`, and the self coefficient `L_00`.
+fn toeplitz<T: Real>(grid: &Grid, values: &[f64]) -> (ToeplitzFft<T>, f64) {
+    let (nx, ny) = grid.size();
     let tab = OffsetTable { nx, ny, values };
     let op = ToeplitzFft::<T>::in_precision(tab)
         .with_preconditioner()
         .with_exact();
-    (CpuBackend::new(op), tab.get(0, 0))
+    (op, tab.get(0, 0))
+}
+
+/// The GPU executor (f32 on the device): a half-space's coefficient tables
+/// computed on the device (`shaders/coefficients.wgsl`, about 4e-7
+/// relative to the host table; a finite layer's on the host, its spectrum
+/// on the host in f64), the level tables of the adaptive mesh on the
+/// device (`shaders/level_table.wgsl`, `shaders/level_box_sum.wgsl`;
+/// half-spaces only). The non-periodic formulation only.
+pub(crate) struct GpuExecutor {
+    ctx: GpuContext,
+    /// Right-precondition the uniform grid's inner solves.
+    precondition: bool,
+    /// The fine grid's engine and table ([`Executes::prepare`]).
+    fine: Option<(Engine, Vec<f64>, (usize, usize))>,
+    /// The adaptive mesh's device level tables ([`Executes::prepare`]).
+    levels: Option<GpuLevelTables>,
+    /// The engine of the adaptive rounds, between rounds.
+    engine: Option<Engine>,
+}
+
+impl GpuExecutor {
+    pub(crate) fn new(ctx: GpuContext, precondition: bool) -> Self {
+        Self {
+            ctx,
+            precondition,
+            fine: None,
+            levels: None,
+            engine: None,
+        }
+    }
+
+    /// The coefficient table of a Toeplitz description on `engine`: a
+    /// half-space's on the device, a finite layer's on the host.
+    fn table(
+        engine: &mut Engine,
+        kernel: &crate::kernel::SlidingKernel,
+        grid: &Grid,
+    ) -> Result<Vec<f64>> {
+        Ok(match kernel.response().layer() {
+            None => coefficients::coefficient_table(engine, kernel.response(), grid)?,
+            Some(_) => kernel.table(grid)?.values,
+        })
+    }
+
+    fn engine(&mut self) -> Engine {
+        self.engine
+            .take()
+            .unwrap_or_else(|| Engine::new(self.ctx.clone()))
+    }
+}
+
+impl Executes for GpuExecutor {
+    type Backend = GpuBackend;
+
+    fn name(&self) -> String {
+        // As `Backend::name` of the GPU backend.
+        format!("gpu: {}", self.ctx.adapter)
+    }
+
+    fn prepare(&mut self, description: &OperatorDescription<'_>) -> Result<()> {
+        match description {
+            OperatorDescription::Toeplitz { kernel, grid } => {
+                let mut engine = Engine::new(self.ctx.clone());
+                let table = Self::table(&mut engine, kernel, grid)?;
+                self.fine = Some((engine, table, grid.size()));
+            }
+            OperatorDescription::Levels { kernel, tables } => {
+                let mut engine = self.engine();
+                let (nx, ny) = tables.shape();
+                self.levels = Some(GpuLevelTables::new(
+                    &mut engine,
+                    kernel.response(),
+                    nx,
+                    ny,
+                    tables.cell_size(),
+                    tables.max_level(),
+                )?);
+                self.engine = Some(engine);
+            }
+            OperatorDescription::Periodic { .. } => return Err(periodic_refused()),
+        }
+        Ok(())
+    }
+
+    fn build(
+        &mut self,
+        description: &OperatorDescription<'_>,
+        mesh: Option<&QuadMesh>,
+    ) -> Result<(Self::Backend, f64)> {
+        match description {
+            OperatorDescription::Toeplitz { kernel, grid } => {
+                // The fine grid's engine and table are made once; the
+                // coarse grids' on demand, each level on an engine of its
+                // own.
+                let (engine, table) = match self.fine.take() {
+                    Some((engine, table, shape)) if shape == grid.size() => (engine, table),
+                    other => {
+                        self.fine = other;
+                        let mut engine = Engine::new(self.ctx.clone());
+                        let table = Self::table(&mut engine, kernel, grid)?;
+                        (engine, table)
+                    }
+                };
+                let (nx, ny) = grid.size();
+                let l00 = OffsetTable {
+                    nx,
+                    ny,
+                    values: &table,
+                }
+                .get(0, 0);
+                let options = GpuOptions {
+                    preconditioner: self.precondition,
+                    ..GpuOptions::default()
+                };
+                let backend = GpuBackend::with_engine(engine, nx, ny, &table, options)?;
+                Ok((backend, l00))
+            }
+            OperatorDescription::Levels { kernel, tables } => {
+                let mesh = mesh.ok_or_else(|| invalid("the level tables need a mesh"))?;
+                if self.levels.is_none() {
+                    self.prepare(&OperatorDescription::Levels { kernel, tables })?;
+                }
+                let engine = self.engine();
+                let levels = self.levels.as_ref().expect("prepared above");
+                let backend = GpuBackend::with_level_tables(engine, levels, mesh)?;
+                Ok((backend, tables.coefficient(0, 0, 0)))
+            }
+            OperatorDescription::Periodic { .. } => Err(periodic_refused()),
+        }
+    }
+
+    fn release(&mut self, backend: GpuBackend) {
+        self.engine = Some(backend.into_engine());
+    }
+}
+
+/// The GPU executor's refusal of the periodic formulation.
+pub(crate) fn periodic_refused() -> Error {
+    invalid(
+        "the GPU path solves the non-periodic formulation; use --backend cpu for formulation = \"periodic\"",
+    )
 }

@@ -13,9 +13,10 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::error::Result;
+use crate::operator::OperatorDescription;
 use crate::solver::{ContactSolution, Observer, SolveInfo, WarmStart};
 
-use super::executor::toeplitz_backend;
+use super::executor::{CpuExecutor, Executes};
 use super::Problem;
 
 /// One stage of a refined GPU solve.
@@ -58,12 +59,12 @@ pub struct GpuRefinement {
 impl Problem {
     /// Refine the device's answer `(solution, info, seconds)` of this
     /// problem's uniform grid in f64 on the host: the CPU path's operator
-    /// (host coefficient table, Toeplitz-FFT, its preconditioner) warm-started
-    /// from the device's contact set, pressure and approach, at the
-    /// problem's tolerance. Returns the refined solution, the combined
-    /// report (iterations and matvecs of both stages summed; residual,
-    /// load error of the host stage; histories one after the other), the
-    /// total iteration time and the per-stage report.
+    /// (host coefficient table, Toeplitz-FFT, its preconditioner)
+    /// warm-started from the device's contact set, pressure and approach,
+    /// at the problem's tolerance. Returns the refined solution, the
+    /// combined report (iterations and matvecs of both stages summed;
+    /// residual, load error of the host stage; histories one after the
+    /// other), the total iteration time and the per-stage report.
     pub(super) fn refine_on_host(
         &self,
         device: (ContactSolution, SolveInfo, f64),
@@ -71,9 +72,12 @@ impl Problem {
     ) -> Result<(ContactSolution, SolveInfo, f64, GpuRefinement)> {
         let (solution, info, t_device) = device;
         let t = Instant::now();
-        let (nx, ny) = (self.surface.nx, self.surface.ny);
-        let table = self.sliding_kernel()?.table(&self.grid()?)?;
-        let (mut backend, l00) = toeplitz_backend::<f64>(nx, ny, &table.values);
+        let kernel = self.sliding_kernel()?;
+        let description = OperatorDescription::Toeplitz {
+            kernel: &kernel,
+            grid: self.grid()?,
+        };
+        let (mut backend, l00) = CpuExecutor::<f64>::new().build(&description, None)?;
         let start = WarmStart {
             contact: solution.contact,
             pressure: solution.pressure,

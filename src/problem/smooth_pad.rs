@@ -9,18 +9,24 @@
 //! depend on the roughness. A rubber block on a large rough plate has no
 //! such rim. The flat pad is in full contact, so its pressure comes from
 //! one linear solve of the bordered system on the whole grid
-//! ([`crate::solver::solve_full_contact`]) in f64 on the host (the CPU
-//! path's Toeplitz operator and preconditioner), and its friction from the
-//! same work-of-pressure route as the rough solve's (Eq. 9).
+//! ([`crate::solver::solve_full_contact`]) on the executor of the rough
+//! solve (the CPU: in f64 with the Toeplitz operator and preconditioner,
+//! whatever the rough solve's precision; the GPU: in f32 on the device,
+//! refined in f64 on the host from the device's answer as the rough solve
+//! is, [`super::gpu_refine`]), and its friction from the same
+//! work-of-pressure route as the rough solve's (Eq. 9).
 
 use std::time::Instant;
 
 use serde::Serialize;
 
+use crate::backend::Backend;
 use crate::error::Result;
-use crate::solver::{self, Control, Silent};
+use crate::solver::{self, Control, Silent, WarmStart};
 
-use super::executor::toeplitz_backend;
+use crate::operator::OperatorDescription;
+
+use super::executor::{CpuExecutor, Executes};
 use super::Problem;
 
 /// A pad whose own part is above this share of the friction is warned
@@ -29,6 +35,16 @@ pub const SMOOTH_PAD_SHARE_LIMIT: f64 = 0.1;
 
 /// The smooth-pad solve's matvec budget is at least this.
 const SMOOTH_PAD_MIN_MATVECS: usize = 300;
+
+/// The relative tolerance of the flat pad's solve in f32 (on a device):
+/// its Krylov solves then aim at 1e-3 (0.01 of it). The f32 GMRES of the
+/// full-contact set stalls far above the rough solve's inner floor (16
+/// epsilon, 1.9e-6): at 1e-5 it burnt the 300-matvec budget without
+/// converging on `configs/default.toml` at 128^2 on lavapipe (it reached
+/// it at 64^2), and its floor grows with the grid side. The device's
+/// answer is then a start: the host refinement, where it follows, takes it
+/// to the problem's tolerance; without one it is the f32 answer.
+const F32_TOLERANCE: f64 = 0.1;
 
 /// The flat pad's solve and friction.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -40,8 +56,12 @@ pub struct SmoothPad {
     /// The flat pad's share of the rough solve's `mu`.
     pub share: f64,
     /// Operator applications (both solves when the full-contact one handed
-    /// over).
+    /// over; the host refinement's included).
     pub matvecs: usize,
+    /// Of `matvecs`, those in f64 on the host after a device's stage: its
+    /// refinement, or the whole solve where the device's did not converge
+    /// (0 on the CPU, where the whole solve is the host's own).
+    pub host_refinement_matvecs: usize,
     /// `"full_contact"` (one linear solve) or `"constrained"` (the
     /// constrained iteration took over).
     pub method: &'static str,
@@ -51,53 +71,89 @@ pub struct SmoothPad {
 
 impl Problem {
     /// The flat pad of this non-periodic problem under the normal load
-    /// `load` \[N\], and the split of the rough solve's friction `mu` into
+    /// `load` \[N\] on `executor` (then refined in f64 on the host when
+    /// `refine`), and the split of the rough solve's friction `mu` into
     /// the pad's part and the roughness part. At most
-    /// `max(SMOOTH_PAD_MIN_MATVECS, 3 rough_matvecs)` operator applications,
-    /// so that a flat pad the iteration struggles with (a layer on the
-    /// thin-layer law takes no preconditioner) costs at most a few rough
-    /// solves; an error then, which the caller reports instead of failing.
-    pub(super) fn smooth_pad(&self, load: f64, mu: f64, rough_matvecs: usize) -> Result<SmoothPad> {
+    /// `max(SMOOTH_PAD_MIN_MATVECS, 3 rough_matvecs)` operator applications
+    /// per stage, so that a flat pad the iteration struggles with (a layer
+    /// on the thin-layer law takes no preconditioner) costs at most a few
+    /// rough solves; an error then, which the caller reports instead of
+    /// failing.
+    pub(super) fn smooth_pad<X: Executes>(
+        &self,
+        executor: &mut X,
+        refine: bool,
+        load: f64,
+        mu: f64,
+        rough_matvecs: usize,
+    ) -> Result<SmoothPad> {
         let t = Instant::now();
         let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
-        let table = kernel.table(&self.grid()?)?;
-        let (mut backend, l00) = toeplitz_backend::<f64>(nx, ny, &table.values);
-        drop(table);
-        let flat = vec![0.0; nx * ny];
+        let description = OperatorDescription::Toeplitz {
+            kernel: &kernel,
+            grid: self.grid()?,
+        };
         let params = solver::SolverParams {
             max_matvecs: SMOOTH_PAD_MIN_MATVECS.max(3 * rough_matvecs),
             ..self.solver_params()
         };
-        // One linear solve in full contact; a pressure negative somewhere
-        // (a rim lifting off), or no convergence within the budget (an
-        // unpreconditioned operator), hands over to the constrained
-        // iteration, whose inexact Newton steps converge where one Krylov
-        // solve at the full tolerance stalls.
-        let full = solver::solve_full_contact(
-            &mut backend,
-            &solver::ContactProblem::new(&flat, ax * ay, l00, Control::Load(load)),
-            &params,
-        );
-        let spent = match &full {
-            Ok((_, i)) => i.matvecs,
-            Err(solver::SolverError::NoConvergence { matvecs, .. }) => *matvecs,
-            Err(_) => 0,
+        let (mut backend, l00) = executor.build(&description, None)?;
+        let flat = vec![0.0; nx * ny];
+        let problem = solver::ContactProblem::new(&flat, ax * ay, l00, Control::Load(load));
+        // A backend whose vectors are f32 (`Backend::epsilon` above f64's:
+        // a device) solves to `F32_TOLERANCE`.
+        let device = backend.epsilon() > f64::EPSILON;
+        let stage_params = solver::SolverParams {
+            tolerance: if device {
+                params.tolerance.max(F32_TOLERANCE)
+            } else {
+                params.tolerance
+            },
+            ..params.clone()
         };
-        let (solution, matvecs, method) = match full {
-            Ok((s, i)) if s.pressure.iter().all(|&p| p >= 0.0) => (s, i.matvecs, "full_contact"),
-            _ => {
+        let pad = flat_pad(&mut backend, &problem, &stage_params);
+        executor.release(backend);
+        // The host's f64 Toeplitz backend: for the refinement of a
+        // device's answer, or the whole solve where the device's did not
+        // converge.
+        let host = || CpuExecutor::<f64>::new().build(&description, None);
+        let (solution, matvecs, method, host_refinement_matvecs) = match pad {
+            Ok((solution, matvecs, method)) if refine => {
+                // The device's f32 answer starts the f64 iteration on the
+                // host (the constrained iteration: the full-contact solve
+                // takes no start; from the device's set it stays in full
+                // contact unless the f64 answer lifts a rim).
+                let (mut host, l00) = host()?;
+                let start = WarmStart {
+                    contact: solution.contact,
+                    pressure: solution.pressure,
+                    approach: solution.approach,
+                };
                 let (s, i) = solver::solve(
-                    &mut backend,
-                    solver::ContactProblem::new(&flat, ax * ay, l00, Control::Load(load)),
+                    &mut host,
+                    solver::ContactProblem {
+                        self_coefficient: l00,
+                        ..problem
+                    },
                     &params,
-                    None,
+                    Some(start),
                     &mut Silent,
                 )?;
-                (s, spent + i.matvecs, "constrained")
+                (s, matvecs + i.matvecs, method, i.matvecs)
             }
+            Ok((solution, matvecs, method)) => (solution, matvecs, method, 0),
+            Err(_) if device => {
+                let (mut host, l00) = host()?;
+                let problem = solver::ContactProblem {
+                    self_coefficient: l00,
+                    ..problem
+                };
+                let (s, m, method) = flat_pad(&mut host, &problem, &params)?;
+                (s, m, method, m)
+            }
+            Err(e) => return Err(e),
         };
-        drop(backend);
         let force = self.friction_force_eq9(&kernel, &solution.pressure)?;
         let loaded: f64 = solution.pressure.iter().sum::<f64>() * ax * ay;
         let smooth = -force / loaded;
@@ -106,8 +162,35 @@ impl Problem {
             roughness_friction_coefficient: mu - smooth,
             share: if mu != 0.0 { smooth / mu } else { 0.0 },
             matvecs,
+            host_refinement_matvecs,
             method,
             time_s: t.elapsed().as_secs_f64(),
         })
     }
+}
+
+/// The flat pad's pressure on `backend`: one linear solve in full contact;
+/// a pressure negative somewhere (a rim lifting off), or no convergence
+/// within the budget (an unpreconditioned operator), hands over to the
+/// constrained iteration, whose inexact Newton steps converge where one
+/// Krylov solve at the full tolerance stalls. Returns the solution, the
+/// matvecs of both solves and the method that gave it.
+fn flat_pad<B: Backend>(
+    backend: &mut B,
+    problem: &solver::ContactProblem<'_>,
+    params: &solver::SolverParams,
+) -> Result<(solver::ContactSolution, usize, &'static str)> {
+    let full = solver::solve_full_contact(backend, problem, params);
+    let spent = match &full {
+        Ok((_, i)) => i.matvecs,
+        Err(solver::SolverError::NoConvergence { matvecs, .. }) => *matvecs,
+        Err(_) => 0,
+    };
+    Ok(match full {
+        Ok((s, i)) if s.pressure.iter().all(|&p| p >= 0.0) => (s, i.matvecs, "full_contact"),
+        _ => {
+            let (s, i) = solver::solve(backend, problem.clone(), params, None, &mut Silent)?;
+            (s, spent + i.matvecs, "constrained")
+        }
+    })
 }

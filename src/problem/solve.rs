@@ -1,29 +1,25 @@
-//! The one path through a solve: the operator is chosen by formulation x
-//! mesh ([`Discretisation`]), the executor by backend ([`Executor`]), and
-//! every path runs the constrained iteration through one function
-//! (`Problem::iterate`, the only caller of the solver); the
-//! friction by both routes, the contact statistics and the timings are then
-//! computed once for all paths.
-//!
-//! Over 600 lines while it holds the {uniform, periodic, adaptive} x {CPU, GPU} paths, until they become one operator description each executor turns into a backend.
+//! The one path through a solve: the formulation and mesh
+//! ([`Discretisation`]) give operator descriptions
+//! ([`OperatorDescription`]), the executor ([`Executor`]) turns each into
+//! its backend (`Executes`), and every grid's constrained iteration runs
+//! through one function (`Problem::iterate`, the only caller of the
+//! solver); the refinement of an f32 device answer, the friction by both
+//! routes, the finite pad's own friction, the contact statistics and the
+//! timings are then computed once for all paths.
 
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::backend::gpu::engine::Engine;
-use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuLevelTables, GpuOptions};
-use crate::backend::{Backend, CpuBackend};
+use crate::backend::Backend;
 use crate::config::{Formulation, MeshKind, Precision};
 use crate::error::{Error, Result};
 use crate::kernel::SlidingKernel;
-use crate::operator::{
-    AdaptiveOperator, LevelTables, OffsetTable, PeriodicResponse, Real, SpectralPeriodic,
-};
-use crate::response::Grid;
+use crate::operator::{LevelTables, OperatorDescription};
+use crate::response::{Grid, SlidingResponse};
 use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, WarmStart};
 
 use super::adaptive::{solve_adaptive, AdaptiveError, AdaptiveParams, MeshReport};
-use super::executor::toeplitz_backend;
+use super::executor::{periodic_refused, CpuExecutor, Executes, GpuExecutor};
 use super::gpu_refine::GpuRefinement;
 use super::smooth_pad::SMOOTH_PAD_SHARE_LIMIT;
 use super::{invalid, Executor, Problem, Solution, Timings};
@@ -113,23 +109,72 @@ impl Problem {
                 )));
             }
         }
-        let raw = match (kind, executor) {
-            (Discretisation::Periodic, Executor::Cpu) => self.periodic_cpu(start, observer)?,
-            (Discretisation::Periodic, Executor::Gpu(_)) => {
-                return Err(invalid(
-                    "the GPU path solves the non-periodic formulation; use --backend cpu for formulation = \"periodic\"",
-                ))
+        match executor {
+            Executor::Cpu => {
+                let raw = match self.params.precision {
+                    Precision::F64 => self.run(&mut CpuExecutor::<f64>::new(), start, observer)?,
+                    Precision::Mixed => {
+                        self.run(&mut CpuExecutor::<f32>::new(), start, observer)?
+                    }
+                };
+                // The finite pad's reference in f64 whatever the rough
+                // solve's precision.
+                self.finish(raw, t0, &mut CpuExecutor::<f64>::new(), false)
             }
-            (Discretisation::Uniform, Executor::Cpu) => self.uniform_cpu(start, observer)?,
-            (Discretisation::Uniform, Executor::Gpu(ctx)) => {
-                self.uniform_gpu(ctx.clone(), start, observer)?
+            Executor::Gpu(ctx) => {
+                match kind {
+                    Discretisation::Periodic => return Err(periodic_refused()),
+                    Discretisation::Adaptive if self.layer.is_some() => {
+                        return Err(invalid(
+                            "the GPU adaptive operator covers half-spaces only; use --backend cpu with [layer]",
+                        ))
+                    }
+                    _ => {}
+                }
+                // The f64 refinement on the host (physics.md section 13) of
+                // a uniform grid, unless the device's f32 answer was asked
+                // for.
+                let refine = self.gpu_refine && kind == Discretisation::Uniform;
+                let mut gpu = GpuExecutor::new(ctx.clone(), self.params.precondition);
+                let raw = self.run(&mut gpu, start, observer)?;
+                let raw = if refine {
+                    self.refined(raw, observer)?
+                } else {
+                    raw
+                };
+                self.finish(raw, t0, &mut gpu, refine)
             }
-            (Discretisation::Adaptive, Executor::Cpu) => self.adaptive_cpu(observer)?,
-            (Discretisation::Adaptive, Executor::Gpu(ctx)) => {
-                self.adaptive_gpu(ctx.clone(), observer)?
+        }
+    }
+
+    /// The iteration of this problem on `executor`: a uniform grid (one
+    /// grid or the cascade) or the adaptive mesh's rounds.
+    fn run<X: Executes>(
+        &self,
+        executor: &mut X,
+        start: Option<WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Raw> {
+        match self.discretisation() {
+            Discretisation::Adaptive => self.adaptive(executor, observer),
+            Discretisation::Uniform | Discretisation::Periodic => {
+                self.uniform(executor, start, observer)
             }
-        };
-        self.finish(raw, t0)
+        }
+    }
+
+    /// A device's answer refined in f64 on the host ([`super::gpu_refine`]).
+    fn refined(&self, raw: Raw, observer: &mut dyn Observer) -> Result<Raw> {
+        let device = (raw.solution, raw.info, raw.t_iter);
+        let (solution, info, t_iter, report) = self.refine_on_host(device, observer)?;
+        Ok(Raw {
+            solution,
+            info,
+            backend: format!("{}, refined in f64 on the host", raw.backend),
+            t_iter,
+            refinement: Some(report),
+            ..raw
+        })
     }
 
     /// The solver's parameters for this problem: a layer on the thin-layer
@@ -228,273 +273,77 @@ impl Problem {
         Ok((solution, info, t.elapsed().as_secs_f64()))
     }
 
-    /// Uniform grid on the CPU in the precision of `[solver] precision`.
-    fn uniform_cpu(&self, start: Option<WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
-        match self.params.precision {
-            Precision::F64 => self.uniform_cpu_in::<f64>(start, observer),
-            Precision::Mixed => self.uniform_cpu_in::<f32>(start, observer),
-        }
+    /// The operators of this problem's uniform grids: the Toeplitz
+    /// operator of the non-periodic formulation or the periodic cell's
+    /// multiplier.
+    fn uniform_operators(&self) -> Result<UniformOperators> {
+        Ok(match self.formulation {
+            Formulation::NonPeriodic => UniformOperators::Toeplitz(self.sliding_kernel()?),
+            Formulation::Periodic => UniformOperators::Periodic(self.response()?),
+        })
     }
 
-    /// Uniform grid on the CPU: the host coefficient table, Toeplitz-FFT
-    /// with its spectra and transforms in `T` (f32: with f64 products for
-    /// the refinement, [`Backend::refines`]).
-    fn uniform_cpu_in<T: Real>(
+    /// A uniform grid (Toeplitz or periodic) on `executor`: the fine
+    /// grid's tables prepared once, then one grid or a coarse-to-fine
+    /// cascade.
+    fn uniform<X: Executes>(
         &self,
+        executor: &mut X,
         start: Option<WarmStart>,
         observer: &mut dyn Observer,
     ) -> Result<Raw> {
         let t0 = Instant::now();
         let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
-        let kernel = self.sliding_kernel()?;
-        let table = kernel.table(&self.grid()?)?;
+        let operators = self.uniform_operators()?;
+        executor.prepare(&operators.on(nx, ny, cell)?)?;
         let t_coeff = t0.elapsed().as_secs_f64();
-        let mut fine = Some(table);
-        // The fine grid's table is computed once; coarse grids' on demand.
-        let mut build = |nx: usize, ny: usize, cell: (f64, f64)| {
-            let table = match fine.take() {
-                Some(t) if t.nx == nx && t.ny == ny => t,
-                _ => kernel.table(&Grid::new(nx, ny, cell)?)?,
-            };
-            Ok(toeplitz_backend::<T>(nx, ny, &table.values))
-        };
         let (solution, info, t_iter) = if self.cascades(start.as_ref()) {
-            self.iterate_cascade(observer, build)?
+            self.iterate_cascade(observer, |lx, ly, cell| {
+                executor.build(&operators.on(lx, ly, cell)?, None)
+            })?
         } else {
-            let (mut backend, l00) = build(nx, ny, cell)?;
+            let (mut backend, l00) = executor.build(&operators.on(nx, ny, cell)?, None)?;
             self.iterate_grid(&mut backend, l00, start, observer)?
         };
-        let t_setup = 0.0;
         Ok(Raw {
             solution,
             info,
-            backend: "cpu".into(),
+            backend: executor.name(),
             mesh: None,
             t_coeff,
-            t_setup: Some(t_setup),
+            t_setup: Some(0.0),
             t_iter,
             refinement: None,
         })
     }
 
-    /// Uniform grid on the GPU (f32 on the device): the coefficient table
-    /// of a half-space computed on the device (`shaders/coefficients.wgsl`,
-    /// about 4e-7 relative to the host table; a finite layer's table on the
-    /// host), its spectrum on the host in f64; then, unless
-    /// `gpu_refine = false`, the f64 refinement on the host from the
-    /// device's answer ([`super::gpu_refine`]).
-    fn uniform_gpu(
-        &self,
-        ctx: GpuContext,
-        start: Option<WarmStart>,
-        observer: &mut dyn Observer,
-    ) -> Result<Raw> {
-        let t0 = Instant::now();
-        let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
-        let kernel = self.sliding_kernel()?;
-        // The coefficient table of an nx x ny grid: a half-space's on the
-        // device, a finite layer's on the host.
-        let table_of = |engine: &mut Engine, nx: usize, ny: usize, cell: (f64, f64)| {
-            let grid = Grid::new(nx, ny, cell)?;
-            Ok::<_, Error>(match self.layer {
-                None => coefficients::coefficient_table(engine, kernel.response(), &grid)?,
-                Some(_) => kernel.table(&grid)?.values,
-            })
-        };
-        let mut engine = Engine::new(ctx.clone());
-        let table = table_of(&mut engine, nx, ny, cell)?;
-        let t_coeff = t0.elapsed().as_secs_f64();
-        let self_coefficient = |table: &[f64], nx: usize, ny: usize| {
-            OffsetTable {
-                nx,
-                ny,
-                values: table,
-            }
-            .get(0, 0)
-        };
-        // As `Backend::name` of the GPU backend.
-        let name = format!("gpu: {}", ctx.adapter);
-        let mut fine = Some((engine, table));
-        // The fine grid's engine and table are made once; the coarse grids'
-        // on demand, each level on an engine of its own.
-        let mut build = |lx: usize, ly: usize, cell: (f64, f64)| -> Result<(GpuBackend, f64)> {
-            let (engine, table) = match fine.take() {
-                Some((engine, table)) if (lx, ly) == (nx, ny) => (engine, table),
-                other => {
-                    fine = other;
-                    let mut engine = Engine::new(ctx.clone());
-                    let table = table_of(&mut engine, lx, ly, cell)?;
-                    (engine, table)
-                }
-            };
-            let l00 = self_coefficient(&table, lx, ly);
-            let options = GpuOptions {
-                preconditioner: self.params.precondition,
-                ..GpuOptions::default()
-            };
-            let backend = GpuBackend::with_engine(engine, lx, ly, &table, options)?;
-            Ok((backend, l00))
-        };
-        let t_setup = t0.elapsed().as_secs_f64() - t_coeff;
-        let device = if self.cascades(start.as_ref()) {
-            self.iterate_cascade(observer, build)?
-        } else {
-            let (mut backend, l00) = build(nx, ny, cell)?;
-            self.iterate_grid(&mut backend, l00, start, observer)?
-        };
-        // The f64 refinement on the host (physics.md section 13), unless
-        // the device's f32 answer was asked for.
-        let (solution, info, t_iter, refinement) = if self.gpu_refine {
-            let (s, i, t, r) = self.refine_on_host(device, observer)?;
-            (s, i, t, Some(r))
-        } else {
-            let (s, i, t) = device;
-            (s, i, t, None)
-        };
-        let backend = match refinement {
-            Some(_) => format!("{name}, refined in f64 on the host"),
-            None => name,
-        };
-        Ok(Raw {
-            solution,
-            info,
-            backend,
-            mesh: None,
-            t_coeff,
-            t_setup: Some(t_setup),
-            t_iter,
-            refinement,
-        })
-    }
-
-    /// A periodic cell solved spectrally (paper Appendix, Eq. A1-A2) on the
-    /// CPU: the same iteration on the [`SpectralPeriodic`] operator.
-    fn periodic_cpu(&self, start: Option<WarmStart>, observer: &mut dyn Observer) -> Result<Raw> {
-        match self.params.precision {
-            Precision::F64 => self.periodic_cpu_in::<f64>(start, observer),
-            Precision::Mixed => self.periodic_cpu_in::<f32>(start, observer),
-        }
-    }
-
-    /// [`Problem::periodic_cpu`] with the multiplier and transforms in `T`.
-    fn periodic_cpu_in<T: Real>(
-        &self,
-        start: Option<WarmStart>,
-        observer: &mut dyn Observer,
-    ) -> Result<Raw> {
-        let t0 = Instant::now();
-        let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
-        let response = self.response()?;
-        let build = |nx, ny, cell| {
-            let grid = Grid::new(nx, ny, cell)?.periodic();
-            let op = SpectralPeriodic::<T>::in_precision(
-                &grid,
-                &response,
-                PeriodicResponse::Displacement,
-            )
-            .with_preconditioner()
-            .with_exact();
-            let l00 = op.self_coefficient();
-            Ok((CpuBackend::new(op), l00))
-        };
-        let t_setup = t0.elapsed().as_secs_f64();
-        let (solution, info, t_iter) = if self.cascades(start.as_ref()) {
-            self.iterate_cascade(observer, build)?
-        } else {
-            let (mut backend, l00) = build(nx, ny, cell)?;
-            self.iterate_grid(&mut backend, l00, start, observer)?
-        };
-        Ok(Raw {
-            solution,
-            info,
-            backend: "cpu".into(),
-            mesh: None,
-            t_coeff: 0.0,
-            t_setup: Some(t_setup),
-            t_iter,
-            refinement: None,
-        })
-    }
-
-    /// The adaptive quadtree ([`crate::mesh`]; physics.md section 7) with the
-    /// pairwise CPU operator: level tables once, then solve-certify-refine
-    /// rounds. The fields come back on the fine grid.
-    fn adaptive_cpu(&self, observer: &mut dyn Observer) -> Result<Raw> {
+    /// The adaptive quadtree ([`crate::mesh`]; physics.md section 7) on
+    /// `executor`: level tables once (the host's f64 tables, also every
+    /// round's certificate; the executor's own, prepared), then
+    /// solve-certify-refine rounds. The fields come back on the fine grid.
+    fn adaptive<X: Executes>(&self, executor: &mut X, observer: &mut dyn Observer) -> Result<Raw> {
         let t0 = Instant::now();
         let plan = AdaptivePlan::new(self)?;
+        let description = OperatorDescription::Levels {
+            kernel: &plan.kernel,
+            tables: &plan.tables,
+        };
+        executor.prepare(&description)?;
         let t_coeff = t0.elapsed().as_secs_f64();
-        let raw = self.adaptive_rounds(
-            &plan,
-            t_coeff,
-            |mesh| {
-                Ok(CpuBackend::new(AdaptiveOperator::new(
-                    plan.tables.clone(),
-                    mesh,
-                )))
-            },
-            drop,
-            observer,
-        )?;
-        // The uniform CPU path reports "cpu" too, without the thread count.
-        Ok(Raw {
-            backend: "cpu (adaptive mesh)".into(),
-            ..raw
-        })
+        self.adaptive_rounds(&plan, &description, t_coeff, executor, observer)
     }
 
-    /// The adaptive mesh on the GPU: the level tables computed on the device
-    /// once (`shaders/level_table.wgsl`, `shaders/level_box_sum.wgsl`, f32)
-    /// and each round's iteration there with the pairwise operator that
-    /// reads them (`shaders/level_matvec.wgsl`); each round's certificate
-    /// uses the host's f64 level tables. Half-spaces only.
-    fn adaptive_gpu(&self, ctx: GpuContext, observer: &mut dyn Observer) -> Result<Raw> {
-        if self.layer.is_some() {
-            return Err(invalid(
-                "the GPU adaptive operator covers half-spaces only; use --backend cpu with [layer]",
-            ));
-        }
-        let t0 = Instant::now();
-        let plan = AdaptivePlan::new(self)?;
-        let mut eng = Engine::new(ctx);
-        let (nx, ny) = plan.tables.shape();
-        let tables = GpuLevelTables::new(
-            &mut eng,
-            plan.kernel.response(),
-            nx,
-            ny,
-            plan.tables.cell_size(),
-            plan.tables.max_level(),
-        )?;
-        let t_coeff = t0.elapsed().as_secs_f64();
-        // The device's engine goes into each round's backend and back.
-        let engine = std::cell::RefCell::new(Some(eng));
-        self.adaptive_rounds(
-            &plan,
-            t_coeff,
-            |mesh| {
-                let eng = engine
-                    .borrow_mut()
-                    .take()
-                    .expect("engine returned after each round");
-                Ok(GpuBackend::with_level_tables(eng, &tables, mesh)?)
-            },
-            |backend: GpuBackend| *engine.borrow_mut() = Some(backend.into_engine()),
-            observer,
-        )
-    }
-
-    /// The solve-certify-refine rounds of [`solve_adaptive`] on backends made
-    /// by `backend_for` for each round's mesh (and handed to `give_back`
-    /// after it): the one adaptive path of both executors.
-    fn adaptive_rounds<B: Backend>(
+    /// The solve-certify-refine rounds of [`solve_adaptive`] on the
+    /// backends `executor` builds of `description` for each round's mesh
+    /// (and takes back after it).
+    fn adaptive_rounds<X: Executes>(
         &self,
         plan: &AdaptivePlan,
+        description: &OperatorDescription<'_>,
         t_coeff: f64,
-        mut backend_for: impl FnMut(&crate::mesh::QuadMesh) -> Result<B>,
-        mut give_back: impl FnMut(B),
+        executor: &mut X,
         observer: &mut dyn Observer,
     ) -> Result<Raw> {
-        let mut name = String::new();
         let mut t_iter = 0.0;
         let mut failure: Option<Error> = None;
         let result = solve_adaptive(
@@ -504,12 +353,11 @@ impl Problem {
             self.params.tolerance,
             |mesh, g_mesh, start, tol| {
                 let t = Instant::now();
-                let mut backend = backend_for(mesh).map_err(|e| {
+                let (mut backend, _) = executor.build(description, Some(mesh)).map_err(|e| {
                     let msg = e.to_string();
                     failure = Some(e);
                     SolverError::Invalid(msg)
                 })?;
-                name = backend.name();
                 let r = self.iterate(
                     &mut backend,
                     g_mesh.to_vec(),
@@ -518,7 +366,7 @@ impl Problem {
                     start.cloned(),
                     observer,
                 );
-                give_back(backend);
+                executor.release(backend);
                 t_iter += t.elapsed().as_secs_f64();
                 r
             },
@@ -534,7 +382,7 @@ impl Problem {
         Ok(Raw {
             solution: result.solution,
             info: result.info,
-            backend: format!("{name} (adaptive mesh)"),
+            backend: format!("{} (adaptive mesh)", executor.name()),
             mesh: Some(result.report),
             t_coeff,
             t_setup: None,
@@ -543,8 +391,16 @@ impl Problem {
         })
     }
 
-    /// Friction by both routes, contact statistics and timings of any path.
-    fn finish(&self, raw: Raw, t0: Instant) -> Result<Solution> {
+    /// Friction by both routes, contact statistics and timings of any path;
+    /// a finite pad's own friction on `executor` (refined in f64 on the
+    /// host when `refine`, as the rough solve).
+    fn finish<X: Executes>(
+        &self,
+        raw: Raw,
+        t0: Instant,
+        executor: &mut X,
+        refine: bool,
+    ) -> Result<Solution> {
         let t2 = Instant::now();
         let (mu, mu_d, stats) = self.friction_and_stats(&raw.solution)?;
         let unknowns = raw
@@ -558,7 +414,7 @@ impl Problem {
             && raw.mesh.is_none()
             && stats.normal_load > 0.0
         {
-            match self.smooth_pad(stats.normal_load, mu, raw.info.matvecs) {
+            match self.smooth_pad(executor, refine, stats.normal_load, mu, raw.info.matvecs) {
                 Ok(pad) => Some(pad),
                 Err(e) => {
                     warnings.push(format!("the finite pad's own friction (the same pad without roughness) was not computed: {e}"));
@@ -604,6 +460,28 @@ impl Problem {
         solution.gpu_refinement = raw.refinement;
         solution.smooth_pad = smooth_pad;
         Ok(solution)
+    }
+}
+
+/// What a uniform grid's operator description is made of.
+enum UniformOperators {
+    /// The non-periodic formulation's kernel (its coefficient tables).
+    Toeplitz(SlidingKernel),
+    /// The periodic cell's response (its multiplier).
+    Periodic(SlidingResponse),
+}
+
+impl UniformOperators {
+    /// The description of the `nx x ny` grid of cells `cell` \[m\].
+    fn on(&self, nx: usize, ny: usize, cell: (f64, f64)) -> Result<OperatorDescription<'_>> {
+        let grid = Grid::new(nx, ny, cell)?;
+        Ok(match self {
+            Self::Toeplitz(kernel) => OperatorDescription::Toeplitz { kernel, grid },
+            Self::Periodic(response) => OperatorDescription::Periodic {
+                response,
+                grid: grid.periodic(),
+            },
+        })
     }
 }
 

@@ -2,7 +2,9 @@
 //! `configs/default.toml`-like problem on the device, refined on the host
 //! from the device's answer, gives the CPU path's f64 answer; with
 //! `solver.gpu_refine = false` it keeps the device's f32 answer. Skips with
-//! a reason without an adapter; fails under `REQUIRE_GPU=1`.
+//! a reason without an adapter; fails under `REQUIRE_GPU=1`. The finite
+//! pad's own friction (`smooth_pad`) follows the same executor and
+//! refinement.
 
 use viscoslide::internals::solver::Silent;
 use viscoslide::problem::{Executor, Problem, Solution};
@@ -93,4 +95,55 @@ fn unrefined_gpu_solve_keeps_the_device_answer() {
     // The f32 iteration stops at its rounding floor, above the requested
     // 1e-8 (measured 1.3e-5 at 256^2).
     assert!(gpu.info.residual > 1e-8, "{}", gpu.info.residual);
+}
+
+/// A finite pad's own friction (the same pad without roughness,
+/// `smooth_pad`) is solved on the executor of the rough solve: on the GPU
+/// in f32 on the device, refined in f64 on the host like the rough solve,
+/// so that it equals the CPU's f64 answer; without the refinement it keeps
+/// the device's f32 answer.
+#[test]
+fn the_smooth_pad_is_solved_on_the_gpu() {
+    let Some(ctx) = crate::common::gpu_context() else {
+        return;
+    };
+    let p = problem(&[]);
+    let cpu = p.solve(&Executor::Cpu, &mut Silent).unwrap();
+    let gpu = p.solve(&Executor::Gpu(ctx.clone()), &mut Silent).unwrap();
+    let (pc, pg) = (
+        cpu.smooth_pad
+            .expect("a finite pad reports its own friction"),
+        gpu.smooth_pad.expect("on the GPU too"),
+    );
+    println!("cpu: {pc:?}\ngpu: {pg:?}");
+    // The CPU's is one f64 solve on the host.
+    assert_eq!(pc.host_refinement_matvecs, 0);
+    // The device did the bulk (its f32 full-contact solve), the host
+    // refined it (a few matvecs from the device's answer).
+    assert!(pg.host_refinement_matvecs > 0, "{pg:?}");
+    assert!(pg.matvecs > pg.host_refinement_matvecs, "{pg:?}");
+    // Both are f64 solves of the same flat-pad problem to the tolerance
+    // 1e-8 (the full-contact GMRES on the CPU, the constrained iteration
+    // from the device's start on the host): the pad's friction agrees far
+    // below 1e-7, as the rough solve's does.
+    assert!(
+        relative(pg.friction_coefficient, pc.friction_coefficient) <= 1e-7,
+        "{pg:?} vs {pc:?}"
+    );
+
+    let f32_only = problem(&["solver.gpu_refine=false"])
+        .solve(&Executor::Gpu(ctx), &mut Silent)
+        .unwrap()
+        .smooth_pad
+        .expect("a finite pad reports its own friction");
+    println!("gpu f32: {f32_only:?}");
+    assert_eq!(f32_only.host_refinement_matvecs, 0, "the device's answer");
+    // The device's f32 answer: its table is about 4e-7 from the host's and
+    // its Krylov solve aims at a relative residual of 1e-3 (the f32
+    // full-contact solve's reach, `F32_TOLERANCE` in
+    // src/problem/smooth_pad.rs), so the pad's friction is within 1e-2 of
+    // the f64 answer (measured: 1.2e-5 here), and not equal to it.
+    let e = relative(f32_only.friction_coefficient, pc.friction_coefficient);
+    assert!(e <= 1e-2, "{f32_only:?} vs {pc:?}");
+    assert!(e > 0.0, "the f32 answer is the device's own");
 }
