@@ -113,7 +113,7 @@ pub fn run(args: SolveArgs) -> Result<()> {
     };
     if let Some(h) = &heated {
         println!(
-            "heated: effective temperature {:.4} C (T0 = {} C, rise {:.4e} K, peak surface rise {:.4e} K), {} branch of {} found, {} isothermal solves; friction at T0 without heating {:.6e}",
+            "heated: effective temperature {:.4} C (T0 = {} C, rise {:.4e} K, peak surface rise {:.4e} K), {} branch of {} found, {} isothermal solves; friction at T0 without heating {:.6e}; {:.2} s ({:.2} s solves, {:.2} s heat)",
             h.effective_temperature,
             h.ambient_temperature,
             h.temperature_rise.effective,
@@ -121,7 +121,10 @@ pub fn run(args: SolveArgs) -> Result<()> {
             h.chosen_branch,
             h.branches.len(),
             h.fixed_point_evaluations,
-            h.isothermal_friction_coefficient
+            h.isothermal_friction_coefficient,
+            h.wall_time_s,
+            h.solve_time_s,
+            h.heat_time_s
         );
     }
     println!(

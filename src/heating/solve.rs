@@ -13,6 +13,8 @@
 //! solve at the chosen root itself, so `mu_heated(v, T0) = mu(v, T_eff)`
 //! holds exactly.
 
+use std::time::Instant;
+
 use serde::Serialize;
 
 use crate::error::{Error, Result};
@@ -91,6 +93,12 @@ pub struct HeatingReport {
     pub peclet: f64,
     /// Where the answer may mislead.
     pub warnings: Vec<String>,
+    /// Wall time of the whole heated solve \[s\].
+    pub wall_time_s: f64,
+    /// Of which the isothermal solves \[s\].
+    pub solve_time_s: f64,
+    /// Of which the heat sources and rises \[s\].
+    pub heat_time_s: f64,
 }
 
 /// One depth of the answer's temperature profile.
@@ -173,6 +181,8 @@ struct Solved {
     background: Option<f64>,
     rise: f64,
     heat: f64,
+    /// Wall time of its heat source and rise \[s\].
+    heat_time_s: f64,
 }
 
 /// The heated solve of `problem` (its material at `T0 =
@@ -184,6 +194,7 @@ pub fn solve_heated(
     executor: &Executor,
     observer: &mut dyn Observer,
 ) -> Result<HeatedSolution> {
+    let clock = Instant::now();
     problem.check()?;
     let search = params.search();
     search.check().map_err(Error::Invalid)?;
@@ -209,6 +220,7 @@ pub fn solve_heated(
     let mut kept: Vec<Solved> = Vec::new();
     let mut isothermal: Option<f64> = None;
     let tolerance = params.tolerance;
+    let (mut solve_time_s, mut heat_time_s) = (0.0, 0.0);
 
     let mut evaluate = |t: f64| -> Result<f64> {
         let solved = solve_at(
@@ -224,6 +236,8 @@ pub fn solve_heated(
         if isothermal.is_none() {
             isothermal = Some(solved.solution.friction_coefficient);
         }
+        solve_time_s += solved.solution.timings.total_s;
+        heat_time_s += solved.heat_time_s;
         let rise = solved.rise;
         let keep = (params.ambient + rise - t).abs() <= tolerance;
         last = Some(solved.solution.clone());
@@ -374,6 +388,9 @@ pub fn solve_heated(
         block_length: params.block_length,
         peclet: problem.speed * length / params.conduction.diffusivity,
         warnings,
+        wall_time_s: clock.elapsed().as_secs_f64(),
+        solve_time_s,
+        heat_time_s,
     };
     let depth_profile = if periodic {
         Some(depth_profile(
@@ -508,6 +525,7 @@ fn solve_at(
         .at_temperature(t)
         .map_err(|e| Error::Invalid(format!("[heating] the effective temperature {t} C: {e}")))?;
     let solution = at.solve_warm(executor, start.map(Solution::warm_start), observer)?;
+    let clock = Instant::now();
     let source = HeatSource::from_contact(
         params.source,
         &solution.fields.pressure,
@@ -536,6 +554,7 @@ fn solve_at(
         surface_rise: temperature.rise,
         rise,
         heat: heat_w,
+        heat_time_s: clock.elapsed().as_secs_f64(),
         solution,
     })
 }
