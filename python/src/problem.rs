@@ -1,13 +1,16 @@
 //! A library `Problem` from a Python surface and material and the
-//! `[loading]`, `[solver]` and `[layer]` sections (JSON, config key names),
-//! typed by the configuration's parser (the command line's: a bad key or
-//! value is named with its unit), with the configuration document that
-//! reproduces it (recorded in `summary.json`; for a generated or file
-//! surface it is a valid config).
+//! `[loading]`, `[solver]`, `[layer]` and `[heating]` sections (JSON,
+//! config key names), typed by the configuration's parser (the command
+//! line's: a bad key or value is named with its unit), with the
+//! configuration document that reproduces it (recorded in `summary.json`;
+//! for a generated or file surface it is a valid config), and the heated
+//! solve's parameters checked by the library
+//! (`viscoslide::heating::HeatingParams`, physics.md section 14).
 
 use viscoslide::config::{
-    self, Config, ConfigError, Formulation, LayerConfig, LoadingConfig, SolverConfig,
+    self, Config, ConfigError, Formulation, HeatingConfig, LayerConfig, LoadingConfig, SolverConfig,
 };
+use viscoslide::heating::HeatingParams;
 use viscoslide::problem::Control;
 use viscoslide::problem::{check_memory, Problem};
 
@@ -23,22 +26,35 @@ pub fn json_section(name: &str, json: &str) -> PyResult<toml::Value> {
     toml::Value::try_from(value).map_err(|e| value_error(format!("[{name}] {e}")))
 }
 
-/// The `[loading]`, `[solver]` and optional `[layer]` sections (JSON) as a
-/// configuration document.
-pub fn document(
-    loading_json: &str,
-    solver_json: &str,
-    layer_json: Option<&str>,
-) -> PyResult<toml::Table> {
+/// The sections of a solve given as JSON: `[loading]`, `[solver]` and the
+/// optional `[layer]` and `[heating]`.
+#[derive(Clone, Copy)]
+pub struct Sections<'a> {
+    pub loading: &'a str,
+    pub solver: &'a str,
+    pub layer: Option<&'a str>,
+    pub heating: Option<&'a str>,
+}
+
+/// The sections (JSON) as a configuration document.
+pub fn document(sections: Sections<'_>) -> PyResult<toml::Table> {
     let mut document = toml::Table::new();
     for (name, json) in [
-        ("loading", Some(loading_json)),
-        ("solver", Some(solver_json)),
-        ("layer", layer_json),
+        ("loading", Some(sections.loading)),
+        ("solver", Some(sections.solver)),
+        ("layer", sections.layer),
+        ("heating", sections.heating),
     ] {
         if let Some(json) = json {
             document.insert(name.into(), json_section(name, json)?);
         }
+    }
+    if let Some(heating) = document.get("heating") {
+        // Typed alone first, so that a bad key or value is named as the
+        // argument `heating` (the whole document's parser names no section).
+        let mut alone = toml::Table::new();
+        alone.insert("heating".into(), heating.clone());
+        parse(&alone, "heating")?;
     }
     Ok(document)
 }
@@ -88,31 +104,51 @@ fn table<T: serde::Serialize>(value: &T) -> toml::Value {
     toml::Value::Table(toml::Table::try_from(value).unwrap_or_default())
 }
 
-/// The problem of `surface` under `material` with the given sections.
+/// The problem of `surface` under `material` with the given sections, and
+/// its heated solve's parameters when `[heating]` is given and enabled:
+/// everything checked before anything is solved.
 pub fn build(
     surface: &NativeSurface,
     material: &NativeMaterial,
-    loading_json: &str,
-    solver_json: &str,
-    layer_json: Option<&str>,
-) -> PyResult<Problem> {
-    let config = parse(&document(loading_json, solver_json, layer_json)?, "solve")?;
-    from_sections(
+    sections: Sections<'_>,
+) -> PyResult<(Problem, Option<HeatingParams>)> {
+    let config = parse(&document(sections)?, "solve")?;
+    let loading = config.loading.unwrap_or_default();
+    let problem = from_sections(
         surface,
         material,
-        &config.loading.unwrap_or_default(),
+        &loading,
         &config.solver.unwrap_or_default(),
         config.layer.as_ref(),
-    )
+        config.heating.as_ref(),
+    )?;
+    let heating = heating_params(config.heating.as_ref(), &problem, loading.temperature)?;
+    Ok((problem, heating))
 }
 
-/// The problem of `surface` under `material` with typed sections.
+/// `[heating]` checked against `problem` by the library (the command
+/// line's checks and messages); `None` without the section or with
+/// `enabled = false`. `ambient` is `[loading] temperature`.
+pub fn heating_params(
+    heating: Option<&HeatingConfig>,
+    problem: &Problem,
+    ambient: Option<f64>,
+) -> PyResult<Option<HeatingParams>> {
+    match heating {
+        Some(h) => HeatingParams::from_config(h, problem, ambient).map_err(value_error),
+        None => Ok(None),
+    }
+}
+
+/// The problem of `surface` under `material` with typed sections
+/// (`heating` is only recorded in the problem's configuration document).
 pub fn from_sections(
     surface: &NativeSurface,
     material: &NativeMaterial,
     loading: &LoadingConfig,
     solver: &SolverConfig,
     layer: Option<&LayerConfig>,
+    heating: Option<&HeatingConfig>,
 ) -> PyResult<Problem> {
     // The periodic formulation takes a measured map as one period.
     let period = match solver.formulation.unwrap_or_default() {
@@ -162,6 +198,9 @@ pub fn from_sections(
     document.insert("solver".into(), table(solver));
     if let Some(l) = layer {
         document.insert("layer".into(), table(l));
+    }
+    if let Some(h) = heating {
+        document.insert("heating".into(), table(h));
     }
     problem.document = document;
     problem.check().map_err(value_error)?;

@@ -5,7 +5,9 @@
 //! name order, the last fastest; then loads; then speeds), each
 //! combination's configuration made by `viscoslide::sweep::point_config`
 //! (every value set as `--set` sets it, typed by the configuration's
-//! parser). Every point is built and checked before the first is solved.
+//! parser). Every point is built and checked before the first is solved,
+//! its `[heating]` too (`"heating.enabled" = [false, true]` gives each
+//! speed isothermal and heated, as `viscoslide sweep` does).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -14,19 +16,22 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use viscoslide::config::{Config, LoadedConfig, SweepConfig};
+use viscoslide::heating::HeatingParams;
 use viscoslide::problem::Problem;
 use viscoslide::sweep::{point_config, Point, SweepPlan};
 
 use crate::errors::value_error;
 use crate::material::{section_table, NativeMaterial};
-use crate::problem;
+use crate::problem::{self, Sections};
 use crate::results::NativeResult;
 use crate::solve::{backend_choice, run};
 use crate::surface::NativeSurface;
 
 /// The sections of a configuration a Python sweep can vary: those a
 /// Python surface, material and the arguments of `solve` make.
-const SECTIONS: [&str; 5] = ["material", "surface", "loading", "solver", "layer"];
+const SECTIONS: [&str; 6] = [
+    "material", "surface", "loading", "solver", "layer", "heating",
+];
 
 /// `[surface.generate]` keys that exclude each other: a varied key
 /// replaces the surface's own value of the other.
@@ -118,13 +123,13 @@ fn section_of(key: &str) -> &str {
 #[pymethods]
 impl NativeSweepPlan {
     /// Plan the sweep of `surface` under `material` with the `[loading]`,
-    /// `[solver]` and `[layer]` sections (JSON) over `speeds` (m/s, or `xi`
+    /// `[solver]`, `[layer]` and `[heating]` sections (JSON) over `speeds` (m/s, or `xi`
     /// when `sliding` is `"xi"`), `loads` (N, or Pa when `load` is
     /// `"mean_pressure"`) and the `vary` lists (`[(key, values)]`), and
     /// check every point; a bad key or value is refused in one line naming
     /// it, before anything is solved.
     #[new]
-    #[pyo3(signature = (surface, material, loading_json, solver_json, layer_json, backend, sliding, speeds, load, loads, vary))]
+    #[pyo3(signature = (surface, material, loading_json, solver_json, layer_json, heating_json, backend, sliding, speeds, load, loads, vary))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         surface: Bound<'_, NativeSurface>,
@@ -132,6 +137,7 @@ impl NativeSweepPlan {
         loading_json: &str,
         solver_json: &str,
         layer_json: Option<&str>,
+        heating_json: Option<&str>,
         backend: Option<&str>,
         sliding: &str,
         speeds: Vec<f64>,
@@ -197,7 +203,12 @@ impl NativeSweepPlan {
                 )));
             }
         }
-        let mut document = problem::document(loading_json, solver_json, layer_json)?;
+        let mut document = problem::document(Sections {
+            loading: loading_json,
+            solver: solver_json,
+            layer: layer_json,
+            heating: heating_json,
+        })?;
         // Without `vary` the sections are the points' configuration; with
         // it, each combination's is typed once its values are set (a layer
         // may be complete only then).
@@ -279,8 +290,8 @@ impl NativeSweepPlan {
             ))
         })?;
         let combination = self.combination(point)?;
-        let problem = self.problem(&combination, point)?;
-        run(py, &problem, backend, progress)
+        let (problem, heating) = self.problem(&combination, point)?;
+        run(py, &problem, heating.as_ref(), backend, progress)
     }
 }
 
@@ -308,8 +319,13 @@ impl NativeSweepPlan {
         })
     }
 
-    /// The problem of `point` in its `combination`.
-    fn problem(&self, combination: &Combination, point: &Point) -> PyResult<Problem> {
+    /// The problem of `point` in its `combination`, and its heated solve's
+    /// parameters when `[heating]` is enabled.
+    fn problem(
+        &self,
+        combination: &Combination,
+        point: &Point,
+    ) -> PyResult<(Problem, Option<HeatingParams>)> {
         let config = &combination.config;
         let mut loading = config.loading.clone().unwrap_or_default();
         loading.set_sliding(point.speed);
@@ -323,14 +339,19 @@ impl NativeSweepPlan {
         }
         let surface = combination.surface.as_ref().unwrap_or(self.surface.get());
         let material = combination.material.as_ref().unwrap_or(self.material.get());
-        problem::from_sections(
+        let problem = problem::from_sections(
             surface,
             material,
             &loading,
             &config.solver.clone().unwrap_or_default(),
             config.layer.as_ref(),
+            config.heating.as_ref(),
         )
-        .map_err(|e| self.named(point, e))
+        .map_err(|e| self.named(point, e))?;
+        let heating =
+            problem::heating_params(config.heating.as_ref(), &problem, loading.temperature)
+                .map_err(|e| self.named(point, e))?;
+        Ok((problem, heating))
     }
 
     /// `e` with the `vary` values of `point` in front (a value that one

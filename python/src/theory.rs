@@ -40,7 +40,13 @@ pub fn persson<'py>(
     Option<String>,
     Option<(f64, f64)>,
 )> {
-    let problem = problem::build(&surface, &material, loading_json, "{}", None)?;
+    let sections = problem::Sections {
+        loading: loading_json,
+        solver: "{}",
+        layer: None,
+        heating: None,
+    };
+    let (problem, _) = problem::build(&surface, &material, sections)?;
     let (psd, kind, report) = problem.persson_psd_report().map_err(value_error)?;
     let report = report
         .map(|r| serde_json::to_string(&r))

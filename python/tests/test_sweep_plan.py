@@ -67,7 +67,7 @@ def test_python_and_the_command_line_plan_the_same_points(cli, tmp_path, pad, ru
     assert len(points) == 8
     # The native planner's points are the command line's, field for field.
     plan = _native.SweepPlan(
-        pad._native, rubber._native, "{}", "{}", None, "cpu", "speed", [0.05, 0.5], "normal_load", [0.3], list(VARY.items())
+        pad._native, rubber._native, "{}", "{}", None, None, "cpu", "speed", [0.05, 0.5], "normal_load", [0.3], list(VARY.items())
     )
     assert json.loads(plan.points_json()) == [p["point"] for p in points]
     # The sweep solves them in that order, with the command line's numbers.

@@ -15,12 +15,15 @@ The API mirrors the engine's layers: :class:`Material`, :class:`Surface`,
 :func:`persson` for Persson's theory; :func:`magnification` for friction
 and area against the cut-off ``q1``; :func:`kernel_table` for the
 influence coefficients; :func:`surface_temperature` for the temperature
-rise under a frictional heat flux map. Errors: ``ValueError`` for bad input,
+rise under a frictional heat flux map. ``heating=`` of :func:`solve`,
+:func:`sweep` and :func:`friction_curve` heats the contact by its own
+friction (:attr:`Result.heating`, :attr:`Result.temperature_rise`), and
+:meth:`Result.heat` gives the heat of a solved contact. Errors: ``ValueError`` for bad input,
 :class:`ConvergenceError` for a solve that did not converge.
 """
 
 from ._native import VERSION as __version__
-from .curves import COLUMNS, friction_curve, kernel_table, persson, sweep
+from .curves import COLUMNS, HEATING_COLUMNS, friction_curve, kernel_table, persson, sweep
 from .errors import ConvergenceError
 from .heat import surface_temperature
 from .magnification import MAGNIFICATION_COLUMNS, magnification
@@ -31,6 +34,7 @@ from .surface import Surface
 __all__ = [
     "COLUMNS",
     "ConvergenceError",
+    "HEATING_COLUMNS",
     "MAGNIFICATION_COLUMNS",
     "Material",
     "Result",

@@ -103,6 +103,19 @@ class Result:
     def summary_json(self) -> str: ...
     def convergence_json(self) -> str: ...
     def analysis_json(self) -> Optional[str]: ...
+    def heating_json(self) -> Optional[str]: ...
+    @property
+    def temperature_rise(self) -> Optional[npt.NDArray[np.float64]]: ...
+    @property
+    def temperature_depth(self) -> Optional[List[Tuple[float, float, float, float]]]: ...
+    def heat(
+        self,
+        conductivity: float,
+        diffusivity: float,
+        block_length: Optional[float],
+        source: Optional[str],
+        refined_layers: bool,
+    ) -> Tuple[str, npt.NDArray[np.float64]]: ...
     def write(self, directory: str) -> List[str]: ...
 
 Progress = Optional[Callable[[Dict[str, Any]], None]]
@@ -113,6 +126,7 @@ def solve(
     loading_json: str,
     solver_json: str,
     layer_json: Optional[str],
+    heating_json: Optional[str],
     backend: Optional[str],
     progress: Progress = None,
 ) -> Result: ...
@@ -124,6 +138,7 @@ class SweepPlan:
         loading_json: str,
         solver_json: str,
         layer_json: Optional[str],
+        heating_json: Optional[str],
         backend: Optional[str],
         sliding: str,
         speeds: List[float],

@@ -35,6 +35,33 @@ COLUMNS = (
     "shift_factor",
 )
 
+#: Columns of :func:`sweep` added when it heats (``heating=`` or a varied
+#: ``heating.*`` key): from each point's heating report (``NaN`` for a
+#: point solved isothermally, ``"heating.enabled" = False``);
+#: ``temperature_rise`` is the effective rise ``Theta(T_eff)``.
+HEATING_COLUMNS = (
+    "effective_temperature",
+    "temperature_rise",
+    "peak_surface_rise",
+    "isothermal_friction_coefficient",
+    "branches",
+    "fixed_point_evaluations",
+)
+
+
+def _heating_row(heating: Optional[Dict[str, Any]]) -> Dict[str, Any]:
+    """The :data:`HEATING_COLUMNS` of one point's heating report."""
+    if heating is None:
+        return {c: None for c in HEATING_COLUMNS}
+    return {
+        "effective_temperature": heating["effective_temperature"],
+        "temperature_rise": heating["temperature_rise"]["effective"],
+        "peak_surface_rise": heating["temperature_rise"]["peak_surface"],
+        "isothermal_friction_coefficient": heating["isothermal_friction_coefficient"],
+        "branches": len(heating["branches"]),
+        "fixed_point_evaluations": heating["fixed_point_evaluations"],
+    }
+
 def _frame(columns: Dict[str, np.ndarray], as_frame: Any) -> Any:
     if not _checks.flag("as_frame", as_frame):
         return columns
@@ -72,14 +99,20 @@ def _vary_lists(vary: Any) -> List[Tuple[str, list]]:
     return lists
 
 
-def _set_by(sections: Tuple[str, str, Optional[str]], options: Mapping[str, Any]) -> Dict[str, str]:
+def _set_by(sections: Tuple[str, str, Optional[str], Optional[str]], options: Mapping[str, Any]) -> Dict[str, str]:
     """The config keys that the arguments in ``options`` set, each with its
     argument: the keys of the sections are named as the arguments of
-    :func:`solve` (``layer.base`` is ``layer_base``)."""
+    :func:`solve` (``layer.base`` is ``layer_base``, ``heating.*`` is
+    ``heating``)."""
     given = {}
-    for section, text in zip(("loading", "solver", "layer"), sections):
+    for section, text in zip(("loading", "solver", "layer", "heating"), sections):
         for key in json.loads(text or "{}"):
-            arg = "layer_base" if (section, key) == ("layer", "base") else key
+            if section == "heating":
+                arg = "heating"
+            elif (section, key) == ("layer", "base"):
+                arg = "layer_base"
+            else:
+                arg = key
             if options.get(arg) is not None:
                 given[f"{section}.{key}"] = arg
     return given
@@ -105,14 +138,17 @@ def sweep(
     Each of ``speed``, ``xi``, ``normal_load``, ``mean_pressure`` may be a
     number or a 1-D array; ``options`` are those of :func:`solve`
     (``formulation``, ``thickness``, ``backend``, ``tolerance``,
-    ``temperature``, ...). ``vary`` maps config keys to lists of values,
+    ``temperature``, ``heating``, ...). ``vary`` maps config keys to lists of values,
     as ``[sweep.vary]`` of ``viscoslide sweep``: ``{"loading.temperature":
     [7.0, 17.0, 27.0]}``, ``"layer.thickness"``, ``"solver.tolerance"``,
     ``"material.poisson"``, ``"surface.generate.q1"`` (of a surface made
     from a ``[surface]`` section: generated or read from a file; ``q1``
     replaces the surface's ``scales``, ``rms_slope`` its ``rms_height``
     and the other way round) and any other key of the ``[material]``,
-    ``[surface]``, ``[loading]``, ``[solver]`` and ``[layer]`` sections.
+    ``[surface]``, ``[loading]``, ``[solver]``, ``[layer]`` and
+    ``[heating]`` sections (``{"heating.enabled": [False, True]}`` with
+    ``heating=`` gives every speed isothermal and heated, as ``viscoslide
+    sweep`` does).
     The points are planned by the command line's sweep planner: the same
     keys and values refused with the same messages, at most 10,000
     combinations, the same order (keys in name order, the last fastest);
@@ -127,6 +163,15 @@ def sweep(
     a pandas DataFrame with ``as_frame=True``. With ``temperature`` (or
     ``vary={"loading.temperature": ...}``) the ``temperature`` and
     ``shift_factor`` columns give ``a_T``: ``mu(v, T) = mu(a_T v, T_ref)``.
+    A heated sweep (``heating=``, see :func:`solve`, or a varied
+    ``heating.*`` key) adds :data:`HEATING_COLUMNS`: ``effective_temperature``
+    ``T_eff`` [C], ``temperature_rise`` ``Theta(T_eff)`` (``T_eff - T0`` to the tolerance) [K],
+    ``peak_surface_rise`` [K], ``isothermal_friction_coefficient`` (at
+    ``T0``), the number of ``branches`` found and
+    ``fixed_point_evaluations``, ``NaN`` where a point is isothermal; at a
+    heated point ``friction_coefficient`` is the heated friction,
+    ``persson_friction_coefficient`` Persson's at ``T_eff`` and
+    ``temperature``, ``shift_factor`` those of ``T_eff``.
     """
     surf = Surface.coerce(surface)
     _checks.flag("as_frame", as_frame)
@@ -146,8 +191,8 @@ def sweep(
     args = _native_args(surf, material, **options)
     if args[4] is None and any(key.split(".")[0] == "layer" for key, _ in lists):
         # A varied layer key makes a layer on solve's default base.
-        args = (*args[:4], json.dumps({"base": options.get("layer_base") or "bonded"}), args[5])
-    given = _set_by(args[2:5], options)
+        args = (*args[:4], json.dumps({"base": options.get("layer_base") or "bonded"}), *args[5:])
+    given = _set_by(args[2:6], options)
     for key, _ in lists:
         if key in given:
             raise ValueError(f"vary {key!r} and the argument {given[key]} both set it: give one")
@@ -157,12 +202,16 @@ def sweep(
     plan = _native.SweepPlan(*args, sliding_key, sliding.tolist(), load_key, load.tolist(), lists)
     points = json.loads(plan.points_json())
     keys = sorted({k for p in points for k in p.get("vary", {})})
-    rows: Dict[str, list] = {c: [] for c in (*COLUMNS, *keys)}
+    heated = args[5] is not None or any(key.split(".")[0] == "heating" for key in keys)
+    numeric = (*COLUMNS, *(HEATING_COLUMNS if heated else ()))
+    rows: Dict[str, list] = {c: [] for c in (*numeric, *keys)}
     with _progress.points(progress, len(points)) as callback:
         for k, point in enumerate(points):
-            s = _warned(Result(plan.solve(k, args[5]))).summary
+            s = _warned(Result(plan.solve(k, args[6]))).summary
             row = {c: s.get(c) for c in COLUMNS}
             row["normal_load"] = s["normal_load"]
+            if heated:
+                row.update(_heating_row(s.get("heating")))
             row.update(point.get("vary", {}))
             for c in rows:
                 rows[c].append(np.nan if row[c] is None else row[c])
@@ -191,7 +240,9 @@ def friction_curve(
     """Friction and contact area against speed at one load: :func:`sweep`
     over ``speeds`` [m/s] (or ``xi``) at ``normal_load`` [N] or
     ``mean_pressure`` [Pa]; ``temperature=`` [C] (among ``options``)
-    shifts the material by its WLF factor as in :func:`solve`."""
+    shifts the material by its WLF factor as in :func:`solve`, and
+    ``heating=`` (with ``temperature``, the ambient ``T0``) heats every
+    point by its own friction, adding :data:`HEATING_COLUMNS`."""
     if speeds is not None and xi is None:
         # Checked here to be named as this function's argument.
         speeds = _axis("speeds", speeds)

@@ -1,8 +1,9 @@
 """Solves: :func:`solve` (a surface and a material built in Python) and
 :func:`solve_config` (a configuration file, exactly as ``viscoslide
-solve``), both returning a :class:`Result`. The GIL is released during the
-solve; Ctrl-C stops it within a fraction of a second (``KeyboardInterrupt``,
-nothing is written)."""
+solve``), both returning a :class:`Result`, isothermal or heated by the
+contact's own friction (``heating=``, or a ``[heating]`` section; physics.md
+section 14). The GIL is released during the solve; Ctrl-C stops it within a
+fraction of a second (``KeyboardInterrupt``, nothing is written)."""
 
 from __future__ import annotations
 
@@ -92,6 +93,91 @@ class Result:
         """Which executor ran the solve, and why."""
         return self._native.backend_line
 
+    @property
+    def heating(self) -> Optional[Dict[str, Any]]:
+        """The heated solve's report (``summary["heating"]``, as
+        ``viscoslide solve`` writes it), ``None`` for an isothermal solve:
+        ``ambient_temperature`` ``T0`` and ``effective_temperature``
+        ``T_eff`` [C]; ``temperature_rise`` [K] (``effective``: the
+        dissipation-weighted rise ``Theta(T_eff)``, ``T_eff - T0`` to the
+        ``tolerance``; ``peak_surface``, ``mean_contact``, ``background``
+        of a periodic cell's block, else ``None``); ``chosen_branch`` and
+        ``branches`` (every self-consistent temperature found in
+        ``bracket``, coldest first, each with its ``temperature`` [C],
+        ``rise`` [K], ``residual`` ``T0 + Theta(T) - T`` [K] and whether it
+        is ``stable``); ``fixed_point_evaluations`` and
+        ``evaluations`` (``Theta(T)`` at every temperature solved);
+        ``heat_total_w`` against ``friction_power_w`` (the energy
+        balance); ``isothermal_friction_coefficient`` (at ``T0``) and
+        ``persson_friction_coefficient`` (Persson's at ``T_eff``);
+        ``source``, ``closure``, ``conductivity``, ``diffusivity``,
+        ``block_length``, ``peclet``, ``warnings`` and ``depth_profile``
+        (the file :meth:`write` puts it in)."""
+        text = self._native.heating_json()
+        return None if text is None else json.loads(text)
+
+    @property
+    def temperature_rise(self) -> Optional[np.ndarray]:
+        """The heated solve's surface temperature rise ``T - T0`` [K] at the
+        cell centres, shape ``(nx, ny)``, axis 0 = x (``temperature.npy``
+        of ``viscoslide solve``); ``None`` for an isothermal solve."""
+        return self._native.temperature_rise
+
+    @property
+    def temperature_depth(self) -> Optional[Dict[str, np.ndarray]]:
+        """The heated solve's rise against depth on a periodic cell
+        (``temperature_depth.csv``): arrays ``depth`` [m], ``mean_rise``
+        and ``max_rise`` [K] over the plane at that depth and
+        ``mean_source`` [W/m^3] (the volume source of the layer holding
+        it); ``None`` for an isothermal solve or a pad (solved at its
+        surface only)."""
+        rows = self._native.temperature_depth
+        if rows is None:
+            return None
+        table = np.asarray(rows, dtype=float).reshape(-1, 4)
+        return {name: table[:, k].copy() for k, name in enumerate(("depth", "mean_rise", "max_rise", "mean_source"))}
+
+    def heat(
+        self,
+        conductivity: float,
+        diffusivity: float,
+        *,
+        block_length: Optional[float] = None,
+        source: Optional[str] = None,
+        refined_layers: bool = False,
+    ) -> Dict[str, Any]:
+        """The heat of this solution (``viscoslide heat --from-run``;
+        physics.md section 14) in a rubber of thermal ``conductivity``
+        [W/(m K)] and ``diffusivity`` [m^2/s], without feedback on the
+        friction.
+
+        ``source`` is ``"volume"`` (the creep elements' dissipation on depth
+        layers; periodic cells only, their default) or ``"surface"`` (the
+        work of the contact pressure as a surface flux; a pad's default);
+        ``refined_layers`` takes finer depth layers (depth integrals to
+        about 5e-9 instead of 5e-5); ``block_length`` [m] adds a periodic
+        cell's background heating over the block's passage. A heated
+        solve's solution is at its effective temperature, and so is its
+        heat.
+
+        Returns the numbers of ``heat.json`` (``source``,
+        ``effective_rise_k``, ``max_rise_k``, ``mean_rise_k``,
+        ``background_rise_k``, ``heat_total_w``, ``friction_power_w``,
+        ``energy_balance`` = heat over friction power minus 1, ``notes``,
+        and the depth layers of a volume source) and ``temperature_rise``,
+        the surface rise [K] at the cell centres, shape ``(nx, ny)``.
+        """
+        report, rise = self._native.heat(
+            _checks.positive("conductivity", conductivity, "W/(m K)"),
+            _checks.positive("diffusivity", diffusivity, "m^2/s"),
+            None if block_length is None else _checks.positive("block_length", block_length, "m"),
+            _checks.text("source", source, "'volume' or 'surface'"),
+            _checks.flag("refined_layers", refined_layers),
+        )
+        doc = json.loads(report)
+        doc["temperature_rise"] = rise
+        return doc
+
     def analysis(self) -> Optional[Dict[str, Any]]:
         """The anisotropy analysis of the deformed surface and of the
         contact area (paper Section IV: ``gamma``, ``theta_p_deg``, ``m20``,
@@ -109,8 +195,10 @@ class Result:
     def __repr__(self) -> str:
         nx, ny = self._native.grid
         c = self.summary
+        h = c.get("heating")
+        heated = "" if h is None else f"heated to T_eff = {h['effective_temperature']:.6g} C, "
         return (
-            f"Result({nx} x {ny}, friction_coefficient={self.friction_coefficient:.6g} "
+            f"Result({nx} x {ny}, {heated}friction_coefficient={self.friction_coefficient:.6g} "
             f"(dissipation {self.friction_coefficient_dissipation:.6g}), "
             f"contact_area_fraction={self.contact_area_fraction:.5g}, "
             f"{c['iterations']} iterations, residual {c['residual']:.2e}, backend {c['backend']})"
@@ -124,6 +212,31 @@ def _layer(thickness: Optional[float], layer_base: str) -> Optional[str]:
     if thickness is None:
         return None
     return json.dumps({"thickness": _checks.positive("thickness", thickness, "m"), "base": base})
+
+
+def _heating(heating: Any) -> Optional[str]:
+    """``heating`` (a mapping of ``[heating]`` keys) as the section's JSON;
+    the keys and values are checked by the library as the command line
+    checks ``[heating]`` (one line naming the key and value). Here only
+    what JSON cannot carry is refused: a key that is not a string, a value
+    that is not a boolean, a string or a finite real number."""
+    if heating is None:
+        return None
+    if not isinstance(heating, Mapping):
+        raise TypeError(
+            f"heating must be a dict of [heating] keys (conductivity, diffusivity, ...), got {type(heating).__name__}"
+        )
+    section: Dict[str, Any] = {}
+    for key, value in heating.items():
+        if not isinstance(key, str):
+            raise TypeError(f"heating: a key is a [heating] key name such as 'conductivity', got {key!r}")
+        if isinstance(value, (bool, np.bool_)):
+            section[key] = bool(value)
+        elif isinstance(value, str):
+            section[key] = value
+        else:
+            section[key] = _checks.number(f"heating[{key!r}]", value)
+    return json.dumps(section)
 
 
 def _loading(
@@ -203,6 +316,7 @@ def solve(
     cascade_levels: Optional[int] = None,
     mesh: Optional[str] = None,
     precision: Optional[str] = None,
+    heating: Optional[Mapping[str, Any]] = None,
     progress: Any = None,
     fill_missing: Optional[bool] = None,
     detrend: Optional[str] = None,
@@ -259,6 +373,29 @@ def solve(
         the inner Krylov products with every restart's residual, the gap
         and the contact decisions in f64 (``[solver] precision``; physics.md
         section 13); ``summary["precision"]`` states it.
+    heating : dict, optional
+        Frictional heating and its feedback on the friction (the keys of
+        ``[heating]``; physics.md section 14): ``conductivity`` [W/(m K)],
+        ``diffusivity`` [m^2/s] or ``density`` [kg/m^3] and
+        ``specific_heat`` [J/(kg K)], ``block_length`` [m] (the block's
+        length along the sliding direction; periodic cells need it, pads
+        refuse it), ``source`` (``"volume"``, periodic cells' default, or
+        ``"surface"``), ``closure`` (``"effective"``), ``branch``
+        (``"cold"``, default, or ``"hot"``), ``max_rise`` [K] (the bracket
+        ``[T0, T0 + max_rise]`` searched, default 100), ``tolerance`` [K]
+        (on ``|T0 + Theta(T) - T|``, default 1e-3) and ``enabled``
+        (``False``: the isothermal solve). Needs a material with WLF
+        constants and ``temperature`` (the ambient ``T0``). The answer is
+        the isothermal solve at the effective temperature ``T_eff = T0 +
+        Theta(T_eff)`` (so ``mu_heated(v, T0) = mu(v, T_eff)``), with
+        :attr:`Result.heating` (the report: ``T_eff``, the rises, every
+        branch found, the evaluations, the isothermal friction at ``T0``,
+        Persson's at ``T_eff``), :attr:`Result.temperature_rise` (the
+        surface map) and :attr:`Result.temperature_depth`; ``summary``'s
+        ``temperature`` and ``shift_factor`` are then ``T_eff``'s. The same numbers
+        as ``viscoslide solve`` with the same ``[heating]``. Every key is
+        checked before anything is solved (a ``ValueError`` naming the key
+        and the value).
     progress : None, True or callable
         ``True`` shows a tqdm bar; a callable is called after every outer
         iteration with a dict (``iteration``, ``matvecs``, ``residual``,
@@ -305,6 +442,7 @@ def solve(
         cascade_levels=cascade_levels,
         mesh=mesh,
         precision=precision,
+        heating=heating,
         fill_missing=fill_missing,
         detrend=detrend,
         window=window,
@@ -335,6 +473,7 @@ def _native_args(
     cascade_levels: Optional[int] = None,
     mesh: Optional[str] = None,
     precision: Optional[str] = None,
+    heating: Optional[Mapping[str, Any]] = None,
     fill_missing: Optional[bool] = None,
     detrend: Optional[str] = None,
     window: Optional[str] = None,
@@ -353,6 +492,7 @@ def _native_args(
         json.dumps(loading),
         json.dumps(solver),
         _layer(thickness, layer_base),
+        _heating(heating),
         backend,
     )
 
@@ -414,7 +554,8 @@ def solve_config(
     """Solve a configuration file as ``viscoslide solve`` does: the same
     problem, the same numbers (``summary`` equals the command's
     ``summary.json`` but for timings), relative paths in the file resolved
-    against its directory.
+    against its directory; an enabled ``[heating]`` section gives the
+    heated solve (see ``heating`` of :func:`solve`).
 
     Parameters
     ----------
