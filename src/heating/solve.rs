@@ -38,7 +38,8 @@ const BACKGROUND_DEPTH_SHARE: f64 = 0.3;
 /// The temperature rises of the answer \[K\].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Rises {
-    /// `T_eff - T0`: the dissipation-weighted rise.
+    /// `Theta(T_eff)`, the dissipation-weighted rise: `T_eff - T0` to the
+    /// search's tolerance (the branch's residual).
     pub effective: f64,
     /// The surface's highest rise.
     pub peak_surface: f64,

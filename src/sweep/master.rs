@@ -107,22 +107,44 @@ pub fn master_chart(
         let Some(a) = sel.first().and_then(|r| r.shift_factor) else {
             continue;
         };
+        // Each row at its own `a_T v`: a heated sweep's rows sit at their
+        // effective temperatures, one per speed.
         let mut s = Series::points(
             g.clone(),
-            sel.iter().map(|r| (a * r.speed, r.friction.0)).collect(),
+            sel.iter()
+                .map(|r| (r.shift_factor.unwrap_or(a) * r.speed, r.friction.0))
+                .collect(),
             c,
         );
         s.mark = Mark::LineAndPoints;
         s.errors = Some(sel.iter().map(|r| r.friction.1).collect());
         series.push(s);
-        if let Some((_, curve)) = theory.iter().find(|(l, _)| l == g) {
-            let pts: Vec<(f64, f64)> = curve
+        let one_temperature = sel.iter().all(|r| r.shift_factor == Some(a));
+        if one_temperature {
+            if let Some((_, curve)) = theory.iter().find(|(l, _)| l == g) {
+                let pts: Vec<(f64, f64)> = curve
+                    .iter()
+                    .map(|&(v, mu)| (a * v, mu))
+                    .filter(|p| p.1.is_finite())
+                    .collect();
+                if !pts.is_empty() {
+                    series.push(Series::line(format!("Persson, {g}"), pts, c));
+                }
+            }
+        } else {
+            // Rows at several temperatures: Persson's theory of each row at
+            // its own temperature, as the row records it.
+            let pts: Vec<(f64, f64)> = sel
                 .iter()
-                .map(|&(v, mu)| (a * v, mu))
+                .filter_map(|r| Some((r.shift_factor? * r.speed, r.persson_friction?)))
                 .filter(|p| p.1.is_finite())
                 .collect();
             if !pts.is_empty() {
-                series.push(Series::line(format!("Persson, {g}"), pts, c));
+                series.push(Series::line(
+                    format!("Persson at each row's temperature, {g}"),
+                    pts,
+                    c,
+                ));
             }
         }
     }

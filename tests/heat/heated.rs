@@ -335,3 +335,53 @@ fn solve_with_heating_writes_the_heating_object_and_the_temperature_map() {
         serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
     assert!(s["heating"].is_null());
 }
+
+#[test]
+fn a_sweep_over_heating_enabled_gives_both_curves() {
+    // Two speeds, heating off and on: the off points are the isothermal
+    // solves (no heating object), the on points carry it and their
+    // friction is the isothermal one at their effective temperature.
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = tmp.path().join("hot.toml");
+    std::fs::write(
+        &cfg,
+        format!("{PERIODIC}\n[sweep]\nspeed = [0.03, 0.1]\ninclude_static = false\n\n[sweep.vary]\n\"heating.enabled\" = [false, true]\n"),
+    )
+    .unwrap();
+    let out = tmp.path().join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args([
+            "sweep",
+            cfg.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut heated = 0;
+    for e in std::fs::read_dir(out.join("points")).unwrap() {
+        let p: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(e.unwrap().path()).unwrap()).unwrap();
+        let on = p["point"]["vary"]["heating.enabled"].as_bool().unwrap();
+        assert_eq!(!p["heating"].is_null(), on, "{}", p["point"]);
+        if on {
+            heated += 1;
+            let h = &p["heating"];
+            assert!(
+                h["temperature_rise"]["effective"].as_f64().unwrap() > 0.0,
+                "{h}"
+            );
+            assert_finite("heating", h);
+        }
+    }
+    assert_eq!(heated, 2);
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert!(
+        csv.lines().next().unwrap().contains("heating.enabled"),
+        "{csv}"
+    );
+    assert_eq!(csv.lines().count(), 5, "{csv}");
+}
