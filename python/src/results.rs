@@ -67,9 +67,7 @@ impl NativeResult {
     fn summary(&self) -> serde_json::Value {
         let mut doc = self.solution().summary_with(self.analysis.as_ref());
         if let Some(h) = self.solved.heated() {
-            for (key, value) in h.extras().summary {
-                doc[key] = value;
-            }
+            doc["heating"] = h.summary();
         }
         doc
     }
@@ -146,9 +144,8 @@ impl NativeResult {
     /// The heated solve's report (`summary.json`'s `heating` object), as
     /// JSON; `None` for an isothermal solve.
     fn heating_json(&self) -> Option<String> {
-        let extras = self.solved.heated()?.extras();
-        let (_, heating) = extras.summary.iter().find(|(key, _)| *key == "heating")?;
-        Some(serde_json::to_string(heating).unwrap_or_default())
+        let heating = self.solved.heated()?.summary();
+        Some(serde_json::to_string(&heating).unwrap_or_default())
     }
 
     /// The surface temperature rise `T - T0` \[K\] of a heated solve at

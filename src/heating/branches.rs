@@ -69,7 +69,7 @@ pub struct Branch {
 
 /// Every root found and the evaluations spent.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Branches {
+pub(crate) struct Branches {
     /// The roots, coldest first.
     pub branches: Vec<Branch>,
     /// Every evaluation, in the order made.

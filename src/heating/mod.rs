@@ -4,7 +4,7 @@
 //!
 //! - `params.rs`: `[heating]` typed and checked ([`HeatingParams`]).
 //! - `branches.rs`: every root of `T0 + Theta(T) - T` in a bracket
-//!   ([`Branches`]).
+//!   (`Branches`).
 //! - `solve.rs`: the fixed point over isothermal solves
 //!   ([`solve_heated`], [`HeatedSolution`]).
 
@@ -12,6 +12,6 @@ mod branches;
 mod params;
 mod solve;
 
-pub use branches::{Branch, Branches, Evaluation};
-pub use params::{BranchChoice, HeatingParams, DEFAULT_MAX_RISE, DEFAULT_TOLERANCE};
+pub use branches::{Branch, Evaluation};
+pub use params::{BranchChoice, HeatingParams};
 pub use solve::{solve_heated, DepthRow, HeatedSolution, HeatingReport, Rises};

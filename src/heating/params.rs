@@ -10,9 +10,9 @@ use crate::problem::Problem;
 use super::branches::BranchSearch;
 
 /// The bracket's default height above the ambient temperature \[K\].
-pub const DEFAULT_MAX_RISE: f64 = 100.0;
+pub(crate) const DEFAULT_MAX_RISE: f64 = 100.0;
 /// The default tolerance on `|T0 + Theta(T) - T|` \[K\].
-pub const DEFAULT_TOLERANCE: f64 = 1e-3;
+pub(crate) const DEFAULT_TOLERANCE: f64 = 1e-3;
 /// Ratio of consecutive rises scanned for sign changes.
 const SCAN_RATIO: f64 = 3.0;
 /// At most this many isothermal solves per heated solve.

@@ -132,14 +132,21 @@ pub struct HeatedSolution {
 }
 
 impl HeatedSolution {
-    /// `summary.json`'s `heating` object, the temperature map and the
-    /// depth profile, for [`Solution::write_with`].
-    pub fn extras(&self) -> SolveExtras {
+    /// `summary.json`'s `heating` object: the report, and where the depth
+    /// profile is.
+    pub fn summary(&self) -> serde_json::Value {
         let mut heating = serde_json::to_value(&self.report).expect("the report is serialisable");
         heating["depth_profile"] = match &self.depth_profile {
             Some(_) => "temperature_depth.csv".into(),
             None => "not solved below a pad's surface (periodic cells only)".into(),
         };
+        heating
+    }
+
+    /// The `heating` object, the temperature map and the depth profile,
+    /// for [`Solution::write_with`].
+    pub(crate) fn extras(&self) -> SolveExtras {
+        let heating = self.summary();
         let mut files = Vec::new();
         if let Some(rows) = &self.depth_profile {
             let mut csv = String::from("depth_m,mean_rise_k,max_rise_k,mean_source_w_m3\n");

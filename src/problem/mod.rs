@@ -45,7 +45,8 @@ pub use executor::Executor;
 pub use heating::ContactHeating;
 pub use resolution::{ShortestWavelength, MIN_CELLS_PER_WAVELENGTH};
 pub use setup::{check_memory, memory_estimate};
-pub use solution::{ExtraMap, Solution, SolveExtras, Timings};
+pub(crate) use solution::{ExtraMap, SolveExtras};
+pub use solution::{Solution, Timings};
 pub use solve::Discretisation;
 
 // The engine types the library API takes or returns (the engine itself is

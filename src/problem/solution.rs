@@ -366,7 +366,7 @@ impl Solution {
     /// [`Solution::write`] with what a layer above the solve adds (the
     /// heated solve's `heating` object and temperature maps), in the same
     /// all-or-nothing write.
-    pub fn write_with(&self, dir: &Path, extras: &SolveExtras) -> Result<Vec<PathBuf>> {
+    pub(crate) fn write_with(&self, dir: &Path, extras: &SolveExtras) -> Result<Vec<PathBuf>> {
         let report = self.analyze_configured()?;
         let (nx, ny) = (self.record.nx, self.record.ny);
         let (ax, ay) = (self.record.cell_size, self.record.cell_size_y);
@@ -489,7 +489,7 @@ const EXTRA_FILES: [&str; 4] = [
 
 /// What a layer above the solve adds to its outputs.
 #[derive(Debug, Clone, Default)]
-pub struct SolveExtras {
+pub(crate) struct SolveExtras {
     /// `summary.json` keys and their values.
     pub summary: Vec<(&'static str, Value)>,
     /// Files by name (one of `temperature_depth.csv`, `heat.json`).
@@ -501,7 +501,7 @@ pub struct SolveExtras {
 
 /// One map of [`SolveExtras`].
 #[derive(Debug, Clone)]
-pub struct ExtraMap {
+pub(crate) struct ExtraMap {
     /// The PNG's file name.
     pub file: &'static str,
     /// The plot's title (the speed is appended).
