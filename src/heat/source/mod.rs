@@ -21,6 +21,7 @@
 
 mod depth;
 mod dissipation;
+mod fft;
 mod stress;
 mod work;
 
@@ -108,15 +109,7 @@ impl HeatSource {
                 }
                 let plan = Dissipation::new(pressure, grid, response)?;
                 let layers = rule.layers(grid)?;
-                let n = grid.cells();
-                let mut density = vec![0.0; layers.count() * n];
-                for (l, nodes) in rule.nodes(&layers).iter().enumerate() {
-                    let out = &mut density[l * n..(l + 1) * n];
-                    for &(z, w) in nodes {
-                        let d = plan.density_at(z)?;
-                        out.iter_mut().zip(&d).for_each(|(o, v)| *o += w * v);
-                    }
-                }
+                let density = plan.layer_densities(&rule.nodes(&layers))?;
                 Ok(Self::Volume { layers, density })
             }
         }
