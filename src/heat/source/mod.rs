@@ -2,7 +2,8 @@
 //! power `mu F_N v` the rubber dissipates is released.
 //!
 //! - [`SourceKind::Volume`]: the dissipation density `D` of the creep
-//!   elements on depth layers (`dissipation.rs`, the stresses of each
+//!   elements on depth layers (`dissipation.rs`, its planned transforms in
+//!   `fft.rs`, the stresses of each
 //!   surface mode in `stress.rs`, the layers in `depth.rs`); a periodic
 //!   cell on a half-space. `D` is the dashpots' power where they are, in
 //!   the depth `~1/|q|` where each scale dissipates.
