@@ -90,7 +90,7 @@ impl Modes {
         &self,
         i: usize,
         j: usize,
-        f: impl Fn(Complex64) -> Complex64,
+        mut f: impl FnMut(Complex64) -> Complex64,
     ) -> Option<Complex64> {
         if i == 0 && j == 0 {
             return None;

@@ -17,7 +17,7 @@ use rayon::prelude::*;
 
 use super::error::HeatError;
 use super::layers::DepthLayers;
-use super::modes::{layer_integral, Modes};
+use super::modes::{layer_integral, phi1, Modes};
 use super::setup::HeatSetup;
 use crate::operator::SpectralEngine;
 use crate::surface::height_fft;
@@ -95,6 +95,81 @@ impl PeriodicPlan {
         sums.into_iter().map(|s| self.inverse(s)).collect()
     }
 
+    /// The surface rise about the mean \[K\] under the volume source
+    /// `source` \[W/m^3\] (layers as [`PeriodicPlan::volume`]) and the sum
+    /// `sum_l h_l sum_cells theta(z_l) Q_l` \[K W/m^2 per cell\], `z_l`
+    /// layer `l`'s middle: the weighted rise that `Theta` needs, mode by
+    /// mode without a depth map (module docs; discrete Parseval,
+    /// `sum_x a b = (1 / N) sum_k conj(A) B` over the full spectrum).
+    ///
+    /// For each mode, with `E_l = h_l phi1(m h_l) Q_l` (layer `l`'s
+    /// integral) and `e_l = exp(-m h_l / 2)`, [`super::modes::layer_integral`]
+    /// summed over the layers is, at `z_l`: the image `exp(-m z_l) I`, `I =
+    /// sum_l' exp(-m a_l') E_l'`; the layers above, `e_l` times `A_l = sum_{l'
+    /// < l} exp(-m (a_l - b_l')) E_l'`; those below, `e_l` times `B_l =
+    /// sum_{l' > l} exp(-m (a_l' - b_l)) E_l'`; its own layer, `h_l phi1(m
+    /// h_l / 2) Q_l`; at the surface `2 I`. `A` and `B` follow from one
+    /// sweep down and one up (`A_{l+1} = E_l + exp(-m h_l) A_l`), every
+    /// exponent with a non-negative real part: `O(L)` per mode for `L`
+    /// layers, where the depth maps take `O(L^2)` closed forms.
+    pub fn volume_weighted(
+        &self,
+        layers: &DepthLayers,
+        source: &[f64],
+    ) -> Result<(Vec<f64>, f64), HeatError> {
+        let lam = self.conductivity;
+        let (nx, ny) = (self.modes.nx, self.modes.ny);
+        let n = nx * ny;
+        let specs = source
+            .par_chunks(n)
+            .map(|map| self.forward(map))
+            .collect::<Result<Vec<_>, _>>()?;
+        let bounds: Vec<(f64, f64)> = layers.iter().collect();
+        let modes = &self.modes;
+        let mut surface = vec![Complex64::default(); (ny / 2 + 1) * nx];
+        let column_sums: Vec<f64> = surface
+            .par_chunks_mut(nx)
+            .enumerate()
+            .map_init(
+                || Scan::new(bounds.len()),
+                |scan, (j, col)| {
+                    let weight = if j == 0 || (ny % 2 == 0 && j == ny / 2) {
+                        1.0
+                    } else {
+                        2.0
+                    };
+                    let mut sum = 0.0;
+                    for (i, out) in col.iter_mut().enumerate() {
+                        let k = j * nx + i;
+                        scan.q.iter_mut().zip(&specs).for_each(|(q, s)| *q = s[k]);
+                        // The Nyquist average of the mode's multiplier: the
+                        // rises are linear in it.
+                        let mut variants = 0.0;
+                        scan.clear();
+                        let found = modes.average(i, j, |m| {
+                            variants += 1.0;
+                            scan.add(m, &bounds, lam)
+                        });
+                        let Some(top) = found else { continue };
+                        *out = top;
+                        sum += weight
+                            * scan
+                                .rise
+                                .iter()
+                                .zip(&scan.q)
+                                .zip(&bounds)
+                                .map(|((r, q), (a, b))| (b - a) * (q.conj() * r).re)
+                                .sum::<f64>()
+                            / variants;
+                    }
+                    sum
+                },
+            )
+            .collect();
+        let weighted = column_sums.iter().sum::<f64>() / n as f64;
+        Ok((self.inverse(surface)?, weighted))
+    }
+
     fn forward(&self, values: &[f64]) -> Result<Vec<Complex64>, HeatError> {
         height_fft::forward(values, self.modes.nx, self.modes.ny)
             .map_err(|e| HeatError::Transform(e.to_string()))
@@ -144,4 +219,74 @@ fn half_spectrum(modes: &Modes, f: impl Fn(Complex64) -> Complex64 + Sync) -> Ve
         }
     });
     out
+}
+
+/// One mode's sweep over the layers ([`PeriodicPlan::volume_weighted`]):
+/// the layers' coefficients `q`, the rises at their middles summed over the
+/// Nyquist variants, and scratch.
+struct Scan {
+    q: Vec<Complex64>,
+    rise: Vec<Complex64>,
+    whole: Vec<Complex64>,
+    half: Vec<Complex64>,
+    above: Vec<Complex64>,
+}
+
+impl Scan {
+    fn new(layers: usize) -> Self {
+        let zero = vec![Complex64::default(); layers];
+        Self {
+            q: zero.clone(),
+            rise: zero.clone(),
+            whole: zero.clone(),
+            half: zero.clone(),
+            above: zero,
+        }
+    }
+
+    fn clear(&mut self) {
+        self.rise.iter_mut().for_each(|r| *r = Complex64::default());
+    }
+
+    /// Add the rises at the layers' middles under `m`; return the surface
+    /// rise.
+    fn add(&mut self, m: Complex64, bounds: &[(f64, f64)], lam: f64) -> Complex64 {
+        let scale = 1.0 / (2.0 * lam * m);
+        // E_l, e_l and the sweep down: A_l, and I.
+        let (mut a, mut image, mut depth) = (
+            Complex64::default(),
+            Complex64::default(),
+            Complex64::new(1.0, 0.0),
+        );
+        for (l, &(top, bottom)) in bounds.iter().enumerate() {
+            let h = bottom - top;
+            let w = m * (0.5 * h);
+            let e = (-w).exp();
+            let p = phi1(w);
+            // phi1(2 w) = phi1(w) (1 + exp(-w)) / 2.
+            self.whole[l] = h * p * (1.0 + e) * 0.5 * self.q[l];
+            self.half[l] = e;
+            self.above[l] = a;
+            // `depth` = exp(-m a_l).
+            image += depth * self.whole[l];
+            self.rise[l] += scale * (h * p * self.q[l]);
+            a = self.whole[l] + e * e * a;
+            depth *= e * e;
+        }
+        // The layers above and the image at exp(-m z_l) = exp(-m a_l) e_l;
+        // then the sweep up: B_l.
+        let mut below = Complex64::default();
+        let mut tops = Complex64::new(1.0, 0.0);
+        for l in 0..bounds.len() {
+            let e = self.half[l];
+            self.rise[l] += scale * (e * (self.above[l] + tops * image));
+            tops *= e * e;
+        }
+        for l in (0..bounds.len()).rev() {
+            let e = self.half[l];
+            self.rise[l] += scale * (e * below);
+            below = self.whole[l] + e * e * below;
+        }
+        2.0 * scale * image
+    }
 }

@@ -36,6 +36,9 @@ impl Temperature {
 /// What a periodic cell without a block length says about its mean.
 pub(crate) const NO_BLOCK_NOTE: &str = "periodic cell without a block length: the mean rise (k = 0) has no steady state, so the rise is given about its mean (zero mean); give the block length along the sliding direction for the block's background heating";
 
+const VOLUME_ON_PAD: &str =
+    "a volume source is solved on a periodic cell only; give a surface flux for a pad";
+
 enum Plan {
     Pad(Box<PadPlan>),
     Periodic(Box<PeriodicPlan>),
@@ -165,26 +168,13 @@ impl HeatSolver {
         source: &[f64],
         depths: &[f64],
     ) -> Result<Vec<Temperature>, HeatError> {
-        let n = self.setup.grid.cells();
-        if source.len() != layers.count() * n {
-            return Err(HeatError::Shape {
-                name: "the volume source",
-                found: source.len(),
-                nx: self.setup.grid.nx(),
-                ny: self.setup.grid.ny(),
-                expected: layers.count() * n,
-            });
-        }
-        for (l, map) in source.chunks(n).enumerate() {
-            check_map("the volume source", map, self.shape(), Some(l))?;
-        }
+        self.volume_checks(layers, source)?;
         check_depths(depths)?;
         let Plan::Periodic(p) = &self.plan else {
-            return Err(HeatError::Unsupported(
-                "a volume source is solved on a periodic cell only; give a surface flux for a pad",
-            ));
+            return Err(HeatError::Unsupported(VOLUME_ON_PAD));
         };
         let maps = p.volume(layers, source, depths)?;
+        let n = self.setup.grid.cells();
         let means: Vec<f64> = source.chunks(n).map(Self::mean).collect();
         let c = self.setup.conduction;
         Ok(maps
@@ -201,12 +191,33 @@ impl HeatSolver {
             .collect())
     }
 
+    /// Check a volume source's shape and values.
+    fn volume_checks(&self, layers: &DepthLayers, source: &[f64]) -> Result<(), HeatError> {
+        let n = self.setup.grid.cells();
+        if source.len() != layers.count() * n {
+            return Err(HeatError::Shape {
+                name: "the volume source",
+                found: source.len(),
+                nx: self.setup.grid.nx(),
+                ny: self.setup.grid.ny(),
+                expected: layers.count() * n,
+            });
+        }
+        for (l, map) in source.chunks(n).enumerate() {
+            check_map("the volume source", map, self.shape(), Some(l))?;
+        }
+        Ok(())
+    }
+
     /// The surface rise under `source`, and the source-weighted rise
     /// `Int theta Q dV / Int Q dV` \[K\] (physics.md section 14's
     /// `Theta`, the rise where the heat is released): for a volume source
     /// the rise at each layer's middle weighted by the layer's source, for
     /// a surface flux the surface rise weighted by the flux. The total
-    /// source must be positive.
+    /// source must be positive. A volume source's weighted rise is summed
+    /// mode by mode without depth maps (`PeriodicPlan::volume_weighted`):
+    /// the same sum as from [`HeatSolver::volume`]'s maps at the layers'
+    /// middles, to round-off.
     pub fn under(&mut self, source: &HeatSource) -> Result<(Temperature, f64), HeatError> {
         match source {
             HeatSource::Surface { flux } => {
@@ -216,23 +227,32 @@ impl HeatSolver {
                 Ok((t, weighted / positive_total(total)?))
             }
             HeatSource::Volume { layers, density } => {
-                let mut depths = vec![0.0];
-                depths.extend(layers.iter().map(|(a, b)| 0.5 * (a + b)));
-                let mut rises = self.volume(layers, density, &depths)?;
+                self.volume_checks(layers, density)?;
+                let Plan::Periodic(p) = &self.plan else {
+                    return Err(HeatError::Unsupported(VOLUME_ON_PAD));
+                };
+                let (mut rise, weighted) = p.volume_weighted(layers, density)?;
                 let n = self.setup.grid.cells();
-                let (mut total, mut weighted) = (0.0, 0.0);
-                for (l, (a, b)) in layers.iter().enumerate() {
-                    let d = &density[l * n..(l + 1) * n];
-                    total += (b - a) * d.iter().sum::<f64>();
-                    weighted += (b - a)
-                        * rises[l + 1]
-                            .rise
-                            .iter()
-                            .zip(d)
-                            .map(|(r, q)| r * q)
-                            .sum::<f64>();
+                let means: Vec<f64> = density.chunks(n).map(Self::mean).collect();
+                let c = self.setup.conduction;
+                let tc = self.setup.contact_time();
+                let background = tc.map(|tc| volume_background_at(layers, &means, 0.0, &c, tc));
+                add(&mut rise, background);
+                // The background at each layer's middle, weighted by the
+                // layer's source.
+                let mut weighted = weighted;
+                let mut total = 0.0;
+                for ((a, b), mean) in layers.iter().zip(&means) {
+                    let q = (b - a) * mean * n as f64;
+                    total += q;
+                    if let Some(tc) = tc {
+                        weighted += q * volume_background_at(layers, &means, 0.5 * (a + b), &c, tc);
+                    }
                 }
-                Ok((rises.swap_remove(0), weighted / positive_total(total)?))
+                Ok((
+                    Temperature { rise, background },
+                    weighted / positive_total(total)?,
+                ))
             }
         }
     }

@@ -19,7 +19,11 @@
 //!
 //! The grid's modes are those of the periodic formulation
 //! (`operator/periodic.rs`): the rates are the band-limited fields sampled
-//! at the grid points (inverse FFTs) and squared there. A Nyquist mode
+//! at the grid points (inverse FFTs) and squared there. Each mode's stress
+//! is `f (s_0 + t s_1)` with `t = |q| z`, `f = exp(-t)` and `s_0`, `s_1`
+//! fixed by its direction ([`super::stress::stress_at`]): one exponential
+//! per mode and depth, shared by the elements; the transforms are planned
+//! once and the layers run side by side, each on one thread. A Nyquist mode
 //! samples both signs of its Nyquist components; the operator averages its
 //! multiplier over them, and so does the main field here. The rest of
 //! `mean_s |m_s|^2` (what the friction's mode sum counts) is carried by the
@@ -28,17 +32,20 @@
 //! are added, so that the grid sum of `D` is the Fourier sum exactly
 //! (discrete Parseval). `D >= 0`: a sum of squares with positive weights.
 
+use std::sync::Arc;
+
 use num_complex::Complex64;
 use rayon::prelude::*;
-use rustfft::FftPlanner;
+use rustfft::{Fft, FftPlanner};
 
 use super::super::error::HeatError;
-use super::stress::{dissipation_form, mode_stress, ModeStress};
+use super::fft::{Buffers, InverseFft};
+use super::stress::{dissipation_form, mode_stress, unit_component, ModeStress};
 use crate::response::{Grid, SlidingResponse};
 use crate::surface::height_fft;
 
 /// The dissipation density of a periodic pressure field, planned once:
-/// the pressure's spectrum and the creep elements.
+/// the pressure's spectrum, the creep elements and the transforms.
 pub(crate) struct Dissipation {
     nx: usize,
     ny: usize,
@@ -51,12 +58,39 @@ pub(crate) struct Dissipation {
     /// Half spectrum of the pressure (`height_fft` layout), divided by
     /// `nx ny`.
     spectrum: Vec<Complex64>,
+    /// Every mode of the half spectrum that is neither `q = 0` nor a
+    /// Nyquist mode, with its pressure coefficient.
+    regular: Vec<Regular>,
+    fft: InverseFft,
+    line_x: Arc<dyn Fft<f64>>,
+    line_y: Arc<dyn Fft<f64>>,
 }
 
-/// One element's stress-rate multiplier `i w / (1 + i w tau)` \[1/s\].
-fn rate(w: f64, tau: f64) -> Complex64 {
-    let iw = Complex64::new(0.0, w);
-    iw / (1.0 + iw * tau)
+/// A mode with one wavevector: its index in the half spectrum, `|q|`, the
+/// direction `q / |q|`, the frequency `w = -v (q.e_v)` and `P(q) / N`.
+#[derive(Clone, Copy)]
+struct Regular {
+    index: usize,
+    n: (f64, f64),
+    k: f64,
+    w: f64,
+    p: Complex64,
+}
+
+/// A stress-rate multiplier `sum_k a_k i w / (1 + i w tau_k)` \[1/s\]
+/// (`(a_k, tau_k)`): one element's rate times `sqrt(tau_k C_k)`, whose
+/// dissipation form is the element's share of `D`.
+#[derive(Clone, Debug)]
+pub(crate) struct RateFn(pub Vec<(f64, f64)>);
+
+impl RateFn {
+    fn at(&self, w: f64) -> Complex64 {
+        let iw = Complex64::new(0.0, w);
+        self.0
+            .iter()
+            .map(|&(a, tau)| a * iw / (1.0 + iw * tau))
+            .sum()
+    }
 }
 
 /// Signed index of bin `i` of an `n`-point transform and whether it is
@@ -96,6 +130,24 @@ fn add(a: &mut ModeStress, b: &ModeStress) {
     a.trace += b.trace;
 }
 
+/// The Nyquist modes' parts at one depth for one multiplier: the
+/// x-Nyquist row (`i = nx / 2`, by `j`) and the y-Nyquist column (`j = ny
+/// / 2`, by `i`), empty where the size is odd.
+struct NyquistParts {
+    row: Vec<Parts>,
+    column: Vec<Parts>,
+}
+
+/// One thread's work space.
+struct Work {
+    spec: Vec<Complex64>,
+    field: Vec<f64>,
+    first: Vec<f64>,
+    amp: Vec<Complex64>,
+    t: Vec<f64>,
+    fft: Buffers,
+}
+
 impl Dissipation {
     /// Plan `pressure` \[Pa\] on the periodic `grid` under `response`; a
     /// layer is refused (its stress field is not the half-space's), as is
@@ -123,22 +175,59 @@ impl Dissipation {
             .filter(|t| t.compliance > 0.0)
             .map(|t| (t.compliance, t.time))
             .collect();
+        let length = grid.lengths();
+        let e = response.direction();
+        let speed = response.speed();
+        let tau2 = std::f64::consts::TAU;
+        let regular = (0..(ny / 2 + 1) * nx)
+            .filter_map(|index| {
+                let (i, j) = (index % nx, index / nx);
+                let (kx, nyq_x) = signed(i, nx);
+                let (ky, nyq_y) = signed(j, ny);
+                if (i == 0 && j == 0) || nyq_x || nyq_y {
+                    return None;
+                }
+                let q = (tau2 * kx / length.0, tau2 * ky / length.1);
+                let k = q.0.hypot(q.1);
+                Some(Regular {
+                    index,
+                    n: (q.0 / k, q.1 / k),
+                    k,
+                    w: -speed * (q.0 * e.0 + q.1 * e.1),
+                    p: spectrum[index],
+                })
+            })
+            .collect();
+        let mut planner = FftPlanner::<f64>::new();
         Ok(Self {
             nx,
             ny,
-            length: grid.lengths(),
-            e: response.direction(),
-            speed: response.speed(),
+            length,
+            e,
+            speed,
             nu: response.poisson(),
             elements,
             spectrum,
+            regular,
+            fft: InverseFft::new(nx, ny),
+            line_x: planner.plan_fft_inverse(nx),
+            line_y: planner.plan_fft_inverse(ny),
         })
     }
 
+    /// The multipliers whose dissipation forms sum to `D`: one per
+    /// element, `sqrt(tau_k C_k) i w / (1 + i w tau_k)`.
+    fn rates(&self) -> Vec<RateFn> {
+        self.elements
+            .iter()
+            .map(|&(c, tau)| RateFn(vec![((tau * c).sqrt(), tau)]))
+            .collect()
+    }
+
     /// The parts of the multiplier of mode `(i, j)` (`j <= ny / 2`) for the
-    /// element of creep time `tau` at depth `z`, times the pressure's
+    /// stress-rate multiplier `rate` at depth `z`, times the pressure's
     /// coefficient; `None` for `q = 0`.
-    fn parts(&self, i: usize, j: usize, tau: f64, z: f64) -> Option<Parts> {
+    fn parts(&self, i: usize, j: usize, rate: &RateFn, z: f64) -> Option<Parts> {
         if i == 0 && j == 0 {
             return None;
         }
@@ -155,7 +244,7 @@ impl Dissipation {
             for &b in sy {
                 let q = (a * qx, b * qy);
                 let w = -self.speed * (q.0 * self.e.0 + q.1 * self.e.1);
-                let m = scaled(&mode_stress(q, z, self.nu), rate(w, tau) * p / count);
+                let m = scaled(&mode_stress(q, z, self.nu), rate.at(w) * p / count);
                 add(&mut parts.mean, &m);
                 add(&mut parts.odd_x, &scaled(&m, Complex64::new(a, 0.0)));
                 add(&mut parts.odd_y, &scaled(&m, Complex64::new(b, 0.0)));
@@ -181,102 +270,185 @@ impl Dissipation {
         Some(parts)
     }
 
+    fn nyquist_parts(&self, rate: &RateFn, z: f64) -> NyquistParts {
+        let (nx, ny) = (self.nx, self.ny);
+        let row = if nx % 2 == 0 {
+            (0..=ny / 2)
+                .map(|j| self.parts(nx / 2, j, rate, z).unwrap_or_default())
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let column = if ny % 2 == 0 {
+            (0..nx)
+                .map(|i| self.parts(i, ny / 2, rate, z).unwrap_or_default())
+                .collect()
+        } else {
+            Vec::new()
+        };
+        NyquistParts { row, column }
+    }
+
     /// `D` \[W/m^3\] at the grid points (C order, axis 0 = x) at depth
     /// `z` \[m\].
+    #[cfg(test)]
     pub fn density_at(&self, z: f64) -> Result<Vec<f64>, HeatError> {
-        let (nx, ny) = (self.nx, self.ny);
-        let nyh = ny / 2 + 1;
-        let mut density = vec![0.0; nx * ny];
+        self.layer_densities(&[vec![(z, 1.0)]])
+    }
+
+    /// The weighted sums `sum_n w_n D(z_n)` \[W/m^3\] over each layer's
+    /// nodes `(z_n, w_n)` (the layer average by its Gauss rule, as
+    /// [`super::DepthRule::nodes`] gives them): layer `l`'s map at
+    /// `[l * nx * ny..(l + 1) * nx * ny]`.
+    pub fn layer_densities(&self, nodes: &[Vec<(f64, f64)>]) -> Result<Vec<f64>, HeatError> {
+        let n = self.nx * self.ny;
+        let mut density = vec![0.0; nodes.len() * n];
         if self.speed == 0.0 || !self.speed.is_finite() {
             return Ok(density);
         }
-        for &(c, tau) in &self.elements {
-            let weight = tau * c;
-            let parts: Vec<Parts> = (0..nyh * nx)
-                .into_par_iter()
-                .map(|k| self.parts(k % nx, k / nx, tau, z).unwrap_or_default())
-                .collect();
-            // The main fields: five deviatoric components and the trace
-            // (whose weight `(1 - 2 nu) / 3` vanishes for `nu = 0.5`).
-            let count = if self.nu == 0.5 { 5 } else { 6 };
-            let mut fields = Vec::with_capacity(6);
-            for c in 0..count {
-                let spec: Vec<Complex64> = parts.iter().map(|p| component(&p.mean, c)).collect();
-                fields.push(height_fft::inverse(spec, nx, ny).map_err(transform)?);
-            }
-            let nu = self.nu;
-            density.par_chunks_mut(ny).enumerate().for_each(|(i, row)| {
-                for (j, d) in row.iter_mut().enumerate() {
-                    let n = i * ny + j;
-                    let dev = [
-                        fields[0][n],
-                        fields[1][n],
-                        fields[2][n],
-                        fields[3][n],
-                        fields[4][n],
-                    ];
-                    let trace = fields.get(5).map_or(0.0, |f| f[n]);
-                    *d += weight * dissipation_form(&dev, trace, nu);
-                }
-            });
-            self.add_nyquist(&parts, weight, &mut density);
+        for rate in &self.rates() {
+            density
+                .par_chunks_mut(n)
+                .zip(nodes.par_iter())
+                .try_for_each_init(
+                    || self.work(),
+                    |work, (out, nodes)| {
+                        for &(z, weight) in nodes {
+                            self.add_density(rate, z, weight, work, out)?;
+                        }
+                        Ok(())
+                    },
+                )?;
         }
         Ok(density)
+    }
+
+    fn work(&self) -> Work {
+        let (n, nh) = (self.nx * self.ny, self.nx * (self.ny / 2 + 1));
+        Work {
+            spec: vec![Complex64::default(); nh],
+            field: vec![0.0; n],
+            first: vec![0.0; n],
+            amp: vec![Complex64::default(); self.regular.len()],
+            t: vec![0.0; self.regular.len()],
+            fft: self.fft.buffers(),
+        }
+    }
+
+    /// `out += weight D_rate(z)`: the dissipation form of the stress-rate
+    /// field of `rate` at depth `z`, its Nyquist odd parts included.
+    fn add_density(
+        &self,
+        rate: &RateFn,
+        z: f64,
+        weight: f64,
+        work: &mut Work,
+        out: &mut [f64],
+    ) -> Result<(), HeatError> {
+        let nu = self.nu;
+        // `rate P f` and `t` of every regular mode; the stresses follow
+        // component by component.
+        for ((m, amp), t) in self.regular.iter().zip(&mut work.amp).zip(&mut work.t) {
+            *t = m.k * z;
+            *amp = rate.at(m.w) * m.p * (-*t).exp();
+        }
+        let nyquist = self.nyquist_parts(rate, z);
+        // The five deviatoric components, then the trace (whose weight
+        // `(1 - 2 nu) / 3` vanishes for `nu = 0.5`).
+        let count = if nu == 0.5 { 5 } else { 6 };
+        let (dev, trace) = (weight * (1.0 + nu), weight * (1.0 - 2.0 * nu) / 3.0);
+        for c in 0..count {
+            work.spec.iter_mut().for_each(|s| *s = Complex64::default());
+            for ((m, amp), &t) in self.regular.iter().zip(&work.amp).zip(&work.t) {
+                work.spec[m.index] = *amp * unit_component(m.n, t, nu, c);
+            }
+            if self.nx % 2 == 0 {
+                for (j, p) in nyquist.row.iter().enumerate() {
+                    work.spec[j * self.nx + self.nx / 2] = component(&p.mean, c);
+                }
+            }
+            if self.ny % 2 == 0 {
+                for (i, p) in nyquist.column.iter().enumerate() {
+                    work.spec[(self.ny / 2) * self.nx + i] = component(&p.mean, c);
+                }
+            }
+            self.fft
+                .run(&mut work.spec, &mut work.field, &mut work.fft)?;
+            // The form `(1 + nu) (xx^2 + yy^2 + zz^2 + 2 xy^2 + 2 xz^2 +
+            // 2 yz^2) + (1 - 2 nu) / 3 tr^2`, `zz = -(xx + yy)`.
+            match c {
+                0 => work.first.copy_from_slice(&work.field),
+                1 => out
+                    .iter_mut()
+                    .zip(&work.first)
+                    .zip(&work.field)
+                    .for_each(|((o, x), y)| *o += dev * (x * x + y * y + (x + y) * (x + y))),
+                5 => out
+                    .iter_mut()
+                    .zip(&work.field)
+                    .for_each(|(o, v)| *o += trace * v * v),
+                _ => out
+                    .iter_mut()
+                    .zip(&work.field)
+                    .for_each(|(o, v)| *o += 2.0 * dev * v * v),
+            }
+        }
+        self.add_nyquist(&nyquist, weight, out);
+        Ok(())
     }
 
     /// The squares of the odd parts of the Nyquist modes (module docs):
     /// along y for the x-Nyquist row, along x for the y-Nyquist column, a
     /// constant for the corner.
-    fn add_nyquist(&self, parts: &[Parts], weight: f64, density: &mut [f64]) {
+    fn add_nyquist(&self, parts: &NyquistParts, weight: f64, density: &mut [f64]) {
         let (nx, ny) = (self.nx, self.ny);
-        let mut planner = FftPlanner::<f64>::new();
         let nu = self.nu;
         // x-Nyquist row: the field is (-1)^i g(y_j), g the inverse
         // transform along y of the odd parts (Hermitian in ky).
         let along_y: Option<Vec<f64>> = (nx % 2 == 0).then(|| {
-            let fft = planner.plan_fft_inverse(ny);
             let mut comps = Vec::with_capacity(6);
             for c in 0..6 {
                 let mut g = vec![Complex64::default(); ny];
                 for j in 0..=ny / 2 {
-                    let v = component(&parts[j * nx + nx / 2].odd_x, c);
+                    let v = component(&parts.row[j].odd_x, c);
                     g[j] = v;
                     if j > 0 && j < ny - j {
                         g[ny - j] = v.conj();
                     }
                 }
-                fft.process(&mut g);
+                self.line_y.process(&mut g);
                 comps.push(g.iter().map(|v| v.re).collect::<Vec<f64>>());
             }
             (0..ny).map(|j| form_of(&comps, j, nu)).collect()
         });
         // y-Nyquist column: (-1)^j h(x_i), h along x.
         let along_x: Option<Vec<f64>> = (ny % 2 == 0).then(|| {
-            let fft = planner.plan_fft_inverse(nx);
             let mut comps = Vec::with_capacity(6);
             for c in 0..6 {
-                let mut h: Vec<Complex64> = (0..nx)
-                    .map(|i| component(&parts[(ny / 2) * nx + i].odd_y, c))
+                let mut h: Vec<Complex64> = parts
+                    .column
+                    .iter()
+                    .map(|p| component(&p.odd_y, c))
                     .collect();
-                fft.process(&mut h);
+                self.line_x.process(&mut h);
                 comps.push(h.iter().map(|v| v.re).collect::<Vec<f64>>());
             }
             (0..nx).map(|i| form_of(&comps, i, nu)).collect()
         });
         let corner = if nx % 2 == 0 && ny % 2 == 0 {
-            let p = &parts[(ny / 2) * nx + nx / 2].odd_xy;
+            let p = &parts.column[nx / 2].odd_xy;
             let comps: Vec<Vec<f64>> = (0..6).map(|c| vec![component(p, c).re]).collect();
             form_of(&comps, 0, nu)
         } else {
             0.0
         };
-        density.par_chunks_mut(ny).enumerate().for_each(|(i, row)| {
+        for (i, row) in density.chunks_mut(ny).enumerate() {
             let hx = along_x.as_ref().map_or(0.0, |h| h[i]);
             for (j, d) in row.iter_mut().enumerate() {
                 let gy = along_y.as_ref().map_or(0.0, |g| g[j]);
                 *d += weight * (gy + hx + corner);
             }
-        });
+        }
     }
 
     /// The mean over the cell of `Int D dz` \[W/m^2\] in closed form:
@@ -347,14 +519,105 @@ fn form_of(comps: &[Vec<f64>], n: usize, nu: f64) -> f64 {
     dissipation_form(&dev, comps[5][n], nu)
 }
 
-fn transform(e: crate::surface::SurfaceError) -> HeatError {
-    HeatError::Transform(e.to_string())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::material::{CreepSpectrum, CreepTerm, Material};
+
+    /// The direct evaluation the planned one replaced: per element, every
+    /// mode's parts by the general rule ([`Dissipation::parts`]: the
+    /// stresses of `mode_stress`, the Nyquist signs), six inverse transforms
+    /// by `height_fft`, the form of `dissipation_form` at every point.
+    fn direct_density(plan: &Dissipation, z: f64) -> Vec<f64> {
+        let (nx, ny) = (plan.nx, plan.ny);
+        let mut density = vec![0.0; nx * ny];
+        for rate in &plan.rates() {
+            let parts: Vec<Parts> = (0..(ny / 2 + 1) * nx)
+                .map(|k| plan.parts(k % nx, k / nx, rate, z).unwrap_or_default())
+                .collect();
+            let fields: Vec<Vec<f64>> = (0..6)
+                .map(|c| {
+                    let spec = parts.iter().map(|p| component(&p.mean, c)).collect();
+                    height_fft::inverse(spec, nx, ny).unwrap()
+                })
+                .collect();
+            for (n, d) in density.iter_mut().enumerate() {
+                let dev = [0, 1, 2, 3, 4].map(|c| fields[c][n]);
+                *d += dissipation_form(&dev, fields[5][n], plan.nu);
+            }
+            let nyquist = NyquistParts {
+                row: if nx % 2 == 0 {
+                    (0..=ny / 2).map(|j| parts[j * nx + nx / 2]).collect()
+                } else {
+                    Vec::new()
+                },
+                column: if ny % 2 == 0 {
+                    parts[(ny / 2) * nx..(ny / 2 + 1) * nx].to_vec()
+                } else {
+                    Vec::new()
+                },
+            };
+            plan.add_nyquist(&nyquist, 1.0, &mut density);
+        }
+        density
+    }
+
+    /// The planned density (one exponential per mode and depth, the
+    /// stresses component by component, planned transforms, the layers
+    /// side by side) equals the direct evaluation at every point, on even
+    /// and odd grids, `nu = 0.5` and `0.3`, sliding obliquely, at depths
+    /// from a hundredth of a cell to a period: 1e-12 of the largest value
+    /// (the same sums in another order: round-off).
+    #[test]
+    fn planned_density_is_the_direct_one() {
+        let spectrum = CreepSpectrum::new(
+            1e7,
+            vec![
+                CreepTerm {
+                    compliance: 1e-7,
+                    time: 1e-3,
+                },
+                CreepTerm {
+                    compliance: 5e-8,
+                    time: 3e-2,
+                },
+                CreepTerm {
+                    compliance: 2e-8,
+                    time: 4.0,
+                },
+            ],
+        )
+        .unwrap();
+        for (nx, ny) in [(8, 6), (7, 5), (8, 5), (16, 12)] {
+            for nu in [0.5, 0.3] {
+                let material = Material::new(spectrum.clone(), nu).unwrap();
+                let a = 1e-5;
+                let grid = Grid::new(nx, ny, (a, 1.3 * a)).unwrap().periodic();
+                let response = SlidingResponse::new(&material, 0.02, 0.4, None).unwrap();
+                let p: Vec<f64> = (0..nx * ny)
+                    .map(|k| ((k * 7919) % 13) as f64 * 1e4 + ((k % 3) as f64) * 3e3)
+                    .collect();
+                let plan = Dissipation::new(&p, &grid, &response).unwrap();
+                let depths = [0.01 * a, 0.3 * a, a, 4.0 * a, nx as f64 * a];
+                let nodes: Vec<Vec<(f64, f64)>> = depths.iter().map(|&z| vec![(z, 1.0)]).collect();
+                let planned = plan.layer_densities(&nodes).unwrap();
+                for (l, &z) in depths.iter().enumerate() {
+                    let direct = direct_density(&plan, z);
+                    let got = &planned[l * nx * ny..(l + 1) * nx * ny];
+                    let scale = direct.iter().copied().fold(0.0, f64::max);
+                    let worst = got
+                        .iter()
+                        .zip(&direct)
+                        .map(|(g, d)| (g - d).abs())
+                        .fold(0.0, f64::max);
+                    assert!(
+                        scale > 0.0 && worst <= 1e-12 * scale,
+                        "{nx}x{ny} nu {nu} z {z}: {worst} of {scale}"
+                    );
+                }
+            }
+        }
+    }
 
     /// On grids with Nyquist modes along x, y and both (even sizes) and
     /// without (odd), for `nu = 0.5` and `0.3` and an oblique sliding

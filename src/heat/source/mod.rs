@@ -2,7 +2,8 @@
 //! power `mu F_N v` the rubber dissipates is released.
 //!
 //! - [`SourceKind::Volume`]: the dissipation density `D` of the creep
-//!   elements on depth layers (`dissipation.rs`, the stresses of each
+//!   elements on depth layers (`dissipation.rs`, its planned transforms in
+//!   `fft.rs`, the stresses of each
 //!   surface mode in `stress.rs`, the layers in `depth.rs`); a periodic
 //!   cell on a half-space. `D` is the dashpots' power where they are, in
 //!   the depth `~1/|q|` where each scale dissipates.
@@ -21,6 +22,7 @@
 
 mod depth;
 mod dissipation;
+mod fft;
 mod stress;
 mod work;
 
@@ -108,15 +110,7 @@ impl HeatSource {
                 }
                 let plan = Dissipation::new(pressure, grid, response)?;
                 let layers = rule.layers(grid)?;
-                let n = grid.cells();
-                let mut density = vec![0.0; layers.count() * n];
-                for (l, nodes) in rule.nodes(&layers).iter().enumerate() {
-                    let out = &mut density[l * n..(l + 1) * n];
-                    for &(z, w) in nodes {
-                        let d = plan.density_at(z)?;
-                        out.iter_mut().zip(&d).for_each(|(o, v)| *o += w * v);
-                    }
-                }
+                let density = plan.layer_densities(&rule.nodes(&layers))?;
                 Ok(Self::Volume { layers, density })
             }
         }

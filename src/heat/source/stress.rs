@@ -27,25 +27,38 @@ pub(crate) struct ModeStress {
 /// (`q != 0`) at depth `z` \[m\] in a solid of Poisson ratio `nu`.
 pub(crate) fn mode_stress(q: (f64, f64), z: f64, nu: f64) -> ModeStress {
     let k = q.0.hypot(q.1);
-    let (nx, ny) = (q.0 / k, q.1 / k);
-    let t = k * z;
-    let f = (-t).exp();
-    // s_zz = -(1 + t) f enters through the trace: dev_zz = -dev_xx - dev_yy.
-    let sxixi = -(1.0 - t) * f;
-    let see = -2.0 * nu * f;
-    let trace = -2.0 * (1.0 + nu) * f;
-    let mean = trace / 3.0;
-    let shear = t * f;
-    let re = |v: f64| Complex64::new(v, 0.0);
+    stress_at(q, k * z, (-k * z).exp(), nu)
+}
+
+/// The stress of the unit mode of wavevector `q` with `t = |q| z` and `f =
+/// exp(-t)` given: `f` times [`unit_component`] of the direction `q / |q|`.
+pub(crate) fn stress_at(q: (f64, f64), t: f64, f: f64, nu: f64) -> ModeStress {
+    let k = q.0.hypot(q.1);
+    let n = (q.0 / k, q.1 / k);
+    let c = |i| unit_component(n, t, nu, i) * f;
     ModeStress {
-        dev: [
-            re(sxixi * nx * nx + see * ny * ny - mean),
-            re(sxixi * ny * ny + see * nx * nx - mean),
-            re((sxixi - see) * nx * ny),
-            Complex64::new(0.0, shear * nx),
-            Complex64::new(0.0, shear * ny),
-        ],
-        trace: re(trace),
+        dev: [c(0), c(1), c(2), c(3), c(4)],
+        trace: c(5),
+    }
+}
+
+/// Component `c` (the deviatoric `xx, yy, xy, xz, yz`, then the trace) of
+/// the stress of the unit mode of direction `n = q / |q|` at `t = |q| z`,
+/// divided by `exp(-t)`: every component is `a + b t`.
+pub(crate) fn unit_component(n: (f64, f64), t: f64, nu: f64, c: usize) -> Complex64 {
+    // s_zz = -(1 + t) f enters through the trace: dev_zz = -dev_xx - dev_yy.
+    let sxixi = -(1.0 - t);
+    let see = -2.0 * nu;
+    let trace = -2.0 * (1.0 + nu);
+    let mean = trace / 3.0;
+    let re = |v: f64| Complex64::new(v, 0.0);
+    match c {
+        0 => re(sxixi * n.0 * n.0 + see * n.1 * n.1 - mean),
+        1 => re(sxixi * n.1 * n.1 + see * n.0 * n.0 - mean),
+        2 => re((sxixi - see) * n.0 * n.1),
+        3 => Complex64::new(0.0, t * n.0),
+        4 => Complex64::new(0.0, t * n.1),
+        _ => re(trace),
     }
 }
 
