@@ -57,7 +57,9 @@ pub use crate::solver::{
     ContactSolution, Control, Observer, Silent, SolveInfo, SolverError, SolverParams,
 };
 
-use crate::config::{AnalysisConfig, Formulation, MeshKind, Sliding, SphereConfig, XiScale};
+use crate::config::{
+    AnalysisConfig, Formulation, MeshKind, Precision, Sliding, SphereConfig, XiScale,
+};
 use crate::error::{Error, Result};
 use crate::material::Material;
 use crate::response::{Grid, Layer, SlidingResponse};
@@ -104,6 +106,14 @@ pub struct Problem {
     pub direction_rad: f64,
     pub layer: Option<Layer>,
     pub params: SolverParams,
+    /// Grids of the coarse-to-fine cascade at most, the fine one included
+    /// (`[solver] cascade_levels`, default 8; 1: the fine grid only): uniform
+    /// grids without an outside start.
+    pub cascade_levels: usize,
+    /// Arithmetic of the iteration (`[solver] precision`, physics.md
+    /// section 13): every product in f64, or f32 Krylov products refined in
+    /// f64 (uniform and periodic CPU grids).
+    pub precision: Precision,
     /// Refine a uniform-grid GPU solve (f32) in f64 on the host
     /// ([`gpu_refine`]; default true, `[solver] gpu_refine`).
     pub gpu_refine: bool,
@@ -140,6 +150,8 @@ impl Problem {
             direction_rad: 0.0,
             layer: None,
             params: SolverParams::default(),
+            cascade_levels: cascade::DEFAULT_CASCADE_LEVELS,
+            precision: Precision::default(),
             gpu_refine: true,
             formulation: Formulation::default(),
             mesh: MeshKind::default(),
@@ -164,7 +176,7 @@ impl Problem {
             surface.ny,
             SolverParams::default().restart,
             Formulation::default(),
-            SolverParams::default().precision,
+            Precision::default(),
         )?;
         let map = crate::surface::generate(&surface)?;
         let mut problem = Self::new(material, map, control, speed);
@@ -188,6 +200,19 @@ impl Problem {
     /// Solver controls.
     pub fn with_solver_params(mut self, params: SolverParams) -> Self {
         self.params = params;
+        self
+    }
+
+    /// At most `levels` grids of the coarse-to-fine cascade, the fine one
+    /// included (1: the fine grid only).
+    pub fn with_cascade_levels(mut self, levels: usize) -> Self {
+        self.cascade_levels = levels;
+        self
+    }
+
+    /// The arithmetic of the iteration (physics.md section 13).
+    pub fn with_precision(mut self, precision: Precision) -> Self {
+        self.precision = precision;
         self
     }
 
@@ -224,7 +249,7 @@ impl Problem {
             ny_new,
             self.params.restart,
             self.formulation,
-            self.params.precision,
+            self.precision,
         )?;
         let (surface, source) = match &self.source {
             SurfaceSource::Generated(p) => {

@@ -113,8 +113,8 @@ impl Problem {
     }
 
     /// The `[solver]` section on this problem: iteration controls (missing
-    /// keys take [`SolverParams::default`]), formulation, mesh and the
-    /// adaptive mesh's controls.
+    /// keys take [`SolverParams::default`]), the cascade's depth, the
+    /// precision, formulation, mesh and the adaptive mesh's controls.
     pub fn with_solver_config(mut self, sc: &SolverConfig) -> Result<Self> {
         let defaults = SolverParams::default();
         self.params = SolverParams {
@@ -123,9 +123,11 @@ impl Problem {
             max_matvecs: sc.max_matvecs.unwrap_or(defaults.max_matvecs),
             restart: sc.restart.unwrap_or(defaults.restart),
             precondition: sc.precondition.unwrap_or(defaults.precondition),
-            cascade_levels: sc.cascade_levels.unwrap_or(defaults.cascade_levels),
-            precision: sc.precision.unwrap_or(defaults.precision),
         };
+        self.cascade_levels = sc
+            .cascade_levels
+            .unwrap_or(super::cascade::DEFAULT_CASCADE_LEVELS);
+        self.precision = sc.precision.unwrap_or_default();
         for (key, value, what) in [
             (
                 "max_matvecs",
@@ -149,7 +151,7 @@ impl Problem {
                 )));
             }
         }
-        if self.params.cascade_levels == 0 {
+        if self.cascade_levels == 0 {
             return Err(invalid(
                 "[solver] cascade_levels must be at least 1 (1: the fine grid only)",
             ));
@@ -215,7 +217,7 @@ impl Problem {
         }
         // Checked here, not at the solve, so that a study or a sweep
         // refuses it before its first point.
-        if self.mesh == MeshKind::Adaptive && self.params.precision == Precision::Mixed {
+        if self.mesh == MeshKind::Adaptive && self.precision == Precision::Mixed {
             return Err(invalid(
                 "[solver] precision = \"mixed\" applies to uniform and periodic grids; the adaptive mesh solves in f64 (use precision = \"f64\" or mesh = \"uniform\")",
             ));

@@ -134,7 +134,7 @@ impl Solution {
                 seed: problem.seed,
                 preprocessing: problem.preprocessing,
                 formulation: problem.formulation,
-                precision: problem.params.precision,
+                precision: problem.precision,
                 material: problem.material.clone(),
                 document: problem.document.clone(),
                 analysis: problem.analysis.clone(),

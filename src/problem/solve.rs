@@ -111,7 +111,7 @@ impl Problem {
         }
         match executor {
             Executor::Cpu => {
-                let raw = match self.params.precision {
+                let raw = match self.precision {
                     Precision::F64 => self.run(&mut CpuExecutor::<f64>::new(), start, observer)?,
                     Precision::Mixed => {
                         self.run(&mut CpuExecutor::<f32>::new(), start, observer)?

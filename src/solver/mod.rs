@@ -53,8 +53,6 @@ pub use full_contact::solve_full_contact;
 
 use std::borrow::Cow;
 
-pub use crate::config::Precision;
-
 /// What is prescribed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Control {
@@ -81,13 +79,6 @@ pub struct SolverParams {
     /// Right-precondition the inner solves with the backend's approximate
     /// inverse of the operator where it has one ([`crate::backend::Backend::precondition`]).
     pub precondition: bool,
-    /// Grids of a coarse-to-fine cascade at most, the fine one included,
-    /// for callers that run one ([`cascade::cascade_shapes`]; 1: none).
-    /// [`solve`] itself solves on one grid.
-    pub cascade_levels: usize,
-    /// Precision of the operator the caller builds (the solver follows the
-    /// backend: [`crate::backend::Backend::refines`]).
-    pub precision: Precision,
 }
 
 impl Default for SolverParams {
@@ -98,8 +89,6 @@ impl Default for SolverParams {
             max_matvecs: 50_000,
             restart: 30,
             precondition: true,
-            cascade_levels: 8,
-            precision: Precision::F64,
         }
     }
 }

@@ -67,6 +67,9 @@ fn loading_and_solver_sections_build_the_configured_problem() {
     assert_eq!(built.speed, reference.speed);
     assert_eq!(built.direction_rad, reference.direction_rad);
     assert_eq!(built.params, reference.params);
+    assert_eq!(built.cascade_levels, 2);
+    assert_eq!(built.cascade_levels, reference.cascade_levels);
+    assert_eq!(built.precision, reference.precision);
     assert_eq!(built.formulation, reference.formulation);
     assert_eq!(built.mesh, reference.mesh);
 
