@@ -11,6 +11,8 @@
 //! - [`solve`]: the one path through a solve: the operator chosen by
 //!   formulation x mesh, the executor by backend, one call of the iteration.
 //! - [`adaptive`]: the solve-certify-refine loop of the adaptive mesh.
+//! - `precision`: the arithmetic of a solve on an executor
+//!   ([`Problem::precision_on`]).
 //! - [`gpu_refine`]: the host f64 refinement of a uniform-grid GPU solve.
 //! - [`solution`]: the result, its summary, analysis and files.
 //! - [`warnings`]: what a solution says about its own validity.
@@ -31,6 +33,7 @@ mod friction;
 pub mod gpu_refine;
 mod heating;
 pub mod persson;
+mod precision;
 pub mod resolution;
 pub mod setup;
 pub mod smooth_pad;
@@ -111,11 +114,13 @@ pub struct Problem {
     /// grids without an outside start.
     pub cascade_levels: usize,
     /// Arithmetic of the iteration (`[solver] precision`, physics.md
-    /// section 13): every product in f64, or f32 Krylov products refined in
-    /// f64 (uniform and periodic CPU grids).
-    pub precision: Precision,
-    /// Refine a uniform-grid GPU solve (f32) in f64 on the host
-    /// ([`gpu_refine`]; default true, `[solver] gpu_refine`).
+    /// section 13) on every executor; `None`: each executor's own
+    /// ([`Problem::precision_on`]).
+    pub precision: Option<Precision>,
+    /// Where `precision` is `None`, a GPU's on a uniform grid: true
+    /// (default) [`Precision::Mixed`], the device's f32 answer refined in
+    /// f64 on the host ([`gpu_refine`]); false [`Precision::F32`]
+    /// (`[solver] gpu_refine`, the older spelling).
     pub gpu_refine: bool,
     pub formulation: Formulation,
     /// Uniform grid or adaptive quadtree (non-periodic formulation).
@@ -151,7 +156,7 @@ impl Problem {
             layer: None,
             params: SolverParams::default(),
             cascade_levels: cascade::DEFAULT_CASCADE_LEVELS,
-            precision: Precision::default(),
+            precision: None,
             gpu_refine: true,
             formulation: Formulation::default(),
             mesh: MeshKind::default(),
@@ -210,9 +215,10 @@ impl Problem {
         self
     }
 
-    /// The arithmetic of the iteration (physics.md section 13).
+    /// The arithmetic of the iteration on every executor (physics.md
+    /// section 13; refused in one line where an executor cannot run it).
     pub fn with_precision(mut self, precision: Precision) -> Self {
-        self.precision = precision;
+        self.precision = Some(precision);
         self
     }
 
@@ -249,7 +255,7 @@ impl Problem {
             ny_new,
             self.params.restart,
             self.formulation,
-            self.precision,
+            self.precision.unwrap_or_default(),
         )?;
         let (surface, source) = match &self.source {
             SurfaceSource::Generated(p) => {
