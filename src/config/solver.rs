@@ -15,18 +15,27 @@ pub enum Formulation {
     Periodic,
 }
 
-/// Arithmetic of the contact iteration (physics.md section 13).
+/// Arithmetic of the contact iteration (physics.md section 13): one choice
+/// that every executor honours or refuses in one line
+/// (`Problem::precision_on`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum Precision {
-    /// Every product and vector in f64.
+    /// Every product and vector in f64 (the CPU).
     #[default]
     F64,
-    /// Spectra, FFT buffers and the preconditioner in f32 for the Krylov
-    /// products; the residual of every GMRES restart, the gap, the contact
-    /// decisions and the load balance in f64 (GMRES-IR): the f64 answer of
-    /// the operator with its spectrum rounded to f32 (about 1e-7 relative).
+    /// A low-precision iteration refined in f64 to the requested
+    /// tolerance: on the CPU the spectra, FFT buffers and the
+    /// preconditioner in f32 for the Krylov products, and the residual of
+    /// every GMRES restart, the gap, the contact decisions and the load
+    /// balance in f64 (GMRES-IR: the f64 answer of the operator with its
+    /// spectrum rounded to f32, about 1e-7 relative); on a GPU the f32
+    /// iteration on the device, then the f64 iteration on the host from its
+    /// answer (uniform grids).
     Mixed,
+    /// The low-precision iteration alone: a GPU's f32 answer (residual about
+    /// 1e-5 to 1e-4), not refined.
+    F32,
 }
 
 impl Precision {
@@ -35,6 +44,7 @@ impl Precision {
         match self {
             Self::F64 => "f64",
             Self::Mixed => "mixed",
+            Self::F32 => "f32",
         }
     }
 }
@@ -63,14 +73,17 @@ pub struct SolverConfig {
     /// Grids of the coarse-to-fine cascade at most, the fine one included
     /// (default 8; 1: solve on the fine grid only; uniform CPU grids).
     pub cascade_levels: Option<usize>,
-    /// `"f64"` (default) or `"mixed"`: f32 spectra and transforms for the
-    /// Krylov products with f64 refinement (uniform and periodic CPU grids;
-    /// physics.md section 13).
+    /// `"f64"`, `"mixed"` or `"f32"` ([`Precision`]; physics.md section
+    /// 13) on every executor. Default: the executor's own, f64 on the CPU;
+    /// on a GPU (f32 on the device) `"mixed"` on a uniform grid (unless
+    /// `gpu_refine = false`) and `"f32"` on the adaptive mesh.
     pub precision: Option<Precision>,
-    /// Refine a uniform-grid GPU solve (f32 on the device) in f64 on the
-    /// host from the device's answer, so that it meets the tolerance like
-    /// the CPU path (default true; false: the device's f32 answer, residual
-    /// about 1e-5 to 1e-4).
+    /// The older spelling of a GPU's precision where `precision` is not
+    /// given: true (default) `"mixed"`, the device's f32 answer refined in
+    /// f64 on the host on a uniform grid; false `"f32"`, the device's answer
+    /// alone (residual about 1e-5 to 1e-4). The CPU ignores it; given
+    /// beside a `precision` of the other GPU kind (`"mixed"` with false,
+    /// `"f32"` with true) it is refused.
     pub gpu_refine: Option<bool>,
 }
 

@@ -15,6 +15,10 @@ use super::Problem;
 /// down to this many cells a side at least.
 pub(super) const CASCADE_COARSEST: usize = 64;
 
+/// Grids of the cascade at most by default, the fine one included
+/// (`[solver] cascade_levels`).
+pub(super) const DEFAULT_CASCADE_LEVELS: usize = 8;
+
 impl Problem {
     /// Whether a solve without an outside start runs as a coarse-to-fine
     /// cascade (uniform grids, `cascade_levels > 1`, a grid side that
@@ -24,8 +28,7 @@ impl Problem {
     pub(super) fn cascades(&self, start: Option<&WarmStart>) -> bool {
         let (nx, ny) = (self.surface.nx, self.surface.ny);
         start.is_none()
-            && solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.params.cascade_levels)
-                .len()
+            && solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.cascade_levels).len()
                 > 1
     }
 
@@ -49,8 +52,7 @@ impl Problem {
     {
         let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let t = Instant::now();
-        let shapes =
-            solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.params.cascade_levels);
+        let shapes = solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.cascade_levels);
         let mut gaps = vec![self.gap_profile()];
         for w in shapes.windows(2).rev() {
             let (fx, fy) = w[1];

@@ -9,6 +9,7 @@ use std::marker::PhantomData;
 use crate::backend::gpu::engine::Engine;
 use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuLevelTables, GpuOptions};
 use crate::backend::{Backend, BackendChoice, CpuBackend};
+use crate::config::Precision;
 use crate::error::{Error, Result};
 use crate::mesh::QuadMesh;
 use crate::operator::{
@@ -39,7 +40,8 @@ impl std::fmt::Debug for Executor {
 
 impl Executor {
     /// Resolve a backend choice for `problem`: `auto` takes a GPU when one
-    /// exists, the problem fits on it and it is not emulated on the CPU.
+    /// exists, the problem fits on it and it is not emulated on the CPU;
+    /// the CPU for `precision = "f64"`, any GPU that fits for `"f32"`.
     /// Returns the executor and a line saying which was picked and why.
     pub fn select(choice: BackendChoice, problem: &Problem) -> Result<(Executor, String)> {
         let (nx, ny) = (problem.surface.nx, problem.surface.ny);
@@ -50,9 +52,22 @@ impl Executor {
                 let line = format!("backend: gpu, adapter {}", ctx.adapter);
                 (Executor::Gpu(ctx), line)
             }
+            // Only the CPU computes in f64.
+            BackendChoice::Auto if problem.precision == Some(Precision::F64) => (
+                Executor::Cpu,
+                "backend: cpu (auto: precision = \"f64\")".into(),
+            ),
             BackendChoice::Auto => match GpuContext::open()
                 .and_then(|ctx| GpuBackend::check_fits(&ctx, nx, ny).map(|()| ctx))
             {
+                // Only a GPU runs f32 alone, emulated or not.
+                Ok(ctx) if problem.precision == Some(Precision::F32) => {
+                    let line = format!(
+                        "backend: gpu (auto: precision = \"f32\"), adapter {}",
+                        ctx.adapter
+                    );
+                    (Executor::Gpu(ctx), line)
+                }
                 Ok(ctx) if ctx.adapter.device_type == "Cpu" => (
                     Executor::Cpu,
                     format!(
@@ -79,6 +94,14 @@ pub(crate) trait Executes {
 
     /// The executor as `summary.json` names it (`"cpu"`, `"gpu: ADAPTER"`).
     fn name(&self) -> String;
+
+    /// Whether its [`Precision::Mixed`] is an iteration without f64
+    /// products of its own, refined afterwards by an f64 iteration on the
+    /// host from its answer (`solver::refine`; a device), rather than
+    /// refined within the iteration ([`Backend::refines`]). Default: no.
+    fn refined_on_host(&self) -> bool {
+        false
+    }
 
     /// Work done once for the fine grid's description before the
     /// iteration (coefficient tables, timed as such): the next
@@ -192,11 +215,14 @@ fn toeplitz<T: Real>(grid: &Grid, values: &[f64]) -> (ToeplitzFft<T>, f64) {
 /// relative to the host table; a finite layer's on the host, its spectrum
 /// on the host in f64), the level tables of the adaptive mesh on the
 /// device (`shaders/level_table.wgsl`, `shaders/level_box_sum.wgsl`;
-/// half-spaces only). The non-periodic formulation only.
+/// half-spaces only). The non-periodic formulation only; in
+/// [`Precision::Mixed`] (its f32 answer refined in f64 on the host) or
+/// [`Precision::F32`].
 pub(crate) struct GpuExecutor {
     ctx: GpuContext,
     /// Right-precondition the uniform grid's inner solves.
     precondition: bool,
+    precision: Precision,
     /// The fine grid's engine and table ([`Executes::prepare`]).
     fine: Option<(Engine, Vec<f64>, (usize, usize))>,
     /// The adaptive mesh's device level tables ([`Executes::prepare`]).
@@ -206,14 +232,20 @@ pub(crate) struct GpuExecutor {
 }
 
 impl GpuExecutor {
-    pub(crate) fn new(ctx: GpuContext, precondition: bool) -> Self {
-        Self {
+    /// The executor of `ctx` in `precision` (f64 refused: the device
+    /// computes in f32).
+    pub(crate) fn new(ctx: GpuContext, precondition: bool, precision: Precision) -> Result<Self> {
+        if precision == Precision::F64 {
+            return Err(gpu_f64_refused());
+        }
+        Ok(Self {
             ctx,
             precondition,
+            precision,
             fine: None,
             levels: None,
             engine: None,
-        }
+        })
     }
 
     /// The coefficient table of a Toeplitz description on `engine`: a
@@ -242,6 +274,10 @@ impl Executes for GpuExecutor {
     fn name(&self) -> String {
         // As `Backend::name` of the GPU backend.
         format!("gpu: {}", self.ctx.adapter)
+    }
+
+    fn refined_on_host(&self) -> bool {
+        self.precision == Precision::Mixed
     }
 
     fn prepare(&mut self, description: &OperatorDescription<'_>) -> Result<()> {
@@ -325,5 +361,19 @@ impl Executes for GpuExecutor {
 pub(crate) fn periodic_refused() -> Error {
     invalid(
         "the GPU path solves the non-periodic formulation; use --backend cpu for formulation = \"periodic\"",
+    )
+}
+
+/// A GPU's refusal of [`Precision::F64`].
+pub(crate) fn gpu_f64_refused() -> Error {
+    invalid(
+        "[solver] precision = \"f64\": a GPU computes in f32; use precision = \"mixed\" (f32 on the device refined in f64 on the host) or --backend cpu",
+    )
+}
+
+/// The CPU's refusal of [`Precision::F32`].
+pub(crate) fn cpu_f32_refused() -> Error {
+    invalid(
+        "[solver] precision = \"f32\" is a GPU's f32 iteration alone; the CPU computes in \"f64\" or \"mixed\" (or use --backend gpu)",
     )
 }

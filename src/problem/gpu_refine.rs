@@ -1,20 +1,21 @@
-//! The host f64 refinement of a uniform-grid GPU solve (physics.md
-//! section 13, iterative refinement): the device's f32 iteration does the
+//! The host f64 refinement of a uniform-grid GPU solve in mixed precision
+//! (physics.md section 13, iterative refinement, `solver::refine`): the
+//! device's f32 iteration does the
 //! bulk of the work and stops at its rounding floor (residual about 1e-5 to
 //! 1e-4); its contact set, pressure and approach then warm-start the same
 //! problem on the CPU's f64 Toeplitz operator (the operator of
 //! `--backend cpu`), which reaches the requested tolerance in a few outer
 //! iterations. The answer is then the f64 answer of the CPU path; the
 //! report ([`GpuRefinement`], `summary.json` `gpu_refinement`) states both
-//! stages. `[solver] gpu_refine = false` keeps the device's f32 answer.
+//! stages. `[solver] precision = "f32"` (or its older spelling
+//! `gpu_refine = false`) keeps the device's f32 answer.
 
 use std::time::Instant;
 
 use serde::Serialize;
 
 use crate::error::Result;
-use crate::operator::OperatorDescription;
-use crate::solver::{ContactSolution, Observer, SolveInfo, WarmStart};
+use crate::solver::{self, ContactSolution, Observer, SolveInfo};
 
 use super::executor::{CpuExecutor, Executes};
 use super::Problem;
@@ -58,13 +59,14 @@ pub struct GpuRefinement {
 
 impl Problem {
     /// Refine the device's answer `(solution, info, seconds)` of this
-    /// problem's uniform grid in f64 on the host: the CPU path's operator
-    /// (host coefficient table, Toeplitz-FFT, its preconditioner)
-    /// warm-started from the device's contact set, pressure and approach,
-    /// at the problem's tolerance. Returns the refined solution, the
-    /// combined report (iterations and matvecs of both stages summed;
-    /// residual, load error of the host stage; histories one after the
-    /// other), the total iteration time and the per-stage report.
+    /// problem's uniform grid in f64 on the host (`solver::refine`): the
+    /// CPU path's f64 operator of the same description (host coefficient
+    /// table, Toeplitz-FFT, its preconditioner) warm-started from the
+    /// device's contact set, pressure and approach, at the problem's
+    /// tolerance. Returns the refined solution, the combined report
+    /// (iterations and matvecs of both stages summed; residual, load error
+    /// of the host stage; histories one after the other), the total
+    /// iteration time and the per-stage report.
     pub(super) fn refine_on_host(
         &self,
         device: (ContactSolution, SolveInfo, f64),
@@ -72,39 +74,30 @@ impl Problem {
     ) -> Result<(ContactSolution, SolveInfo, f64, GpuRefinement)> {
         let (solution, info, t_device) = device;
         let t = Instant::now();
-        let kernel = self.sliding_kernel()?;
-        let description = OperatorDescription::Toeplitz {
-            kernel: &kernel,
-            grid: self.grid()?,
-        };
-        let (mut backend, l00) = CpuExecutor::<f64>::new().build(&description, None)?;
-        let start = WarmStart {
-            contact: solution.contact,
-            pressure: solution.pressure,
-            approach: solution.approach,
-        };
-        let (refined, host, _) = self.iterate_grid(&mut backend, l00, Some(start), observer)?;
+        let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
+        let operators = self.uniform_operators()?;
+        let (mut backend, l00) =
+            CpuExecutor::<f64>::new().build(&operators.on(nx, ny, cell)?, None)?;
+        let problem = solver::ContactProblem::new(
+            self.gap_profile(),
+            self.surface.cell_area(),
+            l00,
+            self.control,
+        );
+        let device_report = StageReport::of(&info, t_device);
+        let refined = solver::refine(
+            &mut backend,
+            problem,
+            &self.solver_params(),
+            (solution, info),
+            observer,
+        )
+        .map_err(|e| self.advise(e))?;
         let t_host = t.elapsed().as_secs_f64();
         let report = GpuRefinement {
-            device: StageReport::of(&info, t_device),
-            host: StageReport::of(&host, t_host),
+            device: device_report,
+            host: StageReport::of(&refined.stage, t_host),
         };
-        let combined = SolveInfo {
-            iterations: info.iterations + host.iterations,
-            matvecs: info.matvecs + host.matvecs,
-            preconditioner_applications: info.preconditioner_applications
-                + host.preconditioner_applications,
-            exact_matvecs: info.exact_matvecs + host.exact_matvecs,
-            levels: info.levels,
-            residual: host.residual,
-            load_error: host.load_error,
-            history: info.history.into_iter().chain(host.history).collect(),
-            contact_history: info
-                .contact_history
-                .into_iter()
-                .chain(host.contact_history)
-                .collect(),
-        };
-        Ok((refined, combined, t_device + t_host, report))
+        Ok((refined.solution, refined.info, t_device + t_host, report))
     }
 }

@@ -11,6 +11,8 @@
 //! - [`solve`]: the one path through a solve: the operator chosen by
 //!   formulation x mesh, the executor by backend, one call of the iteration.
 //! - [`adaptive`]: the solve-certify-refine loop of the adaptive mesh.
+//! - `precision`: the arithmetic of a solve on an executor
+//!   ([`Problem::precision_on`]).
 //! - [`gpu_refine`]: the host f64 refinement of a uniform-grid GPU solve.
 //! - [`solution`]: the result, its summary, analysis and files.
 //! - [`warnings`]: what a solution says about its own validity.
@@ -31,6 +33,7 @@ mod friction;
 pub mod gpu_refine;
 mod heating;
 pub mod persson;
+mod precision;
 pub mod resolution;
 pub mod setup;
 pub mod smooth_pad;
@@ -58,7 +61,9 @@ pub use crate::solver::{
     ContactSolution, Control, Observer, Silent, SolveInfo, SolverError, SolverParams,
 };
 
-use crate::config::{AnalysisConfig, Formulation, MeshKind, Sliding, SphereConfig, XiScale};
+use crate::config::{
+    AnalysisConfig, Formulation, MeshKind, Precision, Sliding, SphereConfig, XiScale,
+};
 use crate::error::{Error, Result};
 use crate::material::Material;
 use crate::response::{Grid, Layer, SlidingResponse};
@@ -105,8 +110,18 @@ pub struct Problem {
     pub direction_rad: f64,
     pub layer: Option<Layer>,
     pub params: SolverParams,
-    /// Refine a uniform-grid GPU solve (f32) in f64 on the host
-    /// ([`gpu_refine`]; default true, `[solver] gpu_refine`).
+    /// Grids of the coarse-to-fine cascade at most, the fine one included
+    /// (`[solver] cascade_levels`, default 8; 1: the fine grid only): uniform
+    /// grids without an outside start.
+    pub cascade_levels: usize,
+    /// Arithmetic of the iteration (`[solver] precision`, physics.md
+    /// section 13) on every executor; `None`: each executor's own
+    /// ([`Problem::precision_on`]).
+    pub precision: Option<Precision>,
+    /// Where `precision` is `None`, a GPU's on a uniform grid: true
+    /// (default) [`Precision::Mixed`], the device's f32 answer refined in
+    /// f64 on the host ([`gpu_refine`]); false [`Precision::F32`]
+    /// (`[solver] gpu_refine`, the older spelling).
     pub gpu_refine: bool,
     pub formulation: Formulation,
     /// Uniform grid or adaptive quadtree (non-periodic formulation).
@@ -141,6 +156,8 @@ impl Problem {
             direction_rad: 0.0,
             layer: None,
             params: SolverParams::default(),
+            cascade_levels: cascade::DEFAULT_CASCADE_LEVELS,
+            precision: None,
             gpu_refine: true,
             formulation: Formulation::default(),
             mesh: MeshKind::default(),
@@ -165,7 +182,7 @@ impl Problem {
             surface.ny,
             SolverParams::default().restart,
             Formulation::default(),
-            SolverParams::default().precision,
+            Precision::default(),
         )?;
         let map = crate::surface::generate(&surface)?;
         let mut problem = Self::new(material, map, control, speed);
@@ -189,6 +206,20 @@ impl Problem {
     /// Solver controls.
     pub fn with_solver_params(mut self, params: SolverParams) -> Self {
         self.params = params;
+        self
+    }
+
+    /// At most `levels` grids of the coarse-to-fine cascade, the fine one
+    /// included (1: the fine grid only).
+    pub fn with_cascade_levels(mut self, levels: usize) -> Self {
+        self.cascade_levels = levels;
+        self
+    }
+
+    /// The arithmetic of the iteration on every executor (physics.md
+    /// section 13; refused in one line where an executor cannot run it).
+    pub fn with_precision(mut self, precision: Precision) -> Self {
+        self.precision = Some(precision);
         self
     }
 
@@ -225,7 +256,7 @@ impl Problem {
             ny_new,
             self.params.restart,
             self.formulation,
-            self.params.precision,
+            self.precision.unwrap_or_default(),
         )?;
         let (surface, source) = match &self.source {
             SurfaceSource::Generated(p) => {

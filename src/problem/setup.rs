@@ -113,8 +113,8 @@ impl Problem {
     }
 
     /// The `[solver]` section on this problem: iteration controls (missing
-    /// keys take [`SolverParams::default`]), formulation, mesh and the
-    /// adaptive mesh's controls.
+    /// keys take [`SolverParams::default`]), the cascade's depth, the
+    /// precision, formulation, mesh and the adaptive mesh's controls.
     pub fn with_solver_config(mut self, sc: &SolverConfig) -> Result<Self> {
         let defaults = SolverParams::default();
         self.params = SolverParams {
@@ -123,9 +123,21 @@ impl Problem {
             max_matvecs: sc.max_matvecs.unwrap_or(defaults.max_matvecs),
             restart: sc.restart.unwrap_or(defaults.restart),
             precondition: sc.precondition.unwrap_or(defaults.precondition),
-            cascade_levels: sc.cascade_levels.unwrap_or(defaults.cascade_levels),
-            precision: sc.precision.unwrap_or(defaults.precision),
         };
+        self.cascade_levels = sc
+            .cascade_levels
+            .unwrap_or(super::cascade::DEFAULT_CASCADE_LEVELS);
+        self.precision = sc.precision;
+        match (sc.precision, sc.gpu_refine) {
+            (Some(p @ Precision::Mixed), Some(false)) | (Some(p @ Precision::F32), Some(true)) => {
+                return Err(invalid(format!(
+                    "[solver] precision = \"{}\" and gpu_refine = {} disagree (gpu_refine is the older spelling of a GPU's precision: true \"mixed\", false \"f32\"); give precision alone",
+                    p.name(),
+                    sc.gpu_refine == Some(true)
+                )))
+            }
+            _ => {}
+        }
         for (key, value, what) in [
             (
                 "max_matvecs",
@@ -149,7 +161,7 @@ impl Problem {
                 )));
             }
         }
-        if self.params.cascade_levels == 0 {
+        if self.cascade_levels == 0 {
             return Err(invalid(
                 "[solver] cascade_levels must be at least 1 (1: the fine grid only)",
             ));
@@ -215,9 +227,14 @@ impl Problem {
         }
         // Checked here, not at the solve, so that a study or a sweep
         // refuses it before its first point.
-        if self.mesh == MeshKind::Adaptive && self.params.precision == Precision::Mixed {
+        if self.mesh == MeshKind::Adaptive && self.precision == Some(Precision::Mixed) {
             return Err(invalid(
-                "[solver] precision = \"mixed\" applies to uniform and periodic grids; the adaptive mesh solves in f64 (use precision = \"f64\" or mesh = \"uniform\")",
+                "[solver] precision = \"mixed\" applies to uniform and periodic grids; the adaptive mesh is not refined (use precision = \"f64\" on the CPU, \"f32\" on a GPU, or mesh = \"uniform\")",
+            ));
+        }
+        if self.formulation == Formulation::Periodic && self.precision == Some(Precision::F32) {
+            return Err(invalid(
+                "[solver] precision = \"f32\" runs on a GPU, which solves the non-periodic formulation; use precision = \"f64\" or \"mixed\" with formulation = \"periodic\"",
             ));
         }
         self.adaptive.check().map_err(invalid)?;
@@ -350,11 +367,11 @@ pub fn memory_estimate(
     let n = (nx as u64).saturating_mul(ny as u64);
     let spectra: u64 = match (formulation, precision) {
         (Formulation::Periodic, Precision::F64) => 24,
-        (Formulation::Periodic, Precision::Mixed) => 16,
+        (Formulation::Periodic, Precision::Mixed | Precision::F32) => 16,
         // Set-up: table (32), wrapped kernel (32) and its f64 spectrum
         // (32) beside the engine being built.
         (Formulation::NonPeriodic, Precision::F64) => 112 + 32,
-        (Formulation::NonPeriodic, Precision::Mixed) => 68 + 64,
+        (Formulation::NonPeriodic, Precision::Mixed | Precision::F32) => 68 + 64,
     };
     let basis = (8 * (restart as u64 + 5)).div_ceil(20);
     n.saturating_mul(spectra + 33 + 16 + basis)

@@ -12,8 +12,8 @@
 //! ([`crate::solver::solve_full_contact`]) on the executor of the rough
 //! solve (the CPU: in f64 with the Toeplitz operator and preconditioner,
 //! whatever the rough solve's precision; the GPU: in f32 on the device,
-//! refined in f64 on the host from the device's answer as the rough solve
-//! is, [`super::gpu_refine`]), and its friction from the same
+//! refined in f64 on the host from the device's answer where the rough
+//! solve is, [`super::gpu_refine`]), and its friction from the same
 //! work-of-pressure route as the rough solve's (Eq. 9).
 
 use std::time::Instant;
@@ -22,7 +22,7 @@ use serde::Serialize;
 
 use crate::backend::Backend;
 use crate::error::Result;
-use crate::solver::{self, Control, Silent, WarmStart};
+use crate::solver::{self, Control, Silent};
 
 use crate::operator::OperatorDescription;
 
@@ -71,8 +71,8 @@ pub struct SmoothPad {
 
 impl Problem {
     /// The flat pad of this non-periodic problem under the normal load
-    /// `load` \[N\] on `executor` (then refined in f64 on the host when
-    /// `refine`), and the split of the rough solve's friction `mu` into
+    /// `load` \[N\] on `executor` (then refined in f64 on the host where
+    /// its precision is ([`Executes::refined_on_host`])), and the split of the rough solve's friction `mu` into
     /// the pad's part and the roughness part. At most
     /// `max(SMOOTH_PAD_MIN_MATVECS, 3 rough_matvecs)` operator applications
     /// per stage, so that a flat pad the iteration struggles with (a layer
@@ -82,7 +82,6 @@ impl Problem {
     pub(super) fn smooth_pad<X: Executes>(
         &self,
         executor: &mut X,
-        refine: bool,
         load: f64,
         mu: f64,
         rough_matvecs: usize,
@@ -114,6 +113,7 @@ impl Problem {
         };
         let pad = flat_pad(&mut backend, &problem, &stage_params);
         executor.release(backend);
+        let refine = executor.refined_on_host();
         // The host's f64 Toeplitz backend: for the refinement of a
         // device's answer, or the whole solve where the device's did not
         // converge.
@@ -125,22 +125,26 @@ impl Problem {
                 // takes no start; from the device's set it stays in full
                 // contact unless the f64 answer lifts a rim).
                 let (mut host, l00) = host()?;
-                let start = WarmStart {
-                    contact: solution.contact,
-                    pressure: solution.pressure,
-                    approach: solution.approach,
+                let low = solver::SolveInfo {
+                    matvecs,
+                    ..Default::default()
                 };
-                let (s, i) = solver::solve(
+                let refined = solver::refine(
                     &mut host,
                     solver::ContactProblem {
                         self_coefficient: l00,
                         ..problem
                     },
                     &params,
-                    Some(start),
+                    (solution, low),
                     &mut Silent,
                 )?;
-                (s, matvecs + i.matvecs, method, i.matvecs)
+                (
+                    refined.solution,
+                    refined.info.matvecs,
+                    method,
+                    refined.stage.matvecs,
+                )
             }
             Ok((solution, matvecs, method)) => (solution, matvecs, method, 0),
             Err(_) if device => {

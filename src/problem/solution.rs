@@ -134,12 +134,17 @@ impl Solution {
                 seed: problem.seed,
                 preprocessing: problem.preprocessing,
                 formulation: problem.formulation,
-                precision: problem.params.precision,
+                precision: problem.precision.unwrap_or_default(),
                 material: problem.material.clone(),
                 document: problem.document.clone(),
                 analysis: problem.analysis.clone(),
             },
         }
+    }
+
+    /// Record the precision the solve ran in ([`Problem::precision_on`]).
+    pub(super) fn record_precision(&mut self, precision: Precision) {
+        self.record.precision = precision;
     }
 
     /// Grid `(nx, ny)`.

@@ -2,8 +2,9 @@
 //! ([`Discretisation`]) give operator descriptions
 //! ([`OperatorDescription`]), the executor ([`Executor`]) turns each into
 //! its backend (`Executes`), and every grid's constrained iteration runs
-//! through one function (`Problem::iterate`, the only caller of the
-//! solver); the refinement of an f32 device answer, the friction by both
+//! through one function (`Problem::iterate`); the precision is one typed
+//! choice both executors take ([`Problem::precision_on`]); the refinement
+//! of an f32 device answer, the friction by both
 //! routes, the finite pad's own friction, the contact statistics and the
 //! timings are then computed once for all paths.
 
@@ -19,7 +20,7 @@ use crate::response::{Grid, SlidingResponse};
 use crate::solver::{self, ContactSolution, Observer, SolveInfo, SolverError, WarmStart};
 
 use super::adaptive::{solve_adaptive, AdaptiveError, AdaptiveParams, MeshReport};
-use super::executor::{periodic_refused, CpuExecutor, Executes, GpuExecutor};
+use super::executor::{cpu_f32_refused, periodic_refused, CpuExecutor, Executes, GpuExecutor};
 use super::gpu_refine::GpuRefinement;
 use super::smooth_pad::SMOOTH_PAD_SHARE_LIMIT;
 use super::{invalid, Executor, Problem, Solution, Timings};
@@ -109,17 +110,21 @@ impl Problem {
                 )));
             }
         }
+        let precision = self.precision_on(executor)?;
         match executor {
             Executor::Cpu => {
-                let raw = match self.params.precision {
-                    Precision::F64 => self.run(&mut CpuExecutor::<f64>::new(), start, observer)?,
-                    Precision::Mixed => {
-                        self.run(&mut CpuExecutor::<f32>::new(), start, observer)?
+                let raw = match precision {
+                    Precision::F64 => {
+                        self.run_in(&mut CpuExecutor::<f64>::new(), start, observer)?
                     }
+                    Precision::Mixed => {
+                        self.run_in(&mut CpuExecutor::<f32>::new(), start, observer)?
+                    }
+                    Precision::F32 => return Err(cpu_f32_refused()),
                 };
                 // The finite pad's reference in f64 whatever the rough
                 // solve's precision.
-                self.finish(raw, t0, &mut CpuExecutor::<f64>::new(), false)
+                self.finish(raw, t0, &mut CpuExecutor::<f64>::new(), precision)
             }
             Executor::Gpu(ctx) => {
                 match kind {
@@ -131,19 +136,29 @@ impl Problem {
                     }
                     _ => {}
                 }
-                // The f64 refinement on the host (physics.md section 13) of
-                // a uniform grid, unless the device's f32 answer was asked
-                // for.
-                let refine = self.gpu_refine && kind == Discretisation::Uniform;
-                let mut gpu = GpuExecutor::new(ctx.clone(), self.params.precondition);
-                let raw = self.run(&mut gpu, start, observer)?;
-                let raw = if refine {
-                    self.refined(raw, observer)?
-                } else {
-                    raw
-                };
-                self.finish(raw, t0, &mut gpu, refine)
+                let mut gpu = GpuExecutor::new(ctx.clone(), self.params.precondition, precision)?;
+                let raw = self.run_in(&mut gpu, start, observer)?;
+                self.finish(raw, t0, &mut gpu, precision)
             }
+        }
+    }
+
+    /// The iteration of this problem on `executor` in its precision:
+    /// [`Problem::run`], then, for an executor
+    /// whose mixed precision is refined afterwards
+    /// ([`Executes::refined_on_host`]; a uniform grid), the f64 refinement
+    /// on the host from its answer.
+    fn run_in<X: Executes>(
+        &self,
+        executor: &mut X,
+        start: Option<WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Raw> {
+        let raw = self.run(executor, start, observer)?;
+        if executor.refined_on_host() && raw.mesh.is_none() {
+            self.refined(raw, observer)
+        } else {
+            Ok(raw)
         }
     }
 
@@ -276,7 +291,7 @@ impl Problem {
     /// The operators of this problem's uniform grids: the Toeplitz
     /// operator of the non-periodic formulation or the periodic cell's
     /// multiplier.
-    fn uniform_operators(&self) -> Result<UniformOperators> {
+    pub(super) fn uniform_operators(&self) -> Result<UniformOperators> {
         Ok(match self.formulation {
             Formulation::NonPeriodic => UniformOperators::Toeplitz(self.sliding_kernel()?),
             Formulation::Periodic => UniformOperators::Periodic(self.response()?),
@@ -391,15 +406,15 @@ impl Problem {
         })
     }
 
-    /// Friction by both routes, contact statistics and timings of any path;
-    /// a finite pad's own friction on `executor` (refined in f64 on the
-    /// host when `refine`, as the rough solve).
+    /// Friction by both routes, contact statistics and timings of any path
+    /// (solved in `precision`); a finite pad's own friction on `executor`
+    /// (in its precision, as the rough solve).
     fn finish<X: Executes>(
         &self,
         raw: Raw,
         t0: Instant,
         executor: &mut X,
-        refine: bool,
+        precision: Precision,
     ) -> Result<Solution> {
         let t2 = Instant::now();
         let (mu, mu_d, stats) = self.friction_and_stats(&raw.solution)?;
@@ -414,7 +429,7 @@ impl Problem {
             && raw.mesh.is_none()
             && stats.normal_load > 0.0
         {
-            match self.smooth_pad(executor, refine, stats.normal_load, mu, raw.info.matvecs) {
+            match self.smooth_pad(executor, stats.normal_load, mu, raw.info.matvecs) {
                 Ok(pad) => Some(pad),
                 Err(e) => {
                     warnings.push(format!("the finite pad's own friction (the same pad without roughness) was not computed: {e}"));
@@ -457,6 +472,7 @@ impl Problem {
             raw.mesh,
             warnings,
         );
+        solution.record_precision(precision);
         solution.gpu_refinement = raw.refinement;
         solution.smooth_pad = smooth_pad;
         Ok(solution)
@@ -464,7 +480,7 @@ impl Problem {
 }
 
 /// What a uniform grid's operator description is made of.
-enum UniformOperators {
+pub(super) enum UniformOperators {
     /// The non-periodic formulation's kernel (its coefficient tables).
     Toeplitz(SlidingKernel),
     /// The periodic cell's response (its multiplier).
@@ -473,7 +489,12 @@ enum UniformOperators {
 
 impl UniformOperators {
     /// The description of the `nx x ny` grid of cells `cell` \[m\].
-    fn on(&self, nx: usize, ny: usize, cell: (f64, f64)) -> Result<OperatorDescription<'_>> {
+    pub(super) fn on(
+        &self,
+        nx: usize,
+        ny: usize,
+        cell: (f64, f64),
+    ) -> Result<OperatorDescription<'_>> {
         let grid = Grid::new(nx, ny, cell)?;
         Ok(match self {
             Self::Toeplitz(kernel) => OperatorDescription::Toeplitz { kernel, grid },

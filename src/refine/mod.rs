@@ -108,7 +108,7 @@ pub(crate) fn check_level_memory(problem: &Problem, levels: &[usize]) -> Result<
             ny_n,
             problem.params.restart,
             problem.formulation,
-            problem.params.precision,
+            problem.precision.unwrap_or_default(),
         )
         .map_err(|e| invalid(format!("--levels {n}: {e}")))?;
     }

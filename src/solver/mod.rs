@@ -46,14 +46,14 @@ mod initial_guess;
 mod inner_mode;
 mod line_search;
 pub mod reference;
+mod refinement;
 
 pub use active_set::solve;
 pub use cascade::{solve_cascade, CascadeLevel, LevelInfo};
 pub use full_contact::solve_full_contact;
+pub(crate) use refinement::refine;
 
 use std::borrow::Cow;
-
-pub use crate::config::Precision;
 
 /// What is prescribed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -81,13 +81,6 @@ pub struct SolverParams {
     /// Right-precondition the inner solves with the backend's approximate
     /// inverse of the operator where it has one ([`crate::backend::Backend::precondition`]).
     pub precondition: bool,
-    /// Grids of a coarse-to-fine cascade at most, the fine one included,
-    /// for callers that run one ([`cascade::cascade_shapes`]; 1: none).
-    /// [`solve`] itself solves on one grid.
-    pub cascade_levels: usize,
-    /// Precision of the operator the caller builds (the solver follows the
-    /// backend: [`crate::backend::Backend::refines`]).
-    pub precision: Precision,
 }
 
 impl Default for SolverParams {
@@ -98,8 +91,6 @@ impl Default for SolverParams {
             max_matvecs: 50_000,
             restart: 30,
             precondition: true,
-            cascade_levels: 8,
-            precision: Precision::F64,
         }
     }
 }

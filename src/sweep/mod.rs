@@ -131,6 +131,10 @@ pub fn run_and_merge(
         if selected.is_none() {
             selected = Some(Executor::select(backend, &problem)?);
         }
+        // The precision each combination asks for, on the executor picked.
+        if let Some((executor, _)) = &selected {
+            problem.precision_on(executor)?;
+        }
     }
     let (executor, line) = selected.expect("a plan has points");
     observer.executor(&line);

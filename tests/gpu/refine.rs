@@ -147,3 +147,55 @@ fn the_smooth_pad_is_solved_on_the_gpu() {
     assert!(e <= 1e-2, "{f32_only:?} vs {pc:?}");
     assert!(e > 0.0, "the f32 answer is the device's own");
 }
+
+/// Precision is one typed choice both executors take: on a GPU the default
+/// of a uniform grid is `"mixed"` (`gpu_refine` true), `gpu_refine = false`
+/// is the older spelling of `"f32"` (the same solve, bit for bit), and
+/// `"f64"`, which the device cannot compute, is refused in one line before
+/// anything is solved.
+#[test]
+fn precision_is_one_choice_on_the_gpu() {
+    use viscoslide::config::Precision;
+    let Some(ctx) = crate::common::gpu_context() else {
+        return;
+    };
+    let gpu = Executor::Gpu(ctx);
+    assert_eq!(problem(&[]).precision_on(&gpu).unwrap(), Precision::Mixed);
+    assert_eq!(
+        problem(&["solver.precision=\"mixed\""])
+            .precision_on(&gpu)
+            .unwrap(),
+        Precision::Mixed
+    );
+    let alias = problem(&["solver.gpu_refine=false"]);
+    let named = problem(&["solver.precision=\"f32\""]);
+    assert_eq!(alias.precision_on(&gpu).unwrap(), Precision::F32);
+    assert_eq!(named.precision_on(&gpu).unwrap(), Precision::F32);
+    // The adaptive mesh's device answer is not refined: f32 by default.
+    assert_eq!(
+        problem(&["solver.mesh=\"adaptive\""])
+            .precision_on(&gpu)
+            .unwrap(),
+        Precision::F32
+    );
+    let (a, b) = (
+        alias.solve(&gpu, &mut Silent).unwrap(),
+        named.solve(&gpu, &mut Silent).unwrap(),
+    );
+    assert_eq!(a.friction_coefficient, b.friction_coefficient);
+    assert_eq!(a.info.matvecs, b.info.matvecs);
+    assert_eq!(a.fields.pressure, b.fields.pressure);
+    assert_eq!(a.summary()["precision"], "f32");
+
+    let f64_asked = problem(&["solver.precision=\"f64\""]);
+    for err in [
+        f64_asked.precision_on(&gpu).unwrap_err().to_string(),
+        f64_asked.solve(&gpu, &mut Silent).unwrap_err().to_string(),
+    ] {
+        assert!(
+            err.contains("precision = \"f64\"") && err.contains("f32"),
+            "{err}"
+        );
+        assert!(!err.contains('\n'), "one line: {err}");
+    }
+}

@@ -67,6 +67,9 @@ fn loading_and_solver_sections_build_the_configured_problem() {
     assert_eq!(built.speed, reference.speed);
     assert_eq!(built.direction_rad, reference.direction_rad);
     assert_eq!(built.params, reference.params);
+    assert_eq!(built.cascade_levels, 2);
+    assert_eq!(built.cascade_levels, reference.cascade_levels);
+    assert_eq!(built.precision, reference.precision);
     assert_eq!(built.formulation, reference.formulation);
     assert_eq!(built.mesh, reference.mesh);
 
@@ -127,4 +130,56 @@ fn an_observer_stops_a_solve_between_operator_applications() {
             assert_eq!(stop.polls, stop_after + 1);
         }
     }
+}
+
+/// Precision is one typed choice (`[solver] precision`) that the CPU takes
+/// or refuses in one line: f64 by default, `"mixed"` as asked, `"f32"` (a
+/// GPU's f32 iteration alone) refused; `gpu_refine`, the older spelling of
+/// a GPU's precision, leaves the CPU in f64, and contradicting `precision`
+/// it is refused when the problem is built.
+#[test]
+fn precision_is_one_choice_on_the_cpu() {
+    use viscoslide::config::Precision;
+    let with = |solver: &str| -> Result<Problem, Error> {
+        let base = from_config();
+        let sc: SolverConfig = toml::from_str(solver).unwrap();
+        Problem::new(base.material, base.surface, Control::Load(1e-3), 1e-3).with_solver_config(&sc)
+    };
+    let cpu = Executor::Cpu;
+    assert_eq!(from_config().precision, None);
+    assert_eq!(from_config().precision_on(&cpu).unwrap(), Precision::F64);
+    let mixed = with("precision = \"mixed\"").unwrap();
+    assert_eq!(mixed.precision_on(&cpu).unwrap(), Precision::Mixed);
+    let alias = with("gpu_refine = false").unwrap();
+    assert_eq!(alias.precision_on(&cpu).unwrap(), Precision::F64);
+    let f32_only = with("precision = \"f32\"").unwrap();
+    for err in [
+        f32_only.precision_on(&cpu).unwrap_err().to_string(),
+        f32_only.solve(&cpu, &mut Silent).unwrap_err().to_string(),
+    ] {
+        assert!(
+            err.contains("precision = \"f32\"") && err.contains("GPU"),
+            "{err}"
+        );
+        assert!(!err.contains('\n'), "one line: {err}");
+    }
+    for (solver, key) in [
+        (
+            "precision = \"mixed\"\ngpu_refine = false",
+            "gpu_refine = false",
+        ),
+        (
+            "precision = \"f32\"\ngpu_refine = true",
+            "gpu_refine = true",
+        ),
+    ] {
+        let err = with(solver).unwrap_err().to_string();
+        assert!(err.contains(key) && err.contains("disagree"), "{err}");
+    }
+    // Agreeing spellings are taken.
+    assert!(with("precision = \"mixed\"\ngpu_refine = true").is_ok());
+    // f32 runs on a GPU only, which solves the non-periodic formulation.
+    let periodic = with("precision = \"f32\"\nformulation = \"periodic\"").unwrap();
+    let err = periodic.check().unwrap_err().to_string();
+    assert!(err.contains("f32") && err.contains("periodic"), "{err}");
 }

@@ -1,0 +1,35 @@
+//! The arithmetic a problem is solved in (physics.md section 13): one typed
+//! choice, [`Precision`], that both executors take. `[solver] precision`
+//! where given; otherwise the executor's own: f64 on the CPU; on a GPU (f32
+//! on the device) `Mixed` on a uniform grid, its answer refined in f64 on
+//! the host (`gpu_refine = false`, the older spelling of `F32`, keeps the
+//! device's answer), and `F32` on the adaptive mesh, whose device answer is
+//! not refined. A combination the executor cannot run is refused in one
+//! line before anything is solved.
+
+use crate::config::{MeshKind, Precision};
+use crate::error::Result;
+
+use super::executor::{cpu_f32_refused, gpu_f64_refused};
+use super::{Executor, Problem};
+
+impl Problem {
+    /// The precision this problem is solved in on `executor` (module
+    /// docs), or the one-line refusal of a combination it cannot run:
+    /// `"f32"` on the CPU (it has no f32-only iteration), `"f64"` on a GPU
+    /// (the device computes in f32). `"mixed"` on the adaptive mesh is
+    /// refused by [`Problem::check`] on every executor.
+    pub fn precision_on(&self, executor: &Executor) -> Result<Precision> {
+        match (executor, self.precision) {
+            (Executor::Cpu, Some(Precision::F32)) => Err(cpu_f32_refused()),
+            (Executor::Cpu, p) => Ok(p.unwrap_or(Precision::F64)),
+            (Executor::Gpu(_), Some(Precision::F64)) => Err(gpu_f64_refused()),
+            (Executor::Gpu(_), Some(p)) => Ok(p),
+            (Executor::Gpu(_), None) => Ok(if self.gpu_refine && self.mesh == MeshKind::Uniform {
+                Precision::Mixed
+            } else {
+                Precision::F32
+            }),
+        }
+    }
+}
