@@ -502,6 +502,7 @@ const PYTHON_MAY_USE: &[(&str, &[&str])] = &[
     ("response", &[]),
     ("persson", &[]),
     ("heat", &[]),
+    ("heating", &[]),
     ("magnification", &[]),
     ("sweep", &[]),
     ("Error", &[]),
