@@ -437,11 +437,7 @@ fn depth_profile(
     solution: &Solution,
     t: f64,
 ) -> Result<Vec<DepthRow>> {
-    let mut at = problem.clone();
-    at.material = problem
-        .material
-        .at_temperature(t)
-        .map_err(|e| Error::Invalid(e.to_string()))?;
+    let at = problem_at(problem, t)?;
     let grid = at.grid()?;
     let source = HeatSource::from_contact(
         params.source,
@@ -515,6 +511,17 @@ fn heat_error(e: crate::heat::HeatError) -> Error {
     Error::Invalid(e.to_string())
 }
 
+/// `problem` with its material at `t` \[C\] (the isothermal problem of one
+/// evaluation).
+fn problem_at(problem: &Problem, t: f64) -> Result<Problem> {
+    let mut at = problem.clone();
+    at.material = problem
+        .material
+        .at_temperature(t)
+        .map_err(|e| Error::Invalid(format!("[heating] the effective temperature {t} C: {e}")))?;
+    Ok(at)
+}
+
 /// The isothermal solve at `t` \[C\] and its dissipation-weighted rise.
 #[allow(clippy::too_many_arguments)]
 fn solve_at(
@@ -527,11 +534,7 @@ fn solve_at(
     executor: &Executor,
     observer: &mut dyn Observer,
 ) -> Result<Solved> {
-    let mut at = problem.clone();
-    at.material = problem
-        .material
-        .at_temperature(t)
-        .map_err(|e| Error::Invalid(format!("[heating] the effective temperature {t} C: {e}")))?;
+    let at = problem_at(problem, t)?;
     let solution = at.solve_warm(executor, start.map(Solution::warm_start), observer)?;
     let clock = Instant::now();
     let source = HeatSource::from_contact(
