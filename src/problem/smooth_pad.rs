@@ -7,14 +7,24 @@
 //! pressure under a flat punch is singular at its rim (paper Eq. 6-7 with
 //! `g = 0`), and the rim's hysteresis gives a friction that does not
 //! depend on the roughness. A rubber block on a large rough plate has no
-//! such rim. The flat pad is in full contact, so its pressure comes from
-//! one linear solve of the bordered system on the whole grid
-//! ([`crate::solver::solve_full_contact`]) on the executor of the rough
-//! solve (the CPU: in f64 with the Toeplitz operator and preconditioner,
-//! whatever the rough solve's precision; the GPU: in f32 on the device,
-//! refined in f64 on the host from the device's answer where the rough
-//! solve is, [`super::gpu_refine`]), and its friction from the same
-//! work-of-pressure route as the rough solve's (Eq. 9).
+//! such rim. The flat pad's pressure comes from the constrained iteration
+//! ([`crate::solver::solve`]) from its bearing-area start (every cell in
+//! contact at the mean pressure) on the executor of the rough solve (the
+//! CPU: in f64 with the Toeplitz operator and preconditioner, whatever the
+//! rough solve's precision; the GPU: in f32 on the device, refined in f64
+//! on the host from the device's answer where the rough solve is,
+//! [`super::gpu_refine`]), and its friction from the same work-of-pressure
+//! route as the rough solve's (Eq. 9).
+//!
+//! One linear solve of the bordered system in full contact
+//! ([`crate::solver::solve_full_contact`]) is not used: its single Krylov
+//! solve to the full tolerance converges slowly on the rim's singular
+//! pressure, and the sliding pad's trailing rim lifts off, which the
+//! constrained iteration then has to undo. Measured with `--backend cpu`
+//! on the paper experiment at 512^2: 370 matvecs without converging, then
+//! 101 constrained, against 101 constrained alone (the same friction to
+//! 2e-14); `configs/default.toml` at 0.3 and 30 N: 86 against 52;
+//! `configs/sphere_sliding.toml`: 149 against 59.
 
 use std::time::Instant;
 
@@ -37,8 +47,8 @@ pub const SMOOTH_PAD_SHARE_LIMIT: f64 = 0.1;
 const SMOOTH_PAD_MIN_MATVECS: usize = 300;
 
 /// The relative tolerance of the flat pad's solve in f32 (on a device):
-/// its Krylov solves then aim at 1e-3 (0.01 of it). The f32 GMRES of the
-/// full-contact set stalls far above the rough solve's inner floor (16
+/// its Krylov solves then aim at 1e-3 (0.01 of it). The f32 GMRES over a
+/// flat pad's (nearly full) contact set stalls far above the rough solve's inner floor (16
 /// epsilon, 1.9e-6): at 1e-5 it burnt the 300-matvec budget without
 /// converging on `configs/default.toml` at 128^2 on lavapipe (it reached
 /// it at 64^2), and its floor grows with the grid side. The device's
@@ -62,9 +72,6 @@ pub struct SmoothPad {
     /// refinement, or the whole solve where the device's did not converge
     /// (0 on the CPU, where the whole solve is the host's own).
     pub host_refinement_matvecs: usize,
-    /// `"full_contact"` (one linear solve) or `"constrained"` (the
-    /// constrained iteration took over).
-    pub method: &'static str,
     /// Wall time \[s\], coefficient tables included.
     pub time_s: f64,
 }
@@ -118,12 +125,10 @@ impl Problem {
         // device's answer, or the whole solve where the device's did not
         // converge.
         let host = || CpuExecutor::<f64>::new().build(&description, None);
-        let (solution, matvecs, method, host_refinement_matvecs) = match pad {
-            Ok((solution, matvecs, method)) if refine => {
-                // The device's f32 answer starts the f64 iteration on the
-                // host (the constrained iteration: the full-contact solve
-                // takes no start; from the device's set it stays in full
-                // contact unless the f64 answer lifts a rim).
+        let (solution, matvecs, host_refinement_matvecs) = match pad {
+            Ok((solution, matvecs)) if refine => {
+                // The device's f32 answer starts the f64 constrained
+                // iteration on the host.
                 let (mut host, l00) = host()?;
                 let low = solver::SolveInfo {
                     matvecs,
@@ -142,19 +147,18 @@ impl Problem {
                 (
                     refined.solution,
                     refined.info.matvecs,
-                    method,
                     refined.stage.matvecs,
                 )
             }
-            Ok((solution, matvecs, method)) => (solution, matvecs, method, 0),
+            Ok((solution, matvecs)) => (solution, matvecs, 0),
             Err(_) if device => {
                 let (mut host, l00) = host()?;
                 let problem = solver::ContactProblem {
                     self_coefficient: l00,
                     ..problem
                 };
-                let (s, m, method) = flat_pad(&mut host, &problem, &params)?;
-                (s, m, method, m)
+                let (s, m) = flat_pad(&mut host, &problem, &params)?;
+                (s, m, m)
             }
             Err(e) => return Err(e),
         };
@@ -167,34 +171,18 @@ impl Problem {
             share: if mu != 0.0 { smooth / mu } else { 0.0 },
             matvecs,
             host_refinement_matvecs,
-            method,
             time_s: t.elapsed().as_secs_f64(),
         })
     }
 }
 
-/// The flat pad's pressure on `backend`: one linear solve in full contact;
-/// a pressure negative somewhere (a rim lifting off), or no convergence
-/// within the budget (an unpreconditioned operator), hands over to the
-/// constrained iteration, whose inexact Newton steps converge where one
-/// Krylov solve at the full tolerance stalls. Returns the solution, the
-/// matvecs of both solves and the method that gave it.
+/// The flat pad's pressure on `backend` by the constrained iteration from
+/// its bearing-area start, and its matvecs.
 fn flat_pad<B: Backend>(
     backend: &mut B,
     problem: &solver::ContactProblem<'_>,
     params: &solver::SolverParams,
-) -> Result<(solver::ContactSolution, usize, &'static str)> {
-    let full = solver::solve_full_contact(backend, problem, params);
-    let spent = match &full {
-        Ok((_, i)) => i.matvecs,
-        Err(solver::SolverError::NoConvergence { matvecs, .. }) => *matvecs,
-        Err(_) => 0,
-    };
-    Ok(match full {
-        Ok((s, i)) if s.pressure.iter().all(|&p| p >= 0.0) => (s, i.matvecs, "full_contact"),
-        _ => {
-            let (s, i) = solver::solve(backend, problem.clone(), params, None, &mut Silent)?;
-            (s, spent + i.matvecs, "constrained")
-        }
-    })
+) -> Result<(solver::ContactSolution, usize)> {
+    let (s, i) = solver::solve(backend, problem.clone(), params, None, &mut Silent)?;
+    Ok((s, i.matvecs))
 }

@@ -350,9 +350,8 @@ impl Solution {
                 "persson_over_roughness_part": persson.map(|m| m / p.roughness_friction_coefficient),
                 "matvecs": p.matvecs,
                 "host_refinement_matvecs": p.host_refinement_matvecs,
-                "method": p.method,
                 "time_s": p.time_s,
-                "what": "the same pad without roughness, at the same load and speed, on the executor of the rough solve (the CPU: in f64; a GPU: in f32 on the device to a relative residual of 1e-3, then refined in f64 on the host by the constrained iteration from its answer unless solver.gpu_refine = false, or solved on the host where the device's solve did not converge: host_refinement_matvecs of matvecs): one full-contact solve (method full_contact) or, where that does not converge or lifts off, the constrained iteration (constrained); friction by paper Eq. 9",
+                "what": "the same pad without roughness, at the same load and speed, solved by the constrained iteration on the executor of the rough solve (the CPU: in f64; a GPU: in f32 on the device to a relative residual of 1e-3, then refined in f64 on the host from its answer unless solver.gpu_refine = false, or solved on the host where the device's solve did not converge: host_refinement_matvecs of matvecs); friction by paper Eq. 9",
             })
         }));
         // The process's peak resident memory so far (after this solve; in a

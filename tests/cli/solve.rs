@@ -276,8 +276,8 @@ fn a_finite_pad_reports_its_own_friction() {
         f(&rough, "friction_coefficient"),
         f(&rough, "smooth_pad_friction_coefficient"),
     );
-    // The flat pad is in full contact: one linear solve gives what the
-    // constrained solve of the same pad gives (its 1e-7 slope: 1e-7 apart).
+    // The flat pad is in full contact: its reference gives what a separate
+    // solve of the same pad with a 1e-7 slope gives (1e-7 apart).
     assert_eq!(f(&flat, "contact_area_fraction"), 1.0);
     assert!((smooth / f(&flat, "friction_coefficient") - 1.0).abs() < 1e-6);
     let part = f(&rough, "roughness_friction_coefficient");

@@ -118,14 +118,14 @@ fn the_smooth_pad_is_solved_on_the_gpu() {
     println!("cpu: {pc:?}\ngpu: {pg:?}");
     // The CPU's is one f64 solve on the host.
     assert_eq!(pc.host_refinement_matvecs, 0);
-    // The device did the bulk (its f32 full-contact solve), the host
+    // The device did the bulk (its f32 constrained solve), the host
     // refined it (a few matvecs from the device's answer).
     assert!(pg.host_refinement_matvecs > 0, "{pg:?}");
     assert!(pg.matvecs > pg.host_refinement_matvecs, "{pg:?}");
     // Both are f64 solves of the same flat-pad problem to the tolerance
-    // 1e-8 (the full-contact GMRES on the CPU, the constrained iteration
-    // from the device's start on the host): the pad's friction agrees far
-    // below 1e-7, as the rough solve's does.
+    // 1e-8 (the constrained iteration from the bearing-area start on the
+    // CPU, from the device's answer on the host): the pad's friction
+    // agrees far below 1e-7, as the rough solve's does.
     assert!(
         relative(pg.friction_coefficient, pc.friction_coefficient) <= 1e-7,
         "{pg:?} vs {pc:?}"
@@ -139,8 +139,8 @@ fn the_smooth_pad_is_solved_on_the_gpu() {
     println!("gpu f32: {f32_only:?}");
     assert_eq!(f32_only.host_refinement_matvecs, 0, "the device's answer");
     // The device's f32 answer: its table is about 4e-7 from the host's and
-    // its Krylov solve aims at a relative residual of 1e-3 (the f32
-    // full-contact solve's reach, `F32_TOLERANCE` in
+    // its Krylov solves aim at a relative residual of 1e-3 (the f32
+    // flat pad's reach, `F32_TOLERANCE` in
     // src/problem/smooth_pad.rs), so the pad's friction is within 1e-2 of
     // the f64 answer (measured: 1.2e-5 here), and not equal to it.
     let e = relative(f32_only.friction_coefficient, pc.friction_coefficient);
