@@ -15,7 +15,7 @@ mod fft_convolution;
 mod field;
 mod real;
 mod real_rows;
-pub(crate) use fft_convolution::inverse_multiplier;
+pub(crate) use fft_convolution::{half_spectrum as real_half_spectrum, inverse_multiplier};
 mod periodic;
 mod toeplitz;
 

@@ -135,10 +135,17 @@ impl GpuBackend {
             nx,
             ny,
         )?;
-        let mut matvec = FftMatvec::new(&mut engine, nx, ny, table, options.spectrum, options.fft)?;
-        if options.preconditioner && options.spectrum == SpectrumPrecision::F32 {
-            matvec.set_inverse(&mut engine, table, PRECONDITIONER_FLOOR);
-        }
+        let floor = (options.preconditioner && options.spectrum == SpectrumPrecision::F32)
+            .then_some(PRECONDITIONER_FLOOR);
+        let matvec = FftMatvec::new(
+            &mut engine,
+            nx,
+            ny,
+            table,
+            options.spectrum,
+            options.fft,
+            floor,
+        )?;
         Ok(Self::assemble(engine, n, Operator::Fft(matvec)))
     }
 

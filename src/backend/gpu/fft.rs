@@ -8,17 +8,19 @@
 //! rows with the spectral product fused into the column passes
 //! ([`Path::Shared`]), else radix-2 passes (`shaders/fft_pass.wgsl`); both
 //! ping-pong between two work buffers. The kernel spectrum is computed once
-//! on the host in f64 and stored in f32 (or f16, [`SpectrumPrecision::F16`],
-//! radix-2 path only).
+//! on the host in f64 (a real-to-complex transform, rows and columns in
+//! parallel: [`path_spectrum`]) and stored in f32 (or f16,
+//! [`SpectrumPrecision::F16`], radix-2 path only); the preconditioner's
+//! inverse spectrum comes from the same transform.
 
 use num_complex::Complex64;
-use rustfft::FftPlanner;
+use rayon::prelude::*;
 
 use super::context::GpuError;
 use super::engine::{Buf, Engine, Kernel};
 pub use super::fft_plan::padded;
 use super::fft_plan::{grid, work_elements, MatvecPlan, Path, Role, MIN_WORKGROUPS};
-use crate::operator::inverse_multiplier;
+use crate::operator::{inverse_multiplier, real_half_spectrum};
 
 /// Storage precision of the kernel spectrum.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -84,47 +86,62 @@ fn full_twiddles(n: usize) -> Vec<f32> {
         .collect()
 }
 
-/// 2-D forward FFT of a row-major `mx x my` complex array, in place, f64.
-fn fft2(data: &mut [Complex64], mx: usize, my: usize) {
-    let mut planner = FftPlanner::<f64>::new();
-    planner.plan_fft_forward(my).process(data);
-    let mut t = vec![Complex64::default(); mx * my];
-    for r in 0..mx {
-        for c in 0..my {
-            t[c * mx + r] = data[r * my + c];
-        }
-    }
-    planner.plan_fft_forward(mx).process(&mut t);
-    for r in 0..mx {
-        for c in 0..my {
-            data[r * my + c] = t[c * mx + r];
-        }
-    }
-}
-
 /// The scaled kernel spectrum `FFT(wrapped table) / (mx my)` of an offset
-/// table (`(2nx-1) x (2ny-1)`, layout of [`crate::operator::OffsetTable`]).
-pub fn kernel_spectrum(
+/// table (`(2nx-1) x (2ny-1)`, layout of [`crate::operator::OffsetTable`]),
+/// row-major, in the layout of `path`: the bins `0 ..= my / 2` of each of
+/// the `mx` rows on the workgroup-memory path (the real-row transforms need
+/// no more), the full `mx x my` spectrum on the radix-2 path (the other
+/// bins by Hermitian symmetry, `S(r, c) = conj S(-r, -c)`: the table is
+/// real). One real-to-complex transform of the wrapped table on the host's
+/// threads ([`crate::operator`]'s, the CPU operator's own), in f64.
+pub fn path_spectrum(
     nx: usize,
     ny: usize,
     mx: usize,
     my: usize,
     table: &[f64],
+    path: Path,
 ) -> Vec<Complex64> {
+    assert_eq!(
+        table.len(),
+        (2 * nx - 1) * (2 * ny - 1),
+        "offset table size"
+    );
     let w = 2 * ny - 1;
-    let mut data = vec![Complex64::default(); mx * my];
-    for di in -(nx as isize - 1)..=(nx as isize - 1) {
-        let r = di.rem_euclid(mx as isize) as usize;
+    let mut wrapped = vec![0.0; mx * my];
+    wrapped.par_chunks_mut(my).enumerate().for_each(|(r, row)| {
+        // The offset di whose wrap is row r, if any.
+        let di = if r < nx {
+            r as isize
+        } else if r + nx > mx {
+            r as isize - mx as isize
+        } else {
+            return;
+        };
+        let src = (di + nx as isize - 1) as usize * w;
         for dj in -(ny as isize - 1)..=(ny as isize - 1) {
             let c = dj.rem_euclid(my as isize) as usize;
-            let v = table[(di + nx as isize - 1) as usize * w + (dj + ny as isize - 1) as usize];
-            data[r * my + c] = Complex64::new(v, 0.0);
+            row[c] = table[src + (dj + ny as isize - 1) as usize];
         }
-    }
-    fft2(&mut data, mx, my);
-    let s = 1.0 / (mx * my) as f64;
-    data.iter_mut().for_each(|z| *z *= s);
-    data
+    });
+    // Column-major: `my / 2 + 1` columns of `mx` modes, unnormalised.
+    let columns = real_half_spectrum(&wrapped, mx, my);
+    drop(wrapped);
+    let myh = my / 2 + 1;
+    let scale = 1.0 / (mx * my) as f64;
+    let half = |r: usize, c: usize| columns[c * mx + r] * scale;
+    let width = if path == Path::Radix2 { my } else { myh };
+    let mut out = vec![Complex64::default(); mx * width];
+    out.par_chunks_mut(width).enumerate().for_each(|(r, row)| {
+        for (c, v) in row.iter_mut().enumerate() {
+            *v = if c < myh {
+                half(r, c)
+            } else {
+                half((mx - r) % mx, my - c).conj()
+            };
+        }
+    });
+    out
 }
 
 /// The bins `0 ..= my / 2` of each row of a full `mx x my` spectrum: the
@@ -157,7 +174,14 @@ pub fn choose_path(
 }
 
 impl FftMatvec {
-    /// Plan the matvec for an `nx x ny` grid from its offset table.
+    /// Plan the matvec for an `nx x ny` grid from its offset table; with
+    /// `inverse_floor` (f32 spectrum only) also the preconditioner `K = R
+    /// C^-1 R^T`, `C` the circulant of the padded transform (of which `L`
+    /// is the leading block): the same plan with the inverse of the scaled
+    /// spectrum in f32, modes below `floor` times the largest multiplier
+    /// clamped there (`inverse_multiplier`, shared with the host's
+    /// [`crate::operator::ToeplitzFft::with_preconditioner`]), from the same
+    /// host transform.
     pub fn new(
         engine: &mut Engine,
         nx: usize,
@@ -165,6 +189,7 @@ impl FftMatvec {
         table: &[f64],
         precision: SpectrumPrecision,
         choice: FftChoice,
+        inverse_floor: Option<f64>,
     ) -> Result<Self, GpuError> {
         if nx == 0 || ny == 0 || table.len() != (2 * nx - 1) * (2 * ny - 1) {
             return Err(GpuError::Invalid(format!(
@@ -193,10 +218,23 @@ impl FftMatvec {
             ny,
             path,
         )?;
-        let mut spectrum = kernel_spectrum(nx, ny, mx, my, table);
-        if path != Path::Radix2 {
-            spectrum = half_spectrum(&spectrum, mx, my);
-        }
+        let spectrum = path_spectrum(nx, ny, mx, my, table, path);
+        // The inverse is taken mode by mode against the largest modulus,
+        // which the half spectrum holds as the full one does.
+        let inverse = match (inverse_floor, precision) {
+            (Some(floor), SpectrumPrecision::F32) => {
+                let inverse = inverse_multiplier::<f64, f64>(&spectrum, mx * my, floor);
+                let host: Vec<f32> = inverse
+                    .iter()
+                    .flat_map(|z| [z.re as f32, z.im as f32])
+                    .collect();
+                Some(engine.storage_with(
+                    "viscoslide inverse spectrum f32",
+                    bytemuck::cast_slice(&host),
+                ))
+            }
+            _ => None,
+        };
         let kernel = match precision {
             SpectrumPrecision::F32 => {
                 let host: Vec<f32> = spectrum
@@ -260,46 +298,23 @@ impl FftMatvec {
             a,
             b,
             kernel,
-            inverse: None,
+            inverse,
             twiddle_x,
             twiddle_y,
         })
     }
 
-    /// Provide the preconditioner `K = R C^-1 R^T`, `C` the circulant of the
-    /// padded transform (of which `L` is the leading block): the same plan
-    /// with the inverse of the scaled spectrum (f32), modes below `floor`
-    /// times the largest multiplier clamped there
-    /// (`inverse_multiplier`, shared with the host's
-    /// [`crate::operator::ToeplitzFft::with_preconditioner`]).
-    pub fn set_inverse(&mut self, engine: &mut Engine, table: &[f64], floor: f64) {
-        let (mx, my) = (self.mx, self.my);
-        let mut spectrum = inverse_multiplier::<f64, f64>(
-            &kernel_spectrum(self.nx, self.ny, mx, my, table),
-            mx * my,
-            floor,
-        );
-        if self.plan.path != Path::Radix2 {
-            spectrum = half_spectrum(&spectrum, mx, my);
-        }
-        let host: Vec<f32> = spectrum
-            .iter()
-            .flat_map(|z| [z.re as f32, z.im as f32])
-            .collect();
-        self.inverse = Some(engine.storage_with(
-            "viscoslide inverse spectrum f32",
-            bytemuck::cast_slice(&host),
-        ));
-    }
-
-    /// Whether [`FftMatvec::set_inverse`] was called.
+    /// Whether the matvec has the preconditioner's inverse spectrum.
     pub fn has_inverse(&self) -> bool {
         self.inverse.is_some()
     }
 
     /// Record `y = K x` with the inverse spectrum (the matvec's plan).
     pub fn record_inverse(&self, engine: &mut Engine, x: &Buf, y: &Buf) {
-        let inverse = self.inverse.as_ref().expect("set_inverse first");
+        let inverse = self
+            .inverse
+            .as_ref()
+            .expect("a matvec planned with inverse_floor");
         self.record_with(engine, x, y, inverse);
     }
 
