@@ -10,6 +10,7 @@ mod adaptive;
 mod bench_cli;
 mod conformance;
 mod context;
+mod heated;
 mod large_grid;
 mod memory;
 mod plan_cli;

@@ -1,0 +1,121 @@
+//! The heated solve (physics.md section 14) on the GPU executor: every
+//! evaluation of the fixed point `T = T0 + Theta(T)` is an isothermal solve
+//! on the device, refined in f64 on the host (the default precision of a
+//! GPU solve), and the heat problem is solved on the host from its fields.
+//! The answer is the CPU's: the same effective temperature within the
+//! fixed point's tolerance, and the exact identity `mu_heated = mu(T_eff)`
+//! against an independent isothermal CPU solve. Skips with a reason without
+//! an adapter; fails under `REQUIRE_GPU=1`.
+
+use viscoslide::config;
+use viscoslide::heating::{solve_heated, HeatingParams};
+use viscoslide::internals::solver::Silent;
+use viscoslide::problem::{Executor, Problem};
+
+/// A single-relaxation rubber with the "universal" WLF constants at
+/// `T_ref = 17 C`: a 32^2 pad of 0.2 mm at 1 MPa sliding at 0.1 m/s, the
+/// surface work of its pressure as the source (the default on a pad); a
+/// rise of about a kelvin (tests/heat/heated.rs's case, non-periodic:
+/// the GPU path's formulation).
+const PAD: &str = r#"
+[material]
+model = "sls"
+relaxed_modulus = 3.3333333333333335e6
+glassy_modulus = 1.0e7
+creep_time = 1e-4
+poisson = 0.5
+wlf = [8.86, 101.6, 17.0]
+
+[surface.generate]
+n = 32
+length = 0.0002
+hurst = 0.8
+scales = 4
+rms_slope = 0.3
+seed = 3
+
+[loading]
+mean_pressure = 1e6
+speed = 0.1
+temperature = 17.0
+
+[solver]
+formulation = "non_periodic"
+tolerance = 1e-11
+
+[analysis]
+enabled = false
+
+[heating]
+conductivity = 0.25
+diffusivity = 1e-7
+"#;
+
+#[test]
+fn a_heated_solve_on_the_gpu_gives_the_cpu_answer() {
+    let Some(ctx) = crate::common::gpu_context() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("case.toml");
+    std::fs::write(&path, PAD).unwrap();
+    let cfg = config::load(&path, &[]).unwrap();
+    let problem = Problem::from_config(&cfg).unwrap();
+    let params =
+        HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(17.0))
+            .unwrap()
+            .expect("heating enabled");
+    let cpu = solve_heated(&problem, &params, &Executor::Cpu, &mut Silent).unwrap();
+    let gpu = solve_heated(&problem, &params, &Executor::Gpu(ctx), &mut Silent).unwrap();
+    let (tc, tg) = (
+        cpu.report.effective_temperature,
+        gpu.report.effective_temperature,
+    );
+    println!(
+        "cpu: T_eff {tc:.6} C, mu {:.9e}, {} evaluations; gpu: T_eff {tg:.6} C, mu {:.9e}, {} evaluations, backend {}",
+        cpu.solution.friction_coefficient,
+        cpu.report.fixed_point_evaluations,
+        gpu.solution.friction_coefficient,
+        gpu.report.fixed_point_evaluations,
+        gpu.solution.backend
+    );
+    assert!(
+        gpu.solution.backend.starts_with("gpu"),
+        "{}",
+        gpu.solution.backend
+    );
+    assert!(
+        gpu.solution.gpu_refinement.is_some(),
+        "each evaluation is refined in f64 on the host"
+    );
+    // A rise of the order of a kelvin: the feedback is exercised.
+    assert!(tc - 17.0 > 0.1, "{tc}");
+    // Both are roots of the same g(T) = T0 + Theta(T) - T, whose
+    // evaluations agree to the refined solves' 1e-10 (tests/gpu/refine.rs),
+    // each closed to the fixed point's tolerance (1e-3 K by default).
+    assert!(
+        (tg - tc).abs() <= params.tolerance,
+        "T_eff {tg} on the GPU against {tc} on the CPU (tolerance {})",
+        params.tolerance
+    );
+    assert_eq!(
+        gpu.report.branches.len(),
+        cpu.report.branches.len(),
+        "the same branches"
+    );
+    // The exact identity across executors: the GPU's heated friction is the
+    // isothermal friction at its own T_eff, solved independently on the
+    // CPU in f64, to the refined solves' agreement (1e-7, as the
+    // refinement tests bound it).
+    let mut at = problem.clone();
+    at.material = problem.material.at_temperature(tg).unwrap();
+    let iso = at.solve(&Executor::Cpu, &mut Silent).unwrap();
+    let e = (gpu.solution.friction_coefficient - iso.friction_coefficient).abs()
+        / iso.friction_coefficient.abs();
+    assert!(
+        e <= 1e-7,
+        "mu_heated {} against mu(T_eff) {} ({e:e})",
+        gpu.solution.friction_coefficient,
+        iso.friction_coefficient
+    );
+}
