@@ -309,14 +309,8 @@ impl SlidingKernel {
             return self.thin_derivative(p, cell, dx, dy, axis);
         }
         if let Some(b) = &cell.band {
-            // The centred difference, as the law's (`thin_law`).
-            let (ax, ay) = (cell.love.ax, cell.love.ay);
-            let (ex, ey, a) = match axis {
-                Axis::X => (ax, 0.0, ax),
-                Axis::Y => (0.0, ay, ay),
-            };
-            let k = |x: f64, y: f64| self.band_coefficient(b, ax, ay, x, y).total();
-            return (k(dx + ex, dy + ey) - k(dx - ex, dy - ey)) / (2.0 * a);
+            // The work on the cell edges, as the law's (`thin_law`).
+            return self.band_derivative(b, (cell.love.ax, cell.love.ay), (dx, dy), axis);
         }
         let (ax, ay) = (cell.love.ax, cell.love.ay);
         match axis {

@@ -41,15 +41,30 @@
 //! pressure at the centres along the sliding row (the sharp-step limit of
 //! [`super::thin`]'s trail), then `D` on the grid,
 //! `K(i, j) = sum_i' D(i - i', j) B(i' a)`, `B` the bracket of
-//! [`SlidingKernel::law_bracket`]. The friction stencil takes the centred
-//! difference of these coefficients, as the law does. Near `h = a` and
-//! near full contact that centred difference reads low against the
-//! resolved kernel's exact cell-averaged derivative (5.2e-4 against 8.6e-4
-//! on `configs/default.toml`'s pad at 64^2 under 1 MPa, where the
-//! dissipation routes read 9.2e-4 and 8.6e-4): the friction stencil of
-//! the continuation is not yet continuous at the upper switch.
+//! [`SlidingKernel::law_bracket`].
+//!
+//! The friction stencil (physics.md section 5) is the work of the
+//! cell-constant traction on this field, as the resolved kernel's
+//! cell-averaged derivative is: `D(i) = [K(i a + a/2) - K(i a - a/2)] / a`
+//! along `e_v`, with `K` off the lattice by the lattice shifted along the
+//! trail, `K(i a + t, j) = sum_i' D(i - i', j) B(i' a + t)` (the memory
+//! `J* p` is continuous along the trail; `D` couples the points of the
+//! shifted lattice as it couples the centres). The elastic part stays
+//! antisymmetric (`B`'s step takes 1/2 on the edges), so it does no work.
+//! The centred difference `[K(i + 1) - K(i - 1)] / (2 a)` used before samples
+//! the memory, which decays within `v tau`, one cell apart: where `v tau`
+//! is about a cell it missed most of it (`configs/default.toml`'s pad at
+//! 64^2 under 1 MPa, `h = 0.999 a`: 5.2e-4 against 8.4e-4 from the same
+//! surface refined to 256^2, where the resolved kernel at `h = 1.001 a`
+//! gives 8.6e-4; with `v tau = 4 a` 1.32e-3 against 1.60e-3). The work
+//! on the cell edges gives 1.02e-3 and 1.67e-3 there (+22 % and +4 %: the
+//! error falls as `v tau / a` grows, the continuation's memory being that
+//! of the sharp cell-constant pressure); across the switch, measured in
+//! tests/solver/thin_step.rs and BENCHMARKS.md "Thin-layer switches".
+//! Across `e_v` the derivative stays the centred difference (the lattice
+//! has no points between the rows).
 
-use super::{Coefficient, SlidingKernel};
+use super::{Axis, Coefficient, SlidingKernel};
 use crate::response::layer::compliance_ratio;
 use crate::response::LayerBase;
 
@@ -187,7 +202,8 @@ impl SlidingKernel {
     }
 
     /// `K(d)` of the module docs at the offset `(dx, dy)`: NaN off the
-    /// lattice of cell centres.
+    /// lattice of cell centres and off its copy shifted by half a cell
+    /// along `e_v` (the cell edges of the friction stencil).
     pub(crate) fn band_coefficient(
         &self,
         b: &BandStencil,
@@ -204,7 +220,16 @@ impl SlidingKernel {
             return nan;
         };
         let (i, j) = ((x / aa).round(), (c / at).round());
-        if (x - i * aa).abs() > 1e-9 * aa || (c - j * at).abs() > 1e-9 * at || !i.is_finite() {
+        // The lattice along the trail, shifted by `t` = 0 or half a cell.
+        let t = x - i * aa;
+        let t = if t.abs() <= 1e-9 * aa {
+            0.0
+        } else if (t.abs() - 0.5 * aa).abs() <= 1e-9 * aa {
+            0.5 * aa * t.signum()
+        } else {
+            return nan;
+        };
+        if (c - j * at).abs() > 1e-9 * at || !i.is_finite() {
             return nan;
         }
         let (i, j) = (i as i64, j as i64);
@@ -218,11 +243,42 @@ impl SlidingKernel {
             if d == 0.0 {
                 continue;
             }
-            let (el, mem) = self.law_bracket(s as f64 * aa, aa);
+            let (el, mem) = self.law_bracket(s as f64 * aa + t, aa);
             out.elastic += d * el;
             out.viscoelastic += d * mem;
         }
         out
+    }
+}
+
+impl SlidingKernel {
+    /// The friction stencil of the module docs along `axis`: the work on
+    /// the cell edges along `e_v`, the centred difference across.
+    pub(crate) fn band_derivative(
+        &self,
+        b: &BandStencil,
+        (ax, ay): (f64, f64),
+        (dx, dy): (f64, f64),
+        axis: Axis,
+    ) -> f64 {
+        let (ex, ey, a) = match axis {
+            Axis::X => (ax, 0.0, ax),
+            Axis::Y => (0.0, ay, ay),
+        };
+        let k = |x: f64, y: f64| self.band_coefficient(b, ax, ay, x, y).total();
+        if self.along(axis) {
+            (k(dx + 0.5 * ex, dy + 0.5 * ey) - k(dx - 0.5 * ex, dy - 0.5 * ey)) / a
+        } else {
+            (k(dx + ex, dy + ey) - k(dx - ex, dy - ey)) / (2.0 * a)
+        }
+    }
+
+    /// Whether `axis` is the sliding direction's (a grid axis).
+    pub(super) fn along(&self, axis: Axis) -> bool {
+        match axis {
+            Axis::X => self.e.1 == 0.0,
+            Axis::Y => self.e.0 == 0.0,
+        }
     }
 }
 

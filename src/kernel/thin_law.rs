@@ -26,9 +26,14 @@
 //! trail, `h -> 0`), and `-lap` the five-point Laplacian with the cell
 //! sides, consistent to `O((q a)^2)` for pressures smooth on the grid
 //! (tests/kernel_thin_layer.rs checks the order against the exact
-//! spectral layer). The friction stencil takes the centred difference of
-//! the same coefficients, so that its elastic (`1/E_inf`) part stays
-//! antisymmetric.
+//! spectral layer). The friction stencil is the work of the cell-constant
+//! traction on the same field, `[K(x + a/2) - K(x - a/2)] / a` along the
+//! sliding direction (`J* p` is continuous along the trail; the
+//! Laplacian's points shift with the target), the centred difference
+//! across it; its elastic (`1/E_inf`) part stays antisymmetric. It is the
+//! stencil of its continuation above the local limit
+//! (`kernel/thin_band.rs`, where the centred difference it replaces is
+//! measured), so that the two stay continuous at the switch.
 
 use super::thin::ThinProfile;
 use super::{Axis, Coefficient, SlidingKernel};
@@ -136,15 +141,20 @@ impl SlidingKernel {
         }
     }
 
-    /// The friction stencil's derivative of the law along `axis`: the
-    /// centred difference of [`Self::law_coefficient`].
+    /// The friction stencil's derivative of the law along `axis`
+    /// (module docs): [`Self::law_coefficient`] on the cell edges along the
+    /// sliding direction, its centred difference across.
     pub(crate) fn law_derivative(&self, ax: f64, ay: f64, dx: f64, dy: f64, axis: Axis) -> f64 {
         let (ex, ey, a) = match axis {
             Axis::X => (ax, 0.0, ax),
             Axis::Y => (0.0, ay, ay),
         };
         let k = |x: f64, y: f64| self.law_coefficient(ax, ay, x, y).total();
-        (k(dx + ex, dy + ey) - k(dx - ex, dy - ey)) / (2.0 * a)
+        if self.along(axis) {
+            (k(dx + 0.5 * ex, dy + 0.5 * ey) - k(dx - 0.5 * ex, dy - 0.5 * ey)) / a
+        } else {
+            (k(dx + ex, dy + ey) - k(dx - ex, dy - ey)) / (2.0 * a)
+        }
     }
 }
 

@@ -85,12 +85,11 @@ fn bonded_layer_is_stiffer_and_friction_routes_agree() {
 /// which on a few cells move by whole cells, must agree to a few percent:
 /// asserted 5 %, measured 0.19 % on the same 2 cells. The periodic
 /// formulation (no switch) is printed beside them: 3.6e-3 on 4 cells,
-/// against the non-periodic dissipation route's 5.6e-3; on 2-4 cells
-/// neither is a sharper reference. The upper switch (`h = a`, the grid
-/// continuation against the resolved cell integral) is printed, not
-/// asserted: near full contact the friction stencil's centred difference
-/// of the continuation reads 5.2e-4 against the resolved 8.6e-4 (the
-/// dissipation routes 9.2e-4 and 8.6e-4), an open item.
+/// against the non-periodic dissipation route's 5.6e-3 and Eq. 9's 3.6e-3
+/// (the friction stencil as the work on the cell edges; 7.3e-4 with the
+/// centred difference); on 2-4 cells neither is a sharper reference. The
+/// upper switch (`h = a`) is printed here (1.02e-3 and 8.6e-4) and
+/// asserted against refined solves in tests/solver/thin_step.rs.
 #[test]
 fn friction_is_continuous_across_the_thin_layer_switches() {
     use viscoslide::config::{self, SolverConfig};

@@ -17,3 +17,4 @@ mod physics;
 mod problem_api;
 mod random_cases;
 mod stalled_cases;
+mod thin_step;
