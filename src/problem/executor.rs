@@ -103,6 +103,12 @@ pub(crate) trait Executes {
         false
     }
 
+    /// The relative rounding of its backends' vectors (f64's on the CPU,
+    /// whatever its transforms; f32's on a device).
+    fn epsilon(&self) -> f64 {
+        f64::EPSILON
+    }
+
     /// Work done once for the fine grid's description before the
     /// iteration (coefficient tables, timed as such): the next
     /// [`Executes::build`] of the same grid uses it. Default: nothing.
@@ -278,6 +284,10 @@ impl Executes for GpuExecutor {
 
     fn refined_on_host(&self) -> bool {
         self.precision == Precision::Mixed
+    }
+
+    fn epsilon(&self) -> f64 {
+        f32::EPSILON as f64
     }
 
     fn prepare(&mut self, description: &OperatorDescription<'_>) -> Result<()> {

@@ -8,13 +8,14 @@
 //! `g = 0`), and the rim's hysteresis gives a friction that does not
 //! depend on the roughness. A rubber block on a large rough plate has no
 //! such rim. The flat pad's pressure comes from the constrained iteration
-//! ([`crate::solver::solve`]) from its bearing-area start (every cell in
-//! contact at the mean pressure) on the executor of the rough solve (the
-//! CPU: in f64 with the Toeplitz operator and preconditioner, whatever the
-//! rough solve's precision; the GPU: in f32 on the device, refined in f64
-//! on the host from the device's answer where the rough solve is,
-//! [`super::gpu_refine`]), and its friction from the same work-of-pressure
-//! route as the rough solve's (Eq. 9).
+//! as the rough solve's coarse-to-fine cascade ([`crate::solver::solve_cascade`];
+//! the flat gap is zero on every grid) from its bearing-area start (every
+//! cell of the coarsest grid in contact at the mean pressure) on the
+//! executor of the rough solve (the CPU: in f64 with the Toeplitz operator
+//! and preconditioner, whatever the rough solve's precision; the GPU: in f32
+//! on the device, refined in f64 on the host's fine grid from the device's
+//! answer where the rough solve is, [`super::gpu_refine`]), and its friction
+//! from the same work-of-pressure route as the rough solve's (Eq. 9).
 //!
 //! One linear solve of the bordered system in full contact
 //! ([`crate::solver::solve_full_contact`]) is not used: its single Krylov
@@ -23,20 +24,20 @@
 //! constrained iteration then has to undo. Measured with `--backend cpu`
 //! on the paper experiment at 512^2: 370 matvecs without converging, then
 //! 101 constrained, against 101 constrained alone (the same friction to
-//! 2e-14); `configs/default.toml` at 0.3 and 30 N: 86 against 52;
-//! `configs/sphere_sliding.toml`: 149 against 59.
+//! 2e-14); `configs/default.toml` at 0.3 and 30 N: 86 against 52. The
+//! cascade: at 2048^2, 145 fine-grid-equivalent matvecs against 367 on one
+//! grid (BENCHMARKS.md, "Real GPU"); at 256^2 63 against 52.
 
 use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::backend::Backend;
 use crate::error::Result;
 use crate::solver::{self, Control, Silent};
 
-use crate::operator::OperatorDescription;
-
+use super::cascade::CASCADE_COARSEST;
 use super::executor::{CpuExecutor, Executes};
+use super::solve::UniformOperators;
 use super::Problem;
 
 /// A pad whose own part is above this share of the friction is warned
@@ -96,20 +97,14 @@ impl Problem {
         let t = Instant::now();
         let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
-        let description = OperatorDescription::Toeplitz {
-            kernel: &kernel,
-            grid: self.grid()?,
-        };
+        let operators = UniformOperators::Toeplitz(kernel);
         let params = solver::SolverParams {
             max_matvecs: SMOOTH_PAD_MIN_MATVECS.max(3 * rough_matvecs),
             ..self.solver_params()
         };
-        let (mut backend, l00) = executor.build(&description, None)?;
-        let flat = vec![0.0; nx * ny];
-        let problem = solver::ContactProblem::new(&flat, ax * ay, l00, Control::Load(load));
-        // A backend whose vectors are f32 (`Backend::epsilon` above f64's:
-        // a device) solves to `F32_TOLERANCE`.
-        let device = backend.epsilon() > f64::EPSILON;
+        // An executor whose vectors are f32 (a device) solves to
+        // `F32_TOLERANCE`.
+        let device = executor.epsilon() > f64::EPSILON;
         let stage_params = solver::SolverParams {
             tolerance: if device {
                 params.tolerance.max(F32_TOLERANCE)
@@ -118,51 +113,39 @@ impl Problem {
             },
             ..params.clone()
         };
-        let pad = flat_pad(&mut backend, &problem, &stage_params);
-        executor.release(backend);
+        let shapes = solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.cascade_levels);
+        let pad = flat_cascade(executor, &operators, &shapes, (ax, ay), load, &stage_params);
         let refine = executor.refined_on_host();
-        // The host's f64 Toeplitz backend: for the refinement of a
-        // device's answer, or the whole solve where the device's did not
-        // converge.
-        let host = || CpuExecutor::<f64>::new().build(&description, None);
         let (solution, matvecs, host_refinement_matvecs) = match pad {
-            Ok((solution, matvecs)) if refine => {
+            Ok((solution, info)) if refine => {
                 // The device's f32 answer starts the f64 constrained
-                // iteration on the host.
-                let (mut host, l00) = host()?;
-                let low = solver::SolveInfo {
-                    matvecs,
-                    ..Default::default()
-                };
-                let refined = solver::refine(
-                    &mut host,
-                    solver::ContactProblem {
-                        self_coefficient: l00,
-                        ..problem
-                    },
-                    &params,
-                    (solution, low),
-                    &mut Silent,
-                )?;
+                // iteration on the host's fine grid.
+                let (mut host, l00) =
+                    CpuExecutor::<f64>::new().build(&operators.on(nx, ny, (ax, ay))?, None)?;
+                let flat = vec![0.0; nx * ny];
+                let problem = solver::ContactProblem::new(&flat, ax * ay, l00, Control::Load(load));
+                let refined =
+                    solver::refine(&mut host, problem, &params, (solution, info), &mut Silent)?;
                 (
                     refined.solution,
                     refined.info.matvecs,
                     refined.stage.matvecs,
                 )
             }
-            Ok((solution, matvecs)) => (solution, matvecs, 0),
+            Ok((solution, info)) => (solution, info.matvecs, 0),
             Err(_) if device => {
-                let (mut host, l00) = host()?;
-                let problem = solver::ContactProblem {
-                    self_coefficient: l00,
-                    ..problem
-                };
-                let (s, m) = flat_pad(&mut host, &problem, &params)?;
-                (s, m, m)
+                // The device's solve did not converge: the host's, in f64.
+                let mut host = CpuExecutor::<f64>::new();
+                let (s, info) =
+                    flat_cascade(&mut host, &operators, &shapes, (ax, ay), load, &params)?;
+                (s, info.matvecs, info.matvecs)
             }
             Err(e) => return Err(e),
         };
-        let force = self.friction_force_eq9(&kernel, &solution.pressure)?;
+        let UniformOperators::Toeplitz(kernel) = &operators else {
+            unreachable!("built as the Toeplitz operator above")
+        };
+        let force = self.friction_force_eq9(kernel, &solution.pressure)?;
         let loaded: f64 = solution.pressure.iter().sum::<f64>() * ax * ay;
         let smooth = -force / loaded;
         Ok(SmoothPad {
@@ -176,13 +159,47 @@ impl Problem {
     }
 }
 
-/// The flat pad's pressure on `backend` by the constrained iteration from
-/// its bearing-area start, and its matvecs.
-fn flat_pad<B: Backend>(
-    backend: &mut B,
-    problem: &solver::ContactProblem<'_>,
+/// The flat pad's pressure on `executor`'s backends by the constrained
+/// iteration as a coarse-to-fine cascade over `shapes` (the rough solve's
+/// grids; the flat gap is zero on each, so no restriction is needed), from
+/// the coarsest grid's bearing-area start; returns the fine grid's solution
+/// and the report (fine-grid-equivalent matvecs).
+fn flat_cascade<X: Executes>(
+    executor: &mut X,
+    operators: &UniformOperators,
+    shapes: &[(usize, usize)],
+    (ax, ay): (f64, f64),
+    load: f64,
     params: &solver::SolverParams,
-) -> Result<(solver::ContactSolution, usize)> {
-    let (s, i) = solver::solve(backend, problem.clone(), params, None, &mut Silent)?;
-    Ok((s, i.matvecs))
+) -> Result<(solver::ContactSolution, solver::SolveInfo)> {
+    let &(nx, ny) = shapes.last().expect("the fine grid");
+    let mut failure = None;
+    let result = solver::solve_cascade(
+        shapes,
+        |_, (lx, ly)| {
+            let cell = (ax * (nx / lx) as f64, ay * (ny / ly) as f64);
+            let (backend, l00) = operators
+                .on(lx, ly, cell)
+                .and_then(|d| executor.build(&d, None))
+                .map_err(|e| {
+                    let message = format!("the {lx} x {ly} grid of the cascade: {e}");
+                    failure = Some(e);
+                    solver::SolverError::Invalid(message)
+                })?;
+            Ok(solver::CascadeLevel {
+                backend,
+                gap: vec![0.0; lx * ly],
+                cell_area: cell.0 * cell.1,
+                self_coefficient: l00,
+            })
+        },
+        Control::Load(load),
+        params,
+        None,
+        &mut Silent,
+    );
+    match (result, failure) {
+        (Err(_), Some(e)) => Err(e),
+        (result, _) => Ok(result?),
+    }
 }
