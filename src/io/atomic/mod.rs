@@ -75,7 +75,7 @@ type Result<T, E = OutputError> = std::result::Result<T, E>;
 /// Check, before long work, that output can be written to `dir`: its
 /// nearest existing ancestor must be a directory that accepts a new file.
 /// Creates nothing (a probe file is made and removed at once).
-pub fn check_output_dir(dir: &Path) -> Result<()> {
+pub(crate) fn check_output_dir(dir: &Path) -> Result<()> {
     let mut p = dir;
     let existing = loop {
         match fs::metadata(p) {
