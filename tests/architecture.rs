@@ -582,3 +582,30 @@ fn the_python_extension_uses_only_the_library_api() {
         ]
     );
 }
+
+/// Small files with one job: no file of `src/` is over 600 lines unless
+/// its header says why in one line (`//! Over 600 lines: ...`), and the
+/// files of a solve (`problem/solve/`) stay under 250 lines each (issue
+/// #39: the solve split by job, no formulation x executor matrix).
+#[test]
+fn files_stay_small_or_say_why() {
+    let mut files = Vec::new();
+    rust_files(&src(), &mut files);
+    let mut long = Vec::new();
+    for file in files {
+        let text = std::fs::read_to_string(&file).unwrap();
+        let lines = text.lines().count();
+        let rel = file.strip_prefix(src()).unwrap().display().to_string();
+        let reason = text
+            .lines()
+            .take_while(|l| l.starts_with("//!") || l.trim().is_empty())
+            .any(|l| l.starts_with("//! Over 600 lines"));
+        if lines > 600 && !reason {
+            long.push(format!("{rel}: {lines} lines, no `//! Over 600 lines: ...` reason"));
+        }
+        if rel.starts_with("problem/solve/") && lines > 250 {
+            long.push(format!("{rel}: {lines} lines, the solve's files stay under 250"));
+        }
+    }
+    assert!(long.is_empty(), "{}", long.join("\n"));
+}

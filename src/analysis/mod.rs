@@ -7,6 +7,7 @@
 pub mod anisotropy;
 pub mod chi;
 pub mod contact;
+pub mod ellipse;
 pub mod fields;
 pub mod figures;
 pub mod files;
@@ -15,11 +16,9 @@ pub mod report;
 pub mod spots;
 
 pub use anisotropy::{deformed_anisotropy, AnisotropyTensor, DeformedAnisotropy, ZetaBand};
-pub use chi::{
-    chi_spectrum, chi_spectrum_cells, contour_level, fit_centred_ellipse, ChiLevel, ChiSpectrum,
-    EllipseFit,
-};
+pub use chi::{chi_spectrum, chi_spectrum_cells, contour_level, ChiLevel, ChiSpectrum};
 pub use contact::{contact_statistics, ContactStatistics};
+pub use ellipse::{fit_centred_ellipse, EllipseFit};
 pub use fields::analyze;
 pub use files::{analyze_dir, read_summary, scales_from_config, write_analysis, SolveSummary};
 pub use friction::{

@@ -192,7 +192,7 @@ pub fn parse_document(document: &toml::Table, name: &str) -> Result<Config, Conf
 }
 
 /// Apply one `section.key=value` override to a TOML document.
-pub fn apply_override(document: &mut toml::Table, arg: &str) -> Result<(), ConfigError> {
+pub(crate) fn apply_override(document: &mut toml::Table, arg: &str) -> Result<(), ConfigError> {
     let err = |message: String| ConfigError::Override {
         arg: arg.into(),
         message,
@@ -206,7 +206,11 @@ pub fn apply_override(document: &mut toml::Table, arg: &str) -> Result<(), Confi
 /// Set the dotted `key` (`section.key`, `surface.generate.q1`) of a TOML
 /// document to `value`, creating the sections on the way: the one path of
 /// `--set` and of a sweep's `[sweep.vary]` values. `Err` says why not.
-pub fn set_value(document: &mut toml::Table, key: &str, value: toml::Value) -> Result<(), String> {
+pub(crate) fn set_value(
+    document: &mut toml::Table,
+    key: &str,
+    value: toml::Value,
+) -> Result<(), String> {
     let parts: Vec<&str> = key.trim().split('.').map(str::trim).collect();
     if parts.iter().any(|p| p.is_empty()) {
         return Err(format!("bad key '{key}'"));

@@ -72,7 +72,8 @@ impl HeatSetup {
     }
 
     /// Unit vector `e_v` of the sliding direction
-    /// ([`crate::response::unit_direction`]).
+    /// (`(cos, sin)` of the direction from +x, components below 1e-15
+    /// snapped to zero as in the sliding response).
     pub fn direction(&self) -> (f64, f64) {
         crate::response::unit_direction(self.direction_rad)
     }

@@ -28,7 +28,7 @@ fn size(bytes: u64) -> String {
 
 /// Memory available to a new allocation \[bytes\] (`MemAvailable` of
 /// `/proc/meminfo`); `None` where the system does not say.
-pub fn available_memory() -> Option<u64> {
+pub(crate) fn available_memory() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;

@@ -8,7 +8,8 @@ pub(crate) mod memory;
 pub mod npy;
 pub mod study_lock;
 
-pub use atomic::{check_output_dir, write_atomic, OutputError, StagedOutput};
+pub(crate) use atomic::check_output_dir;
+pub use atomic::{write_atomic, OutputError, StagedOutput};
 pub use dirlock::LockMode;
-pub use memory::{available_memory, MemoryError};
+pub use memory::MemoryError;
 pub use study_lock::StudyLock;

@@ -40,7 +40,13 @@ fn gcd(a: usize, b: usize) -> usize {
 /// size is one) with at least `cells` cells per shortest wavelength
 /// `2 pi / q1` on a side `length`, and `ny` keeping the configuration's
 /// side along y exactly (`ny / nx` of the configuration), both at least 8.
-pub fn level_grid(cells: f64, q1: f64, length: f64, nx0: usize, ny0: usize) -> (usize, usize) {
+pub(crate) fn level_grid(
+    cells: f64,
+    q1: f64,
+    length: f64,
+    nx0: usize,
+    ny0: usize,
+) -> (usize, usize) {
     // A hair below the exact count so that round-off in K q1 L / (2 pi)
     // does not add a cell.
     let need = (cells * q1 * length / TAU * (1.0 - 1e-12)).ceil().max(8.0) as usize;

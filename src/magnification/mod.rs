@@ -24,10 +24,8 @@ mod grid;
 pub(crate) mod plan;
 mod report;
 
-pub use grid::level_grid;
-pub use plan::{
-    parse_list, FixedPsd, LevelPlan, LevelSpec, LevelSurface, SelfAffineBand, TableBand,
-};
+pub(crate) use plan::parse_list;
+pub use plan::{FixedPsd, LevelPlan, LevelSpec, LevelSurface, SelfAffineBand, TableBand};
 pub use report::{LevelResult, MagnificationReport, PerssonCurve, ReportContext};
 
 use std::path::{Path, PathBuf};

@@ -34,7 +34,7 @@ pub enum LevelSpec {
 }
 
 /// Parse `2.51e5,5.62e5` (a `--q1` or `--scales` list) into numbers.
-pub fn parse_list(flag: &str, text: &str) -> Result<Vec<f64>> {
+pub(crate) fn parse_list(flag: &str, text: &str) -> Result<Vec<f64>> {
     text.split(',')
         .map(|s| {
             let s = s.trim();

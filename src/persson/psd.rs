@@ -61,7 +61,7 @@ pub fn continuum_self_affine(
 /// The table of the isotropic self-affine PSD `target` with its own `C0`
 /// (two or three rows: `q_L`, the roll-off `q0` if any, `q1`): exact, a
 /// power law is a straight line in log-log axes.
-pub fn self_affine_table(target: &SelfAffinePsd) -> Result<TabulatedPsd, PerssonError> {
+pub(crate) fn self_affine_table(target: &SelfAffinePsd) -> Result<TabulatedPsd, PerssonError> {
     let exponent = -2.0 * (target.hurst + 1.0);
     let mut q = vec![target.ql];
     let mut c = vec![target.c0];

@@ -18,7 +18,7 @@ use crate::operator::{
 };
 use crate::response::Grid;
 
-use super::{invalid, Problem};
+use super::{invalid, Discretisation, Problem};
 
 /// Who runs the iteration.
 #[derive(Clone)]
@@ -238,9 +238,27 @@ pub(crate) struct GpuExecutor {
 }
 
 impl GpuExecutor {
+    /// The executor of `ctx` for `problem` in `precision`, or the one-line
+    /// refusal of what the device does not run: the periodic formulation,
+    /// the adaptive mesh over a layer, [`Precision::F64`].
+    pub(crate) fn for_problem(
+        ctx: &GpuContext,
+        problem: &Problem,
+        precision: Precision,
+    ) -> Result<Self> {
+        match problem.discretisation() {
+            Discretisation::Periodic => return Err(periodic_refused()),
+            Discretisation::Adaptive if problem.layer.is_some() => return Err(invalid(
+                "the GPU adaptive operator covers half-spaces only; use --backend cpu with [layer]",
+            )),
+            Discretisation::Uniform | Discretisation::Adaptive => {}
+        }
+        Self::new(ctx.clone(), problem.params.precondition, precision)
+    }
+
     /// The executor of `ctx` in `precision` (f64 refused: the device
     /// computes in f32).
-    pub(crate) fn new(ctx: GpuContext, precondition: bool, precision: Precision) -> Result<Self> {
+    fn new(ctx: GpuContext, precondition: bool, precision: Precision) -> Result<Self> {
         if precision == Precision::F64 {
             return Err(gpu_f64_refused());
         }

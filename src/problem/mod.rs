@@ -47,7 +47,7 @@ pub use adaptive::{AdaptiveParams, AdaptiveSolution, MeshReport};
 pub use executor::Executor;
 pub use heating::ContactHeating;
 pub use resolution::{ShortestWavelength, MIN_CELLS_PER_WAVELENGTH};
-pub use setup::{check_memory, memory_estimate};
+pub use setup::check_memory;
 pub(crate) use solution::{ExtraMap, SolveExtras};
 pub use solution::{Solution, Timings};
 pub use solve::Discretisation;

@@ -357,7 +357,7 @@ impl SurfaceSource {
 /// `restart + 5` f64 vectors over a contact set of a twentieth of the grid
 /// (rough-surface contacts are smaller; the iteration refuses, in words, a
 /// larger set that does not fit as it grows).
-pub fn memory_estimate(
+pub(crate) fn memory_estimate(
     nx: usize,
     ny: usize,
     restart: usize,
@@ -377,7 +377,7 @@ pub fn memory_estimate(
     n.saturating_mul(spectra + 33 + 16 + basis)
 }
 
-/// Refuse an `nx x ny` grid whose [`memory_estimate`] exceeds the memory
+/// Refuse an `nx x ny` grid whose memory estimate exceeds the memory
 /// available now (read from `/proc/meminfo`; no check where it is absent).
 pub fn check_memory(
     nx: usize,

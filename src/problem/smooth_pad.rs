@@ -42,7 +42,7 @@ use super::Problem;
 
 /// A pad whose own part is above this share of the friction is warned
 /// about.
-pub const SMOOTH_PAD_SHARE_LIMIT: f64 = 0.1;
+pub(crate) const SMOOTH_PAD_SHARE_LIMIT: f64 = 0.1;
 
 /// The smooth-pad solve's matvec budget is at least this.
 const SMOOTH_PAD_MIN_MATVECS: usize = 300;

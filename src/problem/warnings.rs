@@ -10,7 +10,7 @@ use super::{Problem, ShortestWavelength};
 
 /// Relative difference of the two friction routes above which a solution
 /// warns.
-pub const FRICTION_ROUTES_TOLERANCE: f64 = 0.02;
+pub(crate) const FRICTION_ROUTES_TOLERANCE: f64 = 0.02;
 
 /// The rms slope beyond which the small-slope model is warned about.
 const RMS_SLOPE_LIMIT: f64 = 1.0;

@@ -87,7 +87,7 @@ pub fn compliance_ratio(base: LayerBase, nu: f64, u: f64) -> f64 {
 }
 
 /// `S(u) - 1` without cancellation for large `u` (written with `e^{-2u}`).
-pub fn compliance_ratio_minus_one(base: LayerBase, nu: f64, u: f64) -> f64 {
+pub(crate) fn compliance_ratio_minus_one(base: LayerBase, nu: f64, u: f64) -> f64 {
     if u < 2.0 {
         return compliance_ratio(base, nu, u) - 1.0;
     }

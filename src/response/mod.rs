@@ -28,7 +28,7 @@ use crate::material::Material;
 /// `+y` and the tables of a direction along an axis are exactly
 /// mirror-symmetric (the one such rule: the response and the heat problem
 /// take it).
-pub fn unit_direction(direction_rad: f64) -> (f64, f64) {
+pub(crate) fn unit_direction(direction_rad: f64) -> (f64, f64) {
     let (s, c) = direction_rad.sin_cos();
     let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
     (snap(c), snap(s))

@@ -21,7 +21,7 @@ pub enum NpyPrecision {
 
 /// Check that every height is finite; the error names the first bad index
 /// `[row, col]` (row = x index) of an array with `ny` columns.
-pub fn validate_heights(name: &str, ny: usize, heights: &[f64]) -> Result<(), SurfaceError> {
+pub(crate) fn validate_heights(name: &str, ny: usize, heights: &[f64]) -> Result<(), SurfaceError> {
     match heights.iter().position(|h| !h.is_finite()) {
         None => Ok(()),
         Some(k) => Err(SurfaceError::NonFinite {

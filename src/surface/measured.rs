@@ -137,7 +137,7 @@ fn solve_small(mut a: [[f64; 6]; 6], mut b: [f64; 6], n: usize) -> [f64; 6] {
     x
 }
 
-/// 2-D PSD of a topography (pixel sizes `dx`, `dy`; see [`super::psd_grid`]).
+/// 2-D PSD of a topography (pixel sizes `dx`, `dy`; see `psd_grid`).
 /// Missing points must have been filled.
 pub fn psd_topography(topo: &Topography, window: Window) -> Result<Psd2d, SurfaceError> {
     if topo.missing() > 0 {

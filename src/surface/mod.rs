@@ -33,9 +33,9 @@ pub use generate::{
 };
 pub use gwy::{decode_gwy, read_gwy};
 pub(crate) use io::npy_bytes_of;
+pub(crate) use io::validate_heights;
 pub use io::{
-    encode_npy, load_npy, load_text, parse_text, read_height_map, save_npy, validate_heights,
-    NpyPrecision,
+    encode_npy, load_npy, load_text, parse_text, read_height_map, save_npy, NpyPrecision,
 };
 pub use measured::{
     analyse, detrend, line_psd, psd_topography, trusted_band, Analysis, Axis, Detrend, LinePsd,
@@ -47,8 +47,8 @@ pub use preprocess::{
     SLOPE_TOLERANCE,
 };
 pub use psd::{
-    fit_hurst, psd_2d, psd_grid, radial_average, stats, stats_with_window, window_weights,
-    HurstFit, Psd2d, RadialPsd, SurfaceStats, Window,
+    fit_hurst, psd_2d, radial_average, stats, stats_with_window, HurstFit, Psd2d, RadialPsd,
+    SurfaceStats, Window,
 };
 pub use psd_table::{BelowTable, TabulatedPsd};
 pub(crate) use resample::fourier_edge_warning;
@@ -149,11 +149,11 @@ pub struct HeightMap {
 /// Aspect ratio of a cell (longer side over shorter) beyond which results
 /// get a warning: the longer direction is resolved that much worse
 /// (physics.md section 11).
-pub const CELL_ASPECT_WARNING: f64 = 4.0;
+pub(crate) const CELL_ASPECT_WARNING: f64 = 4.0;
 
 /// The warning for `ax x ay` cells whose aspect ratio exceeds
 /// [`CELL_ASPECT_WARNING`], `None` otherwise.
-pub fn cell_aspect_warning(ax: f64, ay: f64) -> Option<String> {
+pub(crate) fn cell_aspect_warning(ax: f64, ay: f64) -> Option<String> {
     let r = ax.max(ay) / ax.min(ay);
     (r > CELL_ASPECT_WARNING).then(|| {
         format!(

@@ -134,7 +134,7 @@ impl Psd2d {
 
 /// The taper `w(i)`, `i = 0..n`, of `window` (periodic form, length `n`);
 /// `None` for [`Window::None`].
-pub fn window_weights(window: Window, n: usize) -> Option<Vec<f64>> {
+pub(crate) fn window_weights(window: Window, n: usize) -> Option<Vec<f64>> {
     let t = |i: usize| 2.0 * PI * i as f64 / n as f64;
     match window {
         Window::None => None,
@@ -169,7 +169,7 @@ pub fn psd_2d(map: &HeightMap, window: Window) -> Result<Psd2d, SurfaceError> {
 /// With a window the mean is removed first and the tapered map is divided
 /// by the root mean square of the separable window, so that
 /// `sum C dq^2 = <h^2>` holds on average.
-pub fn psd_grid(
+pub(crate) fn psd_grid(
     nx: usize,
     ny: usize,
     dx: f64,

@@ -22,7 +22,7 @@ pub struct Measured {
 
 /// Read a measured CSV: header with `speed_m_s`, `mu` and optionally
 /// `mu_std`; lines starting with `#` are comments.
-pub fn read_measured(path: &Path) -> Result<Vec<Measured>> {
+pub(crate) fn read_measured(path: &Path) -> Result<Vec<Measured>> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let name = path.display().to_string();
     let mut lines = text

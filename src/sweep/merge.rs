@@ -174,7 +174,7 @@ fn read_points(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<Point
 /// Aggregate the points of `dir` into rows, ordered by `[sweep.vary]`
 /// combination (plan order), planned load, then speed (the group keys are
 /// bit patterns of non-negative floats, whose order is the numeric order).
-pub fn aggregate(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<MergedRow>> {
+pub(crate) fn aggregate(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<MergedRow>> {
     let mut points = read_points(dir, observer)?;
     let key = |p: &PointResult| (p.key_combo, p.key_load.to_bits(), p.key_speed.to_bits());
     points.sort_by_key(|p| (key(p), p.seed));

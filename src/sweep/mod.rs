@@ -14,11 +14,11 @@ mod store;
 mod theory;
 
 pub use crate::config::SweepConfig;
-pub use compare::{compare, read_measured, Measured};
-pub use merge::{aggregate, merge};
+pub use compare::{compare, Measured};
+pub use merge::merge;
 pub use plan::{Point, Shard, SweepPlan};
 pub use row::MergedRow;
-pub use store::{study_id, PointStore};
+pub use store::PointStore;
 
 use std::path::Path;
 
@@ -184,7 +184,7 @@ pub fn run_and_merge(
 
 /// Solve one point on `executor`: the base configuration with the point's
 /// speed, load and seed substituted.
-pub fn solve_point(cfg: &LoadedConfig, point: &Point, executor: &Executor) -> Result<Value> {
+pub(crate) fn solve_point(cfg: &LoadedConfig, point: &Point, executor: &Executor) -> Result<Value> {
     let (problem, heating) = point_problem(cfg, point)?;
     let (solution, heated) = match heating {
         Some(params) => {
@@ -254,7 +254,7 @@ fn point_problem(cfg: &LoadedConfig, point: &Point) -> Result<(Problem, Option<H
 
 /// The configuration of `point` before its speed, load and seed: the
 /// base document with every `[sweep.vary]` value set as `--set` sets it
-/// ([`config::set_value`], which makes the sections a key needs) and
+/// (`config::set_value`, which makes the sections a key needs) and
 /// typed again. A key the configuration does not have, or a value of the
 /// wrong type, is refused in one line naming the key and the value.
 pub fn point_config(cfg: &LoadedConfig, point: &Point) -> Result<Config> {

@@ -29,7 +29,7 @@ pub struct PointStore {
 
 /// The identity of the study pinned by `pin_text`: the MD5 of the text,
 /// in hex.
-pub fn study_id(pin_text: &str) -> String {
+pub(crate) fn study_id(pin_text: &str) -> String {
     Md5::digest(pin_text.as_bytes())
         .iter()
         .map(|b| format!("{b:02x}"))

@@ -24,6 +24,12 @@ use std::path::{Path, PathBuf};
 use super::dirlock::{remove_dead, remove_dead_temps, DirLock};
 use super::fault::{crash_point, full_disk};
 
+mod file;
+
+use file::unique_suffix;
+pub use file::write_atomic;
+pub(crate) use file::write_new;
+
 /// Errors writing output files; each names the path.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
@@ -69,7 +75,7 @@ type Result<T, E = OutputError> = std::result::Result<T, E>;
 /// Check, before long work, that output can be written to `dir`: its
 /// nearest existing ancestor must be a directory that accepts a new file.
 /// Creates nothing (a probe file is made and removed at once).
-pub fn check_output_dir(dir: &Path) -> Result<()> {
+pub(crate) fn check_output_dir(dir: &Path) -> Result<()> {
     let mut p = dir;
     let existing = loop {
         match fs::metadata(p) {
@@ -509,79 +515,6 @@ fn recover_aside(parent: &Path, dir: &Path, name: &str) {
     }
 }
 
-/// Write one file atomically: a temporary file in the same directory, then a
-/// rename over the target. Temporary files of dead writers of the same
-/// target are removed first; a failed write (a full disk) leaves none.
-pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<()> {
-    let path = path.as_ref();
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let existed = dir.exists();
-    fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))?;
-    let file_name = path
-        .file_name()
-        .ok_or_else(|| OutputError::NotAFile(path.display().to_string()))?;
-    let prefix = format!(".{}.tmp-", file_name.to_string_lossy());
-    remove_dead_temps(dir);
-    let tmp = dir.join(format!(
-        "{prefix}{}-{}",
-        std::process::id(),
-        unique_suffix()
-    ));
-    let written = full_disk()
-        .and_then(|()| fs::write(&tmp, bytes))
-        .and_then(|()| fs::rename(&tmp, path));
-    written.map_err(|e| {
-        let _ = fs::remove_file(&tmp);
-        if !existed {
-            let _ = fs::remove_dir(dir);
-        }
-        OutputError::io(path, e)
-    })
-}
-
-/// Write `path` once: `bytes` appear there whole unless the file exists
-/// already, in which case it is left alone and `false` returned (two
-/// writers racing to make it: exactly one wins, the other reads its file).
-pub(crate) fn write_new(path: impl AsRef<Path>, bytes: &[u8]) -> Result<bool> {
-    let path = path.as_ref();
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let file_name = path
-        .file_name()
-        .ok_or_else(|| OutputError::NotAFile(path.display().to_string()))?;
-    remove_dead_temps(dir);
-    let tmp = dir.join(format!(
-        ".{}.tmp-{}-{}",
-        file_name.to_string_lossy(),
-        std::process::id(),
-        unique_suffix()
-    ));
-    let written = full_disk()
-        .and_then(|()| fs::write(&tmp, bytes))
-        .and_then(|()| fs::hard_link(&tmp, path));
-    let _ = fs::remove_file(&tmp);
-    match written {
-        Ok(()) => Ok(true),
-        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(false),
-        Err(e) => Err(OutputError::io(path, e)),
-    }
-}
-
-fn unique_suffix() -> u64 {
-    use std::sync::atomic::{AtomicU64, Ordering};
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let t = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.subsec_nanos() as u64)
-        .unwrap_or(0);
-    t ^ (COUNTER.fetch_add(1, Ordering::Relaxed) << 32)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -611,25 +544,5 @@ mod tests {
         assert_eq!(fs::read(tmp.path().join("a.txt")).unwrap(), b"1");
         assert_eq!(fs::read(tmp.path().join("b.txt")).unwrap(), b"2");
         assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 2);
-    }
-
-    #[test]
-    fn write_new_writes_once() {
-        let tmp = tempfile::tempdir().unwrap();
-        let p = tmp.path().join("pin.toml");
-        assert!(write_new(&p, b"first").unwrap());
-        assert!(!write_new(&p, b"second").unwrap());
-        assert_eq!(fs::read(&p).unwrap(), b"first");
-        assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 1);
-    }
-
-    #[test]
-    fn write_atomic_replaces() {
-        let tmp = tempfile::tempdir().unwrap();
-        let p = tmp.path().join("f.json");
-        write_atomic(&p, b"old").unwrap();
-        write_atomic(&p, b"new").unwrap();
-        assert_eq!(fs::read(&p).unwrap(), b"new");
-        assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 1);
     }
 }

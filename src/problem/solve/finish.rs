@@ -1,0 +1,87 @@
+//! A raw solution of any route made into a [`Solution`]: the friction by
+//! both routes (physics.md section 4), the contact statistics, the finite
+//! pad's own friction and the warnings of a solve, and the timings.
+
+use std::time::Instant;
+
+use crate::config::{Formulation, Precision};
+use crate::error::Result;
+
+use super::super::executor::Executes;
+use super::super::smooth_pad::SMOOTH_PAD_SHARE_LIMIT;
+use super::super::{Problem, Solution, Timings};
+use super::Raw;
+
+impl Problem {
+    /// Friction by both routes, contact statistics and timings of any path
+    /// (solved in `precision`); a finite pad's own friction on `executor`
+    /// (in its precision, as the rough solve).
+    pub(super) fn finish<X: Executes>(
+        &self,
+        raw: Raw,
+        t0: Instant,
+        executor: &mut X,
+        precision: Precision,
+    ) -> Result<Solution> {
+        let t2 = Instant::now();
+        let (mu, mu_d, stats) = self.friction_and_stats(&raw.solution)?;
+        let unknowns = raw
+            .mesh
+            .as_ref()
+            .map_or(self.surface.nx * self.surface.ny, |m| m.unknowns);
+        let mut warnings = self.warnings(&stats, mu, mu_d);
+        // A finite pad's own part of the friction (the same pad, flat): on
+        // the uniform grid of the non-periodic formulation.
+        let smooth_pad = if self.formulation == Formulation::NonPeriodic
+            && raw.mesh.is_none()
+            && stats.normal_load > 0.0
+        {
+            match self.smooth_pad(executor, stats.normal_load, mu, raw.info.matvecs) {
+                Ok(pad) => Some(pad),
+                Err(e) => {
+                    warnings.push(format!("the finite pad's own friction (the same pad without roughness) was not computed: {e}"));
+                    None
+                }
+            }
+        } else {
+            None
+        };
+        if let Some(pad) = &smooth_pad {
+            if pad.share.abs() > SMOOTH_PAD_SHARE_LIMIT {
+                warnings.push(format!(
+                    "{:.0} % of the friction is the finite pad's own: the same pad without roughness gives mu = {:.4e} at this load and speed (its rim's hysteresis), the roughness part is {:.4e}; a rubber block on a large rough plate has no such rim: compare the roughness part (smooth_pad in summary.json) with experiments and Persson, or use formulation = \"periodic\" or a larger pad",
+                    100.0 * pad.share,
+                    pad.friction_coefficient,
+                    pad.roughness_friction_coefficient
+                ));
+            }
+        }
+        let t_an = t2.elapsed().as_secs_f64();
+        let total = t0.elapsed().as_secs_f64();
+        let timings = Timings {
+            coefficients_s: raw.t_coeff,
+            operator_setup_s: raw
+                .t_setup
+                .unwrap_or(total - raw.t_coeff - raw.t_iter - t_an),
+            iteration_s: raw.t_iter,
+            analysis_s: t_an,
+            total_s: total,
+        };
+        let mut solution = Solution::new(
+            self,
+            raw.solution,
+            raw.info,
+            stats,
+            (mu, mu_d),
+            raw.backend,
+            timings,
+            unknowns,
+            raw.mesh,
+            warnings,
+        );
+        solution.record_precision(precision);
+        solution.gpu_refinement = raw.refinement;
+        solution.smooth_pad = smooth_pad;
+        Ok(solution)
+    }
+}

@@ -1,0 +1,193 @@
+//! The one path through a solve: the formulation and mesh
+//! ([`Discretisation`]) choose the route (`uniform.rs`: one grid or the
+//! cascade, Toeplitz or periodic; `rounds.rs`: the adaptive mesh's
+//! rounds), each route describes its operators
+//! ([`OperatorDescription`](crate::operator::OperatorDescription)) and the
+//! executor ([`Executor`]) turns each into its backend (`Executes`); every
+//! grid's constrained iteration runs through one function
+//! (`Problem::iterate`, `iterate.rs`); the precision is one typed choice
+//! both executors take ([`Problem::precision_on`]). The refinement of an
+//! f32 device answer, then the friction by both routes, the finite pad's
+//! own friction, the contact statistics and the timings (`finish.rs`) are
+//! computed once for all routes.
+
+mod finish;
+mod iterate;
+mod rounds;
+mod uniform;
+
+use std::time::Instant;
+
+use crate::config::{Formulation, MeshKind, Precision};
+use crate::error::Result;
+use crate::solver::{ContactSolution, Observer, SolveInfo, WarmStart};
+
+use super::adaptive::MeshReport;
+use super::executor::{cpu_f32_refused, CpuExecutor, Executes, GpuExecutor};
+use super::gpu_refine::GpuRefinement;
+use super::{invalid, Executor, Problem, Solution};
+
+/// The operator a problem is solved with: formulation x mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Discretisation {
+    /// Non-periodic, uniform grid: Toeplitz operator, FFT matvec (paper Eq. 6-7).
+    Uniform,
+    /// Periodic cell, spectral operator (paper Appendix, Eq. A1-A2).
+    Periodic,
+    /// Non-periodic on an adaptive quadtree: pairwise level-table operator.
+    Adaptive,
+}
+
+/// What every path hands to the common finish.
+pub(super) struct Raw {
+    pub solution: ContactSolution,
+    pub info: SolveInfo,
+    pub backend: String,
+    pub mesh: Option<MeshReport>,
+    /// Coefficient tables \[s\].
+    pub t_coeff: f64,
+    /// Operator set-up \[s\]; `None`: the time not accounted for otherwise
+    /// (the adaptive mesh's rounds).
+    pub t_setup: Option<f64>,
+    /// Iteration \[s\].
+    pub t_iter: f64,
+    /// The stages of a GPU solve refined on the host.
+    pub refinement: Option<GpuRefinement>,
+}
+
+impl Problem {
+    /// The operator this problem is solved with.
+    pub fn discretisation(&self) -> Discretisation {
+        match (self.formulation, self.mesh) {
+            (Formulation::Periodic, _) => Discretisation::Periodic,
+            (Formulation::NonPeriodic, MeshKind::Uniform) => Discretisation::Uniform,
+            (Formulation::NonPeriodic, MeshKind::Adaptive) => Discretisation::Adaptive,
+        }
+    }
+
+    /// Solve on `executor`; `observer` sees every outer iteration.
+    pub fn solve(&self, executor: &Executor, observer: &mut dyn Observer) -> Result<Solution> {
+        self.solve_from(executor, None, observer)
+    }
+
+    /// [`Problem::solve`] from a warm start (a previous solution's contact
+    /// set, pressure and approach on this grid, e.g. from
+    /// [`Solution::warm_start`] of a neighbouring speed or load); the start
+    /// changes the path, not the solution. The adaptive mesh warm-starts
+    /// each round from the previous one and takes no outside start.
+    pub fn solve_from(
+        &self,
+        executor: &Executor,
+        start: Option<&WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Solution> {
+        self.solve_warm(executor, start.cloned(), observer)
+    }
+
+    /// [`Problem::solve_from`] taking the start by value: its vectors are
+    /// freed as soon as the iteration holds them (16 bytes per cell that a
+    /// refinement study's finest grid does not keep twice).
+    pub fn solve_warm(
+        &self,
+        executor: &Executor,
+        start: Option<WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Solution> {
+        self.check()?;
+        let t0 = Instant::now();
+        if let Some(w) = &start {
+            self.check_start(w)?;
+        }
+        let precision = self.precision_on(executor)?;
+        match executor {
+            Executor::Cpu => {
+                let raw = match precision {
+                    Precision::F64 => {
+                        self.run_in(&mut CpuExecutor::<f64>::new(), start, observer)?
+                    }
+                    Precision::Mixed => {
+                        self.run_in(&mut CpuExecutor::<f32>::new(), start, observer)?
+                    }
+                    Precision::F32 => return Err(cpu_f32_refused()),
+                };
+                // The finite pad's reference in f64 whatever the rough
+                // solve's precision.
+                self.finish(raw, t0, &mut CpuExecutor::<f64>::new(), precision)
+            }
+            Executor::Gpu(ctx) => {
+                let mut gpu = GpuExecutor::for_problem(ctx, self, precision)?;
+                let raw = self.run_in(&mut gpu, start, observer)?;
+                self.finish(raw, t0, &mut gpu, precision)
+            }
+        }
+    }
+
+    /// A warm start's refusal where it does not fit this problem: the
+    /// adaptive mesh takes none, and its vectors must cover the grid.
+    fn check_start(&self, w: &WarmStart) -> Result<()> {
+        let n = self.surface.nx * self.surface.ny;
+        if self.discretisation() == Discretisation::Adaptive {
+            return Err(invalid(
+                "the adaptive mesh takes no warm start (its rounds warm-start each other); use mesh = \"uniform\"",
+            ));
+        }
+        if w.pressure.len() != n || w.contact.len() != n {
+            return Err(invalid(format!(
+                "the warm start has {} cells, the {} x {} grid needs {n}",
+                w.pressure.len(),
+                self.surface.nx,
+                self.surface.ny
+            )));
+        }
+        Ok(())
+    }
+
+    /// The iteration of this problem on `executor` in its precision:
+    /// [`Problem::run`], then, for an executor
+    /// whose mixed precision is refined afterwards
+    /// ([`Executes::refined_on_host`]; a uniform grid), the f64 refinement
+    /// on the host from its answer.
+    fn run_in<X: Executes>(
+        &self,
+        executor: &mut X,
+        start: Option<WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Raw> {
+        let raw = self.run(executor, start, observer)?;
+        if executor.refined_on_host() && raw.mesh.is_none() {
+            self.refined(raw, observer)
+        } else {
+            Ok(raw)
+        }
+    }
+
+    /// The iteration of this problem on `executor`: a uniform grid (one
+    /// grid or the cascade) or the adaptive mesh's rounds.
+    fn run<X: Executes>(
+        &self,
+        executor: &mut X,
+        start: Option<WarmStart>,
+        observer: &mut dyn Observer,
+    ) -> Result<Raw> {
+        match self.discretisation() {
+            Discretisation::Adaptive => self.adaptive(executor, observer),
+            Discretisation::Uniform | Discretisation::Periodic => {
+                self.uniform(executor, start, observer)
+            }
+        }
+    }
+
+    /// A device's answer refined in f64 on the host ([`super::gpu_refine`]).
+    fn refined(&self, raw: Raw, observer: &mut dyn Observer) -> Result<Raw> {
+        let device = (raw.solution, raw.info, raw.t_iter);
+        let (solution, info, t_iter, report) = self.refine_on_host(device, observer)?;
+        Ok(Raw {
+            solution,
+            info,
+            backend: format!("{}, refined in f64 on the host", raw.backend),
+            t_iter,
+            refinement: Some(report),
+            ..raw
+        })
+    }
+}
