@@ -601,10 +601,14 @@ fn files_stay_small_or_say_why() {
             .take_while(|l| l.starts_with("//!") || l.trim().is_empty())
             .any(|l| l.starts_with("//! Over 600 lines"));
         if lines > 600 && !reason {
-            long.push(format!("{rel}: {lines} lines, no `//! Over 600 lines: ...` reason"));
+            long.push(format!(
+                "{rel}: {lines} lines, no `//! Over 600 lines: ...` reason"
+            ));
         }
         if rel.starts_with("problem/solve/") && lines > 250 {
-            long.push(format!("{rel}: {lines} lines, the solve's files stay under 250"));
+            long.push(format!(
+                "{rel}: {lines} lines, the solve's files stay under 250"
+            ));
         }
     }
     assert!(long.is_empty(), "{}", long.join("\n"));

@@ -16,6 +16,8 @@ mod iterate;
 mod rounds;
 mod uniform;
 
+pub(super) use uniform::UniformOperators;
+
 use std::time::Instant;
 
 use crate::config::{Formulation, MeshKind, Precision};
