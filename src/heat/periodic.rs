@@ -70,6 +70,79 @@ impl PeriodicPlan {
             .collect()
     }
 
+    /// The mean and the highest value of the rise about the mean \[K\] at
+    /// each depth \[m\] under the surface `flux` \[W/m^2\]: the maps of
+    /// [`PeriodicPlan::surface_at`], one at a time. `m` and `q(k) / (lam
+    /// m)` are computed once for all depths (the Nyquist modes' averages
+    /// per depth), and a mode with `Re(m) z > DEEP_CUT` is left out at
+    /// depth `z`: its factor `exp(-m z)` is below `exp(-DEEP_CUT)`.
+    pub fn surface_extremes(
+        &self,
+        flux: &[f64],
+        depths: &[f64],
+    ) -> Result<Vec<(f64, f64)>, HeatError> {
+        let lam = self.conductivity;
+        let spec = self.forward(flux)?;
+        let nx = self.modes.nx;
+        let modes = &self.modes;
+        let nyquist = |i: usize, j: usize| {
+            (nx % 2 == 0 && 2 * i == nx) || (modes.ny % 2 == 0 && 2 * j == modes.ny)
+        };
+        // Per mode: m and q / (lam m); zero at k = 0, NaN m at a Nyquist
+        // mode (averaged per depth).
+        let mut planned = vec![(Complex64::default(), Complex64::default()); spec.len()];
+        planned
+            .par_chunks_mut(nx)
+            .zip(spec.par_chunks(nx))
+            .enumerate()
+            .for_each(|(j, (o, s))| {
+                for (i, (o, s)) in o.iter_mut().zip(s).enumerate() {
+                    if nyquist(i, j) {
+                        *o = (Complex64::new(f64::NAN, 0.0), *s);
+                        continue;
+                    }
+                    let mut m = Complex64::default();
+                    if modes
+                        .average(i, j, |mm| {
+                            m = mm;
+                            mm
+                        })
+                        .is_some()
+                    {
+                        *o = (m, s / (lam * m));
+                    }
+                }
+            });
+        depths
+            .iter()
+            .map(|&z| {
+                let mut out = vec![Complex64::default(); spec.len()];
+                out.par_chunks_mut(nx)
+                    .zip(planned.par_chunks(nx))
+                    .enumerate()
+                    .for_each(|(j, (o, p))| {
+                        for (i, (o, &(m, c))) in o.iter_mut().zip(p).enumerate() {
+                            if m.re.is_nan() {
+                                // A Nyquist mode: `c` holds q(k).
+                                *o = modes
+                                    .average(i, j, |m| (-m * z).exp() / (lam * m))
+                                    .map_or(Complex64::default(), |w| w * c);
+                            } else if m.re * z <= DEEP_CUT && c != Complex64::default() {
+                                *o = c * (-m * z).exp();
+                            }
+                        }
+                    });
+                let map = self.inverse(out)?;
+                let mean = map.par_iter().sum::<f64>() / map.len() as f64;
+                let max = map
+                    .par_iter()
+                    .copied()
+                    .reduce(|| f64::NEG_INFINITY, f64::max);
+                Ok((mean, max))
+            })
+            .collect()
+    }
+
     /// The rise about the mean \[K\] at each depth \[m\] under the volume
     /// source `source` \[W/m^3\]: layer `l`'s map at
     /// `source[l * nx * ny..(l + 1) * nx * ny]`.
@@ -206,6 +279,11 @@ impl PeriodicPlan {
         Ok(out)
     }
 }
+
+/// A mode whose `Re(m) z` exceeds this is left out of the rise at depth
+/// `z` ([`PeriodicPlan::surface_extremes`]): `exp(-40) = 4e-18` of its
+/// surface amplitude, below the maps' round-off.
+const DEEP_CUT: f64 = 40.0;
 
 /// The multiplier `f(m)` of every mode of the half spectrum (`ny / 2 + 1`
 /// columns of `nx` modes, column-major, as [`SpectralEngine`] holds them),

@@ -158,6 +158,38 @@ impl HeatSolver {
             .collect())
     }
 
+    /// The mean and the highest rise \[K\] at each of `depths` \[m\] under
+    /// the surface flux `flux` \[W/m^2\] on a periodic cell: those of
+    /// [`HeatSolver::surface_at`]'s maps (to round-off), computed one
+    /// depth at a time from modes planned once.
+    pub(crate) fn surface_extremes(
+        &mut self,
+        flux: &[f64],
+        depths: &[f64],
+    ) -> Result<Vec<(f64, f64)>, HeatError> {
+        check_map("the heat flux", flux, self.shape(), None)?;
+        check_depths(depths)?;
+        let Plan::Periodic(p) = &self.plan else {
+            return Err(HeatError::Unsupported(
+                "the rise below the surface of a pad is not solved; use a periodic cell",
+            ));
+        };
+        let extremes = p.surface_extremes(flux, depths)?;
+        let qbar = Self::mean(flux);
+        let c = self.setup.conduction;
+        Ok(extremes
+            .into_iter()
+            .zip(depths)
+            .map(|((mean, max), &z)| {
+                let b = self
+                    .setup
+                    .contact_time()
+                    .map_or(0.0, |tc| surface_background_at(qbar, z, &c, tc));
+                (mean + b, max + b)
+            })
+            .collect())
+    }
+
     /// The steady rise at each of `depths` \[m\] under the volume source
     /// `source` \[W/m^3\], constant within each of `layers` on each cell
     /// (layer `l`'s map at `source[l * nx * ny..(l + 1) * nx * ny]`), the
@@ -284,4 +316,55 @@ pub fn surface_temperature(setup: HeatSetup, flux: &[f64]) -> Result<Temperature
         None,
     )?;
     HeatSolver::new(setup)?.surface(flux)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::heat::{Conduction, HeatDomain};
+    use crate::response::Grid;
+
+    /// The planned profile's mean and peak are those of the depth maps
+    /// (the same sums, the deep modes left out below `exp(-40)`): 1e-12 of
+    /// the surface's peak, on a rough random flux with odd and even sides
+    /// (Nyquist modes), a slanted sliding direction and a block.
+    #[test]
+    fn surface_extremes_are_the_depth_maps_mean_and_peak() {
+        for (nx, ny) in [(48, 36), (33, 20)] {
+            let setup = HeatSetup {
+                grid: Grid::new(nx, ny, (2e-6, 3e-6)).unwrap(),
+                conduction: Conduction {
+                    conductivity: 0.25,
+                    diffusivity: 1e-7,
+                },
+                speed: 0.3,
+                direction_rad: 0.5,
+                domain: HeatDomain::Periodic {
+                    block_length: Some(0.01),
+                },
+            };
+            let mut solver = HeatSolver::new(setup).unwrap();
+            let flux: Vec<f64> = (0..nx * ny)
+                .map(|c| {
+                    if (c * 7919) % 13 < 2 {
+                        1e6 * (1 + c % 5) as f64
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let depths = [0.0, 1e-7, 2e-6, 3e-5, 1e-4, 1e-3];
+            let maps = solver.surface_at(&flux, &depths).unwrap();
+            let extremes = solver.surface_extremes(&flux, &depths).unwrap();
+            let scale = maps[0].max();
+            for (t, (mean, max)) in maps.iter().zip(&extremes) {
+                assert!(
+                    (t.mean() - mean).abs() <= 1e-12 * scale,
+                    "{} {mean}",
+                    t.mean()
+                );
+                assert!((t.max() - max).abs() <= 1e-12 * scale, "{} {max}", t.max());
+            }
+        }
+    }
 }

@@ -47,7 +47,7 @@ pub struct Evaluation {
 
 impl Evaluation {
     /// `g(T) = T0 + Theta(T) - T`.
-    fn residual(&self, t0: f64) -> f64 {
+    pub(super) fn residual(&self, t0: f64) -> f64 {
         t0 + self.rise - self.temperature
     }
 }
@@ -74,6 +74,9 @@ pub(crate) struct Branches {
     pub branches: Vec<Branch>,
     /// Every evaluation, in the order made.
     pub evaluations: Vec<Evaluation>,
+    /// The first this many of `evaluations` are the scan (`T0` first),
+    /// the rest the closing of its sign changes.
+    pub scanned: usize,
     /// The bracket searched \[C\].
     pub bracket: [f64; 2],
     /// How the bracket was searched, for the report.
@@ -214,6 +217,7 @@ impl BranchSearch {
         Ok(Branches {
             branches,
             evaluations,
+            scanned: scan.len(),
             bracket: [t0, end],
             method: format!(
                 "rises Theta(T0) x {}^i scanned up to {} K, sign changes closed by Illinois regula falsi to |g| <= {} K",
@@ -224,7 +228,7 @@ impl BranchSearch {
 
     /// A root at evaluation `e`, with `g`'s change `dg` over `dt` for its
     /// stability.
-    fn branch(&self, e: Evaluation, dg: f64, dt: f64) -> Branch {
+    pub(super) fn branch(&self, e: Evaluation, dg: f64, dt: f64) -> Branch {
         Branch {
             temperature: e.temperature,
             rise: e.temperature - self.t0,
@@ -235,7 +239,7 @@ impl BranchSearch {
 
     /// The root between `a` and `b` (residuals of opposite signs): regula
     /// falsi with the Illinois halving of the retained end's residual.
-    fn illinois<E>(
+    pub(super) fn illinois<E>(
         &self,
         a: Evaluation,
         b: Evaluation,

@@ -5,12 +5,16 @@
 //! - `params.rs`: `[heating]` typed and checked ([`HeatingParams`]).
 //! - `branches.rs`: every root of `T0 + Theta(T) - T` in a bracket
 //!   (`Branches`).
+//! - `two_level.rs`: the same bracket scanned on a coarse grid, its roots
+//!   closed on the full grid; `coarse.rs`: that coarse grid.
 //! - `solve.rs`: the fixed point over isothermal solves
 //!   ([`solve_heated`], [`HeatedSolution`]).
 
 mod branches;
+mod coarse;
 mod params;
 mod solve;
+mod two_level;
 
 pub use branches::{Branch, Evaluation};
 pub use params::{BranchChoice, HeatingParams};

@@ -54,6 +54,11 @@ pub struct HeatingParams {
     pub max_rise: f64,
     /// Accepted `|T0 + Theta(T) - T|` \[K\].
     pub tolerance: f64,
+    /// Scan the bracket on a coarse grid and close its roots on the full
+    /// one (`true`, the default: grids of 128 cells a side and more), or
+    /// scan it on the full grid (physics.md section 14; the rule that
+    /// decides between the two answers is in `src/heating/two_level.rs`).
+    pub coarse_scan: bool,
 }
 
 fn invalid(msg: impl Into<String>) -> Error {
@@ -171,6 +176,7 @@ impl HeatingParams {
             ambient,
             max_rise,
             tolerance,
+            coarse_scan: true,
         }))
     }
 

@@ -24,7 +24,9 @@ use crate::problem::{
 };
 
 use super::branches::{Branch, Evaluation, SearchFailure};
+use super::coarse::coarse_problem;
 use super::params::{BranchChoice, HeatingParams};
+use super::two_level::{Level, DISCREPANCY_WARNING};
 
 /// Heat balance `|Int Q dV / (mu F_N v) - 1|` above which a warning is
 /// given: the default depth layers hold it to 1e-3 (physics.md section 14).
@@ -67,10 +69,21 @@ pub struct HeatingReport {
     pub bracket: [f64; 2],
     /// How the bracket was searched.
     pub search: String,
-    /// Isothermal solves spent.
+    /// Isothermal solves spent on the full grid (the answer's).
     pub fixed_point_evaluations: usize,
-    /// `Theta(T)` at every temperature solved.
+    /// `Theta(T)` at every temperature solved on the full grid.
     pub evaluations: Vec<Evaluation>,
+    /// Isothermal solves spent on the coarse grid that scanned the bracket
+    /// (0 where the full grid scanned it).
+    pub coarse_evaluations: usize,
+    /// That coarse grid's cells `[nx, ny]` (the map's block means), none
+    /// where the full grid scanned the bracket (sides below 128 cells).
+    pub coarse_grid: Option<[usize; 2]>,
+    /// The coarse grid's own `Theta(T)` at every temperature solved there.
+    pub coarse_rises: Vec<Evaluation>,
+    /// The largest relative difference between the full grid's `Theta` and
+    /// the coarse grid's (scaled to agree at `T0`) where both were solved.
+    pub coarse_discrepancy: Option<f64>,
     /// `Int Q dV` of the answer \[W\].
     pub heat_total_w: f64,
     /// `mu F_N v` of the answer \[W\].
@@ -98,7 +111,8 @@ pub struct HeatingReport {
     pub wall_time_s: f64,
     /// Of which the isothermal solves \[s\].
     pub solve_time_s: f64,
-    /// Of which the heat sources and rises \[s\].
+    /// Of which the heat sources and rises (the depth profile's included)
+    /// \[s\].
     pub heat_time_s: f64,
 }
 
@@ -206,31 +220,48 @@ pub fn solve_heated(
     problem.check()?;
     let search = params.search();
     search.check().map_err(Error::Invalid)?;
-    let grid = problem.grid()?;
-    let periodic = grid.is_periodic();
-    let setup = HeatSetup {
-        grid,
-        conduction: params.conduction,
-        speed: problem.speed,
-        direction_rad: problem.direction_rad,
-        domain: if periodic {
-            HeatDomain::Periodic {
-                block_length: params.block_length,
-            }
-        } else {
-            HeatDomain::Pad
-        },
-    };
-    let mut heat = HeatSolver::new(setup).map_err(heat_error)?;
+    let periodic = problem.grid()?.is_periodic();
+    let mut heat = HeatSolver::new(heat_setup(problem, params)?).map_err(heat_error)?;
     let rule = DepthRule::default();
     let warm_starts = problem.discretisation() != Discretisation::Adaptive;
+    // The coarse grid that scans the bracket (`two_level.rs`), with its
+    // own heat problem; none on small grids.
+    let coarse = match coarse_problem(problem).filter(|_| params.coarse_scan) {
+        Some(c) => {
+            let h = HeatSolver::new(heat_setup(&c, params)?).map_err(heat_error)?;
+            Some((c, h))
+        }
+        None => None,
+    };
+    let coarse_grid = coarse.as_ref().map(|(c, _)| [c.surface.nx, c.surface.ny]);
+    let mut coarse = coarse;
     let mut last: Option<Solution> = None;
+    let mut last_coarse: Option<Solution> = None;
+    let mut coarse_evaluations = 0;
     let mut kept: Vec<Solved> = Vec::new();
     let mut isothermal: Option<f64> = None;
     let tolerance = params.tolerance;
     let (mut solve_time_s, mut heat_time_s) = (0.0, 0.0);
 
-    let mut evaluate = |t: f64| -> Result<f64> {
+    let mut evaluate = |level: Level, t: f64| -> Result<f64> {
+        if level == Level::Coarse {
+            let (cp, ch) = coarse.as_mut().expect("a coarse level is searched");
+            let solved = solve_at(
+                cp,
+                params,
+                ch,
+                &rule,
+                t,
+                last_coarse.as_ref().filter(|_| warm_starts),
+                executor,
+                observer,
+            )?;
+            coarse_evaluations += 1;
+            solve_time_s += solved.solution.timings.total_s;
+            heat_time_s += solved.heat_time_s;
+            last_coarse = Some(solved.solution);
+            return Ok(solved.rise);
+        }
         let solved = solve_at(
             problem,
             params,
@@ -247,14 +278,25 @@ pub fn solve_heated(
         solve_time_s += solved.solution.timings.total_s;
         heat_time_s += solved.heat_time_s;
         let rise = solved.rise;
-        let keep = (params.ambient + rise - t).abs() <= tolerance;
-        last = Some(solved.solution.clone());
-        if keep {
+        if (params.ambient + rise - t).abs() <= tolerance {
+            last = Some(solved.solution.clone());
             kept.push(solved);
+        } else {
+            last = Some(solved.solution);
         }
         Ok(rise)
     };
-    let found = match search.find(&mut evaluate) {
+    let searched = if coarse_grid.is_some() {
+        search.find_two_level(&mut evaluate).map(|two| {
+            let rises = two.coarse.clone();
+            (two.found, Some((rises, two.discrepancy)))
+        })
+    } else {
+        search
+            .find(|t| evaluate(Level::Full, t))
+            .map(|found| (found, None))
+    };
+    let (found, coarse_found) = match searched {
         Ok(found) => found,
         Err(SearchFailure::Evaluation(e)) => return Err(e),
         Err(SearchFailure::AboveBracket { rise_at_end }) => {
@@ -350,6 +392,14 @@ pub fn solve_heated(
             params.branch.name()
         ));
     }
+    if let Some((_, d)) = &coarse_found {
+        if *d > DISCREPANCY_WARNING {
+            warnings.push(format!(
+                "the coarse grid's rise that scanned the bracket differs from the full grid's by {:.1} % where both were solved: a branch away from the roots found may be misplaced or missed by the scan",
+                100.0 * d
+            ));
+        }
+    }
     let balance = answer.heat / friction_power - 1.0;
     if friction_power > 0.0 && balance.abs() > BALANCE_WARNING {
         warnings.push(format!(
@@ -381,6 +431,12 @@ pub fn solve_heated(
         search: found.method.clone(),
         fixed_point_evaluations: evaluations,
         evaluations: found.evaluations.clone(),
+        coarse_evaluations,
+        coarse_grid,
+        coarse_rises: coarse_found
+            .as_ref()
+            .map_or_else(Vec::new, |(r, _)| r.clone()),
+        coarse_discrepancy: coarse_found.as_ref().map(|(_, d)| *d),
         heat_total_w: answer.heat,
         friction_power_w: friction_power,
         isothermal_friction_coefficient: isothermal.expect("T0 is evaluated first"),
@@ -396,10 +452,11 @@ pub fn solve_heated(
         block_length: params.block_length,
         peclet: problem.speed * length / params.conduction.diffusivity,
         warnings,
-        wall_time_s: clock.elapsed().as_secs_f64(),
+        wall_time_s: 0.0,
         solve_time_s,
         heat_time_s,
     };
+    let profile_clock = Instant::now();
     let depth_profile = if periodic {
         Some(depth_profile(
             problem,
@@ -412,6 +469,9 @@ pub fn solve_heated(
     } else {
         None
     };
+    let mut report = report;
+    report.heat_time_s += profile_clock.elapsed().as_secs_f64();
+    report.wall_time_s = clock.elapsed().as_secs_f64();
     let mut solution = solution;
     solution.warnings.extend(report.warnings.iter().cloned());
     Ok(HeatedSolution {
@@ -480,19 +540,38 @@ fn depth_profile(
             depths.extend(
                 (0..=count).map(|i| shallow * (deep / shallow).powf(i as f64 / count as f64)),
             );
-            let maps = heat.surface_at(flux, &depths).map_err(heat_error)?;
-            Ok(maps
+            let rows = heat.surface_extremes(flux, &depths).map_err(heat_error)?;
+            Ok(rows
                 .iter()
                 .zip(&depths)
-                .map(|(m, &z)| DepthRow {
+                .map(|(&(mean_rise, max_rise), &z)| DepthRow {
                     depth: z,
-                    mean_rise: mean(&m.rise),
-                    max_rise: max(&m.rise),
+                    mean_rise,
+                    max_rise,
                     mean_source: 0.0,
                 })
                 .collect())
         }
     }
+}
+
+/// The heat problem of `problem`'s grid.
+fn heat_setup(problem: &Problem, params: &HeatingParams) -> Result<HeatSetup> {
+    let grid = problem.grid()?;
+    let domain = if grid.is_periodic() {
+        HeatDomain::Periodic {
+            block_length: params.block_length,
+        }
+    } else {
+        HeatDomain::Pad
+    };
+    Ok(HeatSetup {
+        grid,
+        conduction: params.conduction,
+        speed: problem.speed,
+        direction_rad: problem.direction_rad,
+        domain,
+    })
 }
 
 /// The map's side along the sliding direction \[m\].

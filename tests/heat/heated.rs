@@ -385,3 +385,44 @@ fn a_sweep_over_heating_enabled_gives_both_curves() {
     );
     assert_eq!(csv.lines().count(), 5, "{csv}");
 }
+
+#[test]
+fn the_coarse_scan_finds_the_full_grid_scans_answer() {
+    // The same periodic cell on 128^2 cells (the coarse scan runs on
+    // 64^2): the coarse-bracket answer and the full-grid scan's agree to
+    // the search's tolerance (both have |g| <= 1e-3 K on the full grid,
+    // and g's slope here is about -1, so the temperatures agree to
+    // 2e-3 K), with fewer full-grid solves.
+    let sets = ["surface.generate.n=128"];
+    let (problem, params, coarse) = heated(PERIODIC, &sets);
+    let full_params = HeatingParams {
+        coarse_scan: false,
+        ..params
+    };
+    let full = solve_heated(&problem, &full_params, &Executor::Cpu, &mut Silent).unwrap();
+    let (c, f) = (&coarse.report, &full.report);
+    eprintln!(
+        "coarse: T_eff {} ({} full-grid + {} coarse solves); full: {} ({} solves)",
+        c.effective_temperature,
+        c.fixed_point_evaluations,
+        c.coarse_evaluations,
+        f.effective_temperature,
+        f.fixed_point_evaluations
+    );
+    assert_eq!(c.coarse_grid, Some([64, 64]));
+    assert_eq!((f.coarse_grid, f.coarse_evaluations), (None, 0));
+    assert!(c.search.contains("coarse grid"), "{}", c.search);
+    assert_eq!(c.branches.len(), f.branches.len());
+    for (a, b) in c.branches.iter().zip(&f.branches) {
+        assert!(
+            (a.temperature - b.temperature).abs() <= 2.0 * params.tolerance,
+            "{a:?} {b:?}"
+        );
+        assert_eq!(a.stable, b.stable);
+    }
+    assert!(c.fixed_point_evaluations < f.fixed_point_evaluations);
+    assert_eq!(c.fixed_point_evaluations, c.evaluations.len());
+    // Each answer is its own full-grid solve at its T_eff.
+    let g = c.ambient_temperature + c.temperature_rise.effective - c.effective_temperature;
+    assert!(g.abs() <= params.tolerance, "{g:e}");
+}
