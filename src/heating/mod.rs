@@ -7,15 +7,18 @@
 //!   (`Branches`).
 //! - `two_level.rs`: the same bracket scanned on a coarse grid, its roots
 //!   closed on the full grid; `coarse.rs`: that coarse grid.
-//! - `solve.rs`: the fixed point over isothermal solves
-//!   ([`solve_heated`], [`HeatedSolution`]).
+//! - `solve.rs`: the fixed point over isothermal solves ([`solve_heated`]).
+//! - `report.rs`: what it reports ([`HeatingReport`]) and writes
+//!   ([`HeatedSolution`]).
 
 mod branches;
 mod coarse;
 mod params;
+mod report;
 mod solve;
 mod two_level;
 
 pub use branches::{Branch, Evaluation};
 pub use params::{BranchChoice, HeatingParams};
-pub use solve::{solve_heated, DepthRow, HeatedSolution, HeatingReport, Rises};
+pub use report::{DepthRow, HeatedSolution, HeatingReport, Rises};
+pub use solve::solve_heated;

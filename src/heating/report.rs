@@ -1,0 +1,170 @@
+//! What the heated solve reports (physics.md section 14): the rises, the
+//! `heating` object of `summary.json` ([`HeatingReport`]), the depth
+//! profile's rows, and the heated contact with its outputs
+//! ([`HeatedSolution`]: the solve's files plus `temperature.npy`,
+//! `temperature.png` and `temperature_depth.csv`).
+
+use serde::Serialize;
+
+use crate::error::Result;
+use crate::problem::{ExtraMap, Solution, SolveExtras};
+
+use super::branches::{Branch, Evaluation};
+
+/// The temperature rises of the answer \[K\].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Rises {
+    /// `Theta(T_eff)`, the dissipation-weighted rise: `T_eff - T0` to the
+    /// search's tolerance (the branch's residual).
+    pub effective: f64,
+    /// The surface's highest rise.
+    pub peak_surface: f64,
+    /// The surface rise averaged over the cells in contact.
+    pub mean_contact: f64,
+    /// The periodic cell's background heating (its mean over a block's
+    /// passage); none on a pad.
+    pub background: Option<f64>,
+}
+
+/// What the heated solve reports (`summary.json`'s `heating`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HeatingReport {
+    /// `T0` \[C\].
+    pub ambient_temperature: f64,
+    /// `T_eff` of the chosen branch \[C\].
+    pub effective_temperature: f64,
+    pub temperature_rise: Rises,
+    /// `"cold"` or `"hot"`.
+    pub chosen_branch: &'static str,
+    /// Every self-consistent temperature found in the bracket, coldest
+    /// first.
+    pub branches: Vec<Branch>,
+    /// `[T0, T0 + max_rise]` \[C\].
+    pub bracket: [f64; 2],
+    /// How the bracket was searched.
+    pub search: String,
+    /// Isothermal solves spent on the full grid (the answer's).
+    pub fixed_point_evaluations: usize,
+    /// `Theta(T)` at every temperature solved on the full grid.
+    pub evaluations: Vec<Evaluation>,
+    /// Isothermal solves spent on the coarse grid that scanned the bracket
+    /// (0 where the full grid scanned it).
+    pub coarse_evaluations: usize,
+    /// That coarse grid's cells `[nx, ny]` (the map's block means), none
+    /// where the full grid scanned the bracket (sides below 128 cells).
+    pub coarse_grid: Option<[usize; 2]>,
+    /// The coarse grid's own `Theta(T)` at every temperature solved there.
+    pub coarse_rises: Vec<Evaluation>,
+    /// The largest relative difference between the full grid's `Theta` and
+    /// the coarse grid's (scaled to agree at `T0`) where both were solved.
+    pub coarse_discrepancy: Option<f64>,
+    /// `Int Q dV` of the answer \[W\].
+    pub heat_total_w: f64,
+    /// `mu F_N v` of the answer \[W\].
+    pub friction_power_w: f64,
+    /// `mu` of the isothermal solve at `T0`, for comparison.
+    pub isothermal_friction_coefficient: f64,
+    /// Persson's `mu` at `T_eff` (the answer's own estimate), when it
+    /// applies.
+    pub persson_friction_coefficient: Option<f64>,
+    /// `"volume"` or `"surface"`.
+    pub source: &'static str,
+    /// `"effective"`.
+    pub closure: &'static str,
+    /// `lam` \[W/(m K)\].
+    pub conductivity: f64,
+    /// `kappa` \[m^2/s\].
+    pub diffusivity: f64,
+    /// `L_b` \[m\], periodic cells.
+    pub block_length: Option<f64>,
+    /// `v L / kappa` with `L` the map's side along the sliding direction.
+    pub peclet: f64,
+    /// Where the answer may mislead.
+    pub warnings: Vec<String>,
+    /// Wall time of the whole heated solve \[s\].
+    pub wall_time_s: f64,
+    /// Of which the isothermal solves \[s\].
+    pub solve_time_s: f64,
+    /// Of which the heat sources and rises (the depth profile's included)
+    /// \[s\].
+    pub heat_time_s: f64,
+}
+
+/// One depth of the answer's temperature profile.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DepthRow {
+    /// Depth below the surface \[m\].
+    pub depth: f64,
+    /// The rise averaged over the cell's plane at that depth \[K\].
+    pub mean_rise: f64,
+    /// Its highest value \[K\].
+    pub max_rise: f64,
+    /// The volume source averaged over the layer holding that depth
+    /// \[W/m^3\] (volume sources; 0 at the surface).
+    pub mean_source: f64,
+}
+
+/// The heated contact.
+#[derive(Debug, Clone)]
+pub struct HeatedSolution {
+    /// The isothermal solve at `T_eff`: its friction is the heated
+    /// friction; its warnings include the heating's.
+    pub solution: Solution,
+    /// The surface rise `T - T0` at the cell centres \[K\] (C order, axis
+    /// 0 = x).
+    pub surface_rise: Vec<f64>,
+    /// The rise against depth (periodic cells; a pad's rise is solved at
+    /// its surface only).
+    pub depth_profile: Option<Vec<DepthRow>>,
+    pub report: HeatingReport,
+}
+
+impl HeatedSolution {
+    /// `summary.json`'s `heating` object: the report, and where the depth
+    /// profile is.
+    pub fn summary(&self) -> serde_json::Value {
+        let mut heating = serde_json::to_value(&self.report).expect("the report is serialisable");
+        heating["depth_profile"] = match &self.depth_profile {
+            Some(_) => "temperature_depth.csv".into(),
+            None => "not solved below a pad's surface (periodic cells only)".into(),
+        };
+        heating
+    }
+
+    /// The `heating` object, the temperature map and the depth profile,
+    /// for [`Solution::write_with`].
+    pub(crate) fn extras(&self) -> SolveExtras {
+        let heating = self.summary();
+        let mut files = Vec::new();
+        if let Some(rows) = &self.depth_profile {
+            let mut csv = String::from("depth_m,mean_rise_k,max_rise_k,mean_source_w_m3\n");
+            for r in rows {
+                csv.push_str(&format!(
+                    "{:e},{:e},{:e},{:e}\n",
+                    r.depth, r.mean_rise, r.max_rise, r.mean_source
+                ));
+            }
+            files.push(("temperature_depth.csv", csv.into_bytes()));
+        }
+        SolveExtras {
+            summary: vec![("heating", heating)],
+            files,
+            maps: vec![ExtraMap {
+                file: "temperature.png",
+                title: format!(
+                    "Surface temperature rise (T_eff = {:.3} C, T0 = {} C)",
+                    self.report.effective_temperature, self.report.ambient_temperature
+                ),
+                unit: "T - T0 [K]",
+                values: self.surface_rise.clone(),
+            }],
+        }
+    }
+
+    /// Write the answer's outputs into `dir` (all or nothing): the solve's
+    /// files, `summary.json` with its `heating` object, `temperature.npy`
+    /// and `.png`, and `temperature_depth.csv` on periodic cells.
+    pub fn write(&self, dir: &std::path::Path) -> Result<Vec<std::path::PathBuf>> {
+        self.solution.write_with(dir, &self.extras())
+    }
+}
