@@ -28,10 +28,18 @@ use super::{MeshReport, Problem};
 /// Wall-clock split of a solve \[s\].
 #[derive(Debug, Clone, Copy, Serialize, Default)]
 pub struct Timings {
+    /// The fine grid's influence coefficients (tables), prepared once.
     pub coefficients_s: f64,
+    /// Every grid's operator built from them (the cascade's coarse tables,
+    /// transforms, preconditioner, device buffers; the adaptive rounds'
+    /// meshes).
     pub operator_setup_s: f64,
+    /// The contact iteration (a device's host refinement included).
     pub iteration_s: f64,
+    /// Friction, statistics and warnings of the answer.
     pub analysis_s: f64,
+    /// The finite pad's smooth-pad reference (0 where there is none).
+    pub smooth_pad_s: f64,
     pub total_s: f64,
 }
 

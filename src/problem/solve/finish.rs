@@ -57,6 +57,7 @@ impl Problem {
             }
         }
         let t_an = t2.elapsed().as_secs_f64();
+        let t_pad = smooth_pad.as_ref().map_or(0.0, |p| p.time_s);
         let total = t0.elapsed().as_secs_f64();
         let timings = Timings {
             coefficients_s: raw.t_coeff,
@@ -64,7 +65,8 @@ impl Problem {
                 .t_setup
                 .unwrap_or(total - raw.t_coeff - raw.t_iter - t_an),
             iteration_s: raw.t_iter,
-            analysis_s: t_an,
+            analysis_s: (t_an - t_pad).max(0.0),
+            smooth_pad_s: t_pad,
             total_s: total,
         };
         let mut solution = Solution::new(
