@@ -18,11 +18,9 @@
 //! Every MD5 checksum present (point data, valid points, `main.xml`) is
 //! verified; a mismatch is an error.
 //!
-//! Length: about 550 lines, the reader and the writer of one format kept
-//! together so that the round-trip conventions (axes, data types, checksums)
-//! live in one place.
-//!
-//! Over 600 lines: one file format, its reader (zip, XML, MD5 checks) and its writer, kept together.
+//! Over 600 lines: one file format, its reader (zip, XML, MD5 checks) and
+//! its writer, kept together so that the round-trip conventions (axes, data
+//! types, checksums) live in one place.
 
 use std::collections::HashMap;
 use std::io::{Cursor, Read, Write};
