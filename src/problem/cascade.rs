@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use crate::backend::Backend;
 use crate::error::Result;
-use crate::solver::{self, ContactSolution, Observer, SolveInfo, WarmStart};
+use crate::solver::{self, ContactSolution, Control, Observer, SolveInfo, WarmStart};
 
 use super::Problem;
 
@@ -44,50 +44,81 @@ impl Problem {
     pub(super) fn iterate_cascade<B, F>(
         &self,
         observer: &mut dyn Observer,
-        mut build: F,
+        build: F,
     ) -> Result<(ContactSolution, SolveInfo, f64)>
     where
         B: Backend,
         F: FnMut(usize, usize, (f64, f64)) -> Result<(B, f64)>,
     {
-        let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
+        let (nx, ny) = (self.surface.nx, self.surface.ny);
         let t = Instant::now();
         let shapes = solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.cascade_levels);
-        let mut gaps = vec![self.gap_profile()];
-        for w in shapes.windows(2).rev() {
-            let (fx, fy) = w[1];
-            let coarse = solver::cascade::restrict_mean(gaps.last().expect("fine gap"), fx, fy);
-            gaps.push(coarse);
-        }
-        gaps.reverse();
-        let mut failure = None;
-        let result = solver::solve_cascade(
+        let (solution, info) = cascade_of(
             &shapes,
-            |k, (lx, ly)| {
-                let cell = (ax * (nx / lx) as f64, ay * (ny / ly) as f64);
-                // A level that cannot be built (e.g. a device error) fails
-                // the solve with its own error, kept aside here.
-                let (backend, l00) = build(lx, ly, cell).map_err(|e| {
-                    let message = format!("the {lx} x {ly} grid of the cascade: {e}");
-                    failure = Some(e);
-                    solver::SolverError::Invalid(message)
-                })?;
-                Ok(solver::CascadeLevel {
-                    backend,
-                    gap: std::mem::take(&mut gaps[k]),
-                    cell_area: cell.0 * cell.1,
-                    self_coefficient: l00,
-                })
-            },
+            self.surface.cell(),
+            self.gap_profile(),
             self.control,
             &self.solver_params(),
-            None,
             observer,
-        );
-        let (solution, info) = match (result, failure) {
-            (Err(_), Some(e)) => return Err(e),
-            (result, _) => result.map_err(|e| self.advise(e))?,
-        };
+            build,
+        )?
+        .map_err(|e| self.advise(e))?;
         Ok((solution, info, t.elapsed().as_secs_f64()))
+    }
+}
+
+/// The constrained iteration of the fine gap `gap` on the grids `shapes`
+/// (the last the fine one, of cells `(a_x, a_y)`) as a coarse-to-fine
+/// cascade ([`solver::solve_cascade`]) on backends built by
+/// `build(nx, ny, (a_x, a_y))`; the coarse grids' gaps are the fine one's
+/// 2 x 2 block means. A level that cannot be built (e.g. a device error)
+/// is the outer error, its own; the iteration's outcome is the inner
+/// result.
+pub(super) fn cascade_of<B, F>(
+    shapes: &[(usize, usize)],
+    (ax, ay): (f64, f64),
+    gap: Vec<f64>,
+    control: Control,
+    params: &solver::SolverParams,
+    observer: &mut dyn Observer,
+    mut build: F,
+) -> Result<std::result::Result<(ContactSolution, SolveInfo), solver::SolverError>>
+where
+    B: Backend,
+    F: FnMut(usize, usize, (f64, f64)) -> Result<(B, f64)>,
+{
+    let &(nx, ny) = shapes.last().expect("the fine grid");
+    let mut gaps = vec![gap];
+    for w in shapes.windows(2).rev() {
+        let (fx, fy) = w[1];
+        let coarse = solver::cascade::restrict_mean(gaps.last().expect("fine gap"), fx, fy);
+        gaps.push(coarse);
+    }
+    gaps.reverse();
+    let mut failure = None;
+    let result = solver::solve_cascade(
+        shapes,
+        |k, (lx, ly)| {
+            let cell = (ax * (nx / lx) as f64, ay * (ny / ly) as f64);
+            let (backend, l00) = build(lx, ly, cell).map_err(|e| {
+                let message = format!("the {lx} x {ly} grid of the cascade: {e}");
+                failure = Some(e);
+                solver::SolverError::Invalid(message)
+            })?;
+            Ok(solver::CascadeLevel {
+                backend,
+                gap: std::mem::take(&mut gaps[k]),
+                cell_area: cell.0 * cell.1,
+                self_coefficient: l00,
+            })
+        },
+        control,
+        params,
+        None,
+        observer,
+    );
+    match (result, failure) {
+        (Err(_), Some(e)) => Err(e),
+        (result, _) => Ok(result),
     }
 }

@@ -35,7 +35,7 @@ use serde::Serialize;
 use crate::error::Result;
 use crate::solver::{self, Control, Silent};
 
-use super::cascade::CASCADE_COARSEST;
+use super::cascade::{cascade_of, CASCADE_COARSEST};
 use super::executor::{CpuExecutor, Executes};
 use super::solve::UniformOperators;
 use super::Problem;
@@ -160,46 +160,26 @@ impl Problem {
 }
 
 /// The flat pad's pressure on `executor`'s backends by the constrained
-/// iteration as a coarse-to-fine cascade over `shapes` (the rough solve's
-/// grids; the flat gap is zero on each, so no restriction is needed), from
-/// the coarsest grid's bearing-area start; returns the fine grid's solution
-/// and the report (fine-grid-equivalent matvecs).
+/// iteration as the rough solve's coarse-to-fine cascade over `shapes`
+/// ([`cascade_of`], the gap zero on every grid), from the coarsest grid's
+/// bearing-area start; returns the fine grid's solution and the report
+/// (fine-grid-equivalent matvecs).
 fn flat_cascade<X: Executes>(
     executor: &mut X,
     operators: &UniformOperators,
     shapes: &[(usize, usize)],
-    (ax, ay): (f64, f64),
+    cell: (f64, f64),
     load: f64,
     params: &solver::SolverParams,
 ) -> Result<(solver::ContactSolution, solver::SolveInfo)> {
     let &(nx, ny) = shapes.last().expect("the fine grid");
-    let mut failure = None;
-    let result = solver::solve_cascade(
+    Ok(cascade_of(
         shapes,
-        |_, (lx, ly)| {
-            let cell = (ax * (nx / lx) as f64, ay * (ny / ly) as f64);
-            let (backend, l00) = operators
-                .on(lx, ly, cell)
-                .and_then(|d| executor.build(&d, None))
-                .map_err(|e| {
-                    let message = format!("the {lx} x {ly} grid of the cascade: {e}");
-                    failure = Some(e);
-                    solver::SolverError::Invalid(message)
-                })?;
-            Ok(solver::CascadeLevel {
-                backend,
-                gap: vec![0.0; lx * ly],
-                cell_area: cell.0 * cell.1,
-                self_coefficient: l00,
-            })
-        },
+        cell,
+        vec![0.0; nx * ny],
         Control::Load(load),
         params,
-        None,
         &mut Silent,
-    );
-    match (result, failure) {
-        (Err(_), Some(e)) => Err(e),
-        (result, _) => Ok(result?),
-    }
+        |lx, ly, cell| executor.build(&operators.on(lx, ly, cell)?, None),
+    )??)
 }
