@@ -3,6 +3,7 @@
 
 pub mod domain;
 pub mod gwy;
+pub mod heating;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -12,45 +12,6 @@ use viscoslide::heating::{solve_heated, HeatingParams};
 use viscoslide::internals::solver::Silent;
 use viscoslide::problem::{Executor, Problem};
 
-/// A single-relaxation rubber with the "universal" WLF constants at
-/// `T_ref = 17 C`: a 32^2 pad of 0.2 mm at 1 MPa sliding at 0.1 m/s, the
-/// surface work of its pressure as the source (the default on a pad); a
-/// rise of about a kelvin (tests/heat/heated.rs's case, non-periodic:
-/// the GPU path's formulation).
-const PAD: &str = r#"
-[material]
-model = "sls"
-relaxed_modulus = 3.3333333333333335e6
-glassy_modulus = 1.0e7
-creep_time = 1e-4
-poisson = 0.5
-wlf = [8.86, 101.6, 17.0]
-
-[surface.generate]
-n = 32
-length = 0.0002
-hurst = 0.8
-scales = 4
-rms_slope = 0.3
-seed = 3
-
-[loading]
-mean_pressure = 1e6
-speed = 0.1
-temperature = 17.0
-
-[solver]
-formulation = "non_periodic"
-tolerance = 1e-11
-
-[analysis]
-enabled = false
-
-[heating]
-conductivity = 0.25
-diffusivity = 1e-7
-"#;
-
 #[test]
 fn a_heated_solve_on_the_gpu_gives_the_cpu_answer() {
     let Some(ctx) = crate::common::gpu_context() else {
@@ -58,8 +19,10 @@ fn a_heated_solve_on_the_gpu_gives_the_cpu_answer() {
     };
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("case.toml");
-    std::fs::write(&path, PAD).unwrap();
-    let cfg = config::load(&path, &[]).unwrap();
+    // tests/heat/heated.rs's rubber and surface as a pad (the GPU path's
+    // formulation): a rise of about a kelvin.
+    std::fs::write(&path, crate::common::heating::heated_pad()).unwrap();
+    let cfg = config::load(&path, &["solver.formulation=\"non_periodic\"".to_string()]).unwrap();
     let problem = Problem::from_config(&cfg).unwrap();
     let params =
         HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(17.0))

@@ -13,45 +13,7 @@ use viscoslide::heating::{solve_heated, HeatedSolution, HeatingParams};
 use viscoslide::io::npy;
 use viscoslide::problem::{Executor, Problem, Silent};
 
-/// The default config's single-relaxation rubber with the "universal" WLF
-/// constants at `T_ref = 17 C`, a 32^2 periodic cell of 0.2 mm at 1 MPa
-/// sliding at 0.1 m/s under a 5 cm block: a rise of kelvins (the block's
-/// background heating dominates), in the range where the background's
-/// formula holds (no warning).
-const PERIODIC: &str = r#"
-[material]
-model = "sls"
-relaxed_modulus = 3.3333333333333335e6
-glassy_modulus = 1.0e7
-creep_time = 1e-4
-poisson = 0.5
-wlf = [8.86, 101.6, 17.0]
-
-[surface.generate]
-n = 32
-length = 0.0002
-hurst = 0.8
-scales = 4
-rms_slope = 0.3
-seed = 3
-
-[loading]
-mean_pressure = 1e6
-speed = 0.1
-temperature = 17.0
-
-[solver]
-formulation = "periodic"
-tolerance = 1e-11
-
-[analysis]
-enabled = false
-
-[heating]
-conductivity = 0.25
-diffusivity = 1e-7
-block_length = 0.05
-"#;
+use crate::common::heating::{heated_pad, HEATED_CELL as PERIODIC};
 
 fn load(text: &str, sets: &[&str]) -> (tempfile::TempDir, LoadedConfig) {
     let dir = tempfile::tempdir().unwrap();
@@ -176,7 +138,7 @@ fn a_pad_is_heated_by_the_surface_work_of_its_pressure() {
     // The same rubber as a finite pad: the surface source (the default on
     // a pad), the steady moving-source rise, no background; the balance is
     // exact (the flux's total is the stencil friction's power).
-    let pad = PERIODIC.replace("block_length = 0.05\n", "");
+    let pad = heated_pad();
     let (_, _, h) = heated(&pad, &["solver.formulation=\"non_periodic\""]);
     let r = &h.report;
     assert_eq!(r.source, "surface");
@@ -226,7 +188,7 @@ fn heating_is_refused_without_what_it_needs() {
         .to_string();
     assert!(e.contains("WLF"), "{e}");
     // On a pad: the volume source, and a block length, are refused.
-    let pad = PERIODIC.replace("block_length = 0.05\n", "");
+    let pad = heated_pad();
     for (text, sets, key) in [
         (
             pad.as_str(),

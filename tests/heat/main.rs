@@ -6,6 +6,9 @@
 //! One test binary per area (docs/ARCHITECTURE.md, "Tests"): each file
 //! here is a module; run one with `cargo test --release --test heat FILE::`.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod cli;
 mod closed_form;
 mod heated;
