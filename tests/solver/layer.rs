@@ -92,48 +92,10 @@ fn bonded_layer_is_stiffer_and_friction_routes_agree() {
 /// asserted against refined solves in tests/solver/thin_step.rs.
 #[test]
 fn friction_is_continuous_across_the_thin_layer_switches() {
-    use viscoslide::config::{self, SolverConfig};
-    use viscoslide::problem::{Executor, Problem};
+    use viscoslide::problem::Executor;
     let a = 0.01 / 64.0;
     let solve = |h: f64, formulation: &str| {
-        let text = format!(
-            r#"
-[material]
-model = "sls"
-relaxed_modulus = 3.3333333333333335e6
-glassy_modulus = 1.0e7
-creep_time = 0.01
-poisson = 0.5
-
-[surface.generate]
-n = 64
-length = 0.01
-hurst = 0.8
-scales = 32
-rms_slope = 0.02
-rolloff_q0 = 5026.548
-seed = 1
-
-[loading]
-mean_pressure = 1e6
-xi = 1.17e-2
-
-[layer]
-thickness = {h:e}
-base = "bonded"
-
-[solver]
-tolerance = 1e-8
-"#
-        );
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("c.toml");
-        std::fs::write(&path, text).unwrap();
-        let sc: SolverConfig = toml::from_str(&format!("formulation = \"{formulation}\"")).unwrap();
-        let problem = Problem::from_config(&config::load(&path, &[]).unwrap())
-            .unwrap()
-            .with_solver_config(&sc)
-            .unwrap();
+        let problem = crate::thin_step::bonded_pad(64, h, 1.17e-2, formulation);
         let s = problem.solve(&Executor::Cpu, &mut solver::Silent).unwrap();
         let cells = s.fields.contact.iter().filter(|&&c| c > 0.5).count();
         eprintln!(

@@ -9,8 +9,9 @@ use viscoslide::internals::solver;
 use viscoslide::problem::{Executor, Problem};
 
 /// `configs/default.toml`'s pad under 1 MPa on a bonded incompressible
-/// layer of thickness `h` (near full contact), `n^2` cells, `xi = v tau / L`.
-fn mu(n: usize, h: f64, xi: f64) -> f64 {
+/// layer of thickness `h` (near full contact), `n^2` cells, `xi = v tau /
+/// L`, in `formulation` (`"non_periodic"` or `"periodic"`).
+pub(crate) fn bonded_pad(n: usize, h: f64, xi: f64, formulation: &str) -> Problem {
     let text = format!(
         r#"
 [material]
@@ -44,11 +45,16 @@ tolerance = 1e-8
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("c.toml");
     std::fs::write(&path, text).unwrap();
-    let sc: SolverConfig = toml::from_str("formulation = \"non_periodic\"").unwrap();
-    let problem = Problem::from_config(&config::load(&path, &[]).unwrap())
+    let sc: SolverConfig = toml::from_str(&format!("formulation = \"{formulation}\"")).unwrap();
+    Problem::from_config(&config::load(&path, &[]).unwrap())
         .unwrap()
         .with_solver_config(&sc)
-        .unwrap();
+        .unwrap()
+}
+
+/// The friction of [`bonded_pad`] in the non-periodic formulation.
+fn mu(n: usize, h: f64, xi: f64) -> f64 {
+    let problem = bonded_pad(n, h, xi, "non_periodic");
     let s = problem.solve(&Executor::Cpu, &mut solver::Silent).unwrap();
     s.friction_coefficient
 }
