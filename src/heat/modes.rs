@@ -14,6 +14,8 @@
 
 use num_complex::Complex64;
 
+use crate::operator::signed_index;
+
 /// `m` of the wavevector `(kx, ky)` \[1/m\]: the root of
 /// `m^2 = |k|^2 - i rate (k.e)` with `Re m > 0` (`rate = v / kappa`);
 /// `m(-k) = conj m(k)`.
@@ -69,18 +71,6 @@ pub struct Modes {
     pub e: (f64, f64),
     /// `v / kappa` \[1/m\].
     pub rate: f64,
-}
-
-/// Signed FFT index of bin `i` of an `n`-point transform, and whether it
-/// is the Nyquist bin.
-fn signed_index(i: usize, n: usize) -> (f64, bool) {
-    if 2 * i == n {
-        (i as f64, true)
-    } else if i <= n / 2 {
-        (i as f64, false)
-    } else {
-        (i as f64 - n as f64, false)
-    }
 }
 
 impl Modes {

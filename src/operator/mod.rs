@@ -15,7 +15,7 @@ mod fft_convolution;
 mod field;
 mod real;
 mod real_rows;
-pub(crate) use fft_convolution::{half_spectrum as real_half_spectrum, inverse_multiplier};
+pub(crate) use fft_convolution::inverse_multiplier;
 mod periodic;
 mod toeplitz;
 
@@ -25,7 +25,7 @@ pub use description::OperatorDescription;
 pub(crate) use fft_convolution::half_spectrum;
 pub use fft_convolution::Real;
 pub(crate) use fft_convolution::SpectralEngine;
-pub(crate) use periodic::{column_weight, multiplier_half_spectrum};
+pub(crate) use periodic::{column_weight, multiplier_half_spectrum, signed_index};
 pub use periodic::{periodic_multiplier, PeriodicResponse, SpectralPeriodic};
 pub use toeplitz::{chan_kernel, fast_size, ToeplitzFft, CHAN_FRACTION};
 

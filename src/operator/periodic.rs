@@ -73,7 +73,7 @@ pub struct SpectralPeriodic<T: Real = f64> {
 
 /// Signed FFT index of bin `i` of an `n`-point transform, and whether it is
 /// the Nyquist bin.
-fn signed_index(i: usize, n: usize) -> (f64, bool) {
+pub(crate) fn signed_index(i: usize, n: usize) -> (f64, bool) {
     if 2 * i == n {
         (i as f64, true)
     } else if i <= n / 2 {

@@ -20,7 +20,8 @@ use super::context::GpuError;
 use super::engine::{Buf, Engine, Kernel};
 pub use super::fft_plan::padded;
 use super::fft_plan::{grid, work_elements, MatvecPlan, Path, Role, MIN_WORKGROUPS};
-use crate::operator::{inverse_multiplier, real_half_spectrum};
+use crate::operator::half_spectrum as real_half_spectrum;
+use crate::operator::inverse_multiplier;
 
 /// Storage precision of the kernel spectrum.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -41,6 +41,7 @@ use rustfft::{Fft, FftPlanner};
 use super::super::error::HeatError;
 use super::fft::{Buffers, InverseFft};
 use super::stress::{dissipation_form, mode_stress, unit_component, ModeStress};
+use crate::operator::signed_index;
 use crate::response::{Grid, SlidingResponse};
 use crate::surface::height_fft;
 
@@ -90,18 +91,6 @@ impl RateFn {
             .iter()
             .map(|&(a, tau)| a * iw / (1.0 + iw * tau))
             .sum()
-    }
-}
-
-/// Signed index of bin `i` of an `n`-point transform and whether it is
-/// the Nyquist bin.
-fn signed(i: usize, n: usize) -> (f64, bool) {
-    if 2 * i == n {
-        (i as f64, true)
-    } else if i <= n / 2 {
-        (i as f64, false)
-    } else {
-        (i as f64 - n as f64, false)
     }
 }
 
@@ -182,8 +171,8 @@ impl Dissipation {
         let regular = (0..(ny / 2 + 1) * nx)
             .filter_map(|index| {
                 let (i, j) = (index % nx, index / nx);
-                let (kx, nyq_x) = signed(i, nx);
-                let (ky, nyq_y) = signed(j, ny);
+                let (kx, nyq_x) = signed_index(i, nx);
+                let (ky, nyq_y) = signed_index(j, ny);
                 if (i == 0 && j == 0) || nyq_x || nyq_y {
                     return None;
                 }
@@ -231,8 +220,8 @@ impl Dissipation {
         if i == 0 && j == 0 {
             return None;
         }
-        let (kx, nyq_x) = signed(i, self.nx);
-        let (ky, nyq_y) = signed(j, self.ny);
+        let (kx, nyq_x) = signed_index(i, self.nx);
+        let (ky, nyq_y) = signed_index(j, self.ny);
         let tau2 = std::f64::consts::TAU;
         let (qx, qy) = (tau2 * kx / self.length.0, tau2 * ky / self.length.1);
         let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
@@ -470,8 +459,8 @@ impl Dissipation {
                 if i == 0 && j == 0 {
                     return 0.0;
                 }
-                let (kx, nyq_x) = signed(i, nx);
-                let (ky, nyq_y) = signed(j, ny);
+                let (kx, nyq_x) = signed_index(i, nx);
+                let (ky, nyq_y) = signed_index(j, ny);
                 let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
                 let sy: &[f64] = if nyq_y { &[1.0, -1.0] } else { &[1.0] };
                 let mut w_sum = 0.0;
