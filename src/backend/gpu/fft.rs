@@ -145,15 +145,6 @@ pub fn path_spectrum(
     out
 }
 
-/// The bins `0 ..= my / 2` of each row of a full `mx x my` spectrum: the
-/// spectrum of the real-row path (the others follow by symmetry).
-pub fn half_spectrum(full: &[Complex64], mx: usize, my: usize) -> Vec<Complex64> {
-    let w = my / 2 + 1;
-    (0..mx)
-        .flat_map(|r| full[r * my..r * my + w].iter().copied())
-        .collect()
-}
-
 /// The path a [`FftMatvec`] takes on a device that allows `device` (its
 /// [`Path::for_device`]) with `shared` elements in its FFT block.
 pub fn choose_path(

@@ -237,7 +237,7 @@ pub fn run(plan: &MatvecPlan, spectrum: &[Complex64], x: &[f64]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::backend::gpu::fft::{half_spectrum, path_spectrum};
+    use crate::backend::gpu::fft::path_spectrum;
     use crate::backend::gpu::fft_plan::Path;
     use crate::operator::{GridOperator, OffsetTable, ToeplitzFft};
     use num_complex::Complex64;
@@ -281,6 +281,15 @@ mod tests {
             }
         }
         data
+    }
+
+    /// The bins `0 ..= my / 2` of each row of a full `mx x my` spectrum:
+    /// the spectrum of the real-row path (the others follow by symmetry).
+    fn half_spectrum(full: &[Complex64], mx: usize, my: usize) -> Vec<Complex64> {
+        let w = my / 2 + 1;
+        (0..mx)
+            .flat_map(|r| full[r * my..r * my + w].iter().copied())
+            .collect()
     }
 
     /// The host's spectrum of the device matvec (real-to-complex, in
