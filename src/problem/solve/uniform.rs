@@ -52,11 +52,12 @@ impl Problem {
             built
         };
         let (solution, info, t_iter) = if self.cascades(start.as_ref()) {
-            self.iterate_cascade(observer, &mut build)?
+            // The cascade's time holds its levels' builds.
+            let (solution, info, t) = self.iterate_cascade(observer, &mut build)?;
+            (solution, info, (t - t_setup).max(0.0))
         } else {
             let (mut backend, l00) = build(nx, ny, cell)?;
-            let (solution, info, t) = self.iterate_grid(&mut backend, l00, start, observer)?;
-            (solution, info, t + t_setup)
+            self.iterate_grid(&mut backend, l00, start, observer)?
         };
         Ok(Raw {
             solution,
@@ -65,7 +66,7 @@ impl Problem {
             mesh: None,
             t_coeff,
             t_setup: Some(t_setup),
-            t_iter: (t_iter - t_setup).max(0.0),
+            t_iter,
             refinement: None,
         })
     }
