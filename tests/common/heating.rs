@@ -1,5 +1,8 @@
 //! The heated solve's shared case (tests/heat/heated.rs on the CPU,
-//! tests/gpu/heated.rs on the device as a pad).
+//! tests/gpu/heated.rs on the device as a pad), and the isothermal solve
+//! its answer is checked against.
+
+use viscoslide::problem::{Executor, Problem, Silent, Solution};
 
 /// The default config's single-relaxation rubber with the "universal" WLF
 /// constants at `T_ref = 17 C`, a 32^2 periodic cell of 0.2 mm at 1 MPa
@@ -46,4 +49,12 @@ block_length = 0.05
 /// surface work of its pressure as the source (the default on a pad).
 pub fn heated_pad() -> String {
     HEATED_CELL.replace("block_length = 0.05\n", "")
+}
+
+/// The isothermal solve of `problem` at `t` \[C\] on the CPU, from
+/// scratch.
+pub fn isothermal_at(problem: &Problem, t: f64) -> Solution {
+    let mut at = problem.clone();
+    at.material = problem.material.at_temperature(t).unwrap();
+    at.solve(&Executor::Cpu, &mut Silent).unwrap()
 }

@@ -70,9 +70,7 @@ fn a_heated_solve_on_the_gpu_gives_the_cpu_answer() {
     // isothermal friction at its own T_eff, solved independently on the
     // CPU in f64, to the refined solves' agreement (1e-7, as the
     // refinement tests bound it).
-    let mut at = problem.clone();
-    at.material = problem.material.at_temperature(tg).unwrap();
-    let iso = at.solve(&Executor::Cpu, &mut Silent).unwrap();
+    let iso = crate::common::heating::isothermal_at(&problem, tg);
     let e = (gpu.solution.friction_coefficient - iso.friction_coefficient).abs()
         / iso.friction_coefficient.abs();
     assert!(

@@ -13,7 +13,7 @@ use viscoslide::heating::{solve_heated, HeatedSolution, HeatingParams};
 use viscoslide::io::npy;
 use viscoslide::problem::{Executor, Problem, Silent};
 
-use crate::common::heating::{heated_pad, HEATED_CELL as PERIODIC};
+use crate::common::heating::{heated_pad, isothermal_at, HEATED_CELL as PERIODIC};
 
 fn load(text: &str, sets: &[&str]) -> (tempfile::TempDir, LoadedConfig) {
     let dir = tempfile::tempdir().unwrap();
@@ -34,13 +34,6 @@ fn heated(text: &str, sets: &[&str]) -> (Problem, HeatingParams, HeatedSolution)
             .expect("heating enabled");
     let h = solve_heated(&problem, &params, &Executor::Cpu, &mut Silent).unwrap();
     (problem, params, h)
-}
-
-/// The isothermal solve of `problem` at `t`, from scratch.
-fn isothermal_at(problem: &Problem, t: f64) -> viscoslide::problem::Solution {
-    let mut at = problem.clone();
-    at.material = problem.material.at_temperature(t).unwrap();
-    at.solve(&Executor::Cpu, &mut Silent).unwrap()
 }
 
 #[test]
