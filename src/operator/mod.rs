@@ -27,6 +27,7 @@ pub use fft_convolution::Real;
 pub(crate) use fft_convolution::SpectralEngine;
 pub(crate) use periodic::{column_weight, multiplier_half_spectrum, signed_index};
 pub use periodic::{periodic_multiplier, PeriodicResponse, SpectralPeriodic};
+pub(crate) use toeplitz::chan_inverse_table;
 pub use toeplitz::{chan_kernel, fast_size, ToeplitzFft, CHAN_FRACTION};
 
 /// A square linear map on grid vectors (C order, axis 0 = x).

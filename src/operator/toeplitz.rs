@@ -43,6 +43,10 @@ pub struct ToeplitzFft<T: Real = f64> {
 /// one.
 pub const CHAN_FRACTION: f64 = 0.5;
 
+/// Modes of T. Chan's circulant below this fraction of its largest
+/// multiplier are clamped there in its inverse.
+const CHAN_FLOOR: f64 = 1e-6;
+
 /// First row (an `nx x ny` array, C order) of T. Chan's optimal circulant of
 /// the two-level Toeplitz matrix of `table` (T. F. Chan, SIAM J. Sci. Stat.
 /// Comput. 9, 766, 1988; two-level form of Chan & Olkin): the circulant
@@ -75,6 +79,35 @@ pub fn chan_kernel(table: OffsetTable<'_>) -> Vec<f64> {
         }
     });
     kernel
+}
+
+/// The offset table (`(2nx-1) x (2ny-1)`, layout of [`OffsetTable`]) of
+/// the inverse of T. Chan's optimal circulant whose first row is `kernel`
+/// ([`chan_kernel`], `nx x ny`): the inverse of a circulant is the
+/// circulant of `c_inv = C^-1 e_0`, and on the grid `(C^-1 x)_i = sum_k
+/// c_inv((i - k) mod n) x_k`, so the table holds `c_inv(d mod n)` at offset
+/// `d`. The preconditioner [`ToeplitzFft`] applies above [`CHAN_FRACTION`],
+/// for an executor whose only product is the padded convolution of a table
+/// (the GPU's): `c_inv` comes from the same transform and the same floor.
+pub(crate) fn chan_inverse_table(kernel: &[f64], nx: usize, ny: usize) -> Vec<f64> {
+    assert_eq!(kernel.len(), nx * ny, "one value per cell");
+    let mut chan = SpectralEngine::<f64>::new(nx, ny, nx, ny);
+    chan.set_multiplier(half_spectrum(kernel, nx, ny));
+    chan.set_inverse_multiplier(CHAN_FLOOR);
+    let mut impulse = vec![0.0; nx * ny];
+    impulse[0] = 1.0;
+    let mut column = vec![0.0; nx * ny];
+    chan.apply_inverse(&impulse, &mut column);
+    let w = 2 * ny - 1;
+    let mut table = vec![0.0; (2 * nx - 1) * w];
+    table.par_chunks_mut(w).enumerate().for_each(|(r, row)| {
+        let i = (r as isize - (nx as isize - 1)).rem_euclid(nx as isize) as usize;
+        for (c, t) in row.iter_mut().enumerate() {
+            let j = (c as isize - (ny as isize - 1)).rem_euclid(ny as isize) as usize;
+            *t = column[i * ny + j];
+        }
+    });
+    table
 }
 
 /// Smallest `m >= n` whose prime factors are 2, 3, 5 and 7 (fast FFT sizes).
@@ -209,7 +242,7 @@ impl<T: Real> GridOperator for ToeplitzFft<T> {
             let mut chan = SpectralEngine::<T>::new(nx, ny, nx, ny);
             let spectrum = half_spectrum(&kernel, nx, ny);
             chan.set_multiplier(spectrum);
-            chan.set_inverse_multiplier(1e-6);
+            chan.set_inverse_multiplier(CHAN_FLOOR);
             self.chan = Some(chan);
         }
     }
@@ -290,6 +323,59 @@ mod tests {
     fn set_products_equal_grid_products() {
         set_products_match::<f64>();
         set_products_match::<f32>();
+    }
+
+    /// The table of Chan's inverse, applied as the direct sum `y_i = sum_k
+    /// t(i - k) x_k`, is the operator's own preconditioner above
+    /// [`CHAN_FRACTION`] (the executors that convolve tables apply it so),
+    /// to 1e-12 of the largest value: both come from one f64 transform, the
+    /// sum is O(n) additions of f64 terms. Odd and even sides, a
+    /// non-symmetric table.
+    #[test]
+    fn chan_inverse_table_is_the_chan_preconditioner() {
+        let (nx, ny) = (9, 6);
+        let values: Vec<f64> = (0..(2 * nx - 1) * (2 * ny - 1))
+            .map(|k| {
+                let (di, dj) = (
+                    (k / (2 * ny - 1)) as f64 - 8.0,
+                    (k % (2 * ny - 1)) as f64 - 5.0,
+                );
+                1.0 / (1.0 + di * di + dj * dj).sqrt() + 0.05 * noise(k)
+            })
+            .collect();
+        let tab = OffsetTable {
+            nx,
+            ny,
+            values: &values,
+        };
+        let mut op = ToeplitzFft::new(tab).with_preconditioner();
+        op.set_contact_fraction(1.0);
+        let x: Vec<f64> = (0..nx * ny).map(|k| noise(k + 31)).collect();
+        let mut expected = vec![0.0; nx * ny];
+        op.precondition(&x, &mut expected);
+        let table = chan_inverse_table(&chan_kernel(tab), nx, ny);
+        let inverse = OffsetTable {
+            nx,
+            ny,
+            values: &table,
+        };
+        let largest = expected.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        for i in 0..nx {
+            for j in 0..ny {
+                let mut sum = 0.0;
+                for k in 0..nx {
+                    for l in 0..ny {
+                        sum += inverse.get(i as isize - k as isize, j as isize - l as isize)
+                            * x[k * ny + l];
+                    }
+                }
+                let e = expected[i * ny + j];
+                assert!(
+                    (sum - e).abs() <= 1e-12 * largest,
+                    "({i}, {j}): {sum} against {e}"
+                );
+            }
+        }
     }
 
     #[test]

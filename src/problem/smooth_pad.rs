@@ -48,13 +48,14 @@ pub(crate) const SMOOTH_PAD_SHARE_LIMIT: f64 = 0.1;
 const SMOOTH_PAD_MIN_MATVECS: usize = 300;
 
 /// The relative tolerance of the flat pad's solve in f32 (on a device):
-/// its Krylov solves then aim at 1e-3 (0.01 of it). The f32 GMRES over a
-/// flat pad's (nearly full) contact set stalls far above the rough solve's inner floor (16
-/// epsilon, 1.9e-6): at 1e-5 it burnt the 300-matvec budget without
-/// converging on `configs/default.toml` at 128^2 on lavapipe (it reached
-/// it at 64^2), and its floor grows with the grid side. The device's
-/// answer is then a start: the host refinement, where it follows, takes it
-/// to the problem's tolerance; without one it is the f32 answer.
+/// its Krylov solves then aim at 1e-3 (0.01 of it). Tighter, the f32 inner
+/// solves over a flat pad's (nearly full) contact set reach their rounding
+/// floor before their target and burn the matvec budget: on the paper
+/// experiment's pad at 256^2 (q1 = 1.5e6 1/m, lavapipe) 0.1 took 50 device
+/// and 41 host matvecs, 1e-2 85 and 34, 1e-3 ran out at a residual of
+/// 7.9e-6 (and the host solved the pad from scratch). The device's answer is
+/// then a start: the host refinement, where it follows, takes it to the
+/// problem's tolerance; without one it is the f32 answer.
 const F32_TOLERANCE: f64 = 0.1;
 
 /// The flat pad's solve and friction.

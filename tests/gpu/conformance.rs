@@ -382,6 +382,74 @@ fn preconditioner_matches_cpu_toeplitz_fft() {
     }
 }
 
+/// Near full contact (a set above `CHAN_FRACTION` of the grid) the device
+/// preconditioner is the inverse of T. Chan's optimal circulant, as the
+/// host operator's: equal to the host's `ToeplitzFft` (whose Chan circulant
+/// does not depend on its padding) to 1e-5 relative L2 on every FFT path
+/// (the bound of the padded inverse above; the same plan with a third
+/// multiplier), and different from the padded inverse it replaces (the
+/// host's, padded to other sizes, by far more than that bound); below the
+/// fraction the device's padded inverse again, bit for bit.
+#[test]
+fn chan_preconditioner_matches_cpu_toeplitz_fft() {
+    let l = 0.01;
+    for fft in [
+        FftChoice::Auto,
+        FftChoice::Radix2,
+        FftChoice::SharedMaxRadix(8),
+    ] {
+        for (nx, ny, v) in [(40, 40, 0.01), (64, 48, 0.1), (33, 17, 1.0)] {
+            let Some(ctx) = common::gpu_context() else {
+                return;
+            };
+            let table = paper_table(nx, ny, l / nx as f64, v);
+            let options = GpuOptions {
+                fft,
+                preconditioner: true,
+                ..Default::default()
+            };
+            let mut g = GpuBackend::new(ctx, nx, ny, &table, options).unwrap();
+            let tab = OffsetTable {
+                nx,
+                ny,
+                values: &table,
+            };
+            let mut op = ToeplitzFft::new(tab).with_preconditioner();
+            let p = random(nx * ny, 300, 0.0, 1e5);
+            let mut u = vec![0.0; nx * ny];
+            op.apply(&p, &mut u);
+            let apply = |g: &mut GpuBackend, fraction: f64| {
+                g.set_contact_fraction(fraction);
+                let gu = up(g, &u);
+                let mut gk = g.zeros(nx * ny);
+                g.precondition(&gu, &mut gk);
+                down(g, &gk)
+            };
+            let mut chan = vec![0.0; nx * ny];
+            op.set_contact_fraction(1.0);
+            op.precondition(&u, &mut chan);
+            let mut padded = vec![0.0; nx * ny];
+            op.set_contact_fraction(0.0);
+            op.precondition(&u, &mut padded);
+            let before = apply(&mut g, 0.1);
+            let near_full = apply(&mut g, 0.9);
+            let e = rel_l2(&near_full, &chan);
+            let apart = rel_l2(&padded, &chan);
+            println!("{fft:?} {nx}x{ny} v={v}: Chan preconditioner rel L2 {e:.2e} (padded one {apart:.2e} away)");
+            assert!(e < 1e-5, "{fft:?} {nx}x{ny}: {e:e}");
+            assert!(
+                apart > 1e-3,
+                "{fft:?} {nx}x{ny}: the two inverses {apart:e} apart"
+            );
+            assert_eq!(
+                apply(&mut g, 0.1),
+                before,
+                "{fft:?} {nx}x{ny}: back to the padded inverse"
+            );
+        }
+    }
+}
+
 /// The matvec on every FFT path: the default (workgroup-memory passes
 /// sized from the adapter), the radix-2 fallback, and the workgroup-memory
 /// kernels forced into several passes per axis (radix at most 8: separate

@@ -428,6 +428,12 @@ impl Backend for GpuBackend {
         matches!(&self.matvec, Operator::Fft(m) if m.has_inverse())
     }
 
+    fn set_contact_fraction(&mut self, fraction: f64) {
+        if let Operator::Fft(m) = &mut self.matvec {
+            m.set_contact_fraction(&mut self.engine, fraction);
+        }
+    }
+
     fn precondition(&mut self, x: &GpuVector, y: &mut GpuVector) {
         assert_eq!(x.len, self.n);
         assert_eq!(y.len, self.n);

@@ -11,7 +11,8 @@
 //! on the host in f64 (a real-to-complex transform, rows and columns in
 //! parallel: [`path_spectrum`]) and stored in f32 (or f16,
 //! [`SpectrumPrecision::F16`], radix-2 path only); the preconditioner's
-//! inverse spectrum comes from the same transform.
+//! inverse spectrum comes from the same transform, and near full contact
+//! the inverse of T. Chan's circulant, as on the host, from its table.
 
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -21,7 +22,9 @@ use super::engine::{Buf, Engine, Kernel};
 pub use super::fft_plan::padded;
 use super::fft_plan::{grid, work_elements, MatvecPlan, Path, Role, MIN_WORKGROUPS};
 use crate::operator::half_spectrum as real_half_spectrum;
-use crate::operator::inverse_multiplier;
+use crate::operator::{
+    chan_inverse_table, chan_kernel, inverse_multiplier, OffsetTable, CHAN_FRACTION,
+};
 
 /// Storage precision of the kernel spectrum.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -61,8 +64,20 @@ pub struct FftMatvec {
     kernel: Buf,
     /// The inverse spectrum of the preconditioner, same layout as `kernel`.
     inverse: Option<Buf>,
+    /// The inverse of T. Chan's circulant, with the preconditioner only
+    /// ([`Self::set_contact_fraction`]).
+    chan: Option<ChanInverse>,
+    /// Whether [`Self::record_inverse`] applies `chan`.
+    use_chan: bool,
     twiddle_x: Buf,
     twiddle_y: Buf,
+}
+
+/// T. Chan's circulant for the preconditioner of near-full contact sets:
+/// its first row until first needed, then its inverse's spectrum.
+enum ChanInverse {
+    Kernel(Vec<f64>),
+    Spectrum(Buf),
 }
 
 /// `exp(-2 pi i t / n)` for `t < n / 2`, in f32 pairs from f64.
@@ -227,6 +242,13 @@ impl FftMatvec {
             }
             _ => None,
         };
+        let chan = inverse.is_some().then(|| {
+            ChanInverse::Kernel(chan_kernel(OffsetTable {
+                nx,
+                ny,
+                values: table,
+            }))
+        });
         let kernel = match precision {
             SpectrumPrecision::F32 => {
                 let host: Vec<f32> = spectrum
@@ -291,6 +313,8 @@ impl FftMatvec {
             b,
             kernel,
             inverse,
+            chan,
+            use_chan: false,
             twiddle_x,
             twiddle_y,
         })
@@ -301,13 +325,46 @@ impl FftMatvec {
         self.inverse.is_some()
     }
 
-    /// Record `y = K x` with the inverse spectrum (the matvec's plan).
+    /// Record `y = K x` with the inverse spectrum of the preconditioner
+    /// that [`Self::set_contact_fraction`] picked (the matvec's plan).
     pub fn record_inverse(&self, engine: &mut Engine, x: &Buf, y: &Buf) {
-        let inverse = self
-            .inverse
-            .as_ref()
-            .expect("a matvec planned with inverse_floor");
+        let inverse = match (&self.chan, self.use_chan) {
+            (Some(ChanInverse::Spectrum(chan)), true) => chan,
+            _ => self
+                .inverse
+                .as_ref()
+                .expect("a matvec planned with inverse_floor"),
+        };
         self.record_with(engine, x, y, inverse);
+    }
+
+    /// The contact set of the next preconditioner applications covers
+    /// `fraction` of the grid: above [`CHAN_FRACTION`] the preconditioner is
+    /// the inverse of T. Chan's optimal circulant (as the host operator's,
+    /// [`crate::operator::ToeplitzFft`]'s; the padded circulant's
+    /// restriction serves small sets, near-full ones badly), its spectrum
+    /// built at first use from the offset table of that inverse
+    /// ([`chan_inverse_table`]), whose padded convolution is the inverse on
+    /// the grid exactly.
+    pub fn set_contact_fraction(&mut self, engine: &mut Engine, fraction: f64) {
+        self.use_chan = fraction > CHAN_FRACTION && self.chan.is_some();
+        if !self.use_chan {
+            return;
+        }
+        if let Some(ChanInverse::Kernel(kernel)) = &self.chan {
+            let plan = &self.plan;
+            let table = chan_inverse_table(kernel, plan.nx, plan.ny);
+            let spectrum = path_spectrum(plan.nx, plan.ny, plan.mx, plan.my, &table, plan.path);
+            drop(table);
+            let host: Vec<f32> = spectrum
+                .iter()
+                .flat_map(|z| [z.re as f32, z.im as f32])
+                .collect();
+            self.chan = Some(ChanInverse::Spectrum(engine.storage_with(
+                "viscoslide chan inverse spectrum f32",
+                bytemuck::cast_slice(&host),
+            )));
+        }
     }
 
     /// The dispatch plan this matvec records.
@@ -317,7 +374,21 @@ impl FftMatvec {
 
     /// Device memory of the plan \[bytes\].
     pub fn device_bytes(&self) -> u64 {
-        self.a.buffer.size() + self.b.buffer.size() + self.kernel.buffer.size()
+        let chan = match &self.chan {
+            Some(ChanInverse::Spectrum(b)) => Some(b),
+            _ => None,
+        };
+        [
+            Some(&self.a),
+            Some(&self.b),
+            Some(&self.kernel),
+            self.inverse.as_ref(),
+            chan,
+        ]
+        .into_iter()
+        .flatten()
+        .map(|b| b.buffer.size())
+        .sum()
     }
 
     /// Record `y = L x` (grid vectors of `nx ny` f32): the steps of the plan.
