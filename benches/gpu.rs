@@ -59,9 +59,7 @@ fn bench_coefficients(c: &mut Criterion) {
     use viscoslide::internals::backend::gpu::{coefficients, engine::Engine};
     let sizes: Vec<usize> = if ci() { vec![64] } else { vec![256, 512] };
     let mut group = c.benchmark_group("gpu_coefficients");
-    group
-        .sample_size(10)
-        .measurement_time(Duration::from_secs(10));
+    group.sample_size(10);
     let Some(ctx) = open() else { return };
     let mut engine = Engine::new(ctx);
     let m = material();
@@ -90,9 +88,7 @@ fn bench_matvec(c: &mut Criterion) {
         vec![256, 512]
     };
     let mut group = c.benchmark_group("gpu_matvec");
-    group
-        .sample_size(10)
-        .measurement_time(Duration::from_secs(10));
+    group.sample_size(10);
     for n in sizes {
         let t = table(n);
         for (suffix, fft) in [("", FftChoice::Auto), ("_radix2", FftChoice::Radix2)] {
@@ -185,9 +181,7 @@ fn ring_mesh(f: usize, levels: u32, a: f64) -> viscoslide::internals::backend::g
 fn bench_adaptive_matvec(c: &mut Criterion) {
     let (f, levels, nonzero) = if ci() { (4, 4, 64) } else { (8, 5, 300) };
     let mut group = c.benchmark_group("adaptive_matvec");
-    group
-        .sample_size(10)
-        .measurement_time(Duration::from_secs(10));
+    group.sample_size(10);
     let Some(ctx) = open() else { return };
     let a = 1e-4;
     let cells = ring_mesh(f, levels, a);
@@ -227,9 +221,7 @@ fn bench_level_matvec(c: &mut Criterion) {
     use viscoslide::internals::mesh::QuadMesh;
     let n = if ci() { 64 } else { 256 };
     let mut group = c.benchmark_group("level_matvec");
-    group
-        .sample_size(10)
-        .measurement_time(Duration::from_secs(10));
+    group.sample_size(10);
     let Some(ctx) = open() else { return };
     let a = 0.01 / n as f64;
     let params = 1.17e-2;
@@ -266,7 +258,12 @@ fn bench_level_matvec(c: &mut Criterion) {
 }
 
 criterion_group!(
-    benches,
+    name = benches;
+    // 10 s per benchmark unless `--measurement-time` says otherwise (a
+    // group's own setting would override the command line, which the GPU
+    // machine's short run needs: `scripts/gpu-run`'s criterion step).
+    config = Criterion::default().measurement_time(Duration::from_secs(10));
+    targets =
     bench_coefficients,
     bench_matvec,
     bench_solve,
