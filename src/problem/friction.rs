@@ -20,6 +20,19 @@ impl Problem {
         &self,
         solution: &ContactSolution,
     ) -> Result<(f64, f64, ContactStatistics)> {
+        let (mu, mu_d, stats, _) = self.friction_with(solution, None)?;
+        Ok((mu, mu_d, stats))
+    }
+
+    /// [`Self::friction_and_stats`], and for the non-periodic formulation
+    /// the Eq. 9 friction force \[N\] of a second pressure `other` on the
+    /// same grid (the finite pad's flat twin) from the same derivative
+    /// operators, built once for both.
+    pub(super) fn friction_with(
+        &self,
+        solution: &ContactSolution,
+        other: Option<&[f64]>,
+    ) -> Result<(f64, f64, ContactStatistics, Option<f64>)> {
         let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let (ax, ay) = cell;
         let stats =
@@ -35,7 +48,7 @@ impl Problem {
                 analysis::friction_force_stencil(&mut slope, &solution.pressure, grid.cell_area())
             };
             let force_d = analysis::friction_force_periodic(&solution.pressure, &grid, &response);
-            return Ok((-force / load, -force_d / load, stats));
+            return Ok((-force / load, -force_d / load, stats, None));
         }
         if load.is_nan() || load <= 0.0 {
             return Err(invalid(
@@ -43,7 +56,10 @@ impl Problem {
             ));
         }
         let kernel = SlidingKernel::new(&response)?;
-        let force = self.friction_force_eq9(&kernel, &solution.pressure)?;
+        let mut pressures = vec![solution.pressure.as_slice()];
+        pressures.extend(other);
+        let forces = self.friction_forces_eq9(&kernel, &pressures)?;
+        let force = forces[0];
         let force_d = if self.layer.is_some() && kernel.is_thin_law(ax, ay) {
             analysis::friction::friction_force_dissipation_thin_law(
                 &solution.pressure,
@@ -53,21 +69,27 @@ impl Problem {
         } else {
             analysis::friction_force_dissipation(&solution.pressure, &grid, &response)
         };
-        Ok((-force / load, -force_d / load, stats))
+        Ok((
+            -force / load,
+            -force_d / load,
+            stats,
+            forces.get(1).copied(),
+        ))
     }
 
-    /// The friction force \[N\] of the pressure `pressure` on this
+    /// The friction force \[N\] of each pressure of `pressures` on this
     /// non-periodic grid by the work of the contact pressure (paper Eq. 9):
-    /// the cell-averaged derivative tables along the sliding direction.
-    pub(super) fn friction_force_eq9(
+    /// the cell-averaged derivative tables along the sliding direction,
+    /// each table and its transform built once for all of them.
+    pub(super) fn friction_forces_eq9(
         &self,
         kernel: &SlidingKernel,
-        pressure: &[f64],
-    ) -> Result<f64> {
+        pressures: &[&[f64]],
+    ) -> Result<Vec<f64>> {
         let grid = self.grid()?;
         let (nx, ny) = grid.size();
         let (ex, ey) = kernel.response().direction();
-        let mut force = 0.0;
+        let mut forces = vec![0.0; pressures.len()];
         for (axis, w) in [(Axis::X, ex), (Axis::Y, ey)] {
             if w == 0.0 {
                 continue;
@@ -78,8 +100,10 @@ impl Problem {
                 ny,
                 values: &d.values,
             });
-            force += w * analysis::friction_force_stencil(&mut op, pressure, grid.cell_area());
+            for (force, pressure) in forces.iter_mut().zip(pressures) {
+                *force += w * analysis::friction_force_stencil(&mut op, pressure, grid.cell_area());
+            }
         }
-        Ok(force)
+        Ok(forces)
     }
 }

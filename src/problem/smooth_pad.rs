@@ -15,7 +15,8 @@
 //! and preconditioner, whatever the rough solve's precision; the GPU: in f32
 //! on the device, refined in f64 on the host's fine grid from the device's
 //! answer where the rough solve is, [`super::gpu_refine`]), and its friction
-//! from the same work-of-pressure route as the rough solve's (Eq. 9).
+//! from the same work-of-pressure route as the rough solve's (Eq. 9), with
+//! the rough solve's derivative operators (built once for both).
 //!
 //! One linear solve of the bordered system in full contact
 //! ([`crate::solver::solve_full_contact`]) is not used: its single Krylov
@@ -74,15 +75,43 @@ pub struct SmoothPad {
     /// refinement, or the whole solve where the device's did not converge
     /// (0 on the CPU, where the whole solve is the host's own).
     pub host_refinement_matvecs: usize,
-    /// Wall time \[s\], coefficient tables included.
+    /// Wall time \[s\] of its solve, coefficient tables included (its Eq. 9
+    /// friction is the rough solve's analysis's, which shares its
+    /// operators).
     pub time_s: f64,
+}
+
+/// The flat pad solved, its friction not yet taken.
+pub(super) struct SolvedPad {
+    /// Pressure on the grid \[Pa\].
+    pub pressure: Vec<f64>,
+    /// The load it carries \[N\] (its pressure times the cell area).
+    loaded: f64,
+    matvecs: usize,
+    host_refinement_matvecs: usize,
+    time_s: f64,
+}
+
+impl SolvedPad {
+    /// The split of the rough solve's friction `mu` with the pad's Eq. 9
+    /// friction force `force` \[N\].
+    pub(super) fn with_force(self, force: f64, mu: f64) -> SmoothPad {
+        let smooth = -force / self.loaded;
+        SmoothPad {
+            friction_coefficient: smooth,
+            roughness_friction_coefficient: mu - smooth,
+            share: if mu != 0.0 { smooth / mu } else { 0.0 },
+            matvecs: self.matvecs,
+            host_refinement_matvecs: self.host_refinement_matvecs,
+            time_s: self.time_s,
+        }
+    }
 }
 
 impl Problem {
     /// The flat pad of this non-periodic problem under the normal load
     /// `load` \[N\] on `executor` (then refined in f64 on the host where
-    /// its precision is ([`Executes::refined_on_host`])), and the split of the rough solve's friction `mu` into
-    /// the pad's part and the roughness part. At most
+    /// its precision is ([`Executes::refined_on_host`])). At most
     /// `max(SMOOTH_PAD_MIN_MATVECS, 3 rough_matvecs)` operator applications
     /// per stage, so that a flat pad the iteration struggles with (a layer
     /// on the thin-layer law takes no preconditioner) costs at most a few
@@ -92,9 +121,8 @@ impl Problem {
         &self,
         executor: &mut X,
         load: f64,
-        mu: f64,
         rough_matvecs: usize,
-    ) -> Result<SmoothPad> {
+    ) -> Result<SolvedPad> {
         let t = Instant::now();
         let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
@@ -143,16 +171,9 @@ impl Problem {
             }
             Err(e) => return Err(e),
         };
-        let UniformOperators::Toeplitz(kernel) = &operators else {
-            unreachable!("built as the Toeplitz operator above")
-        };
-        let force = self.friction_force_eq9(kernel, &solution.pressure)?;
-        let loaded: f64 = solution.pressure.iter().sum::<f64>() * ax * ay;
-        let smooth = -force / loaded;
-        Ok(SmoothPad {
-            friction_coefficient: smooth,
-            roughness_friction_coefficient: mu - smooth,
-            share: if mu != 0.0 { smooth / mu } else { 0.0 },
+        Ok(SolvedPad {
+            loaded: solution.pressure.iter().sum::<f64>() * ax * ay,
+            pressure: solution.pressure,
             matvecs,
             host_refinement_matvecs,
             time_s: t.elapsed().as_secs_f64(),

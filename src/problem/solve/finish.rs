@@ -4,6 +4,7 @@
 
 use std::time::Instant;
 
+use crate::analysis;
 use crate::config::{Formulation, Precision};
 use crate::error::Result;
 
@@ -24,28 +25,38 @@ impl Problem {
         precision: Precision,
     ) -> Result<Solution> {
         let t2 = Instant::now();
-        let (mu, mu_d, stats) = self.friction_and_stats(&raw.solution)?;
         let unknowns = raw
             .mesh
             .as_ref()
             .map_or(self.surface.nx * self.surface.ny, |m| m.unknowns);
-        let mut warnings = self.warnings(&stats, mu, mu_d);
         // A finite pad's own part of the friction (the same pad, flat): on
-        // the uniform grid of the non-periodic formulation.
-        let smooth_pad = if self.formulation == Formulation::NonPeriodic
-            && raw.mesh.is_none()
-            && stats.normal_load > 0.0
-        {
-            match self.smooth_pad(executor, stats.normal_load, mu, raw.info.matvecs) {
-                Ok(pad) => Some(pad),
-                Err(e) => {
-                    warnings.push(format!("the finite pad's own friction (the same pad without roughness) was not computed: {e}"));
-                    None
-                }
-            }
-        } else {
-            None
-        };
+        // the uniform grid of the non-periodic formulation, solved before
+        // the friction so that both take Eq. 9 from the same operators.
+        let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
+        let load = analysis::contact_statistics(
+            &raw.solution.pressure,
+            &raw.solution.contact,
+            nx,
+            ny,
+            cell,
+        )
+        .normal_load;
+        let mut pad_error = None;
+        let pad =
+            if self.formulation == Formulation::NonPeriodic && raw.mesh.is_none() && load > 0.0 {
+                self.smooth_pad(executor, load, raw.info.matvecs)
+                    .map_err(|e| pad_error = Some(e))
+                    .ok()
+            } else {
+                None
+            };
+        let (mu, mu_d, stats, pad_force) =
+            self.friction_with(&raw.solution, pad.as_ref().map(|p| p.pressure.as_slice()))?;
+        let mut warnings = self.warnings(&stats, mu, mu_d);
+        if let Some(e) = pad_error {
+            warnings.push(format!("the finite pad's own friction (the same pad without roughness) was not computed: {e}"));
+        }
+        let smooth_pad = pad.zip(pad_force).map(|(p, force)| p.with_force(force, mu));
         if let Some(pad) = &smooth_pad {
             if pad.share.abs() > SMOOTH_PAD_SHARE_LIMIT {
                 warnings.push(format!(
