@@ -344,7 +344,7 @@ impl FftMatvec {
     /// [`crate::operator::ToeplitzFft`]'s; the padded circulant's
     /// restriction serves small sets, near-full ones badly), its spectrum
     /// built at first use from the offset table of that inverse
-    /// ([`chan_inverse_table`]), whose padded convolution is the inverse on
+    /// (`operator::chan_inverse_table`), whose padded convolution is the inverse on
     /// the grid exactly.
     pub fn set_contact_fraction(&mut self, engine: &mut Engine, fraction: f64) {
         self.use_chan = fraction > CHAN_FRACTION && self.chan.is_some();
