@@ -46,11 +46,12 @@ use std::path::PathBuf;
 pub use adaptive::{AdaptiveParams, AdaptiveSolution, MeshReport};
 pub use executor::Executor;
 pub use heating::ContactHeating;
-pub use resolution::{ShortestWavelength, MIN_CELLS_PER_WAVELENGTH};
+pub use resolution::ShortestWavelength;
+pub(crate) use resolution::MIN_CELLS_PER_WAVELENGTH;
 pub use setup::check_memory;
 pub(crate) use solution::{ExtraMap, SolveExtras};
 pub use solution::{Solution, Timings};
-pub use solve::Discretisation;
+pub(crate) use solve::Discretisation;
 
 // The engine types the library API takes or returns (the engine itself is
 // under `crate::internals`).

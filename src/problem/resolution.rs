@@ -11,7 +11,7 @@ use super::{highest, Problem, Solution, SurfaceSource};
 /// Below this many cells per shortest roughness wavelength a solve warns
 /// (console and `summary.json`): the finest scales of the surface are not
 /// resolved and friction and area still change under refinement.
-pub const MIN_CELLS_PER_WAVELENGTH: f64 = 4.0;
+pub(crate) const MIN_CELLS_PER_WAVELENGTH: f64 = 4.0;
 
 /// Where the shortest roughness wavelength of a problem comes from.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -66,7 +66,7 @@ impl Problem {
     /// the grid's Nyquist wavelength, so exactly 2) divided by the cell size
     /// `a`. It measures how well the finest scale of the roughness is
     /// resolved: 2 is the least a grid can carry, below
-    /// [`MIN_CELLS_PER_WAVELENGTH`] a solve warns. `None` for a sphere.
+    /// 4 (`MIN_CELLS_PER_WAVELENGTH`) a solve warns. `None` for a sphere.
     pub fn cells_per_shortest_wavelength(&self) -> Option<f64> {
         self.shortest_wavelength()
             .map(|w| w.length() / self.coarser_cell_side())

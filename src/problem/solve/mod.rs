@@ -1,5 +1,5 @@
 //! The one path through a solve: the formulation and mesh
-//! ([`Discretisation`]) choose the route (`uniform.rs`: one grid or the
+//! (`Discretisation`) choose the route (`uniform.rs`: one grid or the
 //! cascade, Toeplitz or periodic; `rounds.rs`: the adaptive mesh's
 //! rounds), each route describes its operators
 //! ([`OperatorDescription`](crate::operator::OperatorDescription)) and the
@@ -31,7 +31,7 @@ use super::{invalid, Executor, Problem, Solution};
 
 /// The operator a problem is solved with: formulation x mesh.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Discretisation {
+pub(crate) enum Discretisation {
     /// Non-periodic, uniform grid: Toeplitz operator, FFT matvec (paper Eq. 6-7).
     Uniform,
     /// Periodic cell, spectral operator (paper Appendix, Eq. A1-A2).
@@ -59,7 +59,7 @@ pub(super) struct Raw {
 
 impl Problem {
     /// The operator this problem is solved with.
-    pub fn discretisation(&self) -> Discretisation {
+    pub(crate) fn discretisation(&self) -> Discretisation {
         match (self.formulation, self.mesh) {
             (Formulation::Periodic, _) => Discretisation::Periodic,
             (Formulation::NonPeriodic, MeshKind::Uniform) => Discretisation::Uniform,
