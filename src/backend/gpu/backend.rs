@@ -51,7 +51,8 @@ pub struct GpuOptions {
     /// Provide the inverse of the padded circulant as the preconditioner of
     /// the uniform-grid operator ([`crate::backend::Backend::precondition`],
     /// as [`crate::operator::ToeplitzFft::with_preconditioner`] on the host;
-    /// f32 spectrum only).
+    /// f32 spectrum only), and the inverse of T. Chan's circulant for
+    /// contact sets above half the grid.
     pub preconditioner: bool,
 }
 
