@@ -81,6 +81,16 @@ pub fn chan_kernel(table: OffsetTable<'_>) -> Vec<f64> {
     kernel
 }
 
+/// The `nx x ny` circulant engine of T. Chan's circulant whose first row is
+/// `kernel` ([`chan_kernel`]), with its inverse (modes below [`CHAN_FLOOR`]
+/// of the largest clamped there), in precision `T`.
+fn chan_engine<T: Real>(kernel: &[f64], nx: usize, ny: usize) -> SpectralEngine<T> {
+    let mut chan = SpectralEngine::<T>::new(nx, ny, nx, ny);
+    chan.set_multiplier(half_spectrum(kernel, nx, ny));
+    chan.set_inverse_multiplier(CHAN_FLOOR);
+    chan
+}
+
 /// The offset table (`(2nx-1) x (2ny-1)`, layout of [`OffsetTable`]) of
 /// the inverse of T. Chan's optimal circulant whose first row is `kernel`
 /// ([`chan_kernel`], `nx x ny`): the inverse of a circulant is the
@@ -91,9 +101,7 @@ pub fn chan_kernel(table: OffsetTable<'_>) -> Vec<f64> {
 /// (the GPU's): `c_inv` comes from the same transform and the same floor.
 pub(crate) fn chan_inverse_table(kernel: &[f64], nx: usize, ny: usize) -> Vec<f64> {
     assert_eq!(kernel.len(), nx * ny, "one value per cell");
-    let mut chan = SpectralEngine::<f64>::new(nx, ny, nx, ny);
-    chan.set_multiplier(half_spectrum(kernel, nx, ny));
-    chan.set_inverse_multiplier(CHAN_FLOOR);
+    let mut chan = chan_engine::<f64>(kernel, nx, ny);
     let mut impulse = vec![0.0; nx * ny];
     impulse[0] = 1.0;
     let mut column = vec![0.0; nx * ny];
@@ -239,11 +247,7 @@ impl<T: Real> GridOperator for ToeplitzFft<T> {
         if self.use_chan && self.chan.is_none() {
             let kernel = self.chan_kernel.take().expect("kept by new");
             let (nx, ny) = self.engine.shape();
-            let mut chan = SpectralEngine::<T>::new(nx, ny, nx, ny);
-            let spectrum = half_spectrum(&kernel, nx, ny);
-            chan.set_multiplier(spectrum);
-            chan.set_inverse_multiplier(CHAN_FLOOR);
-            self.chan = Some(chan);
+            self.chan = Some(chan_engine(&kernel, nx, ny));
         }
     }
 

@@ -80,6 +80,15 @@ enum ChanInverse {
     Spectrum(Buf),
 }
 
+/// A device buffer holding `spectrum` as f32 pairs (rounded from f64).
+fn storage_f32(engine: &mut Engine, label: &str, spectrum: &[Complex64]) -> Buf {
+    let host: Vec<f32> = spectrum
+        .iter()
+        .flat_map(|z| [z.re as f32, z.im as f32])
+        .collect();
+    engine.storage_with(label, bytemuck::cast_slice(&host))
+}
+
 /// `exp(-2 pi i t / n)` for `t < n / 2`, in f32 pairs from f64.
 fn twiddles(n: usize) -> Vec<f32> {
     let mut w = Vec::with_capacity(n.max(2));
@@ -231,13 +240,10 @@ impl FftMatvec {
         let inverse = match (inverse_floor, precision) {
             (Some(floor), SpectrumPrecision::F32) => {
                 let inverse = inverse_multiplier::<f64, f64>(&spectrum, mx * my, floor);
-                let host: Vec<f32> = inverse
-                    .iter()
-                    .flat_map(|z| [z.re as f32, z.im as f32])
-                    .collect();
-                Some(engine.storage_with(
+                Some(storage_f32(
+                    engine,
                     "viscoslide inverse spectrum f32",
-                    bytemuck::cast_slice(&host),
+                    &inverse,
                 ))
             }
             _ => None,
@@ -251,14 +257,7 @@ impl FftMatvec {
         });
         let kernel = match precision {
             SpectrumPrecision::F32 => {
-                let host: Vec<f32> = spectrum
-                    .iter()
-                    .flat_map(|z| [z.re as f32, z.im as f32])
-                    .collect();
-                engine.storage_with(
-                    "viscoslide kernel spectrum f32",
-                    bytemuck::cast_slice(&host),
-                )
+                storage_f32(engine, "viscoslide kernel spectrum f32", &spectrum)
             }
             SpectrumPrecision::F16 => {
                 let scale = f16_scale(&spectrum);
@@ -356,13 +355,10 @@ impl FftMatvec {
             let table = chan_inverse_table(kernel, plan.nx, plan.ny);
             let spectrum = path_spectrum(plan.nx, plan.ny, plan.mx, plan.my, &table, plan.path);
             drop(table);
-            let host: Vec<f32> = spectrum
-                .iter()
-                .flat_map(|z| [z.re as f32, z.im as f32])
-                .collect();
-            self.chan = Some(ChanInverse::Spectrum(engine.storage_with(
+            self.chan = Some(ChanInverse::Spectrum(storage_f32(
+                engine,
                 "viscoslide chan inverse spectrum f32",
-                bytemuck::cast_slice(&host),
+                &spectrum,
             )));
         }
     }
