@@ -20,23 +20,29 @@ impl Problem {
         &self,
         solution: &ContactSolution,
     ) -> Result<(f64, f64, ContactStatistics)> {
-        let (mu, mu_d, stats, _) = self.friction_with(solution, None)?;
+        let stats = self.contact_stats(solution);
+        let (mu, mu_d, _) = self.friction_with(solution, &stats, None)?;
         Ok((mu, mu_d, stats))
     }
 
-    /// [`Self::friction_and_stats`], and for the non-periodic formulation
-    /// the Eq. 9 friction force \[N\] of a second pressure `other` on the
-    /// same grid (the finite pad's flat twin) from the same derivative
-    /// operators, built once for both.
+    /// The contact statistics of `solution` on this problem's grid.
+    pub(super) fn contact_stats(&self, solution: &ContactSolution) -> ContactStatistics {
+        let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
+        analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, cell)
+    }
+
+    /// The two friction coefficients of [`Self::friction_and_stats`] from
+    /// the solution's statistics `stats` ([`Self::contact_stats`]), and for
+    /// the non-periodic formulation the Eq. 9 friction force \[N\] of a
+    /// second pressure `other` on the same grid (the finite pad's flat
+    /// twin) from the same derivative operators, built once for both.
     pub(super) fn friction_with(
         &self,
         solution: &ContactSolution,
+        stats: &ContactStatistics,
         other: Option<&[f64]>,
-    ) -> Result<(f64, f64, ContactStatistics, Option<f64>)> {
-        let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
-        let (ax, ay) = cell;
-        let stats =
-            analysis::contact_statistics(&solution.pressure, &solution.contact, nx, ny, cell);
+    ) -> Result<(f64, f64, Option<f64>)> {
+        let (ax, ay) = self.surface.cell();
         let load = stats.normal_load;
         let (grid, response) = (self.grid()?, self.response()?);
         if self.formulation == Formulation::Periodic {
@@ -48,7 +54,7 @@ impl Problem {
                 analysis::friction_force_stencil(&mut slope, &solution.pressure, grid.cell_area())
             };
             let force_d = analysis::friction_force_periodic(&solution.pressure, &grid, &response);
-            return Ok((-force / load, -force_d / load, stats, None));
+            return Ok((-force / load, -force_d / load, None));
         }
         if load.is_nan() || load <= 0.0 {
             return Err(invalid(
@@ -69,19 +75,14 @@ impl Problem {
         } else {
             analysis::friction_force_dissipation(&solution.pressure, &grid, &response)
         };
-        Ok((
-            -force / load,
-            -force_d / load,
-            stats,
-            forces.get(1).copied(),
-        ))
+        Ok((-force / load, -force_d / load, forces.get(1).copied()))
     }
 
     /// The friction force \[N\] of each pressure of `pressures` on this
     /// non-periodic grid by the work of the contact pressure (paper Eq. 9):
     /// the cell-averaged derivative tables along the sliding direction,
     /// each table and its transform built once for all of them.
-    pub(super) fn friction_forces_eq9(
+    fn friction_forces_eq9(
         &self,
         kernel: &SlidingKernel,
         pressures: &[&[f64]],

@@ -4,7 +4,6 @@
 
 use std::time::Instant;
 
-use crate::analysis;
 use crate::config::{Formulation, Precision};
 use crate::error::Result;
 
@@ -32,15 +31,8 @@ impl Problem {
         // A finite pad's own part of the friction (the same pad, flat): on
         // the uniform grid of the non-periodic formulation, solved before
         // the friction so that both take Eq. 9 from the same operators.
-        let (nx, ny, cell) = (self.surface.nx, self.surface.ny, self.surface.cell());
-        let load = analysis::contact_statistics(
-            &raw.solution.pressure,
-            &raw.solution.contact,
-            nx,
-            ny,
-            cell,
-        )
-        .normal_load;
+        let stats = self.contact_stats(&raw.solution);
+        let load = stats.normal_load;
         let mut pad_error = None;
         let pad =
             if self.formulation == Formulation::NonPeriodic && raw.mesh.is_none() && load > 0.0 {
@@ -50,8 +42,11 @@ impl Problem {
             } else {
                 None
             };
-        let (mu, mu_d, stats, pad_force) =
-            self.friction_with(&raw.solution, pad.as_ref().map(|p| p.pressure.as_slice()))?;
+        let (mu, mu_d, pad_force) = self.friction_with(
+            &raw.solution,
+            &stats,
+            pad.as_ref().map(|p| p.pressure.as_slice()),
+        )?;
         let mut warnings = self.warnings(&stats, mu, mu_d);
         if let Some(e) = pad_error {
             warnings.push(format!("the finite pad's own friction (the same pad without roughness) was not computed: {e}"));
