@@ -280,10 +280,11 @@ impl BranchSearch {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
-    fn search(t0: f64) -> BranchSearch {
+    /// The search of these tests and the two-grid search's, from `t0`.
+    pub(in crate::heating) fn search(t0: f64) -> BranchSearch {
         BranchSearch {
             t0,
             max_rise: 200.0,

@@ -2,16 +2,7 @@
 //! differs from the full one, against the full-grid scan.
 
 use super::*;
-
-fn search(t0: f64) -> BranchSearch {
-    BranchSearch {
-        t0,
-        max_rise: 200.0,
-        scan_ratio: 3.0,
-        tolerance: 1e-9,
-        max_evaluations: 200,
-    }
-}
+use crate::heating::branches::tests::search;
 
 /// The S-curve of `branches.rs`'s test: roots near 22, 60 and 102 for
 /// `T0 = 20`.
