@@ -315,18 +315,34 @@ fn inverse_circulant(
         .collect()
 }
 
-/// The preconditioner (inverse of the padded circulant restricted to the
-/// grid) on the device against the host's, on every FFT path and on
-/// displacement-like inputs (the preconditioner maps displacements to
-/// pressures): relative L2 error and the largest one.
-fn preconditioner_error(nx: usize, ny: usize, table: &[f64], fft: FftChoice) -> Option<f64> {
-    let ctx = crate::common::gpu_context()?;
+/// The FFT paths and the `(nx, ny, speed)` cases of the preconditioner
+/// tests.
+const PRECONDITIONER_PATHS: [FftChoice; 3] = [
+    FftChoice::Auto,
+    FftChoice::Radix2,
+    FftChoice::SharedMaxRadix(8),
+];
+const PRECONDITIONER_CASES: [(usize, usize, f64); 3] =
+    [(40, 40, 0.01), (64, 48, 0.1), (33, 17, 1.0)];
+
+/// The device executor of `table` with its preconditioner on FFT path
+/// `fft` (`None` without an adapter).
+fn preconditioned(nx: usize, ny: usize, table: &[f64], fft: FftChoice) -> Option<GpuBackend> {
+    let ctx = common::gpu_context()?;
     let options = GpuOptions {
         fft,
         preconditioner: true,
         ..Default::default()
     };
-    let mut g = GpuBackend::new(ctx, nx, ny, table, options).unwrap();
+    Some(GpuBackend::new(ctx, nx, ny, table, options).unwrap())
+}
+
+/// The preconditioner (inverse of the padded circulant restricted to the
+/// grid) on the device against the host's, on every FFT path and on
+/// displacement-like inputs (the preconditioner maps displacements to
+/// pressures): relative L2 error and the largest one.
+fn preconditioner_error(nx: usize, ny: usize, table: &[f64], fft: FftChoice) -> Option<f64> {
+    let mut g = preconditioned(nx, ny, table, fft)?;
     assert!(g.has_preconditioner());
     let plan = g.fft_plan().expect("a uniform grid");
     let (mx, my) = (plan.mx, plan.my);
@@ -361,12 +377,8 @@ fn preconditioner_error(nx: usize, ny: usize, table: &[f64], fft: FftChoice) -> 
 #[test]
 fn preconditioner_matches_cpu_toeplitz_fft() {
     let l = 0.01;
-    for fft in [
-        FftChoice::Auto,
-        FftChoice::Radix2,
-        FftChoice::SharedMaxRadix(8),
-    ] {
-        for (nx, ny, v) in [(40, 40, 0.01), (64, 48, 0.1), (33, 17, 1.0)] {
+    for fft in PRECONDITIONER_PATHS {
+        for (nx, ny, v) in PRECONDITIONER_CASES {
             let table = paper_table(nx, ny, l / nx as f64, v);
             let Some(e) = preconditioner_error(nx, ny, &table, fft) else {
                 return;
@@ -393,22 +405,12 @@ fn preconditioner_matches_cpu_toeplitz_fft() {
 #[test]
 fn chan_preconditioner_matches_cpu_toeplitz_fft() {
     let l = 0.01;
-    for fft in [
-        FftChoice::Auto,
-        FftChoice::Radix2,
-        FftChoice::SharedMaxRadix(8),
-    ] {
-        for (nx, ny, v) in [(40, 40, 0.01), (64, 48, 0.1), (33, 17, 1.0)] {
-            let Some(ctx) = common::gpu_context() else {
+    for fft in PRECONDITIONER_PATHS {
+        for (nx, ny, v) in PRECONDITIONER_CASES {
+            let table = paper_table(nx, ny, l / nx as f64, v);
+            let Some(mut g) = preconditioned(nx, ny, &table, fft) else {
                 return;
             };
-            let table = paper_table(nx, ny, l / nx as f64, v);
-            let options = GpuOptions {
-                fft,
-                preconditioner: true,
-                ..Default::default()
-            };
-            let mut g = GpuBackend::new(ctx, nx, ny, &table, options).unwrap();
             let tab = OffsetTable {
                 nx,
                 ny,
