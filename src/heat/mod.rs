@@ -39,6 +39,7 @@ mod solve;
 mod source;
 
 pub use error::HeatError;
+pub(crate) use layers::DepthLadder;
 pub use layers::DepthLayers;
 pub use setup::{Conduction, HeatDomain, HeatSetup};
 pub use solve::{surface_temperature, HeatSolver, Temperature};

@@ -16,11 +16,11 @@ use num_complex::Complex64;
 use rayon::prelude::*;
 
 use super::error::HeatError;
-use super::layers::DepthLayers;
+use super::layers::{DepthLadder, DepthLayers};
 use super::modes::{layer_integral, phi1, Modes};
 use super::setup::HeatSetup;
 use crate::operator::SpectralEngine;
-use crate::surface::height_fft;
+use crate::surface::height_fft::{self, ReducedInverse};
 
 /// The periodic cell's transforms and modes, planned once.
 pub(crate) struct PeriodicPlan {
@@ -71,34 +71,41 @@ impl PeriodicPlan {
     }
 
     /// The mean and the highest value of the rise about the mean \[K\] at
-    /// each depth \[m\] under the surface `flux` \[W/m^2\]: the maps of
-    /// [`PeriodicPlan::surface_at`], one at a time. `m` and `q(k) / (lam
-    /// m)` are computed once for all depths (the Nyquist modes' averages
-    /// per depth), and a mode with `Re(m) z > DEEP_CUT` is left out at
-    /// depth `z`: its factor `exp(-m z)` is below `exp(-DEEP_CUT)`.
+    /// each depth of `ladder` under the surface `flux` \[W/m^2\]: the maps
+    /// of [`PeriodicPlan::surface_at`], one at a time and reduced as they
+    /// are transformed back ([`ReducedInverse`]).
+    ///
+    /// Each mode carries its rise `q(k) exp(-m z) / (lam m)` from one depth
+    /// to the next by the factor `exp(-m step dn)`, recomputed only where
+    /// the ladder's increment `dn` changes (once per octave of
+    /// [`DepthLadder::octaves`]): a product of at most one factor per depth,
+    /// each exact to rounding, where every depth used to cost an `exp` per
+    /// mode. A mode whose `Re(m) z` exceeds `DEEP_CUT` is left out from
+    /// that depth on: its factor is below `exp(-DEEP_CUT)`. The Nyquist
+    /// modes' averages over the signs are computed at each depth.
     pub fn surface_extremes(
         &self,
         flux: &[f64],
-        depths: &[f64],
+        ladder: &DepthLadder,
     ) -> Result<Vec<(f64, f64)>, HeatError> {
         let lam = self.conductivity;
         let spec = self.forward(flux)?;
-        let nx = self.modes.nx;
+        let (nx, ny) = (self.modes.nx, self.modes.ny);
         let modes = &self.modes;
-        let nyquist = |i: usize, j: usize| {
-            (nx % 2 == 0 && 2 * i == nx) || (modes.ny % 2 == 0 && 2 * j == modes.ny)
-        };
-        // Per mode: m and q / (lam m); zero at k = 0, NaN m at a Nyquist
-        // mode (averaged per depth).
-        let mut planned = vec![(Complex64::default(), Complex64::default()); spec.len()];
-        planned
+        let nyquist =
+            |i: usize, j: usize| (nx % 2 == 0 && 2 * i == nx) || (ny % 2 == 0 && 2 * j == ny);
+        // Per mode: m (NaN at a Nyquist mode), the rise at the last depth
+        // (a Nyquist mode: q(k)), and the factor of the current increment.
+        let mut state = vec![Carried::default(); spec.len()];
+        state
             .par_chunks_mut(nx)
             .zip(spec.par_chunks(nx))
             .enumerate()
             .for_each(|(j, (o, s))| {
                 for (i, (o, s)) in o.iter_mut().zip(s).enumerate() {
                     if nyquist(i, j) {
-                        *o = (Complex64::new(f64::NAN, 0.0), *s);
+                        o.m = Complex64::new(f64::NAN, 0.0);
+                        o.rise = *s;
                         continue;
                     }
                     let mut m = Complex64::default();
@@ -109,38 +116,58 @@ impl PeriodicPlan {
                         })
                         .is_some()
                     {
-                        *o = (m, s / (lam * m));
+                        o.m = m;
+                        o.rise = s / (lam * m);
                     }
                 }
             });
-        depths
-            .iter()
-            .map(|&z| {
-                let mut out = vec![Complex64::default(); spec.len()];
-                out.par_chunks_mut(nx)
-                    .zip(planned.par_chunks(nx))
-                    .enumerate()
-                    .for_each(|(j, (o, p))| {
-                        for (i, (o, &(m, c))) in o.iter_mut().zip(p).enumerate() {
-                            if m.re.is_nan() {
-                                // A Nyquist mode: `c` holds q(k).
-                                *o = modes
-                                    .average(i, j, |m| (-m * z).exp() / (lam * m))
-                                    .map_or(Complex64::default(), |w| w * c);
-                            } else if m.re * z <= DEEP_CUT && c != Complex64::default() {
-                                *o = c * (-m * z).exp();
-                            }
+        let scale = 1.0 / (nx * ny) as f64;
+        let (step, multiples) = ladder.parts();
+        let mut inverse = ReducedInverse::new(nx, ny);
+        let mut last = (0, 0);
+        let mut rows = Vec::with_capacity(multiples.len());
+        for &n in multiples {
+            let z = n as f64 * step;
+            let dn = n - last.0;
+            let fresh = dn != last.1;
+            let h = dn as f64 * step;
+            let (sum, max) = inverse
+                .sum_and_max(&mut state, |j, st, row| {
+                    let mut any = false;
+                    for (i, (c, o)) in st.iter_mut().zip(row.iter_mut()).enumerate() {
+                        if c.m.re.is_nan() {
+                            // A Nyquist mode: `rise` holds q(k).
+                            *o = modes
+                                .average(i, j, |m| (-m * z).exp() / (lam * m))
+                                .map_or(Complex64::default(), |w| w * c.rise);
+                            any = true;
+                            continue;
                         }
-                    });
-                let map = self.inverse(out)?;
-                let mean = map.par_iter().sum::<f64>() / map.len() as f64;
-                let max = map
-                    .par_iter()
-                    .copied()
-                    .reduce(|| f64::NEG_INFINITY, f64::max);
-                Ok((mean, max))
-            })
-            .collect()
+                        if c.rise == Complex64::default() {
+                            continue;
+                        }
+                        if c.m.re * z > DEEP_CUT {
+                            c.rise = Complex64::default();
+                            continue;
+                        }
+                        if dn > 0 {
+                            if fresh {
+                                c.factor = (-c.m * h).exp();
+                            }
+                            c.rise *= c.factor;
+                        }
+                        *o = c.rise;
+                        any = true;
+                    }
+                    any
+                })
+                .map_err(|e| HeatError::Transform(e.to_string()))?;
+            rows.push((sum * scale / (nx * ny) as f64, max * scale));
+            if dn > 0 {
+                last = (n, dn);
+            }
+        }
+        Ok(rows)
     }
 
     /// The rise about the mean \[K\] at each depth \[m\] under the volume
@@ -278,6 +305,15 @@ impl PeriodicPlan {
         out.par_iter_mut().for_each(|v| *v *= scale);
         Ok(out)
     }
+}
+
+/// One mode's rise carried down the depths of
+/// [`PeriodicPlan::surface_extremes`].
+#[derive(Debug, Clone, Copy, Default)]
+struct Carried {
+    m: Complex64,
+    rise: Complex64,
+    factor: Complex64,
 }
 
 /// A mode whose `Re(m) z` exceeds this is left out of the rise at depth

@@ -4,7 +4,7 @@
 
 use super::background::{surface_background, surface_background_at, volume_background_at};
 use super::error::{check_map, HeatError};
-use super::layers::{check_depths, DepthLayers};
+use super::layers::{check_depths, DepthLadder, DepthLayers};
 use super::pad::PadPlan;
 use super::periodic::PeriodicPlan;
 use super::setup::{HeatDomain, HeatSetup};
@@ -158,29 +158,28 @@ impl HeatSolver {
             .collect())
     }
 
-    /// The mean and the highest rise \[K\] at each of `depths` \[m\] under
+    /// The mean and the highest rise \[K\] at each depth of `ladder` under
     /// the surface flux `flux` \[W/m^2\] on a periodic cell: those of
     /// [`HeatSolver::surface_at`]'s maps (to round-off), computed one
-    /// depth at a time from modes planned once.
+    /// depth at a time from modes carried down the ladder.
     pub(crate) fn surface_extremes(
         &mut self,
         flux: &[f64],
-        depths: &[f64],
+        ladder: &DepthLadder,
     ) -> Result<Vec<(f64, f64)>, HeatError> {
         check_map("the heat flux", flux, self.shape(), None)?;
-        check_depths(depths)?;
         let Plan::Periodic(p) = &self.plan else {
             return Err(HeatError::Unsupported(
                 "the rise below the surface of a pad is not solved; use a periodic cell",
             ));
         };
-        let extremes = p.surface_extremes(flux, depths)?;
+        let extremes = p.surface_extremes(flux, ladder)?;
         let qbar = Self::mean(flux);
         let c = self.setup.conduction;
         Ok(extremes
             .into_iter()
-            .zip(depths)
-            .map(|((mean, max), &z)| {
+            .zip(ladder.depths())
+            .map(|((mean, max), z)| {
                 let b = self
                     .setup
                     .contact_time()
@@ -353,17 +352,24 @@ mod tests {
                     }
                 })
                 .collect();
-            let depths = [0.0, 1e-7, 2e-6, 3e-5, 1e-4, 1e-3];
-            let maps = solver.surface_at(&flux, &depths).unwrap();
-            let extremes = solver.surface_extremes(&flux, &depths).unwrap();
-            let scale = maps[0].max();
-            for (t, (mean, max)) in maps.iter().zip(&extremes) {
-                assert!(
-                    (t.mean() - mean).abs() <= 1e-12 * scale,
-                    "{} {mean}",
-                    t.mean()
-                );
-                assert!((t.max() - max).abs() <= 1e-12 * scale, "{} {max}", t.max());
+            // Irregular steps (a factor per depth), and the profile's
+            // octaves (a factor per octave, carried over up to 8 depths).
+            let ladders = [
+                DepthLadder::new(1e-7, vec![0, 1, 20, 300, 1000, 10_000]).unwrap(),
+                DepthLadder::octaves(2e-7, 1e-3, 8).unwrap(),
+            ];
+            for ladder in &ladders {
+                let maps = solver.surface_at(&flux, &ladder.depths()).unwrap();
+                let extremes = solver.surface_extremes(&flux, ladder).unwrap();
+                let scale = maps[0].max();
+                for (t, (mean, max)) in maps.iter().zip(&extremes) {
+                    assert!(
+                        (t.mean() - mean).abs() <= 1e-12 * scale,
+                        "{} {mean}",
+                        t.mean()
+                    );
+                    assert!((t.max() - max).abs() <= 1e-12 * scale, "{} {max}", t.max());
+                }
             }
         }
     }

@@ -16,7 +16,9 @@
 use std::time::Instant;
 
 use crate::error::{Error, Result};
-use crate::heat::{DepthRule, HeatDomain, HeatSetup, HeatSolver, HeatSource, SourceKind};
+use crate::heat::{
+    DepthLadder, DepthRule, HeatDomain, HeatSetup, HeatSolver, HeatSource, SourceKind,
+};
 use crate::problem::{Discretisation, Executor, Observer, Problem, Solution};
 
 use super::branches::{Branch, SearchFailure};
@@ -321,9 +323,10 @@ pub fn solve_heated(
     })
 }
 
-/// Depths of the profile below the surface layer's: 24 per decade from a
-/// tenth of the smaller cell side to the map's side.
-const PROFILE_PER_DECADE: f64 = 24.0;
+/// Depths of the surface source's profile: 8 per octave (27 per decade,
+/// [`DepthLadder::octaves`]) from a tenth of the smaller cell side to the
+/// map's side.
+const PROFILE_PER_OCTAVE: u64 = 8;
 
 /// The rise against depth of the answer (a periodic cell): at the volume
 /// source's layer middles, or at depths spaced geometrically below a
@@ -374,17 +377,14 @@ fn depth_profile(
             let s = &problem.surface;
             let shallow = 0.1 * s.cell_size.min(s.cell_size_y);
             let deep = (s.nx as f64 * s.cell_size).max(s.ny as f64 * s.cell_size_y);
-            let count = ((deep / shallow).log10() * PROFILE_PER_DECADE).ceil() as usize;
-            let mut depths = vec![0.0];
-            depths.extend(
-                (0..=count).map(|i| shallow * (deep / shallow).powf(i as f64 / count as f64)),
-            );
-            let rows = heat.surface_extremes(flux, &depths).map_err(heat_error)?;
+            let ladder =
+                DepthLadder::octaves(shallow, deep, PROFILE_PER_OCTAVE).map_err(heat_error)?;
+            let rows = heat.surface_extremes(flux, &ladder).map_err(heat_error)?;
             Ok(rows
                 .iter()
-                .zip(&depths)
-                .map(|(&(mean_rise, max_rise), &z)| DepthRow {
-                    depth: z,
+                .zip(ladder.depths())
+                .map(|(&(mean_rise, max_rise), depth)| DepthRow {
+                    depth,
                     mean_rise,
                     max_rise,
                     mean_source: 0.0,

@@ -54,8 +54,16 @@ pub(crate) fn transpose<T: Copy + Send + Sync + Default>(
     rows: usize,
     cols: usize,
 ) -> Vec<T> {
-    const BLOCK: usize = 16;
     let mut out = vec![T::default(); rows * cols];
+    transpose_into(src, rows, cols, &mut out);
+    out
+}
+
+/// [`transpose`] into `out` (`rows * cols` values), in blocks of 16
+/// output rows.
+fn transpose_into<T: Copy + Send + Sync>(src: &[T], rows: usize, cols: usize, out: &mut [T]) {
+    const BLOCK: usize = 16;
+    debug_assert_eq!(out.len(), rows * cols);
     out.par_chunks_mut(rows * BLOCK)
         .enumerate()
         .for_each(|(b, chunk)| {
@@ -68,7 +76,6 @@ pub(crate) fn transpose<T: Copy + Send + Sync + Default>(
                 }
             }
         });
-    out
 }
 
 /// In-place complex FFT of every contiguous row of length `len`.
@@ -143,6 +150,92 @@ pub(crate) fn inverse(
         )
         .map_err(|e| SurfaceError::Invalid(format!("inverse real FFT failed: {e}")))?;
     Ok(out)
+}
+
+/// Many [`inverse`]s on one grid whose fields are wanted only through
+/// their sum and largest value (a profile of maps): the plans and the two
+/// spectrum buffers are kept between calls, each half spectrum is filled
+/// row by row by the caller and transformed along x in the same pass (a
+/// row the caller leaves empty is not transformed), and the real rows are
+/// reduced as they come out of the y transforms, never stored.
+pub(crate) struct ReducedInverse {
+    nx: usize,
+    ny: usize,
+    rows: std::sync::Arc<dyn rustfft::Fft<f64>>,
+    c2r: std::sync::Arc<dyn realfft::ComplexToReal<f64>>,
+    /// The half spectrum, `ky` rows of `nx` modes (layout above).
+    spec: Vec<Complex64>,
+    /// Its transpose after the x transforms: `nx` rows of `ny / 2 + 1`.
+    columns: Vec<Complex64>,
+}
+
+impl ReducedInverse {
+    pub(crate) fn new(nx: usize, ny: usize) -> Self {
+        let nh = half_len(ny);
+        Self {
+            nx,
+            ny,
+            rows: FftPlanner::<f64>::new().plan_fft_inverse(nx),
+            c2r: RealFftPlanner::<f64>::new().plan_fft_inverse(ny),
+            spec: vec![Complex64::default(); nx * nh],
+            columns: vec![Complex64::default(); nx * nh],
+        }
+    }
+
+    /// The sum and the largest value of the real field whose half spectrum
+    /// is written by `fill(ky, state_row, spec_row)` (`spec_row` zeroed
+    /// before; `state_row` the caller's `nx` values for that row of
+    /// `state`, which it may update), which returns whether it wrote
+    /// anything. The same field as [`inverse`]; the sum is added row by
+    /// row in a fixed order.
+    pub(crate) fn sum_and_max<S: Send>(
+        &mut self,
+        state: &mut [S],
+        fill: impl Fn(usize, &mut [S], &mut [Complex64]) -> bool + Sync,
+    ) -> Result<(f64, f64), SurfaceError> {
+        let (nx, ny, nh) = (self.nx, self.ny, half_len(self.ny));
+        assert_eq!(state.len(), nx * nh, "one state per mode");
+        let rows = &self.rows;
+        let scratch_len = rows.get_inplace_scratch_len();
+        self.spec
+            .par_chunks_mut(nx)
+            .zip(state.par_chunks_mut(nx))
+            .enumerate()
+            .for_each_init(
+                || vec![Complex64::default(); scratch_len],
+                |scratch, (ky, (row, st))| {
+                    row.fill(Complex64::default());
+                    if fill(ky, st, row) {
+                        rows.process_with_scratch(row, scratch);
+                    }
+                },
+            );
+        transpose_into(&self.spec, nh, nx, &mut self.columns);
+        let c2r = &self.c2r;
+        let parts: Vec<(f64, f64)> = self
+            .columns
+            .par_chunks_mut(nh)
+            .map_init(
+                || (vec![0.0; ny], c2r.make_scratch_vec()),
+                |(out, scratch), input| {
+                    input[0].im = 0.0;
+                    if ny % 2 == 0 {
+                        input[nh - 1].im = 0.0;
+                    }
+                    c2r.process_with_scratch(input, out, scratch).map_err(|e| {
+                        SurfaceError::Invalid(format!("inverse real FFT failed: {e}"))
+                    })?;
+                    let max = out.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                    Ok((out.iter().sum::<f64>(), max))
+                },
+            )
+            .collect::<Result<_, SurfaceError>>()?;
+        Ok(parts
+            .iter()
+            .fold((0.0, f64::NEG_INFINITY), |(s, m), &(rs, rm)| {
+                (s + rs, m.max(rm))
+            }))
+    }
 }
 
 #[cfg(test)]
