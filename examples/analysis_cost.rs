@@ -134,7 +134,7 @@ fn main() {
         1.5 * (4.0 * (sv / sw).sqrt()).max(2.0)
     };
     let spec = timed("  C_chi spectrum", || {
-        analysis::chi_spectrum(&sol.contact, nx, ny, a, radius)
+        analysis::chi_spectrum(&sol.contact, nx, ny, (a, a), radius)
     });
     timed("  C_chi contours + ellipses", || {
         for &l in &params.chi_levels {

@@ -183,23 +183,11 @@ pub fn max_window_radius(nx: usize, ny: usize) -> f64 {
 
 /// Smoothed `C_chi` of `contact` (`> 0.5` in contact) with window radius
 /// `radius` cells (flat part `2/3` of it), capped at [`max_window_radius`],
-/// on square cells of side `cell_size` \[m\]; [`chi_spectrum_cells`] for
-/// rectangular ones.
+/// on cells of sides `(a_x, a_y)` \[m\]: the window is round in physical
+/// space, its radius counted in cells of the mean side `c = sqrt(a_x a_y)`
+/// (`radius c / a_x` cells along x, `radius c / a_y` along y), and capped
+/// so that it fits the grid both ways.
 pub fn chi_spectrum(
-    contact: &[f64],
-    nx: usize,
-    ny: usize,
-    cell_size: f64,
-    radius: f64,
-) -> ChiSpectrum {
-    chi_spectrum_cells(contact, nx, ny, (cell_size, cell_size), radius)
-}
-
-/// [`chi_spectrum`] on cells of sides `(a_x, a_y)` \[m\]: the window is
-/// round in physical space, its radius counted in cells of the mean side
-/// `c = sqrt(a_x a_y)` (`radius c / a_x` cells along x, `radius c / a_y`
-/// along y), and capped so that it fits the grid both ways.
-pub fn chi_spectrum_cells(
     contact: &[f64],
     nx: usize,
     ny: usize,
@@ -483,7 +471,7 @@ mod tests {
             })
             .collect();
         for radius in [5.0, 13.0] {
-            let spec = chi_spectrum(&chi, nx, ny, a, radius);
+            let spec = chi_spectrum(&chi, nx, ny, (a, a), radius);
             let terms = reference_terms(&chi, nx, ny, a, &spec);
             let direct = |qx: f64, qy: f64| -> f64 {
                 terms
@@ -533,7 +521,7 @@ mod tests {
         for (i, j) in [(2, 3), (2, 4), (3, 3), (4, 4)] {
             chi[i * ny + j] = 1.0;
         }
-        let s = chi_spectrum(&chi, nx, ny, 0.5, 7.0);
+        let s = chi_spectrum(&chi, nx, ny, (0.5, 0.5), 7.0);
         let want = 0.5f64.powi(4) * 16.0 / ((2.0 * PI).powi(2) * 64.0);
         assert!((s.c0 / want - 1.0).abs() < 1e-12, "{} {}", s.c0, want);
         assert!((s.eval(0.0, 0.0) - s.values[0]).abs() < 1e-12 * want);

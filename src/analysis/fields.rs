@@ -3,7 +3,7 @@
 //! contact-spot statistics (physics.md section 5).
 
 use super::anisotropy::deformed_anisotropy;
-use super::chi::{chi_spectrum_cells, contour_level, ChiLevel};
+use super::chi::{chi_spectrum, contour_level, ChiLevel};
 use super::report::{
     param, AnalysisError, AnalysisInputs, AnalysisParams, AnalysisReport, ChiReport,
 };
@@ -119,7 +119,7 @@ pub fn analyze(
             }
             1.5 * (4.0 * (sv / sw).sqrt()).max(2.0)
         });
-        let spec = chi_spectrum_cells(inputs.contact, nx, ny, (ax, ay), radius);
+        let spec = chi_spectrum(inputs.contact, nx, ny, (ax, ay), radius);
         let levels: Vec<ChiLevel> = params
             .chi_levels
             .iter()

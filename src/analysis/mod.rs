@@ -16,7 +16,7 @@ pub mod report;
 pub mod spots;
 
 pub use anisotropy::{deformed_anisotropy, AnisotropyTensor, DeformedAnisotropy, ZetaBand};
-pub use chi::{chi_spectrum, chi_spectrum_cells, contour_level, ChiLevel, ChiSpectrum};
+pub use chi::{chi_spectrum, contour_level, ChiLevel, ChiSpectrum};
 pub use contact::{contact_statistics, ContactStatistics};
 pub use ellipse::{fit_centred_ellipse, EllipseFit};
 pub use fields::analyze;

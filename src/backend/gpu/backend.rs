@@ -16,11 +16,7 @@
 //! 1e-6); [`Backend::epsilon`] reports `f32::EPSILON`, and the solver clamps
 //! its tolerances to it.
 //!
-//! Length: about 500 lines because it implements the whole [`Backend`] trait
-//! (one short method per kernel) for the device; each method only records
-//! dispatches, the kernels live in `shaders/`.
-//!
-//! Over 600 lines: the `Backend` methods on device vectors, one dispatch each, beside the vector and index types they use.
+//! Over 600 lines: the whole `Backend` trait on device vectors (one dispatch per method, the kernels in `shaders/`), beside the vector and index types it uses.
 
 use super::adaptive::{AdaptiveMatvec, MeshCells};
 use super::context::{GpuContext, GpuError};
