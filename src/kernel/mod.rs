@@ -34,6 +34,7 @@ mod thin;
 mod thin_band;
 mod thin_cross;
 mod thin_law;
+mod thin_oblique;
 mod window;
 pub use thin::THIN_RATIO_MIN;
 pub use thin_band::BAND_RATIO_MAX;

@@ -9,7 +9,9 @@
 //! flipped under a mirror). Layers below that limit (and above the local
 //! limit of [`super::thin`]) evaluate only the offsets within the layer's
 //! reach and carry the rest of each row by its memory terms
-//! ([`super::window`]). Other directions and derivatives transverse to
+//! ([`super::window`]). The thin-layer band's continuation off the grid
+//! axes scatters its few nonzero memories through the layer's lattice
+//! kernel ([`super::thin_oblique`]). Other directions and derivatives transverse to
 //! `e_v` are evaluated per offset (correct, much slower: ~20-40 us per
 //! offset for `K` on a half-space, ~0.2 ms for `D`).
 
@@ -17,6 +19,7 @@ use rayon::prelude::*;
 
 use super::march::canonical;
 use super::progress::Progress;
+use super::thin_oblique::oblique_table;
 use super::window::{windowed, Offsets};
 use super::{Axis, SlidingKernel, ThetaRule};
 use crate::response::Grid;
@@ -173,6 +176,11 @@ fn values(
                 derivative,
                 force_per_offset,
             );
+        }
+        if k.frame(0.0, 0.0, a.0, a.1).is_none() {
+            if let Some(b) = k.band_stencil(a.0, a.1) {
+                return oblique_table(k, &b, (lat.first(), lat.width()), a, derivative);
+            }
         }
         return per_offset(k, lat, a, derivative);
     }

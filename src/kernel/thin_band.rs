@@ -63,6 +63,12 @@
 //! tests/solver/thin_step.rs and BENCHMARKS.md "Thin-layer switches".
 //! Across `e_v` the derivative stays the centred difference (the lattice
 //! has no points between the rows).
+//!
+//! Nothing here needs `e_v` along a grid axis but the row bracket: off the
+//! axes the memory at a point is the same line integral along a trail
+//! between the grid lines, in closed form for a cell-constant pressure,
+//! and `D` couples it in two dimensions (`kernel/thin_oblique.rs`; the
+//! resolved cell integral took over there before, 2x off at `h = a/5`).
 
 use super::{Axis, Coefficient, SlidingKernel};
 use crate::response::layer::compliance_ratio;
@@ -166,8 +172,9 @@ impl BandStencil {
 impl SlidingKernel {
     /// Whether `ax x ay` cells take the grid-symbol kernel of this module:
     /// a layer above the local limit and below [`BAND_RATIO_MAX`] of the
-    /// shorter side, sliding along a grid axis, whose local limit at the
-    /// switch (`R h = a/2`) is the thin-layer law.
+    /// shorter side, whose local limit at the switch (`R h = a/2`) is the
+    /// thin-layer law; sliding in any direction (off the grid axes by
+    /// `kernel/thin_oblique.rs`).
     pub(crate) fn is_band(&self, ax: f64, ay: f64) -> bool {
         let Some(t) = &self.theta else { return false };
         if self.rule != super::ThetaRule::CellIntegral || !self.local {
@@ -175,8 +182,7 @@ impl SlidingKernel {
         }
         let a = ax.min(ay);
         let h = t.layer.thickness;
-        if t.reach() <= 0.5 * a || h >= BAND_RATIO_MAX * a || self.frame(0.0, 0.0, ax, ay).is_none()
-        {
+        if t.reach() <= 0.5 * a || h >= BAND_RATIO_MAX * a {
             return false;
         }
         let p = super::thin::profile(t);
@@ -184,13 +190,16 @@ impl SlidingKernel {
         p.m0 < 20.0 * p.c2.abs() / (2.0 * p.reach)
     }
 
-    /// The stencil of `ax x ay` cells in the frame of `e_v` (along, across).
+    /// The stencil of `ax x ay` cells in the frame of `e_v` (along, across)
+    /// on a grid axis, in the grid's (x, y) otherwise.
     pub(crate) fn band_stencil(&self, ax: f64, ay: f64) -> Option<BandStencil> {
         if !self.is_band(ax, ay) {
             return None;
         }
         let t = self.theta.as_ref()?;
-        let (_, _, aa, at) = self.frame(0.0, 0.0, ax, ay)?;
+        let (aa, at) = self
+            .frame(0.0, 0.0, ax, ay)
+            .map_or((ax, ay), |(_, _, aa, at)| (aa, at));
         Some(BandStencil::new(
             t.layer.base,
             t.poisson,
@@ -201,9 +210,10 @@ impl SlidingKernel {
         ))
     }
 
-    /// `K(d)` of the module docs at the offset `(dx, dy)`: NaN off the
-    /// lattice of cell centres and off its copy shifted by half a cell
-    /// along `e_v` (the cell edges of the friction stencil).
+    /// `K(d)` of the module docs at the offset `(dx, dy)`: on a grid axis
+    /// NaN off the lattice of cell centres and off its copy shifted by half
+    /// a cell along `e_v` (the cell edges of the friction stencil); off the
+    /// axes by `kernel/thin_oblique.rs`.
     pub(crate) fn band_coefficient(
         &self,
         b: &BandStencil,
@@ -217,7 +227,7 @@ impl SlidingKernel {
             viscoelastic: f64::NAN,
         };
         let Some((x, c, aa, at)) = self.frame(dx, dy, ax, ay) else {
-            return nan;
+            return self.oblique_coefficient(b, (ax, ay), (dx, dy));
         };
         let (i, j) = ((x / aa).round(), (c / at).round());
         // The lattice along the trail, shifted by `t` = 0 or half a cell.
@@ -253,7 +263,8 @@ impl SlidingKernel {
 
 impl SlidingKernel {
     /// The friction stencil of the module docs along `axis`: the work on
-    /// the cell edges along `e_v`, the centred difference across.
+    /// the cell edges along `e_v`, the centred difference across; off the
+    /// axes the work on the cell edges along both (`kernel/thin_oblique.rs`).
     pub(crate) fn band_derivative(
         &self,
         b: &BandStencil,
@@ -261,6 +272,9 @@ impl SlidingKernel {
         (dx, dy): (f64, f64),
         axis: Axis,
     ) -> f64 {
+        if self.frame(0.0, 0.0, ax, ay).is_none() {
+            return self.oblique_derivative(b, (ax, ay), (dx, dy), axis);
+        }
         let (ex, ey, a) = match axis {
             Axis::X => (ax, 0.0, ax),
             Axis::Y => (0.0, ay, ay),

@@ -12,5 +12,6 @@ mod layer_cells;
 mod limits;
 mod love;
 mod thickness;
+mod thin_direction;
 mod thin_layer;
 mod thin_switch;

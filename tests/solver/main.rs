@@ -17,4 +17,5 @@ mod physics;
 mod problem_api;
 mod random_cases;
 mod stalled_cases;
+mod thin_direction;
 mod thin_step;

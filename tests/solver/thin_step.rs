@@ -12,6 +12,17 @@ use viscoslide::problem::{Executor, Problem};
 /// layer of thickness `h` (near full contact), `n^2` cells, `xi = v tau /
 /// L`, in `formulation` (`"non_periodic"` or `"periodic"`).
 pub(crate) fn bonded_pad(n: usize, h: f64, xi: f64, formulation: &str) -> Problem {
+    bonded_pad_with(n, h, xi, formulation, &[])
+}
+
+/// [`bonded_pad`] with `overrides` (`section.key=value`) applied.
+pub(crate) fn bonded_pad_with(
+    n: usize,
+    h: f64,
+    xi: f64,
+    formulation: &str,
+    overrides: &[String],
+) -> Problem {
     let text = format!(
         r#"
 [material]
@@ -46,7 +57,7 @@ tolerance = 1e-8
     let path = dir.path().join("c.toml");
     std::fs::write(&path, text).unwrap();
     let sc: SolverConfig = toml::from_str(&format!("formulation = \"{formulation}\"")).unwrap();
-    Problem::from_config(&config::load(&path, &[]).unwrap())
+    Problem::from_config(&config::load(&path, overrides).unwrap())
         .unwrap()
         .with_solver_config(&sc)
         .unwrap()
