@@ -48,6 +48,17 @@ pub(crate) const SMOOTH_PAD_SHARE_LIMIT: f64 = 0.1;
 /// The smooth-pad solve's matvec budget is at least this.
 const SMOOTH_PAD_MIN_MATVECS: usize = 300;
 
+/// The smooth-pad solve's budget in the rough solve's matvecs, with a
+/// preconditioner.
+const SMOOTH_PAD_PER_ROUGH: usize = 3;
+
+/// The same without one (the thin-layer law, or `solver.precondition =
+/// false`): plain GMRES on the pad's full contact takes 1.7-7.1 times the
+/// rough solve's matvecs on bonded 64^2 pads inside the thin-layer band
+/// (214-498 against 37-136, h = a/10 to a/2, 0-45 deg), where the rough
+/// solve's few contact cells need few; 3 left some of them unanswered.
+const SMOOTH_PAD_PER_ROUGH_PLAIN: usize = 10;
+
 /// The relative tolerance of the flat pad's solve in f32 (on a device):
 /// its Krylov solves then aim at 1e-3 (0.01 of it). Tighter, the f32 inner
 /// solves over a flat pad's (nearly full) contact set reach their rounding
@@ -112,11 +123,11 @@ impl Problem {
     /// The flat pad of this non-periodic problem under the normal load
     /// `load` \[N\] on `executor` (then refined in f64 on the host where
     /// its precision is ([`Executes::refined_on_host`])). At most
-    /// `max(SMOOTH_PAD_MIN_MATVECS, 3 rough_matvecs)` operator applications
-    /// per stage, so that a flat pad the iteration struggles with (a layer
-    /// on the thin-layer law takes no preconditioner) costs at most a few
-    /// rough solves; an error then, which the caller reports instead of
-    /// failing.
+    /// `max(SMOOTH_PAD_MIN_MATVECS, k rough_matvecs)` operator applications
+    /// per stage (`k` = [`SMOOTH_PAD_PER_ROUGH`], or
+    /// [`SMOOTH_PAD_PER_ROUGH_PLAIN`] without a preconditioner), so that a
+    /// flat pad the iteration struggles with costs at most a few rough
+    /// solves; an error then, which the caller reports instead of failing.
     pub(super) fn smooth_pad<X: Executes>(
         &self,
         executor: &mut X,
@@ -127,9 +138,15 @@ impl Problem {
         let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
         let operators = UniformOperators::Toeplitz(kernel);
+        let base = self.solver_params();
+        let per_rough = if base.precondition {
+            SMOOTH_PAD_PER_ROUGH
+        } else {
+            SMOOTH_PAD_PER_ROUGH_PLAIN
+        };
         let params = solver::SolverParams {
-            max_matvecs: SMOOTH_PAD_MIN_MATVECS.max(3 * rough_matvecs),
-            ..self.solver_params()
+            max_matvecs: SMOOTH_PAD_MIN_MATVECS.max(per_rough * rough_matvecs),
+            ..base
         };
         // An executor whose vectors are f32 (a device) solves to
         // `F32_TOLERANCE`.
