@@ -209,6 +209,45 @@ fn layer_tables_match_per_offset() {
     }
 }
 
+/// Off the grid axes the derivative tables go offset by offset; each `Kbar`
+/// at a half-cell point is computed once and shared by the two offsets it
+/// lies between. The shared table equals the entry-by-entry one (the same
+/// `Kbar`, its points rounded differently: 1e-12 of the peak), for `D_x`
+/// and `D_y`, square and rectangular cells, odd and even sides, on a layer
+/// and on the half-space.
+#[test]
+fn off_axis_derivative_tables_share_their_half_cell_values() {
+    let layered = kernel(1.5, LayerBase::Bonded, 3.0 * A / 0.01);
+    let r = layered.response();
+    for (layer, deg) in [(r.layer(), 30.0f64), (None, 120.0)] {
+        let k = SlidingKernel::new(
+            &SlidingResponse::new(&sls(), r.speed(), deg.to_radians(), layer).unwrap(),
+        )
+        .unwrap();
+        for grid in [
+            Grid::square(6, 6, A).unwrap(),
+            Grid::new(5, 4, (A, 1.3 * A)).unwrap(),
+        ] {
+            for axis in [Axis::X, Axis::Y] {
+                let shared = k.derivative_table(&grid, axis).unwrap();
+                let each = k.table_per_offset(&grid, Some(axis));
+                let peak = each.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let worst = shared
+                    .values
+                    .iter()
+                    .zip(&each.values)
+                    .map(|(a, b)| (a - b).abs() / peak)
+                    .fold(0.0, f64::max);
+                eprintln!(
+                    "{deg} deg, {:?}, {axis:?}: shared vs per entry {worst:e}",
+                    grid.size()
+                );
+                assert!(peak > 0.0 && worst < 1e-12, "{worst:e}");
+            }
+        }
+    }
+}
+
 /// Refinement: the displacement at the centre of a fixed physical patch
 /// (side `3 h`) under unit pressure, summed over `n x n` cells (`n` odd, so
 /// the centre is a cell centre). The cell integrals add up exactly, so every
