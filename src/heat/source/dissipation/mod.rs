@@ -387,7 +387,9 @@ impl Dissipation {
         let count = if nu == 0.5 { 5 } else { 6 };
         let (dev, trace) = (weight * (1.0 + nu), weight * (1.0 - 2.0 * nu) / 3.0);
         for c in 0..count {
-            work.spec.iter_mut().for_each(|s| *s = Complex64::default());
+            // Every entry is written below but `q = 0`'s (the transform
+            // consumed the last component's).
+            work.spec[0] = Complex64::default();
             for ((m, amp), &t) in self.regular.iter().zip(&work.amp).zip(&work.t) {
                 work.spec[m.index] = *amp * unit_component(m.n, t, nu, c);
             }
