@@ -46,6 +46,9 @@ struct Solved {
     heat: f64,
     /// Wall time of its heat source and rise \[s\].
     heat_time_s: f64,
+    /// Its heat source (the answer's depth profile takes it; dropped with
+    /// the evaluations not kept).
+    source: HeatSource,
 }
 
 /// The heated solve of `problem` (its material at `T0 =
@@ -299,14 +302,7 @@ pub fn solve_heated(
     };
     let profile_clock = Instant::now();
     let depth_profile = if periodic {
-        Some(depth_profile(
-            problem,
-            params,
-            &mut heat,
-            &rule,
-            &solution,
-            answer.temperature,
-        )?)
+        Some(depth_profile(problem, &mut heat, &answer.source)?)
     } else {
         None
     };
@@ -328,31 +324,19 @@ pub fn solve_heated(
 /// map's side.
 const PROFILE_PER_OCTAVE: u64 = 8;
 
-/// The rise against depth of the answer (a periodic cell): at the volume
-/// source's layer middles, or at depths spaced geometrically below a
-/// surface flux.
+/// The rise against depth of the answer (a periodic cell) under its heat
+/// `source`: at the volume source's layer middles, or at depths spaced
+/// geometrically below a surface flux.
 fn depth_profile(
     problem: &Problem,
-    params: &HeatingParams,
     heat: &mut HeatSolver,
-    rule: &DepthRule,
-    solution: &Solution,
-    t: f64,
+    source: &HeatSource,
 ) -> Result<Vec<DepthRow>> {
-    let at = problem_at(problem, t)?;
-    let grid = at.grid()?;
-    let source = HeatSource::from_contact(
-        params.source,
-        &solution.fields.pressure,
-        &grid,
-        &at.response()?,
-        rule,
-    )
-    .map_err(heat_error)?;
+    let grid = problem.grid()?;
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
     let max = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let n = grid.cells();
-    match &source {
+    match source {
         HeatSource::Volume { layers, density } => {
             let mut depths = vec![0.0];
             depths.extend(layers.iter().map(|(a, b)| 0.5 * (a + b)));
@@ -485,5 +469,6 @@ fn solve_at(
         heat: heat_w,
         heat_time_s: clock.elapsed().as_secs_f64(),
         solution,
+        source,
     })
 }

@@ -31,6 +31,14 @@
 //! points are `(-1)^i` times a one-dimensional transform; their squares
 //! are added, so that the grid sum of `D` is the Fourier sum exactly
 //! (discrete Parseval). `D >= 0`: a sum of squares with positive weights.
+//!
+//! The elements' multipliers are not transformed one by one: over the
+//! grid's frequencies they span fewer dimensions than there are elements
+//! (13-16 of the SBR-like rubber's 24), and `rank.rs` combines them into
+//! that many orthonormal combinations whose forms sum to `D` within
+//! `2e-15` of each mode's power.
+
+mod rank;
 
 use std::sync::Arc;
 
@@ -54,8 +62,13 @@ pub(crate) struct Dissipation {
     e: (f64, f64),
     speed: f64,
     nu: f64,
-    /// `(C_k, tau_k)` of every element with `C_k > 0`.
+    /// `(C_k, tau_k)` of every element with `C_k > 0` (the tests' direct
+    /// sums; the density takes `rates`).
+    #[cfg_attr(not(test), allow(dead_code))]
     elements: Vec<(f64, f64)>,
+    /// The elements' multipliers combined over the grid's frequencies
+    /// (`rank.rs`).
+    rates: Vec<RateFn>,
     /// Half spectrum of the pressure (`height_fft` layout), divided by
     /// `nx ny`.
     spectrum: Vec<Complex64>,
@@ -156,7 +169,7 @@ impl Dissipation {
             .map_err(|e| HeatError::Transform(e.to_string()))?;
         let scale = 1.0 / (nx * ny) as f64;
         spectrum.iter_mut().for_each(|c| *c *= scale);
-        let elements = response
+        let elements: Vec<(f64, f64)> = response
             .material()
             .spectrum
             .terms
@@ -187,6 +200,7 @@ impl Dissipation {
                 })
             })
             .collect();
+        let rates = rank::combined_rates(&elements, &frequencies(grid, e, speed));
         let mut planner = FftPlanner::<f64>::new();
         Ok(Self {
             nx,
@@ -196,6 +210,7 @@ impl Dissipation {
             speed,
             nu: response.poisson(),
             elements,
+            rates,
             spectrum,
             regular,
             fft: InverseFft::new(nx, ny),
@@ -205,8 +220,10 @@ impl Dissipation {
     }
 
     /// The multipliers whose dissipation forms sum to `D`: one per
-    /// element, `sqrt(tau_k C_k) i w / (1 + i w tau_k)`.
-    fn rates(&self) -> Vec<RateFn> {
+    /// element, `sqrt(tau_k C_k) i w / (1 + i w tau_k)` (the sums
+    /// `rank.rs` combines).
+    #[cfg(test)]
+    fn element_rates(&self) -> Vec<RateFn> {
         self.elements
             .iter()
             .map(|&(c, tau)| RateFn(vec![((tau * c).sqrt(), tau)]))
@@ -290,12 +307,28 @@ impl Dissipation {
     /// [`super::DepthRule::nodes`] gives them): layer `l`'s map at
     /// `[l * nx * ny..(l + 1) * nx * ny]`.
     pub fn layer_densities(&self, nodes: &[Vec<(f64, f64)>]) -> Result<Vec<f64>, HeatError> {
+        self.densities_with(&self.rates, nodes)
+    }
+
+    /// [`Dissipation::layer_densities`] as the sum over the multipliers
+    /// `rates`.
+    fn densities_with(
+        &self,
+        rates: &[RateFn],
+        nodes: &[Vec<(f64, f64)>],
+    ) -> Result<Vec<f64>, HeatError> {
         let n = self.nx * self.ny;
         let mut density = vec![0.0; nodes.len() * n];
         if self.speed == 0.0 || !self.speed.is_finite() {
             return Ok(density);
         }
-        for rate in &self.rates() {
+        for rate in rates {
+            // `rate(w) P / N` of every regular mode, shared by the depths.
+            let values: Vec<Complex64> = self
+                .regular
+                .par_iter()
+                .map(|m| rate.at(m.w) * m.p)
+                .collect();
             density
                 .par_chunks_mut(n)
                 .zip(nodes.par_iter())
@@ -303,7 +336,7 @@ impl Dissipation {
                     || self.work(),
                     |work, (out, nodes)| {
                         for &(z, weight) in nodes {
-                            self.add_density(rate, z, weight, work, out)?;
+                            self.add_density(rate, &values, z, weight, work, out)?;
                         }
                         Ok(())
                     },
@@ -329,6 +362,7 @@ impl Dissipation {
     fn add_density(
         &self,
         rate: &RateFn,
+        values: &[Complex64],
         z: f64,
         weight: f64,
         work: &mut Work,
@@ -337,9 +371,15 @@ impl Dissipation {
         let nu = self.nu;
         // `rate P f` and `t` of every regular mode; the stresses follow
         // component by component.
-        for ((m, amp), t) in self.regular.iter().zip(&mut work.amp).zip(&mut work.t) {
+        for (((m, v), amp), t) in self
+            .regular
+            .iter()
+            .zip(values)
+            .zip(&mut work.amp)
+            .zip(&mut work.t)
+        {
             *t = m.k * z;
-            *amp = rate.at(m.w) * m.p * (-*t).exp();
+            *amp = v * (-*t).exp();
         }
         let nyquist = self.nyquist_parts(rate, z);
         // The five deviatoric components, then the trace (whose weight
@@ -347,7 +387,9 @@ impl Dissipation {
         let count = if nu == 0.5 { 5 } else { 6 };
         let (dev, trace) = (weight * (1.0 + nu), weight * (1.0 - 2.0 * nu) / 3.0);
         for c in 0..count {
-            work.spec.iter_mut().for_each(|s| *s = Complex64::default());
+            // Every entry is written below but `q = 0`'s (the transform
+            // consumed the last component's).
+            work.spec[0] = Complex64::default();
             for ((m, amp), &t) in self.regular.iter().zip(&work.amp).zip(&work.t) {
                 work.spec[m.index] = *amp * unit_component(m.n, t, nu, c);
             }
@@ -485,6 +527,32 @@ impl Dissipation {
             })
             .sum::<f64>()
     }
+}
+
+/// Every `|w| = v |q.e_v|` \[rad/s\] the grid's modes meet, the signs of
+/// the Nyquist components included, sorted, without repeats.
+fn frequencies(grid: &Grid, e: (f64, f64), speed: f64) -> Vec<f64> {
+    let (nx, ny) = grid.size();
+    let length = grid.lengths();
+    let tau2 = std::f64::consts::TAU;
+    let mut freqs: Vec<f64> = (0..(ny / 2 + 1) * nx)
+        .into_par_iter()
+        .flat_map_iter(|index| {
+            let (kx, nyq_x) = signed_index(index % nx, nx);
+            let (ky, nyq_y) = signed_index(index / nx, ny);
+            let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
+            let sy: &[f64] = if nyq_y { &[1.0, -1.0] } else { &[1.0] };
+            sx.iter().flat_map(move |a| {
+                sy.iter().map(move |b| {
+                    let q = (a * tau2 * kx / length.0, b * tau2 * ky / length.1);
+                    (speed * (q.0 * e.0 + q.1 * e.1)).abs()
+                })
+            })
+        })
+        .collect();
+    freqs.par_sort_unstable_by(f64::total_cmp);
+    freqs.dedup();
+    freqs
 }
 
 /// Component `c` of a stress: the five deviatoric ones, then the trace.
