@@ -42,6 +42,10 @@ pub enum HeatError {
     /// An output depth below zero or not finite.
     #[error("depth {0} m must be finite and >= 0 (0 is the surface)")]
     Depth(f64),
+    /// A rise beyond f64's range (a flux near `f64::MAX`, or a
+    /// conductivity near zero).
+    #[error("the temperature rise overflows at cell ({i}, {j}) ({value} K): the flux over the conductivity is beyond the range of f64")]
+    Overflow { value: f64, i: usize, j: usize },
     /// A combination the heat room does not solve.
     #[error("{0}")]
     Unsupported(&'static str),
@@ -52,6 +56,19 @@ pub enum HeatError {
     /// A transform that could not be planned or run.
     #[error("heat problem: {0}")]
     Transform(String),
+}
+
+/// [`HeatError::Overflow`] at the first rise that is not finite in a map
+/// of `ny` cells per row.
+pub(crate) fn check_rise(rise: &[f64], ny: usize) -> Result<(), HeatError> {
+    match rise.iter().position(|v| !v.is_finite()) {
+        Some(k) => Err(HeatError::Overflow {
+            value: rise[k],
+            i: k / ny,
+            j: k % ny,
+        }),
+        None => Ok(()),
+    }
 }
 
 /// `" in layer L"` for a volume source.

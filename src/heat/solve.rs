@@ -3,7 +3,7 @@
 //! sources. Every source is checked here before it reaches the numerics.
 
 use super::background::{surface_background, surface_background_at, volume_background_at};
-use super::error::{check_map, HeatError};
+use super::error::{check_map, check_rise, HeatError};
 use super::layers::{check_depths, DepthLadder, DepthLayers};
 use super::pad::PadPlan;
 use super::periodic::PeriodicPlan;
@@ -116,6 +116,7 @@ impl HeatSolver {
             Plan::Periodic(p) => p.surface(flux),
         };
         add(&mut rise, background);
+        check_rise(&rise, self.shape().1)?;
         Ok(Temperature { rise, background })
     }
 

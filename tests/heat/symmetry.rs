@@ -261,6 +261,22 @@ fn bad_inputs_are_refused_in_one_line() {
     bad[7] = f64::NAN;
     refuse(good, &bad, &["heat flux", "NaN", "(2, 1)"]);
     refuse(good, &flux[..5], &["holds 5 values", "4 x 3"]);
+    // A finite flux whose rise is beyond f64 (before: an inf/NaN map, and
+    // the command failed drawing it, naming its staging directory).
+    for domain in [
+        HeatDomain::Pad,
+        HeatDomain::Periodic {
+            block_length: Some(0.01),
+        },
+    ] {
+        let mut s = good;
+        s.domain = domain;
+        refuse(
+            s,
+            &[1e308; 12],
+            &["temperature rise overflows", "cell (0, 0)"],
+        );
+    }
     let e = Grid::new(0, 3, (1e-5, 1e-5)).unwrap_err().to_string();
     assert!(e.contains("0 x 3"), "{e}");
     assert!(matches!(
