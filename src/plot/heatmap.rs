@@ -42,7 +42,7 @@ pub fn heatmap(
     }
     if lo > hi {
         return Err(PlotError::NoData {
-            path: path.display().to_string(),
+            path: super::figure_name(path),
         });
     }
     if hi <= lo {

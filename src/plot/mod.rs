@@ -15,7 +15,8 @@ mod ticks;
 pub use heatmap::{colormap, heatmap, Field};
 pub use ticks::{axis_ticks, format_digits, labels_fit, tick_labels, Ticks, LABEL_GAP};
 
-/// Plotting failures (drawing backend or invalid data).
+/// Plotting failures (drawing backend or invalid data), naming the figure
+/// by its file name (`figure_name`).
 #[derive(Debug, thiserror::Error)]
 pub enum PlotError {
     #[error("cannot draw {path}: {what}")]
@@ -96,9 +97,19 @@ pub const PALETTE: [RGBColor; 6] = [
     RGBColor(0, 0, 0),
 ];
 
+/// The file name of the figure at `path`: outputs are drawn in a staging
+/// directory and moved into place whole, so the full path would name a
+/// directory the user never sees.
+pub(crate) fn figure_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
 fn draw_err(path: &Path, e: impl std::fmt::Display) -> PlotError {
     PlotError::Draw {
-        path: path.display().to_string(),
+        path: figure_name(path),
         what: e.to_string(),
     }
 }
@@ -254,7 +265,7 @@ fn draw_chart<DB: DrawingBackend>(
         })
     });
     let nodata = || PlotError::NoData {
-        path: path.display().to_string(),
+        path: figure_name(path),
     };
     let (x0, x1) = range(xs, chart.log_x).ok_or_else(nodata)?;
     let (y0, y1) = range(ys, chart.log_y).ok_or_else(nodata)?;
