@@ -80,6 +80,7 @@ def test_a_pad_trails_heat_behind_and_keeps_the_orientation():
         ({"flux": np.ones(5)}, ["flux", "2-dimensional"]),
         ({"flux": np.ones((0, 3))}, ["flux", "empty"]),
         ({"flux": np.ones((2, 2), dtype=complex)}, ["flux", "real"]),
+        ({"flux": np.full((4, 3), 1e308)}, ["temperature rise overflows", "cell (0, 0)"]),
     ],
 )
 def test_argument_errors_name_the_argument(change, words):
