@@ -37,7 +37,15 @@
 //! (13-16 of the SBR-like rubber's 24), and `rank.rs` combines them into
 //! that many orthonormal combinations whose forms sum to `D` within
 //! `2e-15` of each mode's power.
+//!
+//! At depth only the modes with `|q| z <= 50` are not negligible
+//! (`band.rs`): where their band fits a grid under half the size per axis,
+//! a node's rates are transformed and squared on that coarser grid, the
+//! layer's density summed there over multipliers, forward transformed and
+//! brought back to the full grid by zero padding (one full inverse per
+//! layer). Those nodes have no Nyquist modes in their band.
 
+mod band;
 mod rank;
 
 use std::sync::Arc;
@@ -138,6 +146,20 @@ fn add(a: &mut ModeStress, b: &ModeStress) {
 struct NyquistParts {
     row: Vec<Parts>,
     column: Vec<Parts>,
+}
+
+/// A depth node evaluated on a coarser grid (`band.rs`): which of the
+/// planned coarse grids, and every regular mode in its band (its index in
+/// `regular`, its index in the coarse half spectrum).
+struct Coarse {
+    grid: usize,
+    modes: Vec<(usize, usize)>,
+}
+
+/// A coarse grid's size and inverse transform.
+struct CoarseGrid {
+    size: (usize, usize),
+    fft: InverseFft,
 }
 
 /// One thread's work space.
@@ -322,6 +344,22 @@ impl Dissipation {
         if self.speed == 0.0 || !self.speed.is_finite() {
             return Ok(density);
         }
+        let (grids, plans) = self.coarse_plans(nodes);
+        // Each coarse node's density, summed over the multipliers.
+        let mut coarse: Vec<Vec<Vec<f64>>> = plans
+            .iter()
+            .map(|layer| {
+                layer
+                    .iter()
+                    .map(|p| {
+                        p.as_ref().map_or(Vec::new(), |c| {
+                            let (mx, my) = grids[c.grid].size;
+                            vec![0.0; mx * my]
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
         for rate in rates {
             // `rate(w) P / N` of every regular mode, shared by the depths.
             let values: Vec<Complex64> = self
@@ -332,17 +370,135 @@ impl Dissipation {
             density
                 .par_chunks_mut(n)
                 .zip(nodes.par_iter())
+                .zip(plans.par_iter())
+                .zip(coarse.par_iter_mut())
                 .try_for_each_init(
                     || self.work(),
-                    |work, (out, nodes)| {
-                        for &(z, weight) in nodes {
-                            self.add_density(rate, &values, z, weight, work, out)?;
+                    |work, (((out, nodes), plans), coarse)| {
+                        for ((&(z, weight), plan), acc) in nodes.iter().zip(plans).zip(coarse) {
+                            match plan {
+                                None => self.add_density(rate, &values, z, weight, work, out)?,
+                                Some(c) => {
+                                    self.add_coarse(&values, c, &grids[c.grid], z, weight, acc)?
+                                }
+                            }
                         }
-                        Ok(())
+                        Ok::<(), HeatError>(())
                     },
                 )?;
         }
+        // The coarse nodes' densities, padded to the full grid's spectrum
+        // and brought back with one inverse per layer.
+        density
+            .par_chunks_mut(n)
+            .zip(plans.par_iter())
+            .zip(coarse.par_iter())
+            .try_for_each(|((out, plans), coarse)| {
+                if plans.iter().all(Option::is_none) {
+                    return Ok(());
+                }
+                let mut spec = vec![Complex64::default(); self.nx * (self.ny / 2 + 1)];
+                for (plan, acc) in plans.iter().zip(coarse) {
+                    if let Some(c) = plan {
+                        let size = grids[c.grid].size;
+                        let cs = height_fft::forward(acc, size.0, size.1)
+                            .map_err(|e| HeatError::Transform(e.to_string()))?;
+                        let scale = 1.0 / (size.0 * size.1) as f64;
+                        band::pad_into(&cs, size, &mut spec, (self.nx, self.ny), scale);
+                    }
+                }
+                let field = height_fft::inverse(spec, self.nx, self.ny)
+                    .map_err(|e| HeatError::Transform(e.to_string()))?;
+                out.iter_mut().zip(&field).for_each(|(o, f)| *o += f);
+                Ok::<(), HeatError>(())
+            })?;
         Ok(density)
+    }
+
+    /// The coarse grids the depth nodes need and, per layer and node, the
+    /// coarse plan of a node whose band fits a coarser grid along both
+    /// axes (`None`: the full grid).
+    fn coarse_plans(
+        &self,
+        nodes: &[Vec<(f64, f64)>],
+    ) -> (Vec<CoarseGrid>, Vec<Vec<Option<Coarse>>>) {
+        let mut grids: Vec<CoarseGrid> = Vec::new();
+        let plans = nodes
+            .iter()
+            .map(|layer| {
+                layer
+                    .iter()
+                    .map(|&(z, _)| {
+                        let (bx, mx) = band::coarse_axis(self.nx, self.length.0, z)?;
+                        let (by, my) = band::coarse_axis(self.ny, self.length.1, z)?;
+                        let grid = match grids.iter().position(|g| g.size == (mx, my)) {
+                            Some(g) => g,
+                            None => {
+                                grids.push(CoarseGrid {
+                                    size: (mx, my),
+                                    fft: InverseFft::new(mx, my),
+                                });
+                                grids.len() - 1
+                            }
+                        };
+                        let modes = self
+                            .regular
+                            .iter()
+                            .enumerate()
+                            .filter_map(|(r, m)| {
+                                let (kx, _) = signed_index(m.index % self.nx, self.nx);
+                                let ky = m.index / self.nx;
+                                (kx.abs() <= bx as f64 && ky <= by).then(|| {
+                                    let i = (kx as isize).rem_euclid(mx as isize) as usize;
+                                    (r, ky * mx + i)
+                                })
+                            })
+                            .collect();
+                        Some(Coarse { grid, modes })
+                    })
+                    .collect()
+            })
+            .collect();
+        (grids, plans)
+    }
+
+    /// `acc += weight D_rate(z)` on the coarse grid of `plan`, for the
+    /// multiplier whose values `rate(w) P / N` at the regular modes are
+    /// `values`.
+    fn add_coarse(
+        &self,
+        values: &[Complex64],
+        plan: &Coarse,
+        grid: &CoarseGrid,
+        z: f64,
+        weight: f64,
+        acc: &mut [f64],
+    ) -> Result<(), HeatError> {
+        let nu = self.nu;
+        let (mx, my) = grid.size;
+        let mut spec = vec![Complex64::default(); mx * (my / 2 + 1)];
+        let mut field = vec![0.0; mx * my];
+        let mut first = vec![0.0; mx * my];
+        let mut buf = grid.fft.buffers();
+        let amp: Vec<(Complex64, f64)> = plan
+            .modes
+            .iter()
+            .map(|&(r, _)| {
+                let t = self.regular[r].k * z;
+                (values[r] * (-t).exp(), t)
+            })
+            .collect();
+        let count = if nu == 0.5 { 5 } else { 6 };
+        let (dev, trace) = (weight * (1.0 + nu), weight * (1.0 - 2.0 * nu) / 3.0);
+        for c in 0..count {
+            spec.iter_mut().for_each(|v| *v = Complex64::default());
+            for (&(r, index), &(a, t)) in plan.modes.iter().zip(&amp) {
+                spec[index] = a * unit_component(self.regular[r].n, t, nu, c);
+            }
+            grid.fft.run(&mut spec, &mut field, &mut buf)?;
+            accumulate(c, &field, &mut first, acc, dev, trace);
+        }
+        Ok(())
     }
 
     fn work(&self) -> Work {
@@ -405,24 +561,7 @@ impl Dissipation {
             }
             self.fft
                 .run(&mut work.spec, &mut work.field, &mut work.fft)?;
-            // The form `(1 + nu) (xx^2 + yy^2 + zz^2 + 2 xy^2 + 2 xz^2 +
-            // 2 yz^2) + (1 - 2 nu) / 3 tr^2`, `zz = -(xx + yy)`.
-            match c {
-                0 => work.first.copy_from_slice(&work.field),
-                1 => out
-                    .iter_mut()
-                    .zip(&work.first)
-                    .zip(&work.field)
-                    .for_each(|((o, x), y)| *o += dev * (x * x + y * y + (x + y) * (x + y))),
-                5 => out
-                    .iter_mut()
-                    .zip(&work.field)
-                    .for_each(|(o, v)| *o += trace * v * v),
-                _ => out
-                    .iter_mut()
-                    .zip(&work.field)
-                    .for_each(|(o, v)| *o += 2.0 * dev * v * v),
-            }
+            accumulate(c, &work.field, &mut work.first, out, dev, trace);
         }
         self.add_nyquist(&nyquist, weight, out);
         Ok(())
@@ -553,6 +692,29 @@ fn frequencies(grid: &Grid, e: (f64, f64), speed: f64) -> Vec<f64> {
     freqs.par_sort_unstable_by(f64::total_cmp);
     freqs.dedup();
     freqs
+}
+
+/// `out +=` component `c`'s share of the dissipation form (weighted by
+/// `dev` and `trace`) of the grid field `field`; component 0 is kept in
+/// `first` for component 1's. The form `(1 + nu) (xx^2 + yy^2 + zz^2 + 2
+/// xy^2 + 2 xz^2 + 2 yz^2) + (1 - 2 nu) / 3 tr^2`, `zz = -(xx + yy)`.
+fn accumulate(c: usize, field: &[f64], first: &mut [f64], out: &mut [f64], dev: f64, trace: f64) {
+    match c {
+        0 => first.copy_from_slice(field),
+        1 => out
+            .iter_mut()
+            .zip(first.iter())
+            .zip(field)
+            .for_each(|((o, x), y)| *o += dev * (x * x + y * y + (x + y) * (x + y))),
+        5 => out
+            .iter_mut()
+            .zip(field)
+            .for_each(|(o, v)| *o += trace * v * v),
+        _ => out
+            .iter_mut()
+            .zip(field)
+            .for_each(|(o, v)| *o += 2.0 * dev * v * v),
+    }
 }
 
 /// Component `c` of a stress: the five deviatoric ones, then the trace.
