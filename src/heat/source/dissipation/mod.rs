@@ -47,11 +47,13 @@
 
 mod band;
 mod rank;
+mod separable;
 
 use std::sync::Arc;
 
 use num_complex::Complex64;
 use rayon::prelude::*;
+use realfft::{ComplexToReal, RealFftPlanner};
 use rustfft::{Fft, FftPlanner};
 
 use super::super::error::HeatError;
@@ -86,6 +88,11 @@ pub(crate) struct Dissipation {
     fft: InverseFft,
     line_x: Arc<dyn Fft<f64>>,
     line_y: Arc<dyn Fft<f64>>,
+    /// The real inverse along x (sliding along x, `separable.rs`).
+    row_x: Arc<dyn ComplexToReal<f64>>,
+    /// Whether sliding along x takes the separable path (the general one
+    /// is the tests' reference).
+    separable: bool,
 }
 
 /// A mode with one wavevector: its index in the half spectrum, `|q|`, the
@@ -238,6 +245,8 @@ impl Dissipation {
             fft: InverseFft::new(nx, ny),
             line_x: planner.plan_fft_inverse(nx),
             line_y: planner.plan_fft_inverse(ny),
+            row_x: RealFftPlanner::<f64>::new().plan_fft_inverse(nx),
+            separable: true,
         })
     }
 
@@ -360,24 +369,60 @@ impl Dissipation {
                     .collect()
             })
             .collect();
-        for rate in rates {
-            // `rate(w) P / N` of every regular mode, shared by the depths.
-            let values: Vec<Complex64> = self
-                .regular
+        // Sliding along x: the full-grid nodes by `separable.rs`.
+        let separable = self.separable && self.along_x();
+        if separable {
+            density
+                .par_chunks_mut(n)
+                .zip(nodes.par_iter())
+                .zip(plans.par_iter())
+                .try_for_each(|((out, nodes), plans)| {
+                    for (&(z, weight), plan) in nodes.iter().zip(plans) {
+                        if plan.is_none() {
+                            self.add_separable(rates, z, weight, out)?;
+                        }
+                    }
+                    Ok::<(), HeatError>(())
+                })?;
+        }
+        // The regular modes the loop over multipliers reads: all of them on
+        // the general path, the widest coarse band's on the separable one
+        // (the bands nest).
+        let needed: Vec<usize> = if separable {
+            plans
+                .iter()
+                .flatten()
+                .flatten()
+                .max_by_key(|c| c.modes.len())
+                .map_or(Vec::new(), |c| c.modes.iter().map(|&(r, _)| r).collect())
+        } else {
+            (0..self.regular.len()).collect()
+        };
+        let mut values = vec![Complex64::default(); self.regular.len()];
+        for rate in rates.iter().filter(|_| !needed.is_empty()) {
+            // `rate(w) P / N` of the modes needed, shared by the depths.
+            let got: Vec<Complex64> = needed
                 .par_iter()
-                .map(|m| rate.at(m.w) * m.p)
+                .map(|&r| rate.at(self.regular[r].w) * self.regular[r].p)
                 .collect();
+            for (&r, v) in needed.iter().zip(got) {
+                values[r] = v;
+            }
             density
                 .par_chunks_mut(n)
                 .zip(nodes.par_iter())
                 .zip(plans.par_iter())
                 .zip(coarse.par_iter_mut())
                 .try_for_each_init(
-                    || self.work(),
-                    |work, (((out, nodes), plans), coarse)| {
+                    || None,
+                    |work: &mut Option<Work>, (((out, nodes), plans), coarse)| {
                         for ((&(z, weight), plan), acc) in nodes.iter().zip(plans).zip(coarse) {
                             match plan {
-                                None => self.add_density(rate, &values, z, weight, work, out)?,
+                                None if separable => {}
+                                None => {
+                                    let work = work.get_or_insert_with(|| self.work());
+                                    self.add_density(rate, &values, z, weight, work, out)?
+                                }
                                 Some(c) => {
                                     self.add_coarse(&values, c, &grids[c.grid], z, weight, acc)?
                                 }

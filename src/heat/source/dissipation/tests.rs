@@ -250,3 +250,60 @@ fn coarse_nodes_are_the_direct_density() {
         }
     }
 }
+
+/// Sliding along x, the separable path (`separable.rs`) gives the general
+/// path's density at every point of every layer: 1e-12 of the largest
+/// value (the same sums in another order: round-off). Even and odd sizes
+/// along both axes (x-, y- and corner Nyquist modes), `nu = 0.5` and
+/// `0.3`, shallow full-grid nodes and deep coarse ones in one layer.
+#[test]
+fn separable_path_is_the_general_one() {
+    let spectrum = CreepSpectrum::new(
+        1e7,
+        (0..24)
+            .map(|k| CreepTerm {
+                compliance: 1e-8 * (1.0 + (k % 5) as f64),
+                time: 1e-7 * 10f64.powf(k as f64 / 2.0),
+            })
+            .collect(),
+    )
+    .unwrap();
+    for (nx, ny) in [(16, 12), (15, 11), (16, 11), (15, 12), (64, 48)] {
+        for nu in [0.5, 0.3] {
+            let material = Material::new(spectrum.clone(), nu).unwrap();
+            let a = 1e-5;
+            let grid = Grid::new(nx, ny, (a, 1.3 * a)).unwrap().periodic();
+            let response = SlidingResponse::new(&material, 0.02, 0.0, None).unwrap();
+            let p: Vec<f64> = (0..nx * ny)
+                .map(|k| ((k * 7919) % 13) as f64 * 1e4 + ((k % 3) as f64) * 3e3)
+                .collect();
+            let mut plan = Dissipation::new(&p, &grid, &response).unwrap();
+            assert!(plan.along_x() && plan.separable);
+            let lx = nx as f64 * a;
+            let nodes: Vec<Vec<(f64, f64)>> = vec![
+                vec![(0.01 * a, 1.0)],
+                vec![(0.3 * a, 0.5), (2.0 * a, 0.5)],
+                vec![(a, 0.4), (lx, 0.3), (3.0 * lx, 0.3)],
+            ];
+            let separable = plan.layer_densities(&nodes).unwrap();
+            plan.separable = false;
+            let general = plan.layer_densities(&nodes).unwrap();
+            for (l, (s, g)) in separable
+                .chunks(nx * ny)
+                .zip(general.chunks(nx * ny))
+                .enumerate()
+            {
+                let scale = g.iter().copied().fold(0.0, f64::max);
+                let worst = s
+                    .iter()
+                    .zip(g)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                assert!(
+                    scale > 0.0 && worst <= 1e-12 * scale,
+                    "{nx}x{ny} nu {nu} layer {l}: {worst} of {scale}"
+                );
+            }
+        }
+    }
+}
