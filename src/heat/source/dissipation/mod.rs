@@ -29,7 +29,7 @@
 //! `mean_s |m_s|^2` (what the friction's mode sum counts) is carried by the
 //! odd parts over the signs, `mean_s s m_s`, whose fields at the grid
 //! points are `(-1)^i` times a one-dimensional transform; their squares
-//! are added, so that the grid sum of `D` is the Fourier sum exactly
+//! are added (`nyquist.rs`), so that the grid sum of `D` is the Fourier sum exactly
 //! (discrete Parseval). `D >= 0`: a sum of squares with positive weights.
 //!
 //! The elements' multipliers are not transformed one by one: over the
@@ -43,9 +43,13 @@
 //! a node's rates are transformed and squared on that coarser grid, the
 //! layer's density summed there over multipliers, forward transformed and
 //! brought back to the full grid by zero padding (one full inverse per
-//! layer). Those nodes have no Nyquist modes in their band.
+//! layer). Those nodes have no Nyquist modes in their band. Sliding along
+//! x, the multipliers depend on `kx` only and the full-grid nodes take
+//! `separable.rs`: the transforms along y once per component and depth,
+//! one real transform along x per row and multiplier.
 
 mod band;
+mod nyquist;
 mod rank;
 mod separable;
 
@@ -58,7 +62,9 @@ use rustfft::{Fft, FftPlanner};
 
 use super::super::error::HeatError;
 use super::fft::{Buffers, InverseFft};
-use super::stress::{dissipation_form, mode_stress, unit_component, ModeStress};
+use nyquist::{add, scaled};
+
+use super::stress::{unit_component, ModeStress};
 use crate::operator::signed_index;
 use crate::response::{Grid, SlidingResponse};
 use crate::surface::height_fft;
@@ -120,53 +126,6 @@ impl RateFn {
             .map(|&(a, tau)| a * iw / (1.0 + iw * tau))
             .sum()
     }
-}
-
-/// The parts of one mode's multiplier over the signs of its Nyquist
-/// components: the mean (the main field) and the odd parts along x, y and
-/// both (zero where the component is not Nyquist).
-#[derive(Clone, Copy, Default)]
-struct Parts {
-    mean: ModeStress,
-    odd_x: ModeStress,
-    odd_y: ModeStress,
-    odd_xy: ModeStress,
-}
-
-fn scaled(s: &ModeStress, c: Complex64) -> ModeStress {
-    ModeStress {
-        dev: s.dev.map(|d| d * c),
-        trace: s.trace * c,
-    }
-}
-
-fn add(a: &mut ModeStress, b: &ModeStress) {
-    for (x, y) in a.dev.iter_mut().zip(&b.dev) {
-        *x += y;
-    }
-    a.trace += b.trace;
-}
-
-/// The Nyquist modes' parts at one depth for one multiplier: the
-/// x-Nyquist row (`i = nx / 2`, by `j`) and the y-Nyquist column (`j = ny
-/// / 2`, by `i`), empty where the size is odd.
-struct NyquistParts {
-    row: Vec<Parts>,
-    column: Vec<Parts>,
-}
-
-/// A depth node evaluated on a coarser grid (`band.rs`): which of the
-/// planned coarse grids, and every regular mode in its band (its index in
-/// `regular`, its index in the coarse half spectrum).
-struct Coarse {
-    grid: usize,
-    modes: Vec<(usize, usize)>,
-}
-
-/// A coarse grid's size and inverse transform.
-struct CoarseGrid {
-    size: (usize, usize),
-    fft: InverseFft,
 }
 
 /// One thread's work space.
@@ -259,71 +218,6 @@ impl Dissipation {
             .iter()
             .map(|&(c, tau)| RateFn(vec![((tau * c).sqrt(), tau)]))
             .collect()
-    }
-
-    /// The parts of the multiplier of mode `(i, j)` (`j <= ny / 2`) for the
-    /// stress-rate multiplier `rate` at depth `z`, times the pressure's
-    /// coefficient; `None` for `q = 0`.
-    fn parts(&self, i: usize, j: usize, rate: &RateFn, z: f64) -> Option<Parts> {
-        if i == 0 && j == 0 {
-            return None;
-        }
-        let (kx, nyq_x) = signed_index(i, self.nx);
-        let (ky, nyq_y) = signed_index(j, self.ny);
-        let tau2 = std::f64::consts::TAU;
-        let (qx, qy) = (tau2 * kx / self.length.0, tau2 * ky / self.length.1);
-        let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
-        let sy: &[f64] = if nyq_y { &[1.0, -1.0] } else { &[1.0] };
-        let count = (sx.len() * sy.len()) as f64;
-        let p = self.spectrum[j * self.nx + i];
-        let mut parts = Parts::default();
-        for &a in sx {
-            for &b in sy {
-                let q = (a * qx, b * qy);
-                let w = -self.speed * (q.0 * self.e.0 + q.1 * self.e.1);
-                let m = scaled(&mode_stress(q, z, self.nu), rate.at(w) * p / count);
-                add(&mut parts.mean, &m);
-                add(&mut parts.odd_x, &scaled(&m, Complex64::new(a, 0.0)));
-                add(&mut parts.odd_y, &scaled(&m, Complex64::new(b, 0.0)));
-                add(&mut parts.odd_xy, &scaled(&m, Complex64::new(a * b, 0.0)));
-            }
-        }
-        // The odd parts of a real field are imaginary over a sign pair:
-        // `-i` makes their grid fields real (same squares).
-        let minus_i = Complex64::new(0.0, -1.0);
-        parts.odd_x = if nyq_x {
-            scaled(&parts.odd_x, minus_i)
-        } else {
-            ModeStress::default()
-        };
-        parts.odd_y = if nyq_y {
-            scaled(&parts.odd_y, minus_i)
-        } else {
-            ModeStress::default()
-        };
-        if !(nyq_x && nyq_y) {
-            parts.odd_xy = ModeStress::default();
-        }
-        Some(parts)
-    }
-
-    fn nyquist_parts(&self, rate: &RateFn, z: f64) -> NyquistParts {
-        let (nx, ny) = (self.nx, self.ny);
-        let row = if nx % 2 == 0 {
-            (0..=ny / 2)
-                .map(|j| self.parts(nx / 2, j, rate, z).unwrap_or_default())
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let column = if ny % 2 == 0 {
-            (0..nx)
-                .map(|i| self.parts(i, ny / 2, rate, z).unwrap_or_default())
-                .collect()
-        } else {
-            Vec::new()
-        };
-        NyquistParts { row, column }
     }
 
     /// `D` \[W/m^3\] at the grid points (C order, axis 0 = x) at depth
@@ -432,118 +326,8 @@ impl Dissipation {
                     },
                 )?;
         }
-        // The coarse nodes' densities, padded to the full grid's spectrum
-        // and brought back with one inverse per layer.
-        density
-            .par_chunks_mut(n)
-            .zip(plans.par_iter())
-            .zip(coarse.par_iter())
-            .try_for_each(|((out, plans), coarse)| {
-                if plans.iter().all(Option::is_none) {
-                    return Ok(());
-                }
-                let mut spec = vec![Complex64::default(); self.nx * (self.ny / 2 + 1)];
-                for (plan, acc) in plans.iter().zip(coarse) {
-                    if let Some(c) = plan {
-                        let size = grids[c.grid].size;
-                        let cs = height_fft::forward(acc, size.0, size.1)
-                            .map_err(|e| HeatError::Transform(e.to_string()))?;
-                        let scale = 1.0 / (size.0 * size.1) as f64;
-                        band::pad_into(&cs, size, &mut spec, (self.nx, self.ny), scale);
-                    }
-                }
-                let field = height_fft::inverse(spec, self.nx, self.ny)
-                    .map_err(|e| HeatError::Transform(e.to_string()))?;
-                out.iter_mut().zip(&field).for_each(|(o, f)| *o += f);
-                Ok::<(), HeatError>(())
-            })?;
+        self.add_padded(&grids, &plans, &coarse, &mut density)?;
         Ok(density)
-    }
-
-    /// The coarse grids the depth nodes need and, per layer and node, the
-    /// coarse plan of a node whose band fits a coarser grid along both
-    /// axes (`None`: the full grid).
-    fn coarse_plans(
-        &self,
-        nodes: &[Vec<(f64, f64)>],
-    ) -> (Vec<CoarseGrid>, Vec<Vec<Option<Coarse>>>) {
-        let mut grids: Vec<CoarseGrid> = Vec::new();
-        let plans = nodes
-            .iter()
-            .map(|layer| {
-                layer
-                    .iter()
-                    .map(|&(z, _)| {
-                        let (bx, mx) = band::coarse_axis(self.nx, self.length.0, z)?;
-                        let (by, my) = band::coarse_axis(self.ny, self.length.1, z)?;
-                        let grid = match grids.iter().position(|g| g.size == (mx, my)) {
-                            Some(g) => g,
-                            None => {
-                                grids.push(CoarseGrid {
-                                    size: (mx, my),
-                                    fft: InverseFft::new(mx, my),
-                                });
-                                grids.len() - 1
-                            }
-                        };
-                        let modes = self
-                            .regular
-                            .iter()
-                            .enumerate()
-                            .filter_map(|(r, m)| {
-                                let (kx, _) = signed_index(m.index % self.nx, self.nx);
-                                let ky = m.index / self.nx;
-                                (kx.abs() <= bx as f64 && ky <= by).then(|| {
-                                    let i = (kx as isize).rem_euclid(mx as isize) as usize;
-                                    (r, ky * mx + i)
-                                })
-                            })
-                            .collect();
-                        Some(Coarse { grid, modes })
-                    })
-                    .collect()
-            })
-            .collect();
-        (grids, plans)
-    }
-
-    /// `acc += weight D_rate(z)` on the coarse grid of `plan`, for the
-    /// multiplier whose values `rate(w) P / N` at the regular modes are
-    /// `values`.
-    fn add_coarse(
-        &self,
-        values: &[Complex64],
-        plan: &Coarse,
-        grid: &CoarseGrid,
-        z: f64,
-        weight: f64,
-        acc: &mut [f64],
-    ) -> Result<(), HeatError> {
-        let nu = self.nu;
-        let (mx, my) = grid.size;
-        let mut spec = vec![Complex64::default(); mx * (my / 2 + 1)];
-        let mut field = vec![0.0; mx * my];
-        let mut first = vec![0.0; mx * my];
-        let mut buf = grid.fft.buffers();
-        let amp: Vec<(Complex64, f64)> = plan
-            .modes
-            .iter()
-            .map(|&(r, _)| {
-                let t = self.regular[r].k * z;
-                (values[r] * (-t).exp(), t)
-            })
-            .collect();
-        let count = if nu == 0.5 { 5 } else { 6 };
-        let (dev, trace) = (weight * (1.0 + nu), weight * (1.0 - 2.0 * nu) / 3.0);
-        for c in 0..count {
-            spec.iter_mut().for_each(|v| *v = Complex64::default());
-            for (&(r, index), &(a, t)) in plan.modes.iter().zip(&amp) {
-                spec[index] = a * unit_component(self.regular[r].n, t, nu, c);
-            }
-            grid.fft.run(&mut spec, &mut field, &mut buf)?;
-            accumulate(c, &field, &mut first, acc, dev, trace);
-        }
-        Ok(())
     }
 
     fn work(&self) -> Work {
@@ -610,60 +394,6 @@ impl Dissipation {
         }
         self.add_nyquist(&nyquist, weight, out);
         Ok(())
-    }
-
-    /// The squares of the odd parts of the Nyquist modes (module docs):
-    /// along y for the x-Nyquist row, along x for the y-Nyquist column, a
-    /// constant for the corner.
-    fn add_nyquist(&self, parts: &NyquistParts, weight: f64, density: &mut [f64]) {
-        let (nx, ny) = (self.nx, self.ny);
-        let nu = self.nu;
-        // x-Nyquist row: the field is (-1)^i g(y_j), g the inverse
-        // transform along y of the odd parts (Hermitian in ky).
-        let along_y: Option<Vec<f64>> = (nx % 2 == 0).then(|| {
-            let mut comps = Vec::with_capacity(6);
-            for c in 0..6 {
-                let mut g = vec![Complex64::default(); ny];
-                for j in 0..=ny / 2 {
-                    let v = component(&parts.row[j].odd_x, c);
-                    g[j] = v;
-                    if j > 0 && j < ny - j {
-                        g[ny - j] = v.conj();
-                    }
-                }
-                self.line_y.process(&mut g);
-                comps.push(g.iter().map(|v| v.re).collect::<Vec<f64>>());
-            }
-            (0..ny).map(|j| form_of(&comps, j, nu)).collect()
-        });
-        // y-Nyquist column: (-1)^j h(x_i), h along x.
-        let along_x: Option<Vec<f64>> = (ny % 2 == 0).then(|| {
-            let mut comps = Vec::with_capacity(6);
-            for c in 0..6 {
-                let mut h: Vec<Complex64> = parts
-                    .column
-                    .iter()
-                    .map(|p| component(&p.odd_y, c))
-                    .collect();
-                self.line_x.process(&mut h);
-                comps.push(h.iter().map(|v| v.re).collect::<Vec<f64>>());
-            }
-            (0..nx).map(|i| form_of(&comps, i, nu)).collect()
-        });
-        let corner = if nx % 2 == 0 && ny % 2 == 0 {
-            let p = &parts.column[nx / 2].odd_xy;
-            let comps: Vec<Vec<f64>> = (0..6).map(|c| vec![component(p, c).re]).collect();
-            form_of(&comps, 0, nu)
-        } else {
-            0.0
-        };
-        for (i, row) in density.chunks_mut(ny).enumerate() {
-            let hx = along_x.as_ref().map_or(0.0, |h| h[i]);
-            for (j, d) in row.iter_mut().enumerate() {
-                let gy = along_y.as_ref().map_or(0.0, |g| g[j]);
-                *d += weight * (gy + hx + corner);
-            }
-        }
     }
 
     /// The mean over the cell of `Int D dz` \[W/m^2\] in closed form:
@@ -769,18 +499,6 @@ fn component(s: &ModeStress, c: usize) -> Complex64 {
     } else {
         s.trace
     }
-}
-
-/// The dissipation form at index `n` of six component arrays.
-fn form_of(comps: &[Vec<f64>], n: usize, nu: f64) -> f64 {
-    let dev = [
-        comps[0][n],
-        comps[1][n],
-        comps[2][n],
-        comps[3][n],
-        comps[4][n],
-    ];
-    dissipation_form(&dev, comps[5][n], nu)
 }
 
 #[cfg(test)]

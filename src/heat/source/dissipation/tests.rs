@@ -1,7 +1,9 @@
 //! The planned dissipation density against the direct evaluation it
 //! replaced, and its grid sum against the friction's mode sum.
 
+use super::nyquist::{NyquistParts, Parts};
 use super::*;
+use crate::heat::source::stress::dissipation_form;
 use crate::material::{CreepSpectrum, CreepTerm, Material};
 
 /// The direct evaluation the planned one replaced: per element, every
