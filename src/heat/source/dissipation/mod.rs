@@ -29,7 +29,7 @@
 //! `mean_s |m_s|^2` (what the friction's mode sum counts) is carried by the
 //! odd parts over the signs, `mean_s s m_s`, whose fields at the grid
 //! points are `(-1)^i` times a one-dimensional transform; their squares
-//! are added, so that the grid sum of `D` is the Fourier sum exactly
+//! are added (`nyquist.rs`), so that the grid sum of `D` is the Fourier sum exactly
 //! (discrete Parseval). `D >= 0`: a sum of squares with positive weights.
 //!
 //! The elements' multipliers are not transformed one by one: over the
@@ -37,18 +37,34 @@
 //! (13-16 of the SBR-like rubber's 24), and `rank.rs` combines them into
 //! that many orthonormal combinations whose forms sum to `D` within
 //! `2e-15` of each mode's power.
+//!
+//! At depth only the modes with `|q| z <= 50` are not negligible
+//! (`band.rs`): where their band fits a grid under half the size per axis,
+//! a node's rates are transformed and squared on that coarser grid, the
+//! layer's density summed there over multipliers, forward transformed and
+//! brought back to the full grid by zero padding (one full inverse per
+//! layer). Those nodes have no Nyquist modes in their band. Sliding along
+//! x, the multipliers depend on `kx` only and the full-grid nodes take
+//! `separable.rs`: the transforms along y once per component and depth,
+//! one real transform along x per row and multiplier.
 
+mod band;
+mod nyquist;
 mod rank;
+mod separable;
 
 use std::sync::Arc;
 
 use num_complex::Complex64;
 use rayon::prelude::*;
+use realfft::{ComplexToReal, RealFftPlanner};
 use rustfft::{Fft, FftPlanner};
 
 use super::super::error::HeatError;
 use super::fft::{Buffers, InverseFft};
-use super::stress::{dissipation_form, mode_stress, unit_component, ModeStress};
+use nyquist::{add, scaled};
+
+use super::stress::{unit_component, ModeStress};
 use crate::operator::signed_index;
 use crate::response::{Grid, SlidingResponse};
 use crate::surface::height_fft;
@@ -78,6 +94,11 @@ pub(crate) struct Dissipation {
     fft: InverseFft,
     line_x: Arc<dyn Fft<f64>>,
     line_y: Arc<dyn Fft<f64>>,
+    /// The real inverse along x (sliding along x, `separable.rs`).
+    row_x: Arc<dyn ComplexToReal<f64>>,
+    /// Whether sliding along x takes the separable path (the general one
+    /// is the tests' reference).
+    separable: bool,
 }
 
 /// A mode with one wavevector: its index in the half spectrum, `|q|`, the
@@ -105,39 +126,6 @@ impl RateFn {
             .map(|&(a, tau)| a * iw / (1.0 + iw * tau))
             .sum()
     }
-}
-
-/// The parts of one mode's multiplier over the signs of its Nyquist
-/// components: the mean (the main field) and the odd parts along x, y and
-/// both (zero where the component is not Nyquist).
-#[derive(Clone, Copy, Default)]
-struct Parts {
-    mean: ModeStress,
-    odd_x: ModeStress,
-    odd_y: ModeStress,
-    odd_xy: ModeStress,
-}
-
-fn scaled(s: &ModeStress, c: Complex64) -> ModeStress {
-    ModeStress {
-        dev: s.dev.map(|d| d * c),
-        trace: s.trace * c,
-    }
-}
-
-fn add(a: &mut ModeStress, b: &ModeStress) {
-    for (x, y) in a.dev.iter_mut().zip(&b.dev) {
-        *x += y;
-    }
-    a.trace += b.trace;
-}
-
-/// The Nyquist modes' parts at one depth for one multiplier: the
-/// x-Nyquist row (`i = nx / 2`, by `j`) and the y-Nyquist column (`j = ny
-/// / 2`, by `i`), empty where the size is odd.
-struct NyquistParts {
-    row: Vec<Parts>,
-    column: Vec<Parts>,
 }
 
 /// One thread's work space.
@@ -216,6 +204,8 @@ impl Dissipation {
             fft: InverseFft::new(nx, ny),
             line_x: planner.plan_fft_inverse(nx),
             line_y: planner.plan_fft_inverse(ny),
+            row_x: RealFftPlanner::<f64>::new().plan_fft_inverse(nx),
+            separable: true,
         })
     }
 
@@ -228,71 +218,6 @@ impl Dissipation {
             .iter()
             .map(|&(c, tau)| RateFn(vec![((tau * c).sqrt(), tau)]))
             .collect()
-    }
-
-    /// The parts of the multiplier of mode `(i, j)` (`j <= ny / 2`) for the
-    /// stress-rate multiplier `rate` at depth `z`, times the pressure's
-    /// coefficient; `None` for `q = 0`.
-    fn parts(&self, i: usize, j: usize, rate: &RateFn, z: f64) -> Option<Parts> {
-        if i == 0 && j == 0 {
-            return None;
-        }
-        let (kx, nyq_x) = signed_index(i, self.nx);
-        let (ky, nyq_y) = signed_index(j, self.ny);
-        let tau2 = std::f64::consts::TAU;
-        let (qx, qy) = (tau2 * kx / self.length.0, tau2 * ky / self.length.1);
-        let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
-        let sy: &[f64] = if nyq_y { &[1.0, -1.0] } else { &[1.0] };
-        let count = (sx.len() * sy.len()) as f64;
-        let p = self.spectrum[j * self.nx + i];
-        let mut parts = Parts::default();
-        for &a in sx {
-            for &b in sy {
-                let q = (a * qx, b * qy);
-                let w = -self.speed * (q.0 * self.e.0 + q.1 * self.e.1);
-                let m = scaled(&mode_stress(q, z, self.nu), rate.at(w) * p / count);
-                add(&mut parts.mean, &m);
-                add(&mut parts.odd_x, &scaled(&m, Complex64::new(a, 0.0)));
-                add(&mut parts.odd_y, &scaled(&m, Complex64::new(b, 0.0)));
-                add(&mut parts.odd_xy, &scaled(&m, Complex64::new(a * b, 0.0)));
-            }
-        }
-        // The odd parts of a real field are imaginary over a sign pair:
-        // `-i` makes their grid fields real (same squares).
-        let minus_i = Complex64::new(0.0, -1.0);
-        parts.odd_x = if nyq_x {
-            scaled(&parts.odd_x, minus_i)
-        } else {
-            ModeStress::default()
-        };
-        parts.odd_y = if nyq_y {
-            scaled(&parts.odd_y, minus_i)
-        } else {
-            ModeStress::default()
-        };
-        if !(nyq_x && nyq_y) {
-            parts.odd_xy = ModeStress::default();
-        }
-        Some(parts)
-    }
-
-    fn nyquist_parts(&self, rate: &RateFn, z: f64) -> NyquistParts {
-        let (nx, ny) = (self.nx, self.ny);
-        let row = if nx % 2 == 0 {
-            (0..=ny / 2)
-                .map(|j| self.parts(nx / 2, j, rate, z).unwrap_or_default())
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let column = if ny % 2 == 0 {
-            (0..nx)
-                .map(|i| self.parts(i, ny / 2, rate, z).unwrap_or_default())
-                .collect()
-        } else {
-            Vec::new()
-        };
-        NyquistParts { row, column }
     }
 
     /// `D` \[W/m^3\] at the grid points (C order, axis 0 = x) at depth
@@ -322,26 +247,86 @@ impl Dissipation {
         if self.speed == 0.0 || !self.speed.is_finite() {
             return Ok(density);
         }
-        for rate in rates {
-            // `rate(w) P / N` of every regular mode, shared by the depths.
-            let values: Vec<Complex64> = self
-                .regular
-                .par_iter()
-                .map(|m| rate.at(m.w) * m.p)
-                .collect();
+        let (grids, plans) = self.coarse_plans(nodes);
+        // Each coarse node's density, summed over the multipliers.
+        let mut coarse: Vec<Vec<Vec<f64>>> = plans
+            .iter()
+            .map(|layer| {
+                layer
+                    .iter()
+                    .map(|p| {
+                        p.as_ref().map_or(Vec::new(), |c| {
+                            let (mx, my) = grids[c.grid].size;
+                            vec![0.0; mx * my]
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+        // Sliding along x: the full-grid nodes by `separable.rs`.
+        let separable = self.separable && self.along_x();
+        if separable {
             density
                 .par_chunks_mut(n)
                 .zip(nodes.par_iter())
-                .try_for_each_init(
-                    || self.work(),
-                    |work, (out, nodes)| {
-                        for &(z, weight) in nodes {
-                            self.add_density(rate, &values, z, weight, work, out)?;
+                .zip(plans.par_iter())
+                .try_for_each(|((out, nodes), plans)| {
+                    for (&(z, weight), plan) in nodes.iter().zip(plans) {
+                        if plan.is_none() {
+                            self.add_separable(rates, z, weight, out)?;
                         }
-                        Ok(())
+                    }
+                    Ok::<(), HeatError>(())
+                })?;
+        }
+        // The regular modes the loop over multipliers reads: all of them on
+        // the general path, the widest coarse band's on the separable one
+        // (the bands nest).
+        let needed: Vec<usize> = if separable {
+            plans
+                .iter()
+                .flatten()
+                .flatten()
+                .max_by_key(|c| c.modes.len())
+                .map_or(Vec::new(), |c| c.modes.iter().map(|&(r, _)| r).collect())
+        } else {
+            (0..self.regular.len()).collect()
+        };
+        let mut values = vec![Complex64::default(); self.regular.len()];
+        for rate in rates.iter().filter(|_| !needed.is_empty()) {
+            // `rate(w) P / N` of the modes needed, shared by the depths.
+            let got: Vec<Complex64> = needed
+                .par_iter()
+                .map(|&r| rate.at(self.regular[r].w) * self.regular[r].p)
+                .collect();
+            for (&r, v) in needed.iter().zip(got) {
+                values[r] = v;
+            }
+            density
+                .par_chunks_mut(n)
+                .zip(nodes.par_iter())
+                .zip(plans.par_iter())
+                .zip(coarse.par_iter_mut())
+                .try_for_each_init(
+                    || None,
+                    |work: &mut Option<Work>, (((out, nodes), plans), coarse)| {
+                        for ((&(z, weight), plan), acc) in nodes.iter().zip(plans).zip(coarse) {
+                            match plan {
+                                None if separable => {}
+                                None => {
+                                    let work = work.get_or_insert_with(|| self.work());
+                                    self.add_density(rate, &values, z, weight, work, out)?
+                                }
+                                Some(c) => {
+                                    self.add_coarse(&values, c, &grids[c.grid], z, weight, acc)?
+                                }
+                            }
+                        }
+                        Ok::<(), HeatError>(())
                     },
                 )?;
         }
+        self.add_padded(&grids, &plans, &coarse, &mut density)?;
         Ok(density)
     }
 
@@ -405,81 +390,10 @@ impl Dissipation {
             }
             self.fft
                 .run(&mut work.spec, &mut work.field, &mut work.fft)?;
-            // The form `(1 + nu) (xx^2 + yy^2 + zz^2 + 2 xy^2 + 2 xz^2 +
-            // 2 yz^2) + (1 - 2 nu) / 3 tr^2`, `zz = -(xx + yy)`.
-            match c {
-                0 => work.first.copy_from_slice(&work.field),
-                1 => out
-                    .iter_mut()
-                    .zip(&work.first)
-                    .zip(&work.field)
-                    .for_each(|((o, x), y)| *o += dev * (x * x + y * y + (x + y) * (x + y))),
-                5 => out
-                    .iter_mut()
-                    .zip(&work.field)
-                    .for_each(|(o, v)| *o += trace * v * v),
-                _ => out
-                    .iter_mut()
-                    .zip(&work.field)
-                    .for_each(|(o, v)| *o += 2.0 * dev * v * v),
-            }
+            accumulate(c, &work.field, &mut work.first, out, dev, trace);
         }
         self.add_nyquist(&nyquist, weight, out);
         Ok(())
-    }
-
-    /// The squares of the odd parts of the Nyquist modes (module docs):
-    /// along y for the x-Nyquist row, along x for the y-Nyquist column, a
-    /// constant for the corner.
-    fn add_nyquist(&self, parts: &NyquistParts, weight: f64, density: &mut [f64]) {
-        let (nx, ny) = (self.nx, self.ny);
-        let nu = self.nu;
-        // x-Nyquist row: the field is (-1)^i g(y_j), g the inverse
-        // transform along y of the odd parts (Hermitian in ky).
-        let along_y: Option<Vec<f64>> = (nx % 2 == 0).then(|| {
-            let mut comps = Vec::with_capacity(6);
-            for c in 0..6 {
-                let mut g = vec![Complex64::default(); ny];
-                for j in 0..=ny / 2 {
-                    let v = component(&parts.row[j].odd_x, c);
-                    g[j] = v;
-                    if j > 0 && j < ny - j {
-                        g[ny - j] = v.conj();
-                    }
-                }
-                self.line_y.process(&mut g);
-                comps.push(g.iter().map(|v| v.re).collect::<Vec<f64>>());
-            }
-            (0..ny).map(|j| form_of(&comps, j, nu)).collect()
-        });
-        // y-Nyquist column: (-1)^j h(x_i), h along x.
-        let along_x: Option<Vec<f64>> = (ny % 2 == 0).then(|| {
-            let mut comps = Vec::with_capacity(6);
-            for c in 0..6 {
-                let mut h: Vec<Complex64> = parts
-                    .column
-                    .iter()
-                    .map(|p| component(&p.odd_y, c))
-                    .collect();
-                self.line_x.process(&mut h);
-                comps.push(h.iter().map(|v| v.re).collect::<Vec<f64>>());
-            }
-            (0..nx).map(|i| form_of(&comps, i, nu)).collect()
-        });
-        let corner = if nx % 2 == 0 && ny % 2 == 0 {
-            let p = &parts.column[nx / 2].odd_xy;
-            let comps: Vec<Vec<f64>> = (0..6).map(|c| vec![component(p, c).re]).collect();
-            form_of(&comps, 0, nu)
-        } else {
-            0.0
-        };
-        for (i, row) in density.chunks_mut(ny).enumerate() {
-            let hx = along_x.as_ref().map_or(0.0, |h| h[i]);
-            for (j, d) in row.iter_mut().enumerate() {
-                let gy = along_y.as_ref().map_or(0.0, |g| g[j]);
-                *d += weight * (gy + hx + corner);
-            }
-        }
     }
 
     /// The mean over the cell of `Int D dz` \[W/m^2\] in closed form:
@@ -555,6 +469,29 @@ fn frequencies(grid: &Grid, e: (f64, f64), speed: f64) -> Vec<f64> {
     freqs
 }
 
+/// `out +=` component `c`'s share of the dissipation form (weighted by
+/// `dev` and `trace`) of the grid field `field`; component 0 is kept in
+/// `first` for component 1's. The form `(1 + nu) (xx^2 + yy^2 + zz^2 + 2
+/// xy^2 + 2 xz^2 + 2 yz^2) + (1 - 2 nu) / 3 tr^2`, `zz = -(xx + yy)`.
+fn accumulate(c: usize, field: &[f64], first: &mut [f64], out: &mut [f64], dev: f64, trace: f64) {
+    match c {
+        0 => first.copy_from_slice(field),
+        1 => out
+            .iter_mut()
+            .zip(first.iter())
+            .zip(field)
+            .for_each(|((o, x), y)| *o += dev * (x * x + y * y + (x + y) * (x + y))),
+        5 => out
+            .iter_mut()
+            .zip(field)
+            .for_each(|(o, v)| *o += trace * v * v),
+        _ => out
+            .iter_mut()
+            .zip(field)
+            .for_each(|(o, v)| *o += 2.0 * dev * v * v),
+    }
+}
+
 /// Component `c` of a stress: the five deviatoric ones, then the trace.
 fn component(s: &ModeStress, c: usize) -> Complex64 {
     if c < 5 {
@@ -562,18 +499,6 @@ fn component(s: &ModeStress, c: usize) -> Complex64 {
     } else {
         s.trace
     }
-}
-
-/// The dissipation form at index `n` of six component arrays.
-fn form_of(comps: &[Vec<f64>], n: usize, nu: f64) -> f64 {
-    let dev = [
-        comps[0][n],
-        comps[1][n],
-        comps[2][n],
-        comps[3][n],
-        comps[4][n],
-    ];
-    dissipation_form(&dev, comps[5][n], nu)
 }
 
 #[cfg(test)]

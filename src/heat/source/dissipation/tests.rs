@@ -1,7 +1,9 @@
 //! The planned dissipation density against the direct evaluation it
 //! replaced, and its grid sum against the friction's mode sum.
 
+use super::nyquist::{NyquistParts, Parts};
 use super::*;
+use crate::heat::source::stress::dissipation_form;
 use crate::material::{CreepSpectrum, CreepTerm, Material};
 
 /// The direct evaluation the planned one replaced: per element, every
@@ -168,6 +170,142 @@ fn grid_sum_is_the_mode_sum() {
                 (mean / exact - 1.0).abs() < 1e-10,
                 "{nx}x{ny} nu {nu}: {mean} vs {exact}"
             );
+        }
+    }
+}
+
+/// Nodes deep enough for a coarser grid (`band.rs`) give the direct
+/// evaluation on the full grid at every point: 1e-12 of each layer's
+/// largest value (the modes left out carry below `3e-20` of their surface
+/// amplitude, the padding is exact, the rest is round-off). Even (Nyquist
+/// modes along both axes) and odd grids, along x and obliquely, `nu = 0.5`
+/// and `0.3`, 24 overlapping elements; layers of one coarse node, of one
+/// full node, and mixed (a full and two coarse nodes, Gauss-like weights).
+#[test]
+fn coarse_nodes_are_the_direct_density() {
+    let many = CreepSpectrum::new(
+        1e7,
+        (0..24)
+            .map(|k| CreepTerm {
+                compliance: 1e-8 * (1.0 + (k % 5) as f64),
+                time: 1e-7 * 10f64.powf(k as f64 / 2.0),
+            })
+            .collect(),
+    )
+    .unwrap();
+    for (nx, ny) in [(128, 96), (127, 95)] {
+        for deg in [0.0, 0.4] {
+            for nu in [0.5, 0.3] {
+                let material = Material::new(many.clone(), nu).unwrap();
+                let a = 1e-5;
+                let lx = nx as f64 * a;
+                let grid = Grid::new(nx, ny, (a, 1.3 * a)).unwrap().periodic();
+                let response = SlidingResponse::new(&material, 0.02, deg, None).unwrap();
+                let p: Vec<f64> = (0..nx * ny)
+                    .map(|k| ((k * 7919) % 13) as f64 * 1e4 + ((k % 3) as f64) * 3e3)
+                    .collect();
+                let plan = Dissipation::new(&p, &grid, &response).unwrap();
+                let nodes: Vec<Vec<(f64, f64)>> = vec![
+                    vec![(0.3 * a, 1.0)],
+                    vec![(0.5 * lx, 1.0)],
+                    vec![(lx, 1.0)],
+                    vec![(2.0 * lx, 1.0)],
+                    vec![(3.0 * a, 0.3), (0.6 * lx, 0.5), (1.5 * lx, 0.2)],
+                ];
+                let (_, plans) = plan.coarse_plans(&nodes);
+                let coarse: Vec<Vec<bool>> = plans
+                    .iter()
+                    .map(|l| l.iter().map(Option::is_some).collect())
+                    .collect();
+                assert_eq!(
+                    coarse,
+                    [
+                        vec![false],
+                        vec![true],
+                        vec![true],
+                        vec![true],
+                        vec![false, true, true]
+                    ],
+                    "{nx}x{ny}"
+                );
+                let planned = plan.layer_densities(&nodes).unwrap();
+                for (l, layer) in nodes.iter().enumerate() {
+                    let mut direct = vec![0.0; nx * ny];
+                    for &(z, w) in layer {
+                        for (d, v) in direct.iter_mut().zip(direct_density(&plan, z)) {
+                            *d += w * v;
+                        }
+                    }
+                    let got = &planned[l * nx * ny..(l + 1) * nx * ny];
+                    let scale = direct.iter().copied().fold(0.0, f64::max);
+                    let worst = got
+                        .iter()
+                        .zip(&direct)
+                        .map(|(g, d)| (g - d).abs())
+                        .fold(0.0, f64::max);
+                    assert!(
+                        scale > 0.0 && worst <= 1e-12 * scale,
+                        "{nx}x{ny} deg {deg} nu {nu} layer {l}: {worst} of {scale}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Sliding along x, the separable path (`separable.rs`) gives the general
+/// path's density at every point of every layer: 1e-12 of the largest
+/// value (the same sums in another order: round-off). Even and odd sizes
+/// along both axes (x-, y- and corner Nyquist modes), `nu = 0.5` and
+/// `0.3`, shallow full-grid nodes and deep coarse ones in one layer.
+#[test]
+fn separable_path_is_the_general_one() {
+    let spectrum = CreepSpectrum::new(
+        1e7,
+        (0..24)
+            .map(|k| CreepTerm {
+                compliance: 1e-8 * (1.0 + (k % 5) as f64),
+                time: 1e-7 * 10f64.powf(k as f64 / 2.0),
+            })
+            .collect(),
+    )
+    .unwrap();
+    for (nx, ny) in [(16, 12), (15, 11), (16, 11), (15, 12), (64, 48)] {
+        for nu in [0.5, 0.3] {
+            let material = Material::new(spectrum.clone(), nu).unwrap();
+            let a = 1e-5;
+            let grid = Grid::new(nx, ny, (a, 1.3 * a)).unwrap().periodic();
+            let response = SlidingResponse::new(&material, 0.02, 0.0, None).unwrap();
+            let p: Vec<f64> = (0..nx * ny)
+                .map(|k| ((k * 7919) % 13) as f64 * 1e4 + ((k % 3) as f64) * 3e3)
+                .collect();
+            let mut plan = Dissipation::new(&p, &grid, &response).unwrap();
+            assert!(plan.along_x() && plan.separable);
+            let lx = nx as f64 * a;
+            let nodes: Vec<Vec<(f64, f64)>> = vec![
+                vec![(0.01 * a, 1.0)],
+                vec![(0.3 * a, 0.5), (2.0 * a, 0.5)],
+                vec![(a, 0.4), (lx, 0.3), (3.0 * lx, 0.3)],
+            ];
+            let separable = plan.layer_densities(&nodes).unwrap();
+            plan.separable = false;
+            let general = plan.layer_densities(&nodes).unwrap();
+            for (l, (s, g)) in separable
+                .chunks(nx * ny)
+                .zip(general.chunks(nx * ny))
+                .enumerate()
+            {
+                let scale = g.iter().copied().fold(0.0, f64::max);
+                let worst = s
+                    .iter()
+                    .zip(g)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                assert!(
+                    scale > 0.0 && worst <= 1e-12 * scale,
+                    "{nx}x{ny} nu {nu} layer {l}: {worst} of {scale}"
+                );
+            }
         }
     }
 }
