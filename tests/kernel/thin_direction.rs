@@ -5,48 +5,13 @@
 //! grid axis to the diagonal.
 
 use crate::common::*;
+use crate::thin_switch::{apply, bump, rel, A, N};
 use viscoslide::internals::kernel::{Axis, SlidingKernel};
-use viscoslide::internals::operator::{
-    GridOperator, OffsetTable, PeriodicResponse, SpectralPeriodic, ToeplitzFft,
-};
+use viscoslide::internals::operator::{GridOperator, PeriodicResponse, SpectralPeriodic};
 use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
-
-const A: f64 = 1e-4;
-const N: usize = 48;
-
-/// A Gaussian bump of `sigma` cells at the grid's centre.
-fn bump(sigma: f64) -> Vec<f64> {
-    let c = 0.5 * (N as f64 - 1.0);
-    (0..N * N)
-        .map(|k| {
-            let (i, j) = ((k / N) as f64 - c, (k % N) as f64 - c);
-            1e5 * (-(i * i + j * j) / (2.0 * sigma * sigma)).exp()
-        })
-        .collect()
-}
-
-fn apply(values: &[f64], p: &[f64]) -> Vec<f64> {
-    let mut op = ToeplitzFft::new(OffsetTable {
-        nx: N,
-        ny: N,
-        values,
-    });
-    let mut w = vec![0.0; N * N];
-    op.apply(p, &mut w);
-    w
-}
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-/// Largest difference over the largest reference value.
-fn rel(w: &[f64], w_ref: &[f64]) -> f64 {
-    let scale = w_ref.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    w.iter()
-        .zip(w_ref)
-        .fold(0.0f64, |m, (u, v)| m.max((u - v).abs()))
-        / scale
 }
 
 fn response(h: f64, speed: f64, deg: f64) -> SlidingResponse {

@@ -16,12 +16,12 @@ use viscoslide::internals::operator::{
 use viscoslide::material::{CreepSpectrum, Material};
 use viscoslide::response::{Grid, Layer, LayerBase, SlidingResponse};
 
-const A: f64 = 1e-4;
-const N: usize = 48;
+pub(crate) const A: f64 = 1e-4;
+pub(crate) const N: usize = 48;
 
 /// A Gaussian bump of `sigma` cells at the grid's centre (its tails at the
 /// edge, 4 sigma for sigma = 6, are 3e-4 of the peak).
-fn bump(sigma: f64) -> Vec<f64> {
+pub(crate) fn bump(sigma: f64) -> Vec<f64> {
     let c = 0.5 * (N as f64 - 1.0);
     (0..N * N)
         .map(|k| {
@@ -31,7 +31,7 @@ fn bump(sigma: f64) -> Vec<f64> {
         .collect()
 }
 
-fn apply(values: &[f64], p: &[f64]) -> Vec<f64> {
+pub(crate) fn apply(values: &[f64], p: &[f64]) -> Vec<f64> {
     let mut op = ToeplitzFft::new(OffsetTable {
         nx: N,
         ny: N,
@@ -43,7 +43,7 @@ fn apply(values: &[f64], p: &[f64]) -> Vec<f64> {
 }
 
 /// Largest difference over the largest reference value.
-fn rel(w: &[f64], w_ref: &[f64]) -> f64 {
+pub(crate) fn rel(w: &[f64], w_ref: &[f64]) -> f64 {
     let scale = w_ref.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     w.iter()
         .zip(w_ref)

@@ -6,6 +6,21 @@ use super::*;
 use crate::heat::source::stress::dissipation_form;
 use crate::material::{CreepSpectrum, CreepTerm, Material};
 
+/// `got` equals `want` to 1e-12 of `want`'s largest value (a density,
+/// non-negative), which must be positive; `what` names the case.
+fn assert_density_close(got: &[f64], want: &[f64], what: &str) {
+    let scale = want.iter().copied().fold(0.0, f64::max);
+    let worst = got
+        .iter()
+        .zip(want)
+        .map(|(g, d)| (g - d).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        scale > 0.0 && worst <= 1e-12 * scale,
+        "{what}: {worst} of {scale}"
+    );
+}
+
 /// The direct evaluation the planned one replaced: per element, every
 /// mode's parts by the general rule ([`Dissipation::parts`]: the
 /// stresses of `mode_stress`, the Nyquist signs), six inverse transforms
@@ -103,16 +118,7 @@ fn planned_density_is_the_direct_one() {
                 for (l, &z) in depths.iter().enumerate() {
                     let direct = direct_density(&plan, z);
                     let got = &planned[l * nx * ny..(l + 1) * nx * ny];
-                    let scale = direct.iter().copied().fold(0.0, f64::max);
-                    let worst = got
-                        .iter()
-                        .zip(&direct)
-                        .map(|(g, d)| (g - d).abs())
-                        .fold(0.0, f64::max);
-                    assert!(
-                        scale > 0.0 && worst <= 1e-12 * scale,
-                        "{nx}x{ny} nu {nu} z {z}: {worst} of {scale}"
-                    );
+                    assert_density_close(got, &direct, &format!("{nx}x{ny} nu {nu} z {z}"));
                 }
             }
         }
@@ -237,15 +243,10 @@ fn coarse_nodes_are_the_direct_density() {
                         }
                     }
                     let got = &planned[l * nx * ny..(l + 1) * nx * ny];
-                    let scale = direct.iter().copied().fold(0.0, f64::max);
-                    let worst = got
-                        .iter()
-                        .zip(&direct)
-                        .map(|(g, d)| (g - d).abs())
-                        .fold(0.0, f64::max);
-                    assert!(
-                        scale > 0.0 && worst <= 1e-12 * scale,
-                        "{nx}x{ny} deg {deg} nu {nu} layer {l}: {worst} of {scale}"
+                    assert_density_close(
+                        got,
+                        &direct,
+                        &format!("{nx}x{ny} deg {deg} nu {nu} layer {l}"),
                     );
                 }
             }
@@ -295,16 +296,7 @@ fn separable_path_is_the_general_one() {
                 .zip(general.chunks(nx * ny))
                 .enumerate()
             {
-                let scale = g.iter().copied().fold(0.0, f64::max);
-                let worst = s
-                    .iter()
-                    .zip(g)
-                    .map(|(a, b)| (a - b).abs())
-                    .fold(0.0, f64::max);
-                assert!(
-                    scale > 0.0 && worst <= 1e-12 * scale,
-                    "{nx}x{ny} nu {nu} layer {l}: {worst} of {scale}"
-                );
+                assert_density_close(s, g, &format!("{nx}x{ny} nu {nu} layer {l}"));
             }
         }
     }
