@@ -6,6 +6,41 @@ use super::*;
 use crate::heat::source::stress::dissipation_form;
 use crate::material::{CreepSpectrum, CreepTerm, Material};
 
+/// The cells' side along x \[m\] (along y 1.3 times it).
+const CELL: f64 = 1e-5;
+
+/// 24 overlapping creep elements, 1e-7 to 1e4 s: their rates combine to
+/// fewer than 24 (`rank.rs`).
+fn overlapping_elements() -> CreepSpectrum {
+    CreepSpectrum::new(
+        1e7,
+        (0..24)
+            .map(|k| CreepTerm {
+                compliance: 1e-8 * (1.0 + (k % 5) as f64),
+                time: 1e-7 * 10f64.powf(k as f64 / 2.0),
+            })
+            .collect(),
+    )
+    .unwrap()
+}
+
+/// The dissipation of a rough pressure on a periodic `nx x ny` grid of
+/// `CELL x 1.3 CELL` cells, sliding at 0.02 m/s at `deg` rad from +x.
+fn rough_plan(
+    spectrum: &CreepSpectrum,
+    nu: f64,
+    (nx, ny): (usize, usize),
+    deg: f64,
+) -> Dissipation {
+    let material = Material::new(spectrum.clone(), nu).unwrap();
+    let grid = Grid::new(nx, ny, (CELL, 1.3 * CELL)).unwrap().periodic();
+    let response = SlidingResponse::new(&material, 0.02, deg, None).unwrap();
+    let p: Vec<f64> = (0..nx * ny)
+        .map(|k| ((k * 7919) % 13) as f64 * 1e4 + ((k % 3) as f64) * 3e3)
+        .collect();
+    Dissipation::new(&p, &grid, &response).unwrap()
+}
+
 /// `got` equals `want` to 1e-12 of `want`'s largest value (a density,
 /// non-negative), which must be positive; `what` names the case.
 fn assert_density_close(got: &[f64], want: &[f64], what: &str) {
@@ -88,27 +123,12 @@ fn planned_density_is_the_direct_one() {
         ],
     )
     .unwrap();
-    let many = CreepSpectrum::new(
-        1e7,
-        (0..24)
-            .map(|k| CreepTerm {
-                compliance: 1e-8 * (1.0 + (k % 5) as f64),
-                time: 1e-7 * 10f64.powf(k as f64 / 2.0),
-            })
-            .collect(),
-    )
-    .unwrap();
+    let many = overlapping_elements();
     for (spectrum, deg) in [(&three, 0.4), (&many, 0.4), (&many, 0.0)] {
         for (nx, ny) in [(8, 6), (7, 5), (8, 5), (16, 12)] {
             for nu in [0.5, 0.3] {
-                let material = Material::new(spectrum.clone(), nu).unwrap();
-                let a = 1e-5;
-                let grid = Grid::new(nx, ny, (a, 1.3 * a)).unwrap().periodic();
-                let response = SlidingResponse::new(&material, 0.02, deg, None).unwrap();
-                let p: Vec<f64> = (0..nx * ny)
-                    .map(|k| ((k * 7919) % 13) as f64 * 1e4 + ((k % 3) as f64) * 3e3)
-                    .collect();
-                let plan = Dissipation::new(&p, &grid, &response).unwrap();
+                let a = CELL;
+                let plan = rough_plan(spectrum, nu, (nx, ny), deg);
                 if spectrum.terms.len() == 24 {
                     assert!(plan.rates.len() < 24, "{}", plan.rates.len());
                 }
@@ -150,14 +170,8 @@ fn grid_sum_is_the_mode_sum() {
     let (x, w) = crate::gauss::gauss_legendre(64);
     for (nx, ny) in [(8, 6), (7, 5), (8, 5)] {
         for nu in [0.5, 0.3] {
-            let material = Material::new(spectrum.clone(), nu).unwrap();
-            let a = 1e-5;
-            let grid = Grid::new(nx, ny, (a, 1.3 * a)).unwrap().periodic();
-            let response = SlidingResponse::new(&material, 0.02, 0.4, None).unwrap();
-            let p: Vec<f64> = (0..nx * ny)
-                .map(|k| ((k * 7919) % 13) as f64 * 1e4 + ((k % 3) as f64) * 3e3)
-                .collect();
-            let plan = Dissipation::new(&p, &grid, &response).unwrap();
+            let a = CELL;
+            let plan = rough_plan(&spectrum, nu, (nx, ny), 0.4);
             let mut total = 0.0;
             let (mut lo, mut hi) = (0.0, 1e-3 * a);
             while lo < 40.0 * nx as f64 * a {
@@ -189,28 +203,13 @@ fn grid_sum_is_the_mode_sum() {
 /// full node, and mixed (a full and two coarse nodes, Gauss-like weights).
 #[test]
 fn coarse_nodes_are_the_direct_density() {
-    let many = CreepSpectrum::new(
-        1e7,
-        (0..24)
-            .map(|k| CreepTerm {
-                compliance: 1e-8 * (1.0 + (k % 5) as f64),
-                time: 1e-7 * 10f64.powf(k as f64 / 2.0),
-            })
-            .collect(),
-    )
-    .unwrap();
+    let many = overlapping_elements();
     for (nx, ny) in [(128, 96), (127, 95)] {
         for deg in [0.0, 0.4] {
             for nu in [0.5, 0.3] {
-                let material = Material::new(many.clone(), nu).unwrap();
-                let a = 1e-5;
+                let a = CELL;
                 let lx = nx as f64 * a;
-                let grid = Grid::new(nx, ny, (a, 1.3 * a)).unwrap().periodic();
-                let response = SlidingResponse::new(&material, 0.02, deg, None).unwrap();
-                let p: Vec<f64> = (0..nx * ny)
-                    .map(|k| ((k * 7919) % 13) as f64 * 1e4 + ((k % 3) as f64) * 3e3)
-                    .collect();
-                let plan = Dissipation::new(&p, &grid, &response).unwrap();
+                let plan = rough_plan(&many, nu, (nx, ny), deg);
                 let nodes: Vec<Vec<(f64, f64)>> = vec![
                     vec![(0.3 * a, 1.0)],
                     vec![(0.5 * lx, 1.0)],
@@ -261,26 +260,11 @@ fn coarse_nodes_are_the_direct_density() {
 /// `0.3`, shallow full-grid nodes and deep coarse ones in one layer.
 #[test]
 fn separable_path_is_the_general_one() {
-    let spectrum = CreepSpectrum::new(
-        1e7,
-        (0..24)
-            .map(|k| CreepTerm {
-                compliance: 1e-8 * (1.0 + (k % 5) as f64),
-                time: 1e-7 * 10f64.powf(k as f64 / 2.0),
-            })
-            .collect(),
-    )
-    .unwrap();
+    let spectrum = overlapping_elements();
     for (nx, ny) in [(16, 12), (15, 11), (16, 11), (15, 12), (64, 48)] {
         for nu in [0.5, 0.3] {
-            let material = Material::new(spectrum.clone(), nu).unwrap();
-            let a = 1e-5;
-            let grid = Grid::new(nx, ny, (a, 1.3 * a)).unwrap().periodic();
-            let response = SlidingResponse::new(&material, 0.02, 0.0, None).unwrap();
-            let p: Vec<f64> = (0..nx * ny)
-                .map(|k| ((k * 7919) % 13) as f64 * 1e4 + ((k % 3) as f64) * 3e3)
-                .collect();
-            let mut plan = Dissipation::new(&p, &grid, &response).unwrap();
+            let a = CELL;
+            let mut plan = rough_plan(&spectrum, nu, (nx, ny), 0.0);
             assert!(plan.along_x() && plan.separable);
             let lx = nx as f64 * a;
             let nodes: Vec<Vec<(f64, f64)>> = vec![
