@@ -140,16 +140,28 @@ pub(crate) fn inverse(
         .zip(rows.par_chunks_mut(nh))
         .try_for_each_init(
             || c2r.make_scratch_vec(),
-            |scratch, (o, input)| {
-                input[0].im = 0.0;
-                if ny % 2 == 0 {
-                    input[nh - 1].im = 0.0;
-                }
-                c2r.process_with_scratch(input, o, scratch)
-            },
-        )
-        .map_err(|e| SurfaceError::Invalid(format!("inverse real FFT failed: {e}")))?;
+            |scratch, (o, input)| real_row(c2r.as_ref(), input, o, scratch),
+        )?;
     Ok(out)
+}
+
+/// The real row `out` (`ny` values) of the half spectrum `input` (`ny / 2 +
+/// 1` bins along y, used as work space): the imaginary parts of the `ky =
+/// 0` and (even `ny`) Nyquist bins, round-off after the x transforms, are
+/// discarded, as a real field has none.
+fn real_row(
+    c2r: &dyn realfft::ComplexToReal<f64>,
+    input: &mut [Complex64],
+    out: &mut [f64],
+    scratch: &mut [Complex64],
+) -> Result<(), SurfaceError> {
+    input[0].im = 0.0;
+    if out.len() % 2 == 0 {
+        let last = input.len() - 1;
+        input[last].im = 0.0;
+    }
+    c2r.process_with_scratch(input, out, scratch)
+        .map_err(|e| SurfaceError::Invalid(format!("inverse real FFT failed: {e}")))
 }
 
 /// Many [`inverse`]s on one grid whose fields are wanted only through
@@ -218,13 +230,7 @@ impl ReducedInverse {
             .map_init(
                 || (vec![0.0; ny], c2r.make_scratch_vec()),
                 |(out, scratch), input| {
-                    input[0].im = 0.0;
-                    if ny % 2 == 0 {
-                        input[nh - 1].im = 0.0;
-                    }
-                    c2r.process_with_scratch(input, out, scratch).map_err(|e| {
-                        SurfaceError::Invalid(format!("inverse real FFT failed: {e}"))
-                    })?;
+                    real_row(c2r.as_ref(), input, out, scratch)?;
                     let max = out.iter().copied().fold(f64::NEG_INFINITY, f64::max);
                     Ok((out.iter().sum::<f64>(), max))
                 },
