@@ -270,6 +270,87 @@ impl PeriodicPlan {
         Ok((self.inverse(surface)?, weighted))
     }
 
+    /// The mean and the highest value of the rise about the mean \[K\] at
+    /// the surface and at each layer's middle under the volume source
+    /// `source` \[W/m^3\] (layers as [`PeriodicPlan::volume`]): the maps of
+    /// [`PeriodicPlan::volume`] at those depths, reduced as they are
+    /// transformed back ([`ReducedInverse`]). Each mode's rises at all of
+    /// them come from the one sweep down and up of
+    /// [`PeriodicPlan::volume_weighted`] (`O(L)` closed forms per mode
+    /// for `L` layers, where the maps take `O(L^2)`), written over the
+    /// layers' spectra.
+    pub fn volume_extremes(
+        &self,
+        layers: &DepthLayers,
+        source: &[f64],
+    ) -> Result<Vec<(f64, f64)>, HeatError> {
+        let lam = self.conductivity;
+        let (nx, ny) = (self.modes.nx, self.modes.ny);
+        let n = nx * ny;
+        let nh = height_fft::half_len(ny);
+        let mut specs = source
+            .par_chunks(n)
+            .map(|map| self.forward(map))
+            .collect::<Result<Vec<_>, _>>()?;
+        let bounds: Vec<(f64, f64)> = layers.iter().collect();
+        let modes = &self.modes;
+        let mut surface = vec![Complex64::default(); nh * nx];
+        // Row `j` of every layer's spectrum, side by side.
+        let mut rows: Vec<Vec<&mut [Complex64]>> = (0..nh).map(|_| Vec::new()).collect();
+        for spec in specs.iter_mut() {
+            for (j, row) in spec.chunks_mut(nx).enumerate() {
+                rows[j].push(row);
+            }
+        }
+        rows.par_iter_mut()
+            .zip(surface.par_chunks_mut(nx))
+            .enumerate()
+            .for_each_init(
+                || Scan::new(bounds.len()),
+                |scan, (j, (layer_rows, top))| {
+                    for (i, out) in top.iter_mut().enumerate() {
+                        scan.q
+                            .iter_mut()
+                            .zip(layer_rows.iter())
+                            .for_each(|(q, r)| *q = r[i]);
+                        let mut variants = 0.0;
+                        scan.clear();
+                        let found = modes.average(i, j, |m| {
+                            variants += 1.0;
+                            scan.add(m, &bounds, lam)
+                        });
+                        match found {
+                            Some(t) => {
+                                *out = t;
+                                for (r, rise) in layer_rows.iter_mut().zip(&scan.rise) {
+                                    r[i] = rise / variants;
+                                }
+                            }
+                            None => layer_rows
+                                .iter_mut()
+                                .for_each(|r| r[i] = Complex64::default()),
+                        }
+                    }
+                },
+            );
+        drop(rows);
+        let scale = 1.0 / n as f64;
+        let mut inverse = ReducedInverse::new(nx, ny);
+        let mut none = vec![(); nh * nx];
+        std::iter::once(&surface)
+            .chain(&specs)
+            .map(|spec| {
+                let (sum, max) = inverse
+                    .sum_and_max(&mut none, |j, _, row| {
+                        row.copy_from_slice(&spec[j * nx..(j + 1) * nx]);
+                        true
+                    })
+                    .map_err(|e| HeatError::Transform(e.to_string()))?;
+                Ok((sum * scale / n as f64, max * scale))
+            })
+            .collect()
+    }
+
     fn forward(&self, values: &[f64]) -> Result<Vec<Complex64>, HeatError> {
         height_fft::forward(values, self.modes.nx, self.modes.ny)
             .map_err(|e| HeatError::Transform(e.to_string()))

@@ -223,6 +223,37 @@ impl HeatSolver {
             .collect())
     }
 
+    /// The mean and the highest rise \[K\] at the surface and at each
+    /// layer's middle under the volume source `source` (as
+    /// [`HeatSolver::volume`] at those depths, without holding the maps);
+    /// on a periodic cell only.
+    pub(crate) fn volume_extremes(
+        &mut self,
+        layers: &DepthLayers,
+        source: &[f64],
+    ) -> Result<Vec<(f64, f64)>, HeatError> {
+        self.volume_checks(layers, source)?;
+        let Plan::Periodic(p) = &self.plan else {
+            return Err(HeatError::Unsupported(VOLUME_ON_PAD));
+        };
+        let rows = p.volume_extremes(layers, source)?;
+        let n = self.setup.grid.cells();
+        let means: Vec<f64> = source.chunks(n).map(Self::mean).collect();
+        let c = self.setup.conduction;
+        let depths = std::iter::once(0.0).chain(layers.iter().map(|(a, b)| 0.5 * (a + b)));
+        Ok(rows
+            .into_iter()
+            .zip(depths)
+            .map(|((mean, max), z)| {
+                let background = self
+                    .setup
+                    .contact_time()
+                    .map_or(0.0, |tc| volume_background_at(layers, &means, z, &c, tc));
+                (mean + background, max + background)
+            })
+            .collect())
+    }
+
     /// Check a volume source's shape and values.
     fn volume_checks(&self, layers: &DepthLayers, source: &[f64]) -> Result<(), HeatError> {
         let n = self.setup.grid.cells();
@@ -371,6 +402,60 @@ mod tests {
                     );
                     assert!((t.max() - max).abs() <= 1e-12 * scale, "{} {max}", t.max());
                 }
+            }
+        }
+    }
+
+    /// The volume source's profile rows (the surface and each layer's
+    /// middle, from one sweep per mode) are the mean and peak of
+    /// [`HeatSolver::volume`]'s maps at those depths, with and without a
+    /// block (its background added), on even and odd grids with Nyquist
+    /// modes, oblique sliding: 1e-12 of the surface peak (round-off of
+    /// sums over layers in another order).
+    #[test]
+    fn volume_extremes_are_the_depth_maps_mean_and_peak() {
+        for ((nx, ny), block) in [
+            ((48, 36), Some(0.01)),
+            ((33, 20), None),
+            ((32, 21), Some(1e-4)),
+        ] {
+            let setup = HeatSetup {
+                grid: Grid::new(nx, ny, (2e-6, 3e-6)).unwrap(),
+                conduction: Conduction {
+                    conductivity: 0.25,
+                    diffusivity: 1e-7,
+                },
+                speed: 0.3,
+                direction_rad: 0.5,
+                domain: HeatDomain::Periodic {
+                    block_length: block,
+                },
+            };
+            let mut solver = HeatSolver::new(setup).unwrap();
+            let layers = DepthLayers::new(vec![0.0, 1e-7, 5e-7, 2e-6, 1e-5, 1e-4]).unwrap();
+            let n = nx * ny;
+            let source: Vec<f64> = (0..layers.count() * n)
+                .map(|c| {
+                    if (c * 7919) % 13 < 3 {
+                        1e12 * (1 + c % 5) as f64 / (1 + c / n) as f64
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let mut depths = vec![0.0];
+            depths.extend(layers.iter().map(|(a, b)| 0.5 * (a + b)));
+            let maps = solver.volume(&layers, &source, &depths).unwrap();
+            let rows = solver.volume_extremes(&layers, &source).unwrap();
+            assert_eq!(rows.len(), depths.len());
+            let scale = maps[0].max();
+            for (t, (mean, max)) in maps.iter().zip(&rows) {
+                assert!(
+                    (t.mean() - mean).abs() <= 1e-12 * scale,
+                    "{} {mean}",
+                    t.mean()
+                );
+                assert!((t.max() - max).abs() <= 1e-12 * scale, "{} {max}", t.max());
             }
         }
     }

@@ -334,21 +334,20 @@ fn depth_profile(
 ) -> Result<Vec<DepthRow>> {
     let grid = problem.grid()?;
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
-    let max = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let n = grid.cells();
     match source {
         HeatSource::Volume { layers, density } => {
             let mut depths = vec![0.0];
             depths.extend(layers.iter().map(|(a, b)| 0.5 * (a + b)));
-            let maps = heat.volume(layers, density, &depths).map_err(heat_error)?;
-            Ok(maps
+            let rows = heat.volume_extremes(layers, density).map_err(heat_error)?;
+            Ok(rows
                 .iter()
                 .zip(&depths)
                 .enumerate()
-                .map(|(i, (m, &z))| DepthRow {
+                .map(|(i, (&(mean_rise, max_rise), &z))| DepthRow {
                     depth: z,
-                    mean_rise: mean(&m.rise),
-                    max_rise: max(&m.rise),
+                    mean_rise,
+                    max_rise,
                     mean_source: if i == 0 {
                         0.0
                     } else {
