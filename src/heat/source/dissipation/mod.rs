@@ -63,6 +63,7 @@ use rustfft::{Fft, FftPlanner};
 use super::super::error::HeatError;
 use super::fft::{Buffers, InverseFft};
 use nyquist::{add, scaled};
+use separable::SeparableWork;
 
 use super::stress::{unit_component, ModeStress};
 use crate::operator::signed_index;
@@ -270,10 +271,10 @@ impl Dissipation {
                 .par_chunks_mut(n)
                 .zip(nodes.par_iter())
                 .zip(plans.par_iter())
-                .try_for_each(|((out, nodes), plans)| {
+                .try_for_each_init(SeparableWork::default, |work, ((out, nodes), plans)| {
                     for (&(z, weight), plan) in nodes.iter().zip(plans) {
                         if plan.is_none() {
-                            self.add_separable(rates, z, weight, out)?;
+                            self.add_separable(rates, z, weight, work, out)?;
                         }
                     }
                     Ok::<(), HeatError>(())

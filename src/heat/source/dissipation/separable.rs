@@ -12,10 +12,22 @@
 //! y per multiplier, and the odd parts are added as on the general path.
 
 use num_complex::Complex64;
+use rayon::prelude::*;
 
 use super::super::stress::{mode_stress, unit_component, ModeStress};
+use super::nyquist::NyquistParts;
 use super::{accumulate, add, component, scaled, Dissipation, RateFn};
 use crate::heat::error::HeatError;
+
+/// The buffers of one full-grid node, kept from node to node (tens of MB
+/// each on the largest grids: fresh ones cost their page faults).
+#[derive(Default)]
+pub(super) struct SeparableWork {
+    /// `G_c(kx, y)` of every component.
+    g: Vec<Vec<Complex64>>,
+    /// The node's density by row `y`.
+    sum: Vec<f64>,
+}
 
 impl Dissipation {
     /// Whether every multiplier depends on `kx` only.
@@ -30,6 +42,7 @@ impl Dissipation {
         rates: &[RateFn],
         z: f64,
         weight: f64,
+        work: &mut SeparableWork,
         out: &mut [f64],
     ) -> Result<(), HeatError> {
         let (nx, ny, nu) = (self.nx, self.ny, self.nu);
@@ -69,82 +82,117 @@ impl Dissipation {
         } else {
             Vec::new()
         };
-        // `G_c(kx, y)` for `kx <= kmax`, stored by row `y` (`hx` entries).
-        let mut half = vec![Complex64::default(); nx * (ny / 2 + 1)];
-        let mut col = vec![Complex64::default(); ny];
-        let mut scratch_y = vec![Complex64::default(); self.line_y.get_inplace_scratch_len()];
-        let mut g: Vec<Vec<Complex64>> = Vec::with_capacity(count);
-        for c in 0..count {
-            for (m, &(a, t)) in self.regular.iter().zip(&pf) {
-                half[m.index] = a * unit_component(m.n, t, nu, c);
-            }
-            for (i, s) in y_nyquist.iter().enumerate() {
-                half[(ny / 2) * nx + i] = component(s, c);
-            }
-            let mut gc = vec![Complex64::default(); ny * hx];
-            for kx in 0..=kmax {
-                for (j, v) in col.iter_mut().enumerate() {
-                    *v = if 2 * j <= ny {
-                        half[j * nx + kx]
-                    } else {
-                        half[(ny - j) * nx + (nx - kx) % nx].conj()
-                    };
+        // `G_c(kx, y)` for `kx <= kmax`, stored by row `y` (`hx` entries),
+        // one buffer per component.
+        let line_y = &self.line_y;
+        let half_len = nx * (ny / 2 + 1);
+        work.g.resize_with(count, Vec::new);
+        work.g.par_iter_mut().enumerate().for_each_init(
+            || {
+                (
+                    vec![Complex64::default(); half_len],
+                    vec![Complex64::default(); ny],
+                    vec![Complex64::default(); line_y.get_inplace_scratch_len()],
+                )
+            },
+            |(half, col, scratch), (c, gc)| {
+                for (m, &(a, t)) in self.regular.iter().zip(&pf) {
+                    half[m.index] = a * unit_component(m.n, t, nu, c);
                 }
-                self.line_y.process_with_scratch(&mut col, &mut scratch_y);
-                for (y, v) in col.iter().enumerate() {
-                    gc[y * hx + kx] = *v;
+                for (i, s) in y_nyquist.iter().enumerate() {
+                    half[(ny / 2) * nx + i] = component(s, c);
                 }
-            }
-            g.push(gc);
-        }
-        let (dev, trace) = (weight * (1.0 + nu), weight * (1.0 - 2.0 * nu) / 3.0);
-        let mut sum = vec![0.0; nx * ny];
-        let mut field = vec![0.0; nx * ny];
-        let mut first = vec![0.0; nx * ny];
-        let mut row = vec![Complex64::default(); hx];
-        let mut scratch_x = self.row_x.make_scratch_vec();
-        let mut nyq = vec![0.0; ny];
-        for rate in rates {
-            let r: Vec<Complex64> = (0..=kmax)
-                .map(|kx| {
-                    let qx = tau2 * kx as f64 / self.length.0;
-                    rate.at(-self.speed * (qx * self.e.0))
-                })
-                .collect();
-            let nyquist = self.nyquist_parts(rate, z);
-            for (c, gc) in g.iter().enumerate() {
-                // The x-Nyquist column along y (Hermitian in `ky`: real).
-                if nx % 2 == 0 {
+                gc.resize(ny * hx, Complex64::default());
+                for kx in 0..=kmax {
                     for (j, v) in col.iter_mut().enumerate() {
                         *v = if 2 * j <= ny {
-                            component(&nyquist.row[j].mean, c)
+                            half[j * nx + kx]
                         } else {
-                            component(&nyquist.row[ny - j].mean, c).conj()
+                            half[(ny - j) * nx + (nx - kx) % nx].conj()
                         };
                     }
-                    self.line_y.process_with_scratch(&mut col, &mut scratch_y);
-                    nyq.iter_mut().zip(&col).for_each(|(o, v)| *o = v.re);
-                }
-                for ((gy, o), &ny_y) in gc.chunks(hx).zip(field.chunks_mut(nx)).zip(&nyq) {
-                    for ((v, g), r) in row.iter_mut().zip(gy).zip(&r) {
-                        *v = g * r;
+                    line_y.process_with_scratch(col, scratch);
+                    for (y, v) in col.iter().enumerate() {
+                        gc[y * hx + kx] = *v;
                     }
-                    row[0].im = 0.0;
-                    if nx % 2 == 0 {
-                        row[hx - 1] = Complex64::new(ny_y, 0.0);
-                    }
-                    self.row_x
-                        .process_with_scratch(&mut row, o, &mut scratch_x)
-                        .map_err(|e| {
-                            HeatError::Transform(format!("inverse real FFT failed: {e}"))
-                        })?;
                 }
-                accumulate(c, &field, &mut first, &mut sum, dev, trace);
-            }
-            self.add_nyquist(&nyquist, weight, out);
+            },
+        );
+        // Per multiplier: its values at `kx <= kmax`, the x-Nyquist column
+        // of every component along y (Hermitian in `ky`: real), and the
+        // Nyquist modes' parts.
+        let per_rate: Vec<(Vec<Complex64>, Vec<f64>, NyquistParts)> = rates
+            .par_iter()
+            .map(|rate| {
+                let r: Vec<Complex64> = (0..=kmax)
+                    .map(|kx| {
+                        let qx = tau2 * kx as f64 / self.length.0;
+                        rate.at(-self.speed * (qx * self.e.0))
+                    })
+                    .collect();
+                let nyquist = self.nyquist_parts(rate, z);
+                let mut columns = Vec::new();
+                if nx % 2 == 0 {
+                    let mut col = vec![Complex64::default(); ny];
+                    let mut scratch = vec![Complex64::default(); line_y.get_inplace_scratch_len()];
+                    for c in 0..count {
+                        for (j, v) in col.iter_mut().enumerate() {
+                            *v = if 2 * j <= ny {
+                                component(&nyquist.row[j].mean, c)
+                            } else {
+                                component(&nyquist.row[ny - j].mean, c).conj()
+                            };
+                        }
+                        line_y.process_with_scratch(&mut col, &mut scratch);
+                        columns.extend(col.iter().map(|v| v.re));
+                    }
+                }
+                (r, columns, nyquist)
+            })
+            .collect();
+        let (dev, trace) = (weight * (1.0 + nu), weight * (1.0 - 2.0 * nu) / 3.0);
+        // Row by row: every multiplier's components transformed along x
+        // and squared while the row is in cache.
+        work.sum.resize(nx * ny, 0.0);
+        let g = &work.g;
+        let row_x = &self.row_x;
+        work.sum.par_chunks_mut(nx).enumerate().try_for_each_init(
+            || {
+                (
+                    vec![Complex64::default(); hx],
+                    vec![0.0; nx],
+                    vec![0.0; nx],
+                    row_x.make_scratch_vec(),
+                )
+            },
+            |(row, field, first, scratch), (y, sum)| {
+                sum.fill(0.0);
+                for (r, columns, _) in &per_rate {
+                    for (c, gc) in g.iter().enumerate() {
+                        let gy = &gc[y * hx..(y + 1) * hx];
+                        for ((v, g), r) in row.iter_mut().zip(gy).zip(r) {
+                            *v = g * r;
+                        }
+                        row[0].im = 0.0;
+                        if nx % 2 == 0 {
+                            row[hx - 1] = Complex64::new(columns[c * ny + y], 0.0);
+                        }
+                        row_x
+                            .process_with_scratch(row, field, scratch)
+                            .map_err(|e| {
+                                HeatError::Transform(format!("inverse real FFT failed: {e}"))
+                            })?;
+                        accumulate(c, field, first, sum, dev, trace);
+                    }
+                }
+                Ok::<(), HeatError>(())
+            },
+        )?;
+        for (_, _, nyquist) in &per_rate {
+            self.add_nyquist(nyquist, weight, out);
         }
         // `sum` is by row y; `out` by x.
-        for (y, s) in sum.chunks(nx).enumerate() {
+        for (y, s) in work.sum.chunks(nx).enumerate() {
             for (x, v) in s.iter().enumerate() {
                 out[x * ny + y] += v;
             }
