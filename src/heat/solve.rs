@@ -355,6 +355,24 @@ mod tests {
     use crate::heat::{Conduction, HeatDomain};
     use crate::response::Grid;
 
+    /// A periodic cell of `nx x ny` rectangular cells of rubber sliding
+    /// at 0.3 m/s, 0.5 rad from x, with the block `block`.
+    fn slanted_cell(nx: usize, ny: usize, block: Option<f64>) -> HeatSolver {
+        HeatSolver::new(HeatSetup {
+            grid: Grid::new(nx, ny, (2e-6, 3e-6)).unwrap(),
+            conduction: Conduction {
+                conductivity: 0.25,
+                diffusivity: 1e-7,
+            },
+            speed: 0.3,
+            direction_rad: 0.5,
+            domain: HeatDomain::Periodic {
+                block_length: block,
+            },
+        })
+        .unwrap()
+    }
+
     /// The planned profile's mean and peak are those of the depth maps
     /// (the same sums, the deep modes left out below `exp(-40)`): 1e-12 of
     /// the surface's peak, on a rough random flux with odd and even sides
@@ -362,19 +380,7 @@ mod tests {
     #[test]
     fn surface_extremes_are_the_depth_maps_mean_and_peak() {
         for (nx, ny) in [(48, 36), (33, 20)] {
-            let setup = HeatSetup {
-                grid: Grid::new(nx, ny, (2e-6, 3e-6)).unwrap(),
-                conduction: Conduction {
-                    conductivity: 0.25,
-                    diffusivity: 1e-7,
-                },
-                speed: 0.3,
-                direction_rad: 0.5,
-                domain: HeatDomain::Periodic {
-                    block_length: Some(0.01),
-                },
-            };
-            let mut solver = HeatSolver::new(setup).unwrap();
+            let mut solver = slanted_cell(nx, ny, Some(0.01));
             let flux: Vec<f64> = (0..nx * ny)
                 .map(|c| {
                     if (c * 7919) % 13 < 2 {
@@ -419,19 +425,7 @@ mod tests {
             ((33, 20), None),
             ((32, 21), Some(1e-4)),
         ] {
-            let setup = HeatSetup {
-                grid: Grid::new(nx, ny, (2e-6, 3e-6)).unwrap(),
-                conduction: Conduction {
-                    conductivity: 0.25,
-                    diffusivity: 1e-7,
-                },
-                speed: 0.3,
-                direction_rad: 0.5,
-                domain: HeatDomain::Periodic {
-                    block_length: block,
-                },
-            };
-            let mut solver = HeatSolver::new(setup).unwrap();
+            let mut solver = slanted_cell(nx, ny, block);
             let layers = DepthLayers::new(vec![0.0, 1e-7, 5e-7, 2e-6, 1e-5, 1e-4]).unwrap();
             let n = nx * ny;
             let source: Vec<f64> = (0..layers.count() * n)
