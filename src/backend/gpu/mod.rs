@@ -22,6 +22,8 @@
 //! - [`level_tables`]: the same operator on a quadtree mesh from per-level
 //!   coefficient tables computed on the device.
 //! - [`backend`]: [`GpuBackend`], the [`crate::backend::Backend`] implementation.
+//! - [`mixed`]: the operator of a GPU's mixed precision, f32 products on
+//!   the device and f64 ones on the host, for the CPU backend's iteration.
 
 pub mod adaptive;
 pub mod backend;
@@ -32,6 +34,7 @@ pub mod fft;
 pub mod fft_plan;
 pub mod fft_twin;
 pub mod level_tables;
+pub mod mixed;
 pub mod plan;
 pub mod pool;
 pub mod shaders;
