@@ -1,6 +1,8 @@
-//! GPU executor (wgpu). Every vector of the contact iteration lives on the
-//! device in f32; the host sees only the scalars each step needs (reduction
-//! partials finished in f64) and the size of each new contact set.
+//! GPU executor (wgpu). In the f32 iteration ([`GpuBackend`]) every vector
+//! lives on the device in f32; the host sees only the scalars each step
+//! needs (reduction partials finished in f64) and the size of each new
+//! contact set. In mixed precision ([`mixed`]) the vectors are the host's
+//! and the device computes the f32 products.
 //!
 //! - [`context`]: adapter discovery and the device.
 //! - [`shaders`]: the WGSL kernels of `shaders/` and their validation.
