@@ -7,6 +7,7 @@
 use std::marker::PhantomData;
 
 use crate::backend::gpu::engine::Engine;
+use crate::backend::gpu::mixed::{impulse_response, wrapped_table, MixedOperator};
 use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuLevelTables, GpuOptions};
 use crate::backend::{Backend, BackendChoice, CpuBackend};
 use crate::config::Precision;
@@ -95,11 +96,10 @@ pub(crate) trait Executes {
     /// The executor as `summary.json` names it (`"cpu"`, `"gpu: ADAPTER"`).
     fn name(&self) -> String;
 
-    /// Whether its [`Precision::Mixed`] is an iteration without f64
-    /// products of its own, refined afterwards by an f64 iteration on the
-    /// host from its answer (`solver::refine`; a device), rather than
-    /// refined within the iteration ([`Backend::refines`]). Default: no.
-    fn refined_on_host(&self) -> bool {
+    /// Whether its products run on a device (f32), so that a finite pad's
+    /// solve that does not converge there is repeated on the host in f64
+    /// (`smooth_pad.rs`). Default: no.
+    fn on_device(&self) -> bool {
         false
     }
 
@@ -168,15 +168,22 @@ impl<T: Real> Executes for CpuExecutor<T> {
         description: &OperatorDescription<'_>,
         mesh: Option<&QuadMesh>,
     ) -> Result<(Self::Backend, f64)> {
-        let (op, l00): (Box<dyn GridOperator>, f64) = match description {
+        let (op, l00) = self.operator(description, mesh)?;
+        Ok((CpuBackend::new(op), l00))
+    }
+}
+
+impl<T: Real> CpuExecutor<T> {
+    /// The operator of `description` with transforms in `T` and its self
+    /// coefficient `L_00` ([`Executes::build`] without the backend).
+    fn operator(
+        &mut self,
+        description: &OperatorDescription<'_>,
+        mesh: Option<&QuadMesh>,
+    ) -> Result<(Box<dyn GridOperator>, f64)> {
+        Ok(match description {
             OperatorDescription::Toeplitz { kernel, grid } => {
-                let table = match self.fine.take() {
-                    Some(t) if (t.nx, t.ny) == grid.size() => t,
-                    other => {
-                        self.fine = other;
-                        kernel.table(grid)?
-                    }
-                };
+                let table = self.table(kernel, grid)?;
                 let (op, l00) = toeplitz::<T>(grid, &table.values);
                 (Box::new(op), l00)
             }
@@ -199,8 +206,23 @@ impl<T: Real> Executes for CpuExecutor<T> {
                     l00,
                 )
             }
-        };
-        Ok((CpuBackend::new(op), l00))
+        })
+    }
+
+    /// The fine grid's host table of `kernel` on `grid` when
+    /// [`Executes::prepare`] made it, otherwise a new one.
+    fn table(
+        &mut self,
+        kernel: &crate::kernel::SlidingKernel,
+        grid: &Grid,
+    ) -> Result<crate::kernel::CoefficientTable> {
+        Ok(match self.fine.take() {
+            Some(t) if (t.nx, t.ny) == grid.size() => t,
+            other => {
+                self.fine = other;
+                kernel.table(grid)?
+            }
+        })
     }
 }
 
@@ -216,19 +238,17 @@ fn toeplitz<T: Real>(grid: &Grid, values: &[f64]) -> (ToeplitzFft<T>, f64) {
     (op, tab.get(0, 0))
 }
 
-/// The GPU executor (f32 on the device): a half-space's coefficient tables
+/// The GPU executor of [`Precision::F32`] (every vector on the device in
+/// f32): a half-space's coefficient tables
 /// computed on the device (`shaders/coefficients.wgsl`, about 4e-7
 /// relative to the host table; a finite layer's on the host, its spectrum
 /// on the host in f64), the level tables of the adaptive mesh on the
 /// device (`shaders/level_table.wgsl`, `shaders/level_box_sum.wgsl`;
-/// half-spaces only). The non-periodic formulation only; in
-/// [`Precision::Mixed`] (its f32 answer refined in f64 on the host) or
-/// [`Precision::F32`].
+/// half-spaces only). The non-periodic formulation only.
 pub(crate) struct GpuExecutor {
     ctx: GpuContext,
     /// Right-precondition the uniform grid's inner solves.
     precondition: bool,
-    precision: Precision,
     /// The fine grid's engine and table ([`Executes::prepare`]).
     fine: Option<(Engine, Vec<f64>, (usize, usize))>,
     /// The adaptive mesh's device level tables ([`Executes::prepare`]).
@@ -238,14 +258,10 @@ pub(crate) struct GpuExecutor {
 }
 
 impl GpuExecutor {
-    /// The executor of `ctx` for `problem` in `precision`, or the one-line
-    /// refusal of what the device does not run: the periodic formulation,
-    /// the adaptive mesh over a layer, [`Precision::F64`].
-    pub(crate) fn for_problem(
-        ctx: &GpuContext,
-        problem: &Problem,
-        precision: Precision,
-    ) -> Result<Self> {
+    /// The f32 executor of `ctx` for `problem`, or the one-line refusal of
+    /// what the device does not run: the periodic formulation, the adaptive
+    /// mesh over a layer.
+    pub(crate) fn for_problem(ctx: &GpuContext, problem: &Problem) -> Result<Self> {
         match problem.discretisation() {
             Discretisation::Periodic => return Err(periodic_refused()),
             Discretisation::Adaptive if problem.layer.is_some() => return Err(invalid(
@@ -253,19 +269,9 @@ impl GpuExecutor {
             )),
             Discretisation::Uniform | Discretisation::Adaptive => {}
         }
-        Self::new(ctx.clone(), problem.params.precondition, precision)
-    }
-
-    /// The executor of `ctx` in `precision` (f64 refused: the device
-    /// computes in f32).
-    fn new(ctx: GpuContext, precondition: bool, precision: Precision) -> Result<Self> {
-        if precision == Precision::F64 {
-            return Err(gpu_f64_refused());
-        }
         Ok(Self {
-            ctx,
-            precondition,
-            precision,
+            ctx: ctx.clone(),
+            precondition: problem.params.precondition,
             fine: None,
             levels: None,
             engine: None,
@@ -300,12 +306,12 @@ impl Executes for GpuExecutor {
         format!("gpu: {}", self.ctx.adapter)
     }
 
-    fn refined_on_host(&self) -> bool {
-        self.precision == Precision::Mixed
-    }
-
     fn epsilon(&self) -> f64 {
         f32::EPSILON as f64
+    }
+
+    fn on_device(&self) -> bool {
+        true
     }
 
     fn prepare(&mut self, description: &OperatorDescription<'_>) -> Result<()> {
@@ -385,17 +391,119 @@ impl Executes for GpuExecutor {
     }
 }
 
-/// The GPU executor's refusal of the periodic formulation.
+/// The GPU executor of [`Precision::Mixed`]: the CPU's mixed-precision
+/// iteration ([`CpuBackend`], f64 vectors on the host, every GMRES
+/// restart's residual in f64, [`Backend::refines`]) over an operator whose
+/// f32 products (the Krylov products and the preconditioner) run on the
+/// device and whose exact products are the host's f64 operator of the same
+/// description ([`MixedOperator`]). The device's table is the host's f64
+/// coefficient table rounded to f32 (the non-periodic formulation) or the
+/// periodic cell's circulant written as an offset table
+/// ([`wrapped_table`]); its preconditioner is the device backend's (the
+/// inverse of the padded circulant or of T. Chan's circulant), or on a
+/// periodic cell the host's inverse multiplier as a second circulant on
+/// the device.
+/// Uniform grids (one or a cascade), either formulation.
+pub(crate) struct GpuMixedExecutor {
+    ctx: GpuContext,
+    /// Right-precondition the inner solves.
+    precondition: bool,
+    /// The host's f64 operators (and the fine grid's table, prepared).
+    host: CpuExecutor<f64>,
+}
+
+impl GpuMixedExecutor {
+    /// The mixed executor of `ctx` for `problem`, or the one-line refusal
+    /// of the adaptive mesh (whose rounds have no mixed iteration).
+    pub(crate) fn for_problem(ctx: &GpuContext, problem: &Problem) -> Result<Self> {
+        if problem.discretisation() == Discretisation::Adaptive {
+            return Err(invalid(
+                "[solver] precision = \"mixed\" runs on uniform grids; use precision = \"f32\" on the GPU's adaptive mesh or --backend cpu",
+            ));
+        }
+        Ok(Self {
+            ctx: ctx.clone(),
+            precondition: problem.params.precondition,
+            host: CpuExecutor::new(),
+        })
+    }
+}
+
+impl Executes for GpuMixedExecutor {
+    type Backend = CpuBackend<MixedOperator>;
+
+    fn name(&self) -> String {
+        format!("gpu: {}", self.ctx.adapter)
+    }
+
+    fn on_device(&self) -> bool {
+        true
+    }
+
+    fn prepare(&mut self, description: &OperatorDescription<'_>) -> Result<()> {
+        self.host.prepare(description)
+    }
+
+    fn build(
+        &mut self,
+        description: &OperatorDescription<'_>,
+        mesh: Option<&QuadMesh>,
+    ) -> Result<(Self::Backend, f64)> {
+        let (nx, ny) = description.shape();
+        let options = GpuOptions {
+            preconditioner: self.precondition,
+            ..GpuOptions::default()
+        };
+        let engine = Engine::new(self.ctx.clone());
+        let (op, l00) = match description {
+            OperatorDescription::Toeplitz { kernel, grid } => {
+                let table = self.host.table(kernel, grid)?;
+                let device = GpuBackend::with_engine(engine, nx, ny, &table.values, options)?;
+                let (exact, l00) = toeplitz::<f64>(grid, &table.values);
+                (MixedOperator::new(device, Box::new(exact)), l00)
+            }
+            OperatorDescription::Periodic { .. } => {
+                // The circulant and the host's inverse multiplier (its
+                // preconditioner), each as the offset table of its
+                // circulant on the device.
+                let (mut exact, l00) = self.host.operator(description, mesh)?;
+                let n = nx * ny;
+                let c = impulse_response(n, |x, y| exact.apply_exact(x, y));
+                let k = self
+                    .precondition
+                    .then(|| impulse_response(n, |x, y| exact.precondition(x, y)));
+                let plain = GpuOptions::default();
+                let table = wrapped_table(nx, ny, &c);
+                let device = GpuBackend::with_engine(engine, nx, ny, &table, plain)?;
+                let mut op = MixedOperator::new(device, exact);
+                if let Some(k) = k {
+                    let engine = Engine::new(self.ctx.clone());
+                    let table = wrapped_table(nx, ny, &k);
+                    op = op.with_inverse(GpuBackend::with_engine(engine, nx, ny, &table, plain)?);
+                }
+                (op, l00)
+            }
+            OperatorDescription::Levels { .. } => {
+                return Err(invalid(
+                    "[solver] precision = \"mixed\" runs on uniform grids, not the adaptive mesh",
+                ))
+            }
+        };
+        Ok((CpuBackend::new(op), l00))
+    }
+}
+
+/// The GPU executor's refusal of the periodic formulation in f32.
 pub(crate) fn periodic_refused() -> Error {
     invalid(
-        "the GPU path solves the non-periodic formulation; use --backend cpu for formulation = \"periodic\"",
+        "the GPU's f32 iteration solves the non-periodic formulation; use precision = \"mixed\" or --backend cpu for formulation = \"periodic\"",
     )
 }
 
 /// A GPU's refusal of [`Precision::F64`].
 pub(crate) fn gpu_f64_refused() -> Error {
     invalid(
-        "[solver] precision = \"f64\": a GPU computes in f32; use precision = \"mixed\" (f32 on the device refined in f64 on the host) or --backend cpu",
+        "[solver] precision = \"f64\": a GPU computes in f32; use precision = \"mixed\" (f32 products on the device, f64 residuals on the host) or --backend cpu",
     )
 }
 

@@ -13,7 +13,6 @@
 //! - [`adaptive`]: the solve-certify-refine loop of the adaptive mesh.
 //! - `precision`: the arithmetic of a solve on an executor
 //!   ([`Problem::precision_on`]).
-//! - [`gpu_refine`]: the host f64 refinement of a uniform-grid GPU solve.
 //! - [`solution`]: the result, its summary, analysis and files.
 //! - [`warnings`]: what a solution says about its own validity.
 //! - `heating`: the heat of a solved contact ([`ContactHeating`]).
@@ -30,7 +29,6 @@ pub mod adaptive;
 mod cascade;
 pub mod executor;
 mod friction;
-pub mod gpu_refine;
 mod heating;
 pub mod persson;
 mod precision;
@@ -120,8 +118,8 @@ pub struct Problem {
     /// ([`Problem::precision_on`]).
     pub precision: Option<Precision>,
     /// Where `precision` is `None`, a GPU's on a uniform grid: true
-    /// (default) [`Precision::Mixed`], the device's f32 answer refined in
-    /// f64 on the host ([`gpu_refine`]); false [`Precision::F32`]
+    /// (default) [`Precision::Mixed`], the one iteration of f32 products on
+    /// the device and f64 residuals on the host; false [`Precision::F32`]
     /// (`[solver] gpu_refine`, the older spelling).
     pub gpu_refine: bool,
     pub formulation: Formulation,

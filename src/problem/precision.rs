@@ -1,10 +1,10 @@
 //! The arithmetic a problem is solved in (physics.md section 13): one typed
 //! choice, [`Precision`], that both executors take. `[solver] precision`
 //! where given; otherwise the executor's own: f64 on the CPU; on a GPU (f32
-//! on the device) `Mixed` on a uniform grid, its answer refined in f64 on
-//! the host (`gpu_refine = false`, the older spelling of `F32`, keeps the
-//! device's answer), and `F32` on the adaptive mesh, whose device answer is
-//! not refined. A combination the executor cannot run is refused in one
+//! on the device) `Mixed` on a uniform grid, one iteration of f32 products
+//! on the device and f64 residuals on the host (`gpu_refine = false`, the
+//! older spelling of `F32`, keeps the device's f32 iteration), and `F32`
+//! on the adaptive mesh, which has no mixed iteration. A combination the executor cannot run is refused in one
 //! line before anything is solved.
 
 use crate::config::{MeshKind, Precision};

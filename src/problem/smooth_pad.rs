@@ -12,9 +12,10 @@
 //! the flat gap is zero on every grid) from its bearing-area start (every
 //! cell of the coarsest grid in contact at the mean pressure) on the
 //! executor of the rough solve (the CPU: in f64 with the Toeplitz operator
-//! and preconditioner, whatever the rough solve's precision; the GPU: in f32
-//! on the device, refined in f64 on the host's fine grid from the device's
-//! answer where the rough solve is, [`super::gpu_refine`]), and its friction
+//! and preconditioner, whatever the rough solve's precision; a GPU: in the
+//! rough solve's precision, mixed (f32 products on the device, f64
+//! residuals on the host: the f64 answer) or f32 on the device alone), and
+//! its friction
 //! from the same work-of-pressure route as the rough solve's (Eq. 9), with
 //! the rough solve's derivative operators (built once for both).
 //!
@@ -59,15 +60,16 @@ const SMOOTH_PAD_PER_ROUGH: usize = 3;
 /// solve's few contact cells need few; 3 left some of them unanswered.
 const SMOOTH_PAD_PER_ROUGH_PLAIN: usize = 10;
 
-/// The relative tolerance of the flat pad's solve in f32 (on a device):
+/// The relative tolerance of the flat pad's solve with f32 vectors (a
+/// device's f32 iteration):
 /// its Krylov solves then aim at 1e-3 (0.01 of it). Tighter, the f32 inner
 /// solves over a flat pad's (nearly full) contact set reach their rounding
 /// floor before their target and burn the matvec budget: on the paper
 /// experiment's pad at 256^2 (q1 = 1.5e6 1/m, lavapipe) 0.1 took 50 device
 /// and 41 host matvecs, 1e-2 85 and 34, 1e-3 ran out at a residual of
-/// 7.9e-6 (and the host solved the pad from scratch). The device's answer is
-/// then a start: the host refinement, where it follows, takes it to the
-/// problem's tolerance; without one it is the f32 answer.
+/// 7.9e-6 (and the host solved the pad from scratch). Those measurements
+/// were of the f32 stage that the host refined in f64; the mixed
+/// iteration has f64 vectors and solves to the problem's tolerance.
 const F32_TOLERANCE: f64 = 0.1;
 
 /// The flat pad's solve and friction.
@@ -79,13 +81,15 @@ pub struct SmoothPad {
     pub roughness_friction_coefficient: f64,
     /// The flat pad's share of the rough solve's `mu`.
     pub share: f64,
-    /// Operator applications (both solves when the full-contact one handed
-    /// over; the host refinement's included).
+    /// Operator applications (fine-grid equivalent) of the solve that gave
+    /// the answer.
     pub matvecs: usize,
-    /// Of `matvecs`, those in f64 on the host after a device's stage: its
-    /// refinement, or the whole solve where the device's did not converge
-    /// (0 on the CPU, where the whole solve is the host's own).
-    pub host_refinement_matvecs: usize,
+    /// Of its products, those in f64 beside `matvecs` (the residuals of a
+    /// mixed-precision iteration, physics.md section 13; 0 in f64 or f32).
+    pub exact_matvecs: usize,
+    /// Of `matvecs`, those of a solve in f64 on the host where the
+    /// device's did not converge (0 otherwise, and on the CPU).
+    pub host_matvecs: usize,
     /// Wall time \[s\] of its solve, coefficient tables included (its Eq. 9
     /// friction is the rough solve's analysis's, which shares its
     /// operators).
@@ -99,7 +103,8 @@ pub(super) struct SolvedPad {
     /// The load it carries \[N\] (its pressure times the cell area).
     loaded: f64,
     matvecs: usize,
-    host_refinement_matvecs: usize,
+    exact_matvecs: usize,
+    host_matvecs: usize,
     time_s: f64,
 }
 
@@ -113,7 +118,8 @@ impl SolvedPad {
             roughness_friction_coefficient: mu - smooth,
             share: if mu != 0.0 { smooth / mu } else { 0.0 },
             matvecs: self.matvecs,
-            host_refinement_matvecs: self.host_refinement_matvecs,
+            exact_matvecs: self.exact_matvecs,
+            host_matvecs: self.host_matvecs,
             time_s: self.time_s,
         }
     }
@@ -121,10 +127,11 @@ impl SolvedPad {
 
 impl Problem {
     /// The flat pad of this non-periodic problem under the normal load
-    /// `load` \[N\] on `executor` (then refined in f64 on the host where
-    /// its precision is ([`Executes::refined_on_host`])). At most
+    /// `load` \[N\] on `executor` (in its precision; solved again in f64
+    /// on the host where a device's solve does not converge,
+    /// [`Executes::on_device`]). At most
     /// `max(SMOOTH_PAD_MIN_MATVECS, k rough_matvecs)` operator applications
-    /// per stage (`k` = [`SMOOTH_PAD_PER_ROUGH`], or
+    /// per solve (`k` = [`SMOOTH_PAD_PER_ROUGH`], or
     /// [`SMOOTH_PAD_PER_ROUGH_PLAIN`] without a preconditioner), so that a
     /// flat pad the iteration struggles with costs at most a few rough
     /// solves; an error then, which the caller reports instead of failing.
@@ -148,8 +155,8 @@ impl Problem {
             max_matvecs: SMOOTH_PAD_MIN_MATVECS.max(per_rough * rough_matvecs),
             ..base
         };
-        // An executor whose vectors are f32 (a device) solves to
-        // `F32_TOLERANCE`.
+        // An executor whose vectors are f32 (a device's f32 iteration)
+        // solves to `F32_TOLERANCE`.
         let device = executor.epsilon() > f64::EPSILON;
         let stage_params = solver::SolverParams {
             tolerance: if device {
@@ -161,38 +168,24 @@ impl Problem {
         };
         let shapes = solver::cascade::cascade_shapes(nx, ny, CASCADE_COARSEST, self.cascade_levels);
         let pad = flat_cascade(executor, &operators, &shapes, (ax, ay), load, &stage_params);
-        let refine = executor.refined_on_host();
-        let (solution, matvecs, host_refinement_matvecs) = match pad {
-            Ok((solution, info)) if refine => {
-                // The device's f32 answer starts the f64 constrained
-                // iteration on the host's fine grid.
-                let (mut host, l00) =
-                    CpuExecutor::<f64>::new().build(&operators.on(nx, ny, (ax, ay))?, None)?;
-                let flat = vec![0.0; nx * ny];
-                let problem = solver::ContactProblem::new(&flat, ax * ay, l00, Control::Load(load));
-                let refined =
-                    solver::refine(&mut host, problem, &params, (solution, info), &mut Silent)?;
-                (
-                    refined.solution,
-                    refined.info.matvecs,
-                    refined.stage.matvecs,
-                )
-            }
-            Ok((solution, info)) => (solution, info.matvecs, 0),
-            Err(_) if device => {
+        let (solution, info, host_matvecs) = match pad {
+            Ok((solution, info)) => (solution, info, 0),
+            Err(_) if executor.on_device() => {
                 // The device's solve did not converge: the host's, in f64.
                 let mut host = CpuExecutor::<f64>::new();
                 let (s, info) =
                     flat_cascade(&mut host, &operators, &shapes, (ax, ay), load, &params)?;
-                (s, info.matvecs, info.matvecs)
+                let matvecs = info.matvecs;
+                (s, info, matvecs)
             }
             Err(e) => return Err(e),
         };
         Ok(SolvedPad {
             loaded: solution.pressure.iter().sum::<f64>() * ax * ay,
             pressure: solution.pressure,
-            matvecs,
-            host_refinement_matvecs,
+            matvecs: info.matvecs,
+            exact_matvecs: info.exact_matvecs,
+            host_matvecs,
             time_s: t.elapsed().as_secs_f64(),
         })
     }

@@ -20,7 +20,6 @@ use crate::plot;
 use crate::solver::{ContactSolution, SolveInfo, WarmStart};
 use crate::surface::{Preprocessing, Window};
 
-use super::gpu_refine::GpuRefinement;
 use super::persson::PerssonEstimate;
 use super::smooth_pad::SmoothPad;
 use super::{MeshReport, Problem};
@@ -34,7 +33,7 @@ pub struct Timings {
     /// transforms, preconditioner, device buffers; the adaptive rounds'
     /// meshes).
     pub operator_setup_s: f64,
-    /// The contact iteration (a device's host refinement included).
+    /// The contact iteration.
     pub iteration_s: f64,
     /// Friction, statistics and warnings of the answer.
     pub analysis_s: f64,
@@ -88,9 +87,6 @@ pub struct Solution {
     /// Persson's theory at the same speed and nominal pressure
     /// ([`Problem::persson_estimate`]), or why it does not apply.
     pub persson: std::result::Result<PerssonEstimate, String>,
-    /// The two stages of a GPU solve refined in f64 on the host
-    /// (`None` for every other path).
-    pub gpu_refinement: Option<GpuRefinement>,
     /// The finite pad's own friction (the same pad without roughness) and
     /// the roughness part; `None` for the periodic formulation and the
     /// adaptive mesh.
@@ -128,7 +124,6 @@ impl Solution {
             mesh,
             warnings,
             persson,
-            gpu_refinement: None,
             smooth_pad: None,
             record: Record {
                 nx: problem.surface.nx,
@@ -340,9 +335,6 @@ impl Solution {
         // The cell side along y beside `cell_size` (along x): rectangular
         // cells (physics.md section 11).
         doc["cell_size_y"] = json!(r.cell_size_y);
-        // The device (f32) and host (f64) stages of a refined GPU solve;
-        // null for every other path.
-        doc["gpu_refinement"] = json!(self.gpu_refinement);
         // The finite pad's own part and the roughness part (non-periodic
         // uniform grids), with Persson against the roughness part.
         doc["smooth_pad_friction_coefficient"] =
@@ -357,9 +349,10 @@ impl Solution {
                 "share": p.share,
                 "persson_over_roughness_part": persson.map(|m| m / p.roughness_friction_coefficient),
                 "matvecs": p.matvecs,
-                "host_refinement_matvecs": p.host_refinement_matvecs,
+                "exact_matvecs": p.exact_matvecs,
+                "host_matvecs": p.host_matvecs,
                 "time_s": p.time_s,
-                "what": "the same pad without roughness, at the same load and speed, solved by the constrained iteration on the executor of the rough solve (the CPU: in f64; a GPU: in f32 on the device to a relative residual of 1e-3, then refined in f64 on the host from its answer unless solver.gpu_refine = false, or solved on the host where the device's solve did not converge: host_refinement_matvecs of matvecs); friction by paper Eq. 9",
+                "what": "the same pad without roughness, at the same load and speed, solved by the constrained iteration on the executor of the rough solve (the CPU: in f64; a GPU: in the rough solve's precision, mixed (f32 products on the device, f64 residuals on the host: exact_matvecs) or f32 on the device to a relative residual of 1e-3; solved in f64 on the host where the device's solve did not converge: host_matvecs of matvecs); friction by paper Eq. 9",
             })
         }));
         // The process's peak resident memory so far (after this solve; in a

@@ -46,12 +46,10 @@ mod initial_guess;
 mod inner_mode;
 mod line_search;
 pub mod reference;
-mod refinement;
 
 pub use active_set::solve;
 pub use cascade::{solve_cascade, CascadeLevel, LevelInfo};
 pub use full_contact::solve_full_contact;
-pub(crate) use refinement::refine;
 
 use std::borrow::Cow;
 

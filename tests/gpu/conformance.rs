@@ -791,7 +791,7 @@ fn rectangular_cell_solve_matches_cpu() {
         .collect();
     let map = HeightMap::with_cells(nx, ny, length / nx as f64, length / ny as f64, z).unwrap();
     let mut problem = Problem::new(m, map, Control::Load(3e3 * length * length), 1.17e-2);
-    // The device's own f32 answer (the host refinement would return the
+    // The device's own f32 answer (the mixed iteration would return the
     // CPU's f64 one; tests/gpu/refine.rs covers it).
     problem.gpu_refine = false;
     let c = problem.solve(&Executor::Cpu, &mut Silent).unwrap();

@@ -13,6 +13,7 @@ mod context;
 mod heated;
 mod large_grid;
 mod memory;
+mod mixed;
 mod plan_cli;
 mod refine;
 mod shaders;

@@ -209,8 +209,9 @@ fn gpu_solve_at_temperature_matches_the_cpu() {
     let t = 7.0;
     let v = 0.05;
     let mut hot = problem("non_periodic", v, &format!("temperature = {t}"));
-    // The device's own answer: the host refinement would converge to the
-    // host operator's answer whatever material the device used.
+    // The device's own answer: the mixed iteration's f64 residuals would
+    // take it to the host operator's answer whatever material the device
+    // used.
     hot.gpu_refine = false;
     let cpu = hot.solve(&Executor::Cpu, &mut Silent).unwrap();
     let gpu = hot.solve(&Executor::Gpu(ctx), &mut Silent).unwrap();

@@ -251,6 +251,28 @@ impl GpuBackend {
         }
     }
 
+    /// The contact set of the grid cells `cells` (sorted, each below
+    /// [`Backend::grid_len`]) as a device index: one upload of `|cells|`
+    /// u32 positions (an executor whose sets are made on the host,
+    /// [`super::mixed::MixedOperator`]).
+    pub(crate) fn index_from(&mut self, cells: &[usize]) -> GpuIndex {
+        self.check_len(cells.len());
+        let slot = self.pool.take(&mut self.engine);
+        let positions: Vec<u32> = cells
+            .iter()
+            .map(|&c| {
+                assert!(c < self.n, "cell {c} on a grid of {}", self.n);
+                c as u32
+            })
+            .collect();
+        self.engine
+            .write(slot.buf(), 0, bytemuck::cast_slice(&positions));
+        GpuIndex {
+            slot,
+            len: cells.len(),
+        }
+    }
+
     /// Wait until the device has finished all submitted work.
     pub fn synchronize(&mut self) {
         self.engine.flush();

@@ -1,6 +1,8 @@
-//! GPU executor (wgpu). Every vector of the contact iteration lives on the
-//! device in f32; the host sees only the scalars each step needs (reduction
-//! partials finished in f64) and the size of each new contact set.
+//! GPU executor (wgpu). In the f32 iteration ([`GpuBackend`]) every vector
+//! lives on the device in f32; the host sees only the scalars each step
+//! needs (reduction partials finished in f64) and the size of each new
+//! contact set. In mixed precision ([`mixed`]) the vectors are the host's
+//! and the device computes the f32 products.
 //!
 //! - [`context`]: adapter discovery and the device.
 //! - [`shaders`]: the WGSL kernels of `shaders/` and their validation.
@@ -22,6 +24,8 @@
 //! - [`level_tables`]: the same operator on a quadtree mesh from per-level
 //!   coefficient tables computed on the device.
 //! - [`backend`]: [`GpuBackend`], the [`crate::backend::Backend`] implementation.
+//! - [`mixed`]: the operator of a GPU's mixed precision, f32 products on
+//!   the device and f64 ones on the host, for the CPU backend's iteration.
 
 pub mod adaptive;
 pub mod backend;
@@ -32,6 +36,7 @@ pub mod fft;
 pub mod fft_plan;
 pub mod fft_twin;
 pub mod level_tables;
+pub mod mixed;
 pub mod plan;
 pub mod pool;
 pub mod shaders;

@@ -88,7 +88,6 @@ impl Problem {
             warnings,
         );
         solution.record_precision(precision);
-        solution.gpu_refinement = raw.refinement;
         solution.smooth_pad = smooth_pad;
         Ok(solution)
     }

@@ -6,10 +6,11 @@
 //! executor ([`Executor`]) turns each into its backend (`Executes`); every
 //! grid's constrained iteration runs through one function
 //! (`Problem::iterate`, `iterate.rs`); the precision is one typed choice
-//! both executors take ([`Problem::precision_on`]). The refinement of an
-//! f32 device answer, then the friction by both routes, the finite pad's
-//! own friction, the contact statistics and the timings (`finish.rs`) are
-//! computed once for all routes.
+//! both executors take ([`Problem::precision_on`]; `"mixed"` is one
+//! iteration on either, its f32 products on the CPU's f32 transforms or on
+//! a device). The friction by both routes, the finite pad's own friction,
+//! the contact statistics and the timings (`finish.rs`) are computed once
+//! for all routes.
 
 mod finish;
 mod iterate;
@@ -25,8 +26,9 @@ use crate::error::Result;
 use crate::solver::{ContactSolution, Observer, SolveInfo, WarmStart};
 
 use super::adaptive::MeshReport;
-use super::executor::{cpu_f32_refused, CpuExecutor, Executes, GpuExecutor};
-use super::gpu_refine::GpuRefinement;
+use super::executor::{
+    cpu_f32_refused, gpu_f64_refused, CpuExecutor, Executes, GpuExecutor, GpuMixedExecutor,
+};
 use super::{invalid, Executor, Problem, Solution};
 
 /// The operator a problem is solved with: formulation x mesh.
@@ -53,8 +55,6 @@ pub(super) struct Raw {
     pub t_setup: Option<f64>,
     /// Iteration \[s\].
     pub t_iter: f64,
-    /// The stages of a GPU solve refined on the host.
-    pub refinement: Option<GpuRefinement>,
 }
 
 impl Problem {
@@ -104,11 +104,9 @@ impl Problem {
         match executor {
             Executor::Cpu => {
                 let raw = match precision {
-                    Precision::F64 => {
-                        self.run_in(&mut CpuExecutor::<f64>::new(), start, observer)?
-                    }
+                    Precision::F64 => self.run(&mut CpuExecutor::<f64>::new(), start, observer)?,
                     Precision::Mixed => {
-                        self.run_in(&mut CpuExecutor::<f32>::new(), start, observer)?
+                        self.run(&mut CpuExecutor::<f32>::new(), start, observer)?
                     }
                     Precision::F32 => return Err(cpu_f32_refused()),
                 };
@@ -116,11 +114,20 @@ impl Problem {
                 // solve's precision.
                 self.finish(raw, t0, &mut CpuExecutor::<f64>::new(), precision)
             }
-            Executor::Gpu(ctx) => {
-                let mut gpu = GpuExecutor::for_problem(ctx, self, precision)?;
-                let raw = self.run_in(&mut gpu, start, observer)?;
-                self.finish(raw, t0, &mut gpu, precision)
-            }
+            Executor::Gpu(ctx) => match precision {
+                // The CPU's mixed iteration with the device's f32 products.
+                Precision::Mixed => {
+                    let mut gpu = GpuMixedExecutor::for_problem(ctx, self)?;
+                    let raw = self.run(&mut gpu, start, observer)?;
+                    self.finish(raw, t0, &mut gpu, precision)
+                }
+                Precision::F32 => {
+                    let mut gpu = GpuExecutor::for_problem(ctx, self)?;
+                    let raw = self.run(&mut gpu, start, observer)?;
+                    self.finish(raw, t0, &mut gpu, precision)
+                }
+                Precision::F64 => Err(gpu_f64_refused()),
+            },
         }
     }
 
@@ -144,25 +151,6 @@ impl Problem {
         Ok(())
     }
 
-    /// The iteration of this problem on `executor` in its precision:
-    /// [`Problem::run`], then, for an executor
-    /// whose mixed precision is refined afterwards
-    /// ([`Executes::refined_on_host`]; a uniform grid), the f64 refinement
-    /// on the host from its answer.
-    fn run_in<X: Executes>(
-        &self,
-        executor: &mut X,
-        start: Option<WarmStart>,
-        observer: &mut dyn Observer,
-    ) -> Result<Raw> {
-        let raw = self.run(executor, start, observer)?;
-        if executor.refined_on_host() && raw.mesh.is_none() {
-            self.refined(raw, observer)
-        } else {
-            Ok(raw)
-        }
-    }
-
     /// The iteration of this problem on `executor`: a uniform grid (one
     /// grid or the cascade) or the adaptive mesh's rounds.
     fn run<X: Executes>(
@@ -177,19 +165,5 @@ impl Problem {
                 self.uniform(executor, start, observer)
             }
         }
-    }
-
-    /// A device's answer refined in f64 on the host ([`super::gpu_refine`]).
-    fn refined(&self, raw: Raw, observer: &mut dyn Observer) -> Result<Raw> {
-        let device = (raw.solution, raw.info, raw.t_iter);
-        let (solution, info, t_iter, report) = self.refine_on_host(device, observer)?;
-        Ok(Raw {
-            solution,
-            info,
-            backend: format!("{}, refined in f64 on the host", raw.backend),
-            t_iter,
-            refinement: Some(report),
-            ..raw
-        })
     }
 }

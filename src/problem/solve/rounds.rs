@@ -91,7 +91,6 @@ impl Problem {
             t_coeff,
             t_setup: None,
             t_iter,
-            refinement: None,
         })
     }
 }

@@ -67,7 +67,6 @@ impl Problem {
             t_coeff,
             t_setup: Some(t_setup),
             t_iter,
-            refinement: None,
         })
     }
 }

@@ -289,7 +289,8 @@ fn problem(extra: &[&str]) -> Problem {
 /// A whole solve with the FFT buffers, spectrum and coefficient table split
 /// into windows: the device's f32 answer equals the unsplit device answer
 /// (friction, area and contact set identical, pressures to f32 rounding),
-/// and the refined answer the CPU's f64 one as in `gpu_refine.rs`.
+/// and the mixed answer (f32 products on the split device, f64 residuals on
+/// the host) the CPU's f64 one as in `refine.rs`.
 #[test]
 fn split_solve_matches_unsplit_and_cpu() {
     split_solve(128, SMALL);
@@ -338,14 +339,14 @@ fn split_solve(n: usize, binding: u64) {
     );
     let rel = (a.friction_coefficient - b.friction_coefficient).abs() / b.friction_coefficient;
     assert!(rel <= 1e-6, "friction {rel:.3e}");
-    // The refined split solve against the CPU's f64 answer (tolerances of
-    // gpu_refine.rs: both f64 solves of the same operator to 1e-8).
+    // The mixed split solve against the CPU's f64 answer (tolerances of
+    // refine.rs: both solve the same f64 operator to 1e-8).
     let p = problem(&[&grid]);
     let cpu = p.solve(&Executor::Cpu, &mut Silent).unwrap();
     let gpu = p.solve(&Executor::Gpu(small), &mut Silent).unwrap();
     let rel =
         (gpu.friction_coefficient - cpu.friction_coefficient).abs() / cpu.friction_coefficient;
-    println!("refined split vs cpu: friction {rel:.3e}");
+    println!("mixed split vs cpu: friction {rel:.3e}");
     assert!(rel <= 1e-7, "friction {rel:.3e}");
     assert_eq!(differing_cells(&gpu, &cpu), 0, "contact sets differ");
 }
