@@ -155,7 +155,8 @@ class Result:
         layers; periodic cells only, their default) or ``"surface"`` (the
         work of the contact pressure as a surface flux; a pad's default);
         ``refined_layers`` takes finer depth layers (depth integrals to
-        about 5e-9 instead of 5e-5); ``block_length`` [m] adds a periodic
+        about 5e-9 instead of 5e-5, the weighted rise to about 3e-4
+        instead of 2e-3); ``block_length`` [m] adds a periodic
         cell's background heating over the block's passage. A heated
         solve's solution is at its effective temperature, and so is its
         heat.

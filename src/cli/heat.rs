@@ -39,7 +39,8 @@ pub struct HeatArgs {
     pub source: Option<SourceKind>,
     /// With --from-run and the volume source: the refined depth layers
     /// (boundary ratio sqrt 2, 4 Gauss points; depth integrals to about
-    /// 5e-9 instead of 5e-5).
+    /// 5e-9 instead of 5e-5, the weighted rise to about 3e-4 instead of
+    /// 2e-3).
     #[arg(long, requires = "from_run")]
     pub refined_layers: bool,
     /// Side of a cell along x \[m\] (and along y unless --cell-size-y).

@@ -76,8 +76,10 @@ impl std::str::FromStr for SourceKind {
 pub enum HeatSource {
     /// A surface flux \[W/m^2\] per cell (C order, axis 0 = x).
     Surface { flux: Vec<f64> },
-    /// A volume source \[W/m^3\]: layer `l`'s average over its depth at
-    /// `density[l * nx * ny..(l + 1) * nx * ny]`.
+    /// A volume source \[W/m^3\], constant within each layer: layer `l`'s
+    /// map at `density[l * nx * ny..(l + 1) * nx * ny]` (from a solved
+    /// contact, the dissipation at the Gauss node whose share of its
+    /// geometric layer layer `l` is, [`DepthRule`]).
     Volume {
         layers: DepthLayers,
         density: Vec<f64>,
@@ -111,8 +113,9 @@ impl HeatSource {
                     ));
                 }
                 let plan = Dissipation::new(pressure, grid, response)?;
-                let layers = rule.layers(grid)?;
-                let density = plan.layer_densities(&rule.nodes(&layers))?;
+                let (layers, depths) = rule.source_layers(grid)?;
+                let nodes: Vec<Vec<(f64, f64)>> = depths.iter().map(|&z| vec![(z, 1.0)]).collect();
+                let density = plan.layer_densities(&nodes)?;
                 Ok(Self::Volume { layers, density })
             }
         }

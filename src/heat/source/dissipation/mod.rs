@@ -229,8 +229,9 @@ impl Dissipation {
     }
 
     /// The weighted sums `sum_n w_n D(z_n)` \[W/m^3\] over each layer's
-    /// nodes `(z_n, w_n)` (the layer average by its Gauss rule, as
-    /// [`super::DepthRule::nodes`] gives them): layer `l`'s map at
+    /// nodes `(z_n, w_n)` (a layer average by a Gauss rule, or one node
+    /// of weight 1, as [`super::HeatSource::from_contact`] asks for each of
+    /// its layers): layer `l`'s map at
     /// `[l * nx * ny..(l + 1) * nx * ny]`.
     pub fn layer_densities(&self, nodes: &[Vec<(f64, f64)>]) -> Result<Vec<f64>, HeatError> {
         self.densities_with(&self.rates, nodes)
