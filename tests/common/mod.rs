@@ -245,3 +245,54 @@ pub fn gpu_context_with_limits(
         }
     }
 }
+
+/// A rough periodic or non-periodic 64^2 problem of the SLS material
+/// solved to 1e-10 in `precision` at `speed` m/s, `extra` lines added to
+/// its `[solver]` section (the mixed-precision tests of the CPU and the
+/// GPU).
+pub fn mixed_case(
+    formulation: &str,
+    precision: &str,
+    speed: f64,
+    extra: &str,
+) -> viscoslide::problem::Problem {
+    let text = MIXED_CASE
+        .replace("FORMULATION", formulation)
+        .replace("PRECISION", precision)
+        .replace("SPEED", &format!("{speed:e}"))
+        .replace("EXTRA", extra);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.toml");
+    std::fs::write(&path, text).unwrap();
+    viscoslide::problem::Problem::from_config(&viscoslide::config::load(&path, &[]).unwrap())
+        .unwrap()
+}
+
+const MIXED_CASE: &str = r#"
+[material]
+model = "sls"
+relaxed_modulus = 3.3333333333333335e6
+glassy_modulus = 1.0e7
+creep_time = 0.01
+
+[surface.generate]
+n = 64
+length = 0.01
+hurst = 0.8
+scales = 6
+rms_slope = 0.05
+seed = 7
+
+[loading]
+mean_pressure = 2.0e4
+speed = SPEED
+
+[solver]
+tolerance = 1e-10
+formulation = "FORMULATION"
+precision = "PRECISION"
+EXTRA
+
+[analysis]
+enabled = false
+"#;

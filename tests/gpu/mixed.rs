@@ -8,9 +8,6 @@
 //! contact. Skips with a reason without an adapter; fails under
 //! `REQUIRE_GPU=1`.
 
-use std::path::Path;
-
-use viscoslide::config;
 use viscoslide::internals::backend::gpu::mixed::{impulse_response, wrapped_table, MixedOperator};
 use viscoslide::internals::backend::gpu::{GpuBackend, GpuOptions};
 use viscoslide::internals::backend::{Backend, CpuBackend};
@@ -23,43 +20,10 @@ use viscoslide::response::{Grid, SlidingResponse};
 
 use super::conformance::paper_table;
 
-/// `tests/solver/mixed_precision.rs`'s problem (64^2, tolerance 1e-10).
-const BASE: &str = r#"
-[material]
-model = "sls"
-relaxed_modulus = 3.3333333333333335e6
-glassy_modulus = 1.0e7
-creep_time = 0.01
-
-[surface.generate]
-n = 64
-length = 0.01
-hurst = 0.8
-scales = 6
-rms_slope = 0.05
-seed = 7
-
-[loading]
-mean_pressure = 2.0e4
-speed = 0.1
-
-[solver]
-tolerance = 1e-10
-formulation = "FORMULATION"
-precision = "PRECISION"
-
-[analysis]
-enabled = false
-"#;
-
+/// `tests/solver/mixed_precision.rs`'s problem (64^2, tolerance 1e-10)
+/// at 0.1 m/s.
 fn problem(formulation: &str, precision: &str) -> Problem {
-    let dir = tempfile::tempdir().unwrap();
-    let text = BASE
-        .replace("FORMULATION", formulation)
-        .replace("PRECISION", precision);
-    let p = dir.path().join("c.toml");
-    std::fs::write(&p, text).unwrap();
-    Problem::from_config(&config::load(Path::new(&p), &[]).unwrap()).unwrap()
+    crate::common::mixed_case(formulation, precision, 0.1, "")
 }
 
 fn rel(a: f64, b: f64) -> f64 {

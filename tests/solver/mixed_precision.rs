@@ -6,55 +6,17 @@
 //! relative; pinned here against the f64 solve of the same problem on both
 //! formulations, three speeds across the loss peak and two layers.
 
-use std::path::Path;
 use viscoslide::response::{Grid, SlidingResponse};
 
-use viscoslide::config;
 use viscoslide::internals::backend::{Backend, CpuBackend};
 use viscoslide::internals::operator::{GridOperator, PeriodicResponse, SpectralPeriodic};
 use viscoslide::internals::solver::Silent;
-use viscoslide::problem::{Executor, Problem, Solution};
-
-const BASE: &str = r#"
-[material]
-model = "sls"
-relaxed_modulus = 3.3333333333333335e6
-glassy_modulus = 1.0e7
-creep_time = 0.01
-
-[surface.generate]
-n = 64
-length = 0.01
-hurst = 0.8
-scales = 6
-rms_slope = 0.05
-seed = 7
-
-[loading]
-mean_pressure = 2.0e4
-speed = SPEED
-
-[solver]
-tolerance = 1e-10
-formulation = "FORMULATION"
-precision = "PRECISION"
-EXTRA
-
-[analysis]
-enabled = false
-"#;
+use viscoslide::problem::{Executor, Solution};
 
 fn solve(formulation: &str, precision: &str, speed: f64, extra: &str) -> Solution {
-    let dir = tempfile::tempdir().unwrap();
-    let text = BASE
-        .replace("FORMULATION", formulation)
-        .replace("PRECISION", precision)
-        .replace("SPEED", &format!("{speed:e}"))
-        .replace("EXTRA", extra);
-    let p = dir.path().join("c.toml");
-    std::fs::write(&p, text).unwrap();
-    let problem = Problem::from_config(&config::load(Path::new(&p), &[]).unwrap()).unwrap();
-    problem.solve(&Executor::Cpu, &mut Silent).unwrap()
+    crate::common::mixed_case(formulation, precision, speed, extra)
+        .solve(&Executor::Cpu, &mut Silent)
+        .unwrap()
 }
 
 fn rel(a: f64, b: f64) -> f64 {
