@@ -14,7 +14,7 @@
 
 use num_complex::Complex64;
 
-use crate::operator::signed_index;
+use crate::operator::{nyquist_signs, signed_index};
 
 /// `m` of the wavevector `(kx, ky)` \[1/m\]: the root of
 /// `m^2 = |k|^2 - i rate (k.e)` with `Re m > 0` (`rate = v / kappa`);
@@ -101,8 +101,8 @@ impl Modes {
         let (ky, nyq_y) = signed_index(j, self.ny);
         let tau = std::f64::consts::TAU;
         let (qx, qy) = (tau * kx / self.length.0, tau * ky / self.length.1);
-        let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
-        let sy: &[f64] = if nyq_y { &[1.0, -1.0] } else { &[1.0] };
+        let sx = nyquist_signs(nyq_x);
+        let sy = nyquist_signs(nyq_y);
         let mut acc = Complex64::default();
         for &s in sx {
             for &t in sy {

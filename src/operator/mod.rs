@@ -25,7 +25,7 @@ pub use description::OperatorDescription;
 pub(crate) use fft_convolution::half_spectrum;
 pub use fft_convolution::Real;
 pub(crate) use fft_convolution::SpectralEngine;
-pub(crate) use periodic::{column_weight, multiplier_half_spectrum, signed_index};
+pub(crate) use periodic::{column_weight, multiplier_half_spectrum, nyquist_signs, signed_index};
 pub use periodic::{periodic_multiplier, PeriodicResponse, SpectralPeriodic};
 pub(crate) use toeplitz::chan_inverse_table;
 pub use toeplitz::{chan_kernel, fast_size, ToeplitzFft, CHAN_FRACTION};

@@ -83,6 +83,16 @@ pub(crate) fn signed_index(i: usize, n: usize) -> (f64, bool) {
     }
 }
 
+/// The signs a component of a mode is sampled with: both for a Nyquist
+/// bin (its multiplier is averaged over them), one otherwise.
+pub(crate) fn nyquist_signs(nyquist: bool) -> &'static [f64] {
+    if nyquist {
+        &[1.0, -1.0]
+    } else {
+        &[1.0]
+    }
+}
+
 /// The discrete multiplier of mode `(i, j)` of `grid`: the continuous
 /// multiplier of `response` ([`SlidingResponse::surface_multiplier_with`];
 /// for the slope times `i q.e_v`) at the grid wavevector
@@ -164,8 +174,8 @@ impl<'a> Modes<'a> {
         let (_, nyq_x) = signed_index(i, self.nx);
         let (ky, nyq_y) = signed_index(j, self.ny);
         let qy = std::f64::consts::TAU * ky / self.length.1;
-        let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
-        let sy: &[f64] = if nyq_y { &[1.0, -1.0] } else { &[1.0] };
+        let sx = nyquist_signs(nyq_x);
+        let sy = nyquist_signs(nyq_y);
         let mut acc = Complex64::default();
         for (si, &s) in sx.iter().enumerate() {
             for &t in sy {

@@ -66,7 +66,7 @@ use nyquist::{add, scaled};
 use separable::SeparableWork;
 
 use super::stress::{unit_component, ModeStress};
-use crate::operator::signed_index;
+use crate::operator::{nyquist_signs, signed_index};
 use crate::response::{Grid, SlidingResponse};
 use crate::surface::height_fft;
 
@@ -419,8 +419,8 @@ impl Dissipation {
                 }
                 let (kx, nyq_x) = signed_index(i, nx);
                 let (ky, nyq_y) = signed_index(j, ny);
-                let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
-                let sy: &[f64] = if nyq_y { &[1.0, -1.0] } else { &[1.0] };
+                let sx = nyquist_signs(nyq_x);
+                let sy = nyquist_signs(nyq_y);
                 let mut w_sum = 0.0;
                 for &a in sx {
                     for &b in sy {
@@ -456,8 +456,8 @@ fn frequencies(grid: &Grid, e: (f64, f64), speed: f64) -> Vec<f64> {
         .flat_map_iter(|index| {
             let (kx, nyq_x) = signed_index(index % nx, nx);
             let (ky, nyq_y) = signed_index(index / nx, ny);
-            let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
-            let sy: &[f64] = if nyq_y { &[1.0, -1.0] } else { &[1.0] };
+            let sx = nyquist_signs(nyq_x);
+            let sy = nyquist_signs(nyq_y);
             sx.iter().flat_map(move |a| {
                 sy.iter().map(move |b| {
                     let q = (a * tau2 * kx / length.0, b * tau2 * ky / length.1);

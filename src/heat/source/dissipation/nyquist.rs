@@ -9,7 +9,7 @@ use num_complex::Complex64;
 
 use super::super::stress::{dissipation_form, mode_stress, ModeStress};
 use super::{component, Dissipation, RateFn};
-use crate::operator::signed_index;
+use crate::operator::{nyquist_signs, signed_index};
 
 /// The parts of one mode's multiplier over the signs of its Nyquist
 /// components: the mean (the main field) and the odd parts along x, y and
@@ -56,8 +56,8 @@ impl Dissipation {
         let (ky, nyq_y) = signed_index(j, self.ny);
         let tau2 = std::f64::consts::TAU;
         let (qx, qy) = (tau2 * kx / self.length.0, tau2 * ky / self.length.1);
-        let sx: &[f64] = if nyq_x { &[1.0, -1.0] } else { &[1.0] };
-        let sy: &[f64] = if nyq_y { &[1.0, -1.0] } else { &[1.0] };
+        let sx = nyquist_signs(nyq_x);
+        let sy = nyquist_signs(nyq_y);
         let count = (sx.len() * sy.len()) as f64;
         let p = self.spectrum[j * self.nx + i];
         let mut parts = Parts::default();
