@@ -400,13 +400,13 @@ pub fn stats_with_window(map: &HeightMap, window: Window) -> Result<SurfaceStats
     let m = psd.slope_tensor();
     let m4 = psd.integrate(|qx, qy| (qx * qx + qy * qy).powi(2));
     let n = map.heights.len() as f64;
-    let mean = map.heights.par_iter().sum::<f64>() / n;
-    let var = map
-        .heights
-        .par_iter()
-        .map(|h| (h - mean).powi(2))
-        .sum::<f64>()
-        / n;
+    // Row sums added in a fixed order: the same statistics from run to run
+    // (a parallel reduction's order follows the thread scheduling).
+    let ny = map.ny;
+    let mean = height_fft::ordered_sum(&map.heights, ny, |_, r| r.iter().sum()) / n;
+    let var = height_fft::ordered_sum(&map.heights, ny, |_, r| {
+        r.iter().map(|h| (h - mean).powi(2)).sum()
+    }) / n;
     let min = map.heights.iter().copied().fold(f64::INFINITY, f64::min);
     let max = map
         .heights
@@ -479,5 +479,34 @@ impl std::fmt::Display for SurfaceStats {
             writeln!(f, "{k:<26} {v:>16} {u}")?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The statistics are the same bits on one thread and on four: every
+    /// sum is added in a fixed order (a parallel reduction's order would
+    /// follow the thread scheduling, and two runs of one surface could
+    /// report rms heights a few ulps apart).
+    #[test]
+    fn stats_do_not_depend_on_the_thread_count() {
+        let (nx, ny) = (256, 200);
+        let heights: Vec<f64> = (0..nx * ny)
+            .map(|k| ((k * 7919 % 1013) as f64 * 0.37).sin() * 1e-6 + 1e-9 * k as f64)
+            .collect();
+        let map = HeightMap::new(nx, ny, 1e-3, heights).unwrap();
+        let on = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| stats(&map).unwrap())
+        };
+        let (one, four) = (on(1), on(4));
+        assert_eq!(one.mean.to_bits(), four.mean.to_bits());
+        assert_eq!(one.rms_height.to_bits(), four.rms_height.to_bits());
+        assert_eq!(one.rms_slope.to_bits(), four.rms_slope.to_bits());
     }
 }
