@@ -202,56 +202,62 @@ impl HeatSolver {
     ) -> Result<Vec<Temperature>, HeatError> {
         self.volume_checks(layers, source)?;
         check_depths(depths)?;
-        let Plan::Periodic(p) = &self.plan else {
-            return Err(HeatError::Unsupported(VOLUME_ON_PAD));
-        };
+        let (p, background) = self.volume_plan(layers, source)?;
         let maps = p.volume(layers, source, depths)?;
-        let n = self.setup.grid.cells();
-        let means: Vec<f64> = source.chunks(n).map(Self::mean).collect();
-        let c = self.setup.conduction;
         Ok(maps
             .into_iter()
             .zip(depths)
             .map(|(mut rise, &z)| {
-                let background = self
-                    .setup
-                    .contact_time()
-                    .map(|tc| volume_background_at(layers, &means, z, &c, tc));
+                let background = background.at(z);
                 add(&mut rise, background);
                 Temperature { rise, background }
             })
             .collect())
     }
 
-    /// The mean and the highest rise \[K\] at the surface and at each
-    /// layer's middle under the volume source `source` (as
+    /// The depth \[m\], mean and highest rise \[K\] at the surface and at
+    /// each layer's middle under the volume source `source` (as
     /// [`HeatSolver::volume`] at those depths, without holding the maps);
     /// on a periodic cell only.
     pub(crate) fn volume_extremes(
         &mut self,
         layers: &DepthLayers,
         source: &[f64],
-    ) -> Result<Vec<(f64, f64)>, HeatError> {
+    ) -> Result<Vec<(f64, f64, f64)>, HeatError> {
         self.volume_checks(layers, source)?;
-        let Plan::Periodic(p) = &self.plan else {
-            return Err(HeatError::Unsupported(VOLUME_ON_PAD));
-        };
+        let (p, background) = self.volume_plan(layers, source)?;
         let rows = p.volume_extremes(layers, source)?;
-        let n = self.setup.grid.cells();
-        let means: Vec<f64> = source.chunks(n).map(Self::mean).collect();
-        let c = self.setup.conduction;
         let depths = std::iter::once(0.0).chain(layers.iter().map(|(a, b)| 0.5 * (a + b)));
         Ok(rows
             .into_iter()
             .zip(depths)
             .map(|((mean, max), z)| {
-                let background = self
-                    .setup
-                    .contact_time()
-                    .map_or(0.0, |tc| volume_background_at(layers, &means, z, &c, tc));
-                (mean + background, max + background)
+                let b = background.at(z).unwrap_or(0.0);
+                (z, mean + b, max + b)
             })
             .collect())
+    }
+
+    /// The periodic plan a volume source is solved on (a pad refused) and
+    /// the block's background rise of `source` on `layers`.
+    fn volume_plan<'a>(
+        &'a self,
+        layers: &'a DepthLayers,
+        source: &[f64],
+    ) -> Result<(&'a PeriodicPlan, Background<'a>), HeatError> {
+        let Plan::Periodic(p) = &self.plan else {
+            return Err(HeatError::Unsupported(VOLUME_ON_PAD));
+        };
+        let n = self.setup.grid.cells();
+        Ok((
+            p,
+            Background {
+                layers,
+                means: source.chunks(n).map(Self::mean).collect(),
+                conduction: self.setup.conduction,
+                contact_time: self.setup.contact_time(),
+            },
+        ))
     }
 
     /// Check a volume source's shape and values.
@@ -291,29 +297,27 @@ impl HeatSolver {
             }
             HeatSource::Volume { layers, density } => {
                 self.volume_checks(layers, density)?;
-                let Plan::Periodic(p) = &self.plan else {
-                    return Err(HeatError::Unsupported(VOLUME_ON_PAD));
-                };
+                let (p, background) = self.volume_plan(layers, density)?;
                 let (mut rise, weighted) = p.volume_weighted(layers, density)?;
-                let n = self.setup.grid.cells();
-                let means: Vec<f64> = density.chunks(n).map(Self::mean).collect();
-                let c = self.setup.conduction;
-                let tc = self.setup.contact_time();
-                let background = tc.map(|tc| volume_background_at(layers, &means, 0.0, &c, tc));
-                add(&mut rise, background);
+                let surface = background.at(0.0);
+                add(&mut rise, surface);
                 // The background at each layer's middle, weighted by the
                 // layer's source.
+                let n = self.setup.grid.cells();
                 let mut weighted = weighted;
                 let mut total = 0.0;
-                for ((a, b), mean) in layers.iter().zip(&means) {
+                for ((a, b), mean) in layers.iter().zip(&background.means) {
                     let q = (b - a) * mean * n as f64;
                     total += q;
-                    if let Some(tc) = tc {
-                        weighted += q * volume_background_at(layers, &means, 0.5 * (a + b), &c, tc);
+                    if let Some(t) = background.at(0.5 * (a + b)) {
+                        weighted += q * t;
                     }
                 }
                 Ok((
-                    Temperature { rise, background },
+                    Temperature {
+                        rise,
+                        background: surface,
+                    },
                     weighted / positive_total(total)?,
                 ))
             }
@@ -322,6 +326,25 @@ impl HeatSolver {
 
     fn shape(&self) -> (usize, usize) {
         (self.setup.grid.nx(), self.setup.grid.ny())
+    }
+}
+
+/// The block's background heating of a volume source on a periodic cell
+/// (physics.md section 14): the layers' mean sources over a passage of
+/// `contact_time` (`None`: no block, no background).
+struct Background<'a> {
+    layers: &'a DepthLayers,
+    /// Each layer's mean source \[W/m^3\].
+    means: Vec<f64>,
+    conduction: super::setup::Conduction,
+    contact_time: Option<f64>,
+}
+
+impl Background<'_> {
+    /// The background rise \[K\] at depth `z` \[m\].
+    fn at(&self, z: f64) -> Option<f64> {
+        self.contact_time
+            .map(|tc| volume_background_at(self.layers, &self.means, z, &self.conduction, tc))
     }
 }
 
@@ -443,7 +466,8 @@ mod tests {
             let rows = solver.volume_extremes(&layers, &source).unwrap();
             assert_eq!(rows.len(), depths.len());
             let scale = maps[0].max();
-            for (t, (mean, max)) in maps.iter().zip(&rows) {
+            for ((t, (z, mean, max)), depth) in maps.iter().zip(&rows).zip(&depths) {
+                assert_eq!(z, depth);
                 assert!(
                     (t.mean() - mean).abs() <= 1e-12 * scale,
                     "{} {mean}",

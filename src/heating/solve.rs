@@ -337,14 +337,11 @@ fn depth_profile(
     let n = grid.cells();
     match source {
         HeatSource::Volume { layers, density } => {
-            let mut depths = vec![0.0];
-            depths.extend(layers.iter().map(|(a, b)| 0.5 * (a + b)));
             let rows = heat.volume_extremes(layers, density).map_err(heat_error)?;
             Ok(rows
                 .iter()
-                .zip(&depths)
                 .enumerate()
-                .map(|(i, (&(mean_rise, max_rise), &z))| DepthRow {
+                .map(|(i, &(z, mean_rise, max_rise))| DepthRow {
                     depth: z,
                     mean_rise,
                     max_rise,
