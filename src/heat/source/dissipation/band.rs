@@ -87,6 +87,8 @@ pub(super) fn pad_into(
 /// `regular`, its index in the coarse half spectrum).
 pub(super) struct Coarse {
     pub grid: usize,
+    /// The band `(B_x, B_y)` kept.
+    pub band: (usize, usize),
     pub modes: Vec<(usize, usize)>,
 }
 
@@ -136,7 +138,11 @@ impl Dissipation {
                                 })
                             })
                             .collect();
-                        Some(Coarse { grid, modes })
+                        Some(Coarse {
+                            grid,
+                            band: (bx, by),
+                            modes,
+                        })
                     })
                     .collect()
             })

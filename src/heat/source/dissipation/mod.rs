@@ -39,14 +39,15 @@
 //! `2e-15` of each mode's power.
 //!
 //! At depth only the modes with `|q| z <= 50` are not negligible
-//! (`band.rs`): where their band fits a grid under half the size per axis,
-//! a node's rates are transformed and squared on that coarser grid, the
+//! (`band.rs`): where their band fits a smaller grid along both axes, a
+//! node's rates are transformed and squared on that coarser grid, the
 //! layer's density summed there over multipliers, forward transformed and
 //! brought back to the full grid by zero padding (one full inverse per
 //! layer). Those nodes have no Nyquist modes in their band. Sliding along
-//! x, the multipliers depend on `kx` only and the full-grid nodes take
-//! `separable.rs`: the transforms along y once per component and depth,
-//! one real transform along x per row and multiplier.
+//! x, the multipliers depend on `kx` only and every node, on the full grid
+//! or a coarser one, takes `separable.rs`: the transforms along y once per
+//! component and depth, one real transform along x per row and
+//! multiplier.
 
 mod band;
 mod nyquist;
@@ -57,12 +58,10 @@ use std::sync::Arc;
 
 use num_complex::Complex64;
 use rayon::prelude::*;
-use realfft::{ComplexToReal, RealFftPlanner};
 use rustfft::{Fft, FftPlanner};
 
 use super::super::error::HeatError;
 use super::fft::{Buffers, InverseFft};
-use nyquist::{add, scaled};
 use separable::SeparableWork;
 
 use super::stress::{unit_component, ModeStress};
@@ -95,8 +94,6 @@ pub(crate) struct Dissipation {
     fft: InverseFft,
     line_x: Arc<dyn Fft<f64>>,
     line_y: Arc<dyn Fft<f64>>,
-    /// The real inverse along x (sliding along x, `separable.rs`).
-    row_x: Arc<dyn ComplexToReal<f64>>,
     /// Whether sliding along x takes the separable path (the general one
     /// is the tests' reference).
     separable: bool,
@@ -205,7 +202,6 @@ impl Dissipation {
             fft: InverseFft::new(nx, ny),
             line_x: planner.plan_fft_inverse(nx),
             line_y: planner.plan_fft_inverse(ny),
-            row_x: RealFftPlanner::<f64>::new().plan_fft_inverse(nx),
             separable: true,
         })
     }
@@ -265,45 +261,37 @@ impl Dissipation {
                     .collect()
             })
             .collect();
-        // Sliding along x: the full-grid nodes by `separable.rs`.
+        // Sliding along x: every node by `separable.rs`, one after the
+        // other (each one's transforms run on the pool), on the full grid
+        // or its coarse one.
         let separable = self.separable && self.along_x();
         if separable {
-            density
-                .par_chunks_mut(n)
-                .zip(nodes.par_iter())
-                .zip(plans.par_iter())
-                .try_for_each_init(SeparableWork::default, |work, ((out, nodes), plans)| {
-                    for (&(z, weight), plan) in nodes.iter().zip(plans) {
-                        if plan.is_none() {
-                            self.add_separable(rates, z, weight, work, out)?;
+            let full = self.full_columns();
+            let mut work = SeparableWork::default();
+            for (((out, nodes), plans), coarse) in density
+                .chunks_mut(n)
+                .zip(nodes)
+                .zip(&plans)
+                .zip(&mut coarse)
+            {
+                for ((&(z, weight), plan), acc) in nodes.iter().zip(plans).zip(coarse) {
+                    match plan {
+                        None => self.add_separable(&full, rates, z, weight, &mut work, out)?,
+                        Some(c) => {
+                            let band = self.band_columns(grids[c.grid].size, c.band);
+                            self.add_separable(&band, rates, z, weight, &mut work, acc)?
                         }
                     }
-                    Ok::<(), HeatError>(())
-                })?;
-        }
-        // The regular modes the loop over multipliers reads: all of them on
-        // the general path, the widest coarse band's on the separable one
-        // (the bands nest).
-        let needed: Vec<usize> = if separable {
-            plans
-                .iter()
-                .flatten()
-                .flatten()
-                .max_by_key(|c| c.modes.len())
-                .map_or(Vec::new(), |c| c.modes.iter().map(|&(r, _)| r).collect())
-        } else {
-            (0..self.regular.len()).collect()
-        };
-        let mut values = vec![Complex64::default(); self.regular.len()];
-        for rate in rates.iter().filter(|_| !needed.is_empty()) {
-            // `rate(w) P / N` of the modes needed, shared by the depths.
-            let got: Vec<Complex64> = needed
-                .par_iter()
-                .map(|&r| rate.at(self.regular[r].w) * self.regular[r].p)
-                .collect();
-            for (&r, v) in needed.iter().zip(got) {
-                values[r] = v;
+                }
             }
+        }
+        // The general path: per multiplier, `rate(w) P / N` of every regular
+        // mode, shared by the depths.
+        let mut values = vec![Complex64::default(); self.regular.len()];
+        for rate in rates.iter().filter(|_| !separable) {
+            values.par_iter_mut().zip(&self.regular).for_each(|(v, m)| {
+                *v = rate.at(m.w) * m.p;
+            });
             density
                 .par_chunks_mut(n)
                 .zip(nodes.par_iter())
@@ -314,7 +302,6 @@ impl Dissipation {
                     |work: &mut Option<Work>, (((out, nodes), plans), coarse)| {
                         for ((&(z, weight), plan), acc) in nodes.iter().zip(plans).zip(coarse) {
                             match plan {
-                                None if separable => {}
                                 None => {
                                     let work = work.get_or_insert_with(|| self.work());
                                     self.add_density(rate, &values, z, weight, work, out)?

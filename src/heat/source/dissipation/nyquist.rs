@@ -110,15 +110,21 @@ impl Dissipation {
         NyquistParts { row, column }
     }
 
+    /// `density += weight` times the squares of the odd parts of the
+    /// Nyquist modes ([`Dissipation::odd_forms`]).
+    pub(super) fn add_nyquist(&self, parts: &NyquistParts, weight: f64, density: &mut [f64]) {
+        self.odd_forms(parts).add_to(weight, density, self.ny);
+    }
+
     /// The squares of the odd parts of the Nyquist modes (module docs):
     /// along y for the x-Nyquist row, along x for the y-Nyquist column, a
     /// constant for the corner.
-    pub(super) fn add_nyquist(&self, parts: &NyquistParts, weight: f64, density: &mut [f64]) {
+    pub(super) fn odd_forms(&self, parts: &NyquistParts) -> OddForms {
         let (nx, ny) = (self.nx, self.ny);
         let nu = self.nu;
         // x-Nyquist row: the field is (-1)^i g(y_j), g the inverse
         // transform along y of the odd parts (Hermitian in ky).
-        let along_y: Option<Vec<f64>> = (nx % 2 == 0).then(|| {
+        let along_y: Vec<f64> = if nx % 2 == 0 {
             let mut comps = Vec::with_capacity(6);
             for c in 0..6 {
                 let mut g = vec![Complex64::default(); ny];
@@ -133,9 +139,11 @@ impl Dissipation {
                 comps.push(g.iter().map(|v| v.re).collect::<Vec<f64>>());
             }
             (0..ny).map(|j| form_of(&comps, j, nu)).collect()
-        });
+        } else {
+            Vec::new()
+        };
         // y-Nyquist column: (-1)^j h(x_i), h along x.
-        let along_x: Option<Vec<f64>> = (ny % 2 == 0).then(|| {
+        let along_x: Vec<f64> = if ny % 2 == 0 {
             let mut comps = Vec::with_capacity(6);
             for c in 0..6 {
                 let mut h: Vec<Complex64> = parts
@@ -147,7 +155,9 @@ impl Dissipation {
                 comps.push(h.iter().map(|v| v.re).collect::<Vec<f64>>());
             }
             (0..nx).map(|i| form_of(&comps, i, nu)).collect()
-        });
+        } else {
+            Vec::new()
+        };
         let corner = if nx % 2 == 0 && ny % 2 == 0 {
             let p = &parts.column[nx / 2].odd_xy;
             let comps: Vec<Vec<f64>> = (0..6).map(|c| vec![component(p, c).re]).collect();
@@ -155,11 +165,50 @@ impl Dissipation {
         } else {
             0.0
         };
+        OddForms {
+            along_y,
+            along_x,
+            corner,
+        }
+    }
+}
+
+/// The squares of the Nyquist modes' odd parts (module docs): a function
+/// of y (the x-Nyquist row's, empty for odd `nx`), one of x (the
+/// y-Nyquist column's, empty for odd `ny`) and a constant (the corner's).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(super) struct OddForms {
+    pub along_y: Vec<f64>,
+    pub along_x: Vec<f64>,
+    pub corner: f64,
+}
+
+impl OddForms {
+    /// `self += other` (forms of the same grid, or `self` empty).
+    pub fn add(&mut self, other: &OddForms) {
+        for (mine, theirs) in [
+            (&mut self.along_y, &other.along_y),
+            (&mut self.along_x, &other.along_x),
+        ] {
+            mine.resize(theirs.len(), 0.0);
+            mine.iter_mut().zip(theirs).for_each(|(a, b)| *a += b);
+        }
+        self.corner += other.corner;
+    }
+
+    /// The forms at `(x, y)`.
+    pub fn at(&self, x: usize, y: usize) -> f64 {
+        self.along_y.get(y).copied().unwrap_or(0.0)
+            + self.along_x.get(x).copied().unwrap_or(0.0)
+            + self.corner
+    }
+
+    /// `density += weight` times the forms on the grid of `ny` points
+    /// along y (C order, axis 0 = x).
+    fn add_to(&self, weight: f64, density: &mut [f64], ny: usize) {
         for (i, row) in density.chunks_mut(ny).enumerate() {
-            let hx = along_x.as_ref().map_or(0.0, |h| h[i]);
             for (j, d) in row.iter_mut().enumerate() {
-                let gy = along_y.as_ref().map_or(0.0, |g| g[j]);
-                *d += weight * (gy + hx + corner);
+                *d += weight * self.at(i, j);
             }
         }
     }
