@@ -182,8 +182,10 @@ impl PeriodicPlan {
         let lam = self.conductivity;
         let n = self.modes.nx * self.modes.ny;
         let mut sums: Vec<Vec<Complex64>> = Vec::with_capacity(depths.len());
+        let plan = height_fft::Forward::new(self.modes.nx, self.modes.ny);
+        let mut rows = Vec::new();
         for (l, bounds) in layers.iter().enumerate() {
-            let spec = self.forward(&source[l * n..(l + 1) * n])?;
+            let spec = self.forward_with(&plan, &source[l * n..(l + 1) * n], &mut rows)?;
             for (d, &z) in depths.iter().enumerate() {
                 let w = self.weighted(&spec, |m| layer_integral(m, bounds, z) / (2.0 * lam * m));
                 match sums.get_mut(d) {
@@ -220,10 +222,7 @@ impl PeriodicPlan {
         let lam = self.conductivity;
         let (nx, ny) = (self.modes.nx, self.modes.ny);
         let n = nx * ny;
-        let specs = source
-            .par_chunks(n)
-            .map(|map| self.forward(map))
-            .collect::<Result<Vec<_>, _>>()?;
+        let specs = self.layer_spectra(source)?;
         let bounds: Vec<(f64, f64)> = layers.iter().collect();
         let modes = &self.modes;
         let mut surface = vec![Complex64::default(); (ny / 2 + 1) * nx];
@@ -288,10 +287,7 @@ impl PeriodicPlan {
         let (nx, ny) = (self.modes.nx, self.modes.ny);
         let n = nx * ny;
         let nh = height_fft::half_len(ny);
-        let mut specs = source
-            .par_chunks(n)
-            .map(|map| self.forward(map))
-            .collect::<Result<Vec<_>, _>>()?;
+        let mut specs = self.layer_spectra(source)?;
         let bounds: Vec<(f64, f64)> = layers.iter().collect();
         let modes = &self.modes;
         let mut surface = vec![Complex64::default(); nh * nx];
@@ -354,6 +350,33 @@ impl PeriodicPlan {
     fn forward(&self, values: &[f64]) -> Result<Vec<Complex64>, HeatError> {
         height_fft::forward(values, self.modes.nx, self.modes.ny)
             .map_err(|e| HeatError::Transform(e.to_string()))
+    }
+
+    /// The half spectrum of `values` by `plan`, `rows` its work space.
+    fn forward_with(
+        &self,
+        plan: &height_fft::Forward,
+        values: &[f64],
+        rows: &mut Vec<Complex64>,
+    ) -> Result<Vec<Complex64>, HeatError> {
+        let (nx, ny) = (self.modes.nx, self.modes.ny);
+        let mut spec = vec![Complex64::default(); nx * height_fft::half_len(ny)];
+        plan.run(values, rows, &mut spec)
+            .map_err(|e| HeatError::Transform(e.to_string()))?;
+        Ok(spec)
+    }
+
+    /// The half spectra of a volume source's layer maps (`source`, layers
+    /// as [`PeriodicPlan::volume`]): one plan and one work space for all,
+    /// each transform parallel over its rows.
+    fn layer_spectra(&self, source: &[f64]) -> Result<Vec<Vec<Complex64>>, HeatError> {
+        let (nx, ny) = (self.modes.nx, self.modes.ny);
+        let plan = height_fft::Forward::new(nx, ny);
+        let mut rows = Vec::new();
+        source
+            .chunks(nx * ny)
+            .map(|map| self.forward_with(&plan, map, &mut rows))
+            .collect()
     }
 
     /// `f(m)` times the spectrum, mode by mode (0 at `k = 0`).

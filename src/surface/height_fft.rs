@@ -16,10 +16,12 @@
 //! and `inverse` computes `sum_k H_k e^{+i q.x}` over the full Hermitian
 //! spectrum.
 
+use std::sync::Arc;
+
 use num_complex::Complex64;
 use rayon::prelude::*;
-use realfft::RealFftPlanner;
-use rustfft::FftPlanner;
+use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
+use rustfft::{Fft, FftPlanner};
 
 use super::SurfaceError;
 
@@ -48,19 +50,8 @@ fn rows_per_task(rows: usize) -> usize {
     (rows / (4 * rayon::current_num_threads())).max(1)
 }
 
-/// Out-of-place transpose of a `rows x cols` C-order matrix into `cols x rows`.
-pub(crate) fn transpose<T: Copy + Send + Sync + Default>(
-    src: &[T],
-    rows: usize,
-    cols: usize,
-) -> Vec<T> {
-    let mut out = vec![T::default(); rows * cols];
-    transpose_into(src, rows, cols, &mut out);
-    out
-}
-
-/// [`transpose`] into `out` (`rows * cols` values), in blocks of 16
-/// output rows.
+/// The `cols x rows` transpose of the `rows x cols` C-order matrix `src`
+/// into `out` (`rows * cols` values), in blocks of 16 output rows.
 fn transpose_into<T: Copy + Send + Sync>(src: &[T], rows: usize, cols: usize, out: &mut [T]) {
     const BLOCK: usize = 16;
     debug_assert_eq!(out.len(), rows * cols);
@@ -78,46 +69,68 @@ fn transpose_into<T: Copy + Send + Sync>(src: &[T], rows: usize, cols: usize, ou
         });
 }
 
-/// In-place complex FFT of every contiguous row of length `len`.
-fn fft_rows(data: &mut [Complex64], len: usize, inverse: bool) {
-    let mut planner = FftPlanner::<f64>::new();
-    let fft = if inverse {
-        planner.plan_fft_inverse(len)
-    } else {
-        planner.plan_fft_forward(len)
-    };
-    let rows = data.len() / len;
-    let scratch_len = fft.get_inplace_scratch_len();
-    data.par_chunks_mut(len * rows_per_task(rows))
-        .for_each_init(
-            || vec![Complex64::default(); scratch_len],
-            |scratch, chunk| fft.process_with_scratch(chunk, scratch),
-        );
-}
-
 /// Half spectrum (layout above) of a real `nx x ny` field in C order.
 pub(crate) fn forward(
     heights: &[f64],
     nx: usize,
     ny: usize,
 ) -> Result<Vec<Complex64>, SurfaceError> {
-    let nh = half_len(ny);
-    let r2c = RealFftPlanner::<f64>::new().plan_fft_forward(ny);
-    let mut rows = vec![Complex64::default(); nx * nh];
-    rows.par_chunks_mut(nh)
-        .zip(heights.par_chunks(ny))
-        .try_for_each_init(
-            || (vec![0.0; ny], r2c.make_scratch_vec()),
-            |(input, scratch), (out, h)| {
-                input.copy_from_slice(h);
-                r2c.process_with_scratch(input, out, scratch)
-            },
-        )
-        .map_err(|e| SurfaceError::Invalid(format!("real FFT failed: {e}")))?;
-    let mut spec = transpose(&rows, nx, nh);
-    drop(rows);
-    fft_rows(&mut spec, nx, false);
+    let mut spec = vec![Complex64::default(); nx * half_len(ny)];
+    Forward::new(nx, ny).run(heights, &mut Vec::new(), &mut spec)?;
     Ok(spec)
+}
+
+/// [`forward`] planned once for many fields of one grid, into buffers the
+/// caller keeps (a fresh spectrum and work space per field cost their
+/// page faults on the largest grids).
+pub(crate) struct Forward {
+    nx: usize,
+    ny: usize,
+    along_y: Arc<dyn RealToComplex<f64>>,
+    along_x: Arc<dyn Fft<f64>>,
+}
+
+impl Forward {
+    pub(crate) fn new(nx: usize, ny: usize) -> Self {
+        Self {
+            nx,
+            ny,
+            along_y: RealFftPlanner::<f64>::new().plan_fft_forward(ny),
+            along_x: FftPlanner::<f64>::new().plan_fft_forward(nx),
+        }
+    }
+
+    /// `out` (`nx * half_len(ny)` values) the half spectrum of `heights`;
+    /// `rows` is work space (resized as needed).
+    pub(crate) fn run(
+        &self,
+        heights: &[f64],
+        rows: &mut Vec<Complex64>,
+        out: &mut [Complex64],
+    ) -> Result<(), SurfaceError> {
+        let (nx, ny) = (self.nx, self.ny);
+        let nh = half_len(ny);
+        debug_assert!(heights.len() == nx * ny && out.len() == nx * nh);
+        rows.resize(nx * nh, Complex64::default());
+        let r2c = &self.along_y;
+        rows.par_chunks_mut(nh)
+            .zip(heights.par_chunks(ny))
+            .try_for_each_init(
+                || (vec![0.0; ny], r2c.make_scratch_vec()),
+                |(input, scratch), (out, h)| {
+                    input.copy_from_slice(h);
+                    r2c.process_with_scratch(input, out, scratch)
+                },
+            )
+            .map_err(|e| SurfaceError::Invalid(format!("real FFT failed: {e}")))?;
+        transpose_into(rows, nx, nh, out);
+        let fft = &self.along_x;
+        out.par_chunks_mut(nx * rows_per_task(nh)).for_each_init(
+            || vec![Complex64::default(); fft.get_inplace_scratch_len()],
+            |scratch, chunk| fft.process_with_scratch(chunk, scratch),
+        );
+        Ok(())
+    }
 }
 
 /// Real `nx x ny` field (C order) whose full Hermitian spectrum has the given
@@ -129,20 +142,57 @@ pub(crate) fn inverse(
     nx: usize,
     ny: usize,
 ) -> Result<Vec<f64>, SurfaceError> {
-    let nh = half_len(ny);
-    debug_assert_eq!(spec.len(), nx * nh);
-    fft_rows(&mut spec, nx, true);
-    let mut rows = transpose(&spec, nh, nx);
-    drop(spec);
-    let c2r = RealFftPlanner::<f64>::new().plan_fft_inverse(ny);
     let mut out = vec![0.0; nx * ny];
-    out.par_chunks_mut(ny)
-        .zip(rows.par_chunks_mut(nh))
-        .try_for_each_init(
-            || c2r.make_scratch_vec(),
-            |scratch, (o, input)| real_row(c2r.as_ref(), input, o, scratch),
-        )?;
+    Inverse::new(nx, ny).run(&mut spec, &mut Vec::new(), &mut out)?;
     Ok(out)
+}
+
+/// [`inverse`] planned once for many spectra of one grid, into buffers the
+/// caller keeps.
+pub(crate) struct Inverse {
+    nx: usize,
+    ny: usize,
+    along_x: Arc<dyn Fft<f64>>,
+    along_y: Arc<dyn ComplexToReal<f64>>,
+}
+
+impl Inverse {
+    pub(crate) fn new(nx: usize, ny: usize) -> Self {
+        Self {
+            nx,
+            ny,
+            along_x: FftPlanner::<f64>::new().plan_fft_inverse(nx),
+            along_y: RealFftPlanner::<f64>::new().plan_fft_inverse(ny),
+        }
+    }
+
+    /// `out` (`nx * ny` values) the field of the half spectrum `spec`
+    /// (transformed in place: work space afterwards); `rows` is work space
+    /// (resized as needed).
+    pub(crate) fn run(
+        &self,
+        spec: &mut [Complex64],
+        rows: &mut Vec<Complex64>,
+        out: &mut [f64],
+    ) -> Result<(), SurfaceError> {
+        let (nx, ny) = (self.nx, self.ny);
+        let nh = half_len(ny);
+        debug_assert!(spec.len() == nx * nh && out.len() == nx * ny);
+        let fft = &self.along_x;
+        spec.par_chunks_mut(nx * rows_per_task(nh)).for_each_init(
+            || vec![Complex64::default(); fft.get_inplace_scratch_len()],
+            |scratch, chunk| fft.process_with_scratch(chunk, scratch),
+        );
+        rows.resize(nx * nh, Complex64::default());
+        transpose_into(spec, nh, nx, rows);
+        let c2r = &self.along_y;
+        out.par_chunks_mut(ny)
+            .zip(rows.par_chunks_mut(nh))
+            .try_for_each_init(
+                || c2r.make_scratch_vec(),
+                |scratch, (o, input)| real_row(c2r.as_ref(), input, o, scratch),
+            )
+    }
 }
 
 /// The real row `out` (`ny` values) of the half spectrum `input` (`ny / 2 +
@@ -295,7 +345,8 @@ mod tests {
     fn transpose_is_exact() {
         let (r, c) = (37, 53);
         let a: Vec<u32> = (0..(r * c) as u32).collect();
-        let t = transpose(&a, r, c);
+        let mut t = vec![0; r * c];
+        transpose_into(&a, r, c, &mut t);
         for i in 0..r {
             for j in 0..c {
                 assert_eq!(t[j * r + i], a[i * c + j]);

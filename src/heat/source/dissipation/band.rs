@@ -192,7 +192,8 @@ impl Dissipation {
     /// `density +=` the coarse nodes' densities `coarse` (per layer and
     /// node, empty for a full-grid node), each forward transformed and
     /// zero-padded into its layer's full spectrum, brought back with one
-    /// inverse per layer.
+    /// inverse per layer (the layers one after the other, each transform
+    /// parallel, on buffers kept from layer to layer).
     pub(super) fn add_padded(
         &self,
         grids: &[CoarseGrid],
@@ -200,29 +201,37 @@ impl Dissipation {
         coarse: &[Vec<Vec<f64>>],
         density: &mut [f64],
     ) -> Result<(), HeatError> {
-        density
-            .par_chunks_mut(self.nx * self.ny)
-            .zip(plans.par_iter())
-            .zip(coarse.par_iter())
-            .try_for_each(|((out, plans), coarse)| {
-                if plans.iter().all(Option::is_none) {
-                    return Ok(());
+        let (nx, ny) = (self.nx, self.ny);
+        let transform = |e: crate::surface::SurfaceError| HeatError::Transform(e.to_string());
+        let forward: Vec<height_fft::Forward> = grids
+            .iter()
+            .map(|g| height_fft::Forward::new(g.size.0, g.size.1))
+            .collect();
+        let inverse = height_fft::Inverse::new(nx, ny);
+        let mut spec = vec![Complex64::default(); nx * height_fft::half_len(ny)];
+        let (mut cs, mut rows, mut field) = (Vec::new(), Vec::new(), vec![0.0; nx * ny]);
+        for ((out, plans), coarse) in density.chunks_mut(nx * ny).zip(plans).zip(coarse) {
+            if plans.iter().all(Option::is_none) {
+                continue;
+            }
+            spec.fill(Complex64::default());
+            for (plan, acc) in plans.iter().zip(coarse) {
+                if let Some(c) = plan {
+                    let size = grids[c.grid].size;
+                    cs.resize(size.0 * height_fft::half_len(size.1), Complex64::default());
+                    forward[c.grid]
+                        .run(acc, &mut rows, &mut cs)
+                        .map_err(transform)?;
+                    let scale = 1.0 / (size.0 * size.1) as f64;
+                    pad_into(&cs, size, &mut spec, (nx, ny), scale);
                 }
-                let mut spec = vec![Complex64::default(); self.nx * (self.ny / 2 + 1)];
-                for (plan, acc) in plans.iter().zip(coarse) {
-                    if let Some(c) = plan {
-                        let size = grids[c.grid].size;
-                        let cs = height_fft::forward(acc, size.0, size.1)
-                            .map_err(|e| HeatError::Transform(e.to_string()))?;
-                        let scale = 1.0 / (size.0 * size.1) as f64;
-                        pad_into(&cs, size, &mut spec, (self.nx, self.ny), scale);
-                    }
-                }
-                let field = height_fft::inverse(spec, self.nx, self.ny)
-                    .map_err(|e| HeatError::Transform(e.to_string()))?;
-                out.iter_mut().zip(&field).for_each(|(o, f)| *o += f);
-                Ok::<(), HeatError>(())
-            })
+            }
+            inverse
+                .run(&mut spec, &mut rows, &mut field)
+                .map_err(transform)?;
+            out.par_iter_mut().zip(&field).for_each(|(o, f)| *o += f);
+        }
+        Ok(())
     }
 }
 

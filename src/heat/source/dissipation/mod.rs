@@ -268,6 +268,7 @@ impl Dissipation {
         if separable {
             let full = self.full_columns();
             let mut work = SeparableWork::default();
+            let mut spare = Vec::new();
             for (((out, nodes), plans), coarse) in density
                 .chunks_mut(n)
                 .zip(nodes)
@@ -278,8 +279,9 @@ impl Dissipation {
                     match plan {
                         None => self.add_separable(&full, rates, z, weight, &mut work, out)?,
                         Some(c) => {
-                            let band = self.band_columns(grids[c.grid].size, c.band);
-                            self.add_separable(&band, rates, z, weight, &mut work, acc)?
+                            let band = self.band_columns(grids[c.grid].size, c.band, spare);
+                            self.add_separable(&band, rates, z, weight, &mut work, acc)?;
+                            spare = band.recycle();
                         }
                     }
                 }

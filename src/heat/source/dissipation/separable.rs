@@ -37,7 +37,7 @@ const TILE: usize = 32;
 /// marks a y-Nyquist mode, whose stress is the mean over the signs of its
 /// `ky` (`P` then the half spectrum's coefficient, halved).
 #[derive(Clone, Copy, Default)]
-struct Entry {
+pub(super) struct Entry {
     k: f64,
     n: (f64, f64),
     p: Complex64,
@@ -57,6 +57,13 @@ pub(super) struct Columns {
     full: bool,
     line_y: Arc<dyn Fft<f64>>,
     row_x: Arc<dyn ComplexToReal<f64>>,
+}
+
+impl Columns {
+    /// The entries' buffer, for the next node's [`Dissipation::band_columns`].
+    pub(super) fn recycle(self) -> Vec<Entry> {
+        self.entries
+    }
 }
 
 /// The buffers of a node, kept from node to node (tens of MB on the
@@ -107,15 +114,18 @@ impl Dissipation {
     }
 
     /// The columns of a coarse `mx x my` grid holding the band `|kx| <= bx`,
-    /// `|ky| <= by` (`band.rs`: below both grids' Nyquist modes).
+    /// `|ky| <= by` (`band.rs`: below both grids' Nyquist modes), written
+    /// over `entries` (a previous node's buffer, [`Columns::recycle`]).
     pub(super) fn band_columns(
         &self,
         (mx, my): (usize, usize),
         (bx, by): (usize, usize),
+        mut entries: Vec<Entry>,
     ) -> Columns {
         debug_assert!(4 * bx < mx && 4 * by < my && 2 * bx < self.nx && 2 * by < self.ny);
         let cols = bx + 1;
-        let mut entries = vec![Entry::default(); cols * my];
+        entries.clear();
+        entries.resize(cols * my, Entry::default());
         for (kx, column) in entries.chunks_mut(my).enumerate() {
             for ky in -(by as isize)..=by as isize {
                 if kx == 0 && ky == 0 {
