@@ -42,5 +42,6 @@ pub use error::HeatError;
 pub(crate) use layers::DepthLadder;
 pub use layers::DepthLayers;
 pub use setup::{Conduction, HeatDomain, HeatSetup};
+pub(crate) use solve::DepthExtremes;
 pub use solve::{surface_temperature, HeatSolver, Temperature};
 pub use source::{DepthRule, HeatSource, SourceKind};

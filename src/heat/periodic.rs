@@ -214,75 +214,18 @@ impl PeriodicPlan {
     /// sweep down and one up (`A_{l+1} = E_l + exp(-m h_l) A_l`), every
     /// exponent with a non-negative real part: `O(L)` per mode for `L`
     /// layers, where the depth maps take `O(L^2)` closed forms.
-    pub fn volume_weighted(
+    ///
+    /// With `extremes`, also the mean and the highest value of the rise
+    /// about the mean \[K\] at the surface and at each layer's middle: the
+    /// maps of [`PeriodicPlan::volume`] at those depths, reduced as they
+    /// are transformed back ([`ReducedInverse`]), each mode's rises at all
+    /// of them from the same sweep, written over the layers' spectra.
+    pub fn volume_scan(
         &self,
         layers: &DepthLayers,
         source: &[f64],
-    ) -> Result<(Vec<f64>, f64), HeatError> {
-        let lam = self.conductivity;
-        let (nx, ny) = (self.modes.nx, self.modes.ny);
-        let n = nx * ny;
-        let specs = self.layer_spectra(source)?;
-        let bounds: Vec<(f64, f64)> = layers.iter().collect();
-        let modes = &self.modes;
-        let mut surface = vec![Complex64::default(); (ny / 2 + 1) * nx];
-        let column_sums: Vec<f64> = surface
-            .par_chunks_mut(nx)
-            .enumerate()
-            .map_init(
-                || Scan::new(bounds.len()),
-                |scan, (j, col)| {
-                    let weight = if j == 0 || (ny % 2 == 0 && j == ny / 2) {
-                        1.0
-                    } else {
-                        2.0
-                    };
-                    let mut sum = 0.0;
-                    for (i, out) in col.iter_mut().enumerate() {
-                        let k = j * nx + i;
-                        scan.q.iter_mut().zip(&specs).for_each(|(q, s)| *q = s[k]);
-                        // The Nyquist average of the mode's multiplier: the
-                        // rises are linear in it.
-                        let mut variants = 0.0;
-                        scan.clear();
-                        let found = modes.average(i, j, |m| {
-                            variants += 1.0;
-                            scan.add(m, &bounds, lam)
-                        });
-                        let Some(top) = found else { continue };
-                        *out = top;
-                        sum += weight
-                            * scan
-                                .rise
-                                .iter()
-                                .zip(&scan.q)
-                                .zip(&bounds)
-                                .map(|((r, q), (a, b))| (b - a) * (q.conj() * r).re)
-                                .sum::<f64>()
-                            / variants;
-                    }
-                    sum
-                },
-            )
-            .collect();
-        let weighted = column_sums.iter().sum::<f64>() / n as f64;
-        Ok((self.inverse(surface)?, weighted))
-    }
-
-    /// The mean and the highest value of the rise about the mean \[K\] at
-    /// the surface and at each layer's middle under the volume source
-    /// `source` \[W/m^3\] (layers as [`PeriodicPlan::volume`]): the maps of
-    /// [`PeriodicPlan::volume`] at those depths, reduced as they are
-    /// transformed back ([`ReducedInverse`]). Each mode's rises at all of
-    /// them come from the one sweep down and up of
-    /// [`PeriodicPlan::volume_weighted`] (`O(L)` closed forms per mode
-    /// for `L` layers, where the maps take `O(L^2)`), written over the
-    /// layers' spectra.
-    pub fn volume_extremes(
-        &self,
-        layers: &DepthLayers,
-        source: &[f64],
-    ) -> Result<Vec<(f64, f64)>, HeatError> {
+        extremes: bool,
+    ) -> Result<VolumeScan, HeatError> {
         let lam = self.conductivity;
         let (nx, ny) = (self.modes.nx, self.modes.ny);
         let n = nx * ny;
@@ -298,53 +241,88 @@ impl PeriodicPlan {
                 rows[j].push(row);
             }
         }
-        rows.par_iter_mut()
+        let column_sums: Vec<f64> = rows
+            .par_iter_mut()
             .zip(surface.par_chunks_mut(nx))
             .enumerate()
-            .for_each_init(
+            .map_init(
                 || Scan::new(bounds.len()),
                 |scan, (j, (layer_rows, top))| {
+                    let weight = if j == 0 || (ny % 2 == 0 && j == ny / 2) {
+                        1.0
+                    } else {
+                        2.0
+                    };
+                    let mut sum = 0.0;
                     for (i, out) in top.iter_mut().enumerate() {
                         scan.q
                             .iter_mut()
                             .zip(layer_rows.iter())
                             .for_each(|(q, r)| *q = r[i]);
+                        // The Nyquist average of the mode's multiplier: the
+                        // rises are linear in it.
                         let mut variants = 0.0;
                         scan.clear();
                         let found = modes.average(i, j, |m| {
                             variants += 1.0;
                             scan.add(m, &bounds, lam)
                         });
-                        match found {
-                            Some(t) => {
-                                *out = t;
-                                for (r, rise) in layer_rows.iter_mut().zip(&scan.rise) {
-                                    r[i] = rise / variants;
-                                }
+                        let Some(t) = found else {
+                            if extremes {
+                                layer_rows
+                                    .iter_mut()
+                                    .for_each(|r| r[i] = Complex64::default());
                             }
-                            None => layer_rows
-                                .iter_mut()
-                                .for_each(|r| r[i] = Complex64::default()),
+                            continue;
+                        };
+                        *out = t;
+                        sum += weight
+                            * scan
+                                .rise
+                                .iter()
+                                .zip(&scan.q)
+                                .zip(&bounds)
+                                .map(|((r, q), (a, b))| (b - a) * (q.conj() * r).re)
+                                .sum::<f64>()
+                            / variants;
+                        if extremes {
+                            for (r, rise) in layer_rows.iter_mut().zip(&scan.rise) {
+                                r[i] = rise / variants;
+                            }
                         }
                     }
+                    sum
                 },
-            );
+            )
+            .collect();
         drop(rows);
-        let scale = 1.0 / n as f64;
-        let mut inverse = ReducedInverse::new(nx, ny);
-        let mut none = vec![(); nh * nx];
-        std::iter::once(&surface)
-            .chain(&specs)
-            .map(|spec| {
-                let (sum, max) = inverse
-                    .sum_and_max(&mut none, |j, _, row| {
-                        row.copy_from_slice(&spec[j * nx..(j + 1) * nx]);
-                        true
-                    })
-                    .map_err(|e| HeatError::Transform(e.to_string()))?;
-                Ok((sum * scale / n as f64, max * scale))
-            })
-            .collect()
+        let weighted = column_sums.iter().sum::<f64>() / n as f64;
+        let extremes = if extremes {
+            let scale = 1.0 / n as f64;
+            let mut inverse = ReducedInverse::new(nx, ny);
+            let mut none = vec![(); nh * nx];
+            let rows = std::iter::once(&surface)
+                .chain(&specs)
+                .map(|spec| {
+                    let (sum, max) = inverse
+                        .sum_and_max(&mut none, |j, _, row| {
+                            row.copy_from_slice(&spec[j * nx..(j + 1) * nx]);
+                            true
+                        })
+                        .map_err(|e| HeatError::Transform(e.to_string()))?;
+                    Ok((sum * scale / n as f64, max * scale))
+                })
+                .collect::<Result<Vec<_>, HeatError>>()?;
+            Some(rows)
+        } else {
+            None
+        };
+        drop(specs);
+        Ok(VolumeScan {
+            surface: self.inverse(surface)?,
+            weighted,
+            extremes,
+        })
     }
 
     fn forward(&self, values: &[f64]) -> Result<Vec<Complex64>, HeatError> {
@@ -439,7 +417,17 @@ fn half_spectrum(modes: &Modes, f: impl Fn(Complex64) -> Complex64 + Sync) -> Ve
     out
 }
 
-/// One mode's sweep over the layers ([`PeriodicPlan::volume_weighted`]):
+/// What [`PeriodicPlan::volume_scan`] gives: the surface rise about the
+/// mean \[K\], the weighted sum `sum_l h_l sum_cells theta(z_l) Q_l`, and
+/// (when asked) the mean and highest rise about the mean at the surface
+/// and at each layer's middle.
+pub(crate) struct VolumeScan {
+    pub surface: Vec<f64>,
+    pub weighted: f64,
+    pub extremes: Option<Vec<(f64, f64)>>,
+}
+
+/// One mode's sweep over the layers ([`PeriodicPlan::volume_scan`]):
 /// the layers' coefficients `q`, the rises at their middles summed over the
 /// Nyquist variants, and scratch.
 struct Scan {

@@ -223,19 +223,11 @@ impl HeatSolver {
         &mut self,
         layers: &DepthLayers,
         source: &[f64],
-    ) -> Result<Vec<(f64, f64, f64)>, HeatError> {
+    ) -> Result<DepthExtremes, HeatError> {
         self.volume_checks(layers, source)?;
         let (p, background) = self.volume_plan(layers, source)?;
-        let rows = p.volume_extremes(layers, source)?;
-        let depths = std::iter::once(0.0).chain(layers.iter().map(|(a, b)| 0.5 * (a + b)));
-        Ok(rows
-            .into_iter()
-            .zip(depths)
-            .map(|((mean, max), z)| {
-                let b = background.at(z).unwrap_or(0.0);
-                (z, mean + b, max + b)
-            })
-            .collect())
+        let scan = p.volume_scan(layers, source, true)?;
+        Ok(profile_rows(&background, scan.extremes.unwrap_or_default()))
     }
 
     /// The periodic plan a volume source is solved on (a pad refused) and
@@ -284,27 +276,41 @@ impl HeatSolver {
     /// the rise at each layer's middle weighted by the layer's source, for
     /// a surface flux the surface rise weighted by the flux. The total
     /// source must be positive. A volume source's weighted rise is summed
-    /// mode by mode without depth maps (`PeriodicPlan::volume_weighted`):
+    /// mode by mode without depth maps (`PeriodicPlan::volume_scan`):
     /// the same sum as from [`HeatSolver::volume`]'s maps at the layers'
     /// middles, to round-off.
     pub fn under(&mut self, source: &HeatSource) -> Result<(Temperature, f64), HeatError> {
+        let (temperature, weighted, _) = self.under_with(source, false)?;
+        Ok((temperature, weighted))
+    }
+
+    /// [`HeatSolver::under`] and, for a volume source when `profile`, the
+    /// rows of [`HeatSolver::volume_extremes`] from the same sweep over the
+    /// modes (a surface flux's profile is [`HeatSolver::surface_extremes`]).
+    pub(crate) fn under_with(
+        &mut self,
+        source: &HeatSource,
+        profile: bool,
+    ) -> Result<(Temperature, f64, Option<DepthExtremes>), HeatError> {
         match source {
             HeatSource::Surface { flux } => {
                 let t = self.surface(flux)?;
                 let total: f64 = flux.iter().sum();
                 let weighted: f64 = t.rise.iter().zip(flux).map(|(r, q)| r * q).sum();
-                Ok((t, weighted / positive_total(total)?))
+                Ok((t, weighted / positive_total(total)?, None))
             }
             HeatSource::Volume { layers, density } => {
                 self.volume_checks(layers, density)?;
                 let (p, background) = self.volume_plan(layers, density)?;
-                let (mut rise, weighted) = p.volume_weighted(layers, density)?;
+                let scan = p.volume_scan(layers, density, profile)?;
+                let mut rise = scan.surface;
+                let rows = scan.extremes.map(|e| profile_rows(&background, e));
                 let surface = background.at(0.0);
                 add(&mut rise, surface);
                 // The background at each layer's middle, weighted by the
                 // layer's source.
                 let n = self.setup.grid.cells();
-                let mut weighted = weighted;
+                let mut weighted = scan.weighted;
                 let mut total = 0.0;
                 for ((a, b), mean) in layers.iter().zip(&background.means) {
                     let q = (b - a) * mean * n as f64;
@@ -319,6 +325,7 @@ impl HeatSolver {
                         background: surface,
                     },
                     weighted / positive_total(total)?,
+                    rows,
                 ))
             }
         }
@@ -347,6 +354,24 @@ impl Background<'_> {
             .map(|tc| volume_background_at(self.layers, &self.means, z, &self.conduction, tc))
     }
 }
+
+/// The rises about the mean `extremes` (surface first) as
+/// [`DepthExtremes`], the block's background added.
+fn profile_rows(background: &Background, extremes: Vec<(f64, f64)>) -> DepthExtremes {
+    let depths = std::iter::once(0.0).chain(background.layers.iter().map(|(a, b)| 0.5 * (a + b)));
+    extremes
+        .into_iter()
+        .zip(depths)
+        .map(|((mean, max), z)| {
+            let b = background.at(z).unwrap_or(0.0);
+            (z, mean + b, max + b)
+        })
+        .collect()
+}
+
+/// The depth \[m\], mean and highest rise \[K\] at the surface and at each
+/// layer's middle of a volume source's rise, surface first.
+pub(crate) type DepthExtremes = Vec<(f64, f64, f64)>;
 
 fn positive_total(total: f64) -> Result<f64, HeatError> {
     super::error::positive("the total heat source", total, "W")

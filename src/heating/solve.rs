@@ -17,7 +17,8 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::heat::{
-    DepthLadder, DepthRule, HeatDomain, HeatSetup, HeatSolver, HeatSource, SourceKind,
+    DepthExtremes, DepthLadder, DepthRule, HeatDomain, HeatSetup, HeatSolver, HeatSource,
+    SourceKind,
 };
 use crate::problem::{Discretisation, Executor, Observer, Problem, Solution};
 
@@ -49,6 +50,9 @@ struct Solved {
     /// Its heat source (the answer's depth profile takes it; dropped with
     /// the evaluations not kept).
     source: HeatSource,
+    /// The volume source's depth profile rows (depth, mean and highest
+    /// rise), from the sweep that gave `rise` (full-grid evaluations).
+    profile: Option<DepthExtremes>,
 }
 
 /// The heated solve of `problem` (its material at `T0 =
@@ -97,6 +101,7 @@ pub fn solve_heated(
                 &rule,
                 t,
                 last_coarse.as_ref().filter(|_| warm_starts),
+                false,
                 executor,
                 observer,
             )?;
@@ -113,6 +118,7 @@ pub fn solve_heated(
             &rule,
             t,
             last.as_ref().filter(|_| warm_starts),
+            periodic,
             executor,
             observer,
         )?;
@@ -181,6 +187,7 @@ pub fn solve_heated(
                 &rule,
                 chosen.temperature,
                 last.as_ref().filter(|_| warm_starts),
+                periodic,
                 executor,
                 observer,
             )?
@@ -302,7 +309,12 @@ pub fn solve_heated(
     };
     let profile_clock = Instant::now();
     let depth_profile = if periodic {
-        Some(depth_profile(problem, &mut heat, &answer.source)?)
+        Some(depth_profile(
+            problem,
+            &mut heat,
+            &answer.source,
+            answer.profile,
+        )?)
     } else {
         None
     };
@@ -325,19 +337,24 @@ pub fn solve_heated(
 const PROFILE_PER_OCTAVE: u64 = 8;
 
 /// The rise against depth of the answer (a periodic cell) under its heat
-/// `source`: at the volume source's layer middles, or at depths spaced
-/// geometrically below a surface flux.
+/// `source`: at the volume source's layer middles (the rows `swept` with
+/// its rise, if they were), or at depths spaced geometrically below a
+/// surface flux.
 fn depth_profile(
     problem: &Problem,
     heat: &mut HeatSolver,
     source: &HeatSource,
+    swept: Option<DepthExtremes>,
 ) -> Result<Vec<DepthRow>> {
     let grid = problem.grid()?;
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
     let n = grid.cells();
     match source {
         HeatSource::Volume { layers, density } => {
-            let rows = heat.volume_extremes(layers, density).map_err(heat_error)?;
+            let rows = match swept {
+                Some(rows) => rows,
+                None => heat.volume_extremes(layers, density).map_err(heat_error)?,
+            };
             Ok(rows
                 .iter()
                 .enumerate()
@@ -420,7 +437,10 @@ fn problem_at(problem: &Problem, t: f64) -> Result<Problem> {
     Ok(at)
 }
 
-/// The isothermal solve at `t` \[C\] and its dissipation-weighted rise.
+/// The isothermal solve at `t` \[C\] and its dissipation-weighted rise;
+/// with `profile`, a volume source's depth profile from the same sweep
+/// (full-grid evaluations: one of them is the answer, whose profile is
+/// reported).
 #[allow(clippy::too_many_arguments)]
 fn solve_at(
     problem: &Problem,
@@ -429,6 +449,7 @@ fn solve_at(
     rule: &DepthRule,
     t: f64,
     start: Option<&Solution>,
+    profile: bool,
     executor: &Executor,
     observer: &mut dyn Observer,
 ) -> Result<Solved> {
@@ -444,8 +465,8 @@ fn solve_at(
     )
     .map_err(heat_error)?;
     let heat_w = source.power(at.grid()?.cell_area());
-    let (temperature, rise) = if heat_w > 0.0 {
-        heat.under(&source).map_err(heat_error)?
+    let (temperature, rise, swept) = if heat_w > 0.0 {
+        heat.under_with(&source, profile).map_err(heat_error)?
     } else {
         // No dissipation (no contact, or a purely elastic response): no
         // rise anywhere.
@@ -455,6 +476,7 @@ fn solve_at(
                 background: None,
             },
             0.0,
+            None,
         )
     };
     Ok(Solved {
@@ -466,5 +488,6 @@ fn solve_at(
         heat_time_s: clock.elapsed().as_secs_f64(),
         solution,
         source,
+        profile: swept,
     })
 }
