@@ -52,7 +52,12 @@ fn rows_per_task(rows: usize) -> usize {
 
 /// The `cols x rows` transpose of the `rows x cols` C-order matrix `src`
 /// into `out` (`rows * cols` values), in blocks of 16 output rows.
-fn transpose_into<T: Copy + Send + Sync>(src: &[T], rows: usize, cols: usize, out: &mut [T]) {
+pub(crate) fn transpose_into<T: Copy + Send + Sync>(
+    src: &[T],
+    rows: usize,
+    cols: usize,
+    out: &mut [T],
+) {
     const BLOCK: usize = 16;
     debug_assert_eq!(out.len(), rows * cols);
     out.par_chunks_mut(rows * BLOCK)

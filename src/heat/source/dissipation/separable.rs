@@ -29,6 +29,7 @@ use super::super::stress::unit_component;
 use super::nyquist::OddForms;
 use super::{accumulate, component, Dissipation, RateFn};
 use crate::heat::error::HeatError;
+use crate::surface::height_fft;
 
 /// Side of the tiles the transposes move.
 const TILE: usize = 32;
@@ -240,7 +241,7 @@ impl Dissipation {
                     },
                 );
             gc.resize(my * cols, Complex64::default());
-            transpose(&work.col, gc, cols, my);
+            height_fft::transpose_into(&work.col, cols, my, gc);
         }
         // Per multiplier: its values at `kx < cols`; on the full grid the
         // x-Nyquist column of every component along y (Hermitian in `ky`:
@@ -335,23 +336,6 @@ fn signed(j: usize, n: usize) -> isize {
     } else {
         j as isize - n as isize
     }
-}
-
-/// `rows[y * cols + x] = columns[x * len + y]`, tile by tile.
-fn transpose(columns: &[Complex64], rows: &mut [Complex64], cols: usize, len: usize) {
-    rows.par_chunks_mut(TILE * cols)
-        .enumerate()
-        .for_each(|(block, rows)| {
-            let y0 = block * TILE;
-            let height = rows.len() / cols;
-            for x0 in (0..cols).step_by(TILE) {
-                for y in 0..height {
-                    for x in x0..(x0 + TILE).min(cols) {
-                        rows[y * cols + x] = columns[x * len + y0 + y];
-                    }
-                }
-            }
-        });
 }
 
 /// `out[x * my + y] += sum[y * mx + x]`, tile by tile.
