@@ -121,8 +121,16 @@ fn killed_sweep_loses_nothing() {
     }
     child.kill().unwrap();
     child.wait().unwrap();
-    let before = point_times(&out);
-    // Every file present is a complete result (atomic writes), none is a fragment.
+    // Every result present is complete (atomic writes); the one the kill
+    // interrupted, if any, is still the writer's hidden temporary
+    // (`.NAME.tmp-PID-*`), which the next run removes.
+    let (before, temporaries): (Vec<_>, Vec<_>) = point_times(&out)
+        .into_iter()
+        .partition(|(name, _)| !name.starts_with('.'));
+    assert!(
+        temporaries.iter().all(|(name, _)| name.contains(".tmp-")),
+        "{temporaries:?}"
+    );
     for (name, _) in &before {
         let text = std::fs::read_to_string(out.join("points").join(name)).unwrap();
         let v: serde_json::Value =
@@ -132,7 +140,8 @@ fn killed_sweep_loses_nothing() {
     let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o]);
     assert!(ok, "{err}");
     let after = point_times(&out);
-    assert_eq!(after.len(), 9);
+    assert_eq!(after.len(), 9, "{after:?}");
+    assert!(after.iter().all(|(name, _)| !name.starts_with('.')));
     for (name, t) in &before {
         assert_eq!(
             *t,
