@@ -47,7 +47,8 @@
 //! x, the multipliers depend on `kx` only and every node, on the full grid
 //! or a coarser one, takes `separable.rs`: the transforms along y once per
 //! component and depth, one real transform along x per row and
-//! multiplier.
+//! multiplier. Sliding along y is sliding along x on the transposed field
+//! (`Dissipation::transposed`); oblique sliding takes the general path.
 
 mod band;
 mod nyquist;
@@ -163,9 +164,34 @@ impl Dissipation {
             .filter(|t| t.compliance > 0.0)
             .map(|t| (t.compliance, t.time))
             .collect();
-        let length = grid.lengths();
-        let e = response.direction();
-        let speed = response.speed();
+        let (e, speed) = (response.direction(), response.speed());
+        let rates = rank::combined_rates(&elements, &frequencies(grid, e, speed));
+        Ok(Self::planned(
+            (nx, ny),
+            grid.lengths(),
+            e,
+            speed,
+            response.poisson(),
+            elements,
+            rates,
+            spectrum,
+        ))
+    }
+
+    /// The plan of the half spectrum `spectrum` (divided by `nx ny`) on
+    /// an `nx x ny` grid of periods `length` \[m\], sliding along `e` at
+    /// `speed`, with the elements and their combined multipliers.
+    #[allow(clippy::too_many_arguments)]
+    fn planned(
+        (nx, ny): (usize, usize),
+        length: (f64, f64),
+        e: (f64, f64),
+        speed: f64,
+        nu: f64,
+        elements: Vec<(f64, f64)>,
+        rates: Vec<RateFn>,
+        spectrum: Vec<Complex64>,
+    ) -> Self {
         let tau2 = std::f64::consts::TAU;
         let regular = (0..(ny / 2 + 1) * nx)
             .filter_map(|index| {
@@ -186,15 +212,14 @@ impl Dissipation {
                 })
             })
             .collect();
-        let rates = rank::combined_rates(&elements, &frequencies(grid, e, speed));
         let mut planner = FftPlanner::<f64>::new();
-        Ok(Self {
+        Self {
             nx,
             ny,
             length,
             e,
             speed,
-            nu: response.poisson(),
+            nu,
             elements,
             rates,
             spectrum,
@@ -203,7 +228,49 @@ impl Dissipation {
             line_x: planner.plan_fft_inverse(nx),
             line_y: planner.plan_fft_inverse(ny),
             separable: true,
-        })
+        }
+    }
+
+    /// Whether the sliding is along y (`e_v = (0, 1)` or `(0, -1)`).
+    fn along_y(&self) -> bool {
+        self.e.0 == 0.0
+    }
+
+    /// The plan of the field transposed (x and y swapped: the pressure
+    /// `p'(x, y) = p(y, x)`, its half spectrum `P'(kx, ky) = P(ky, kx)`),
+    /// sliding along the swapped direction: sliding along y becomes
+    /// sliding along x. The dissipation form does not depend on the axes'
+    /// order, so its density is this plan's transposed.
+    fn transposed(&self) -> Self {
+        let (nx, ny) = (self.ny, self.nx);
+        let spectrum: Vec<Complex64> = (0..(ny / 2 + 1) * nx)
+            .map(|index| {
+                // `(i, j)` of the swapped grid is `(j, i)` here; `j <= ny /
+                // 2` is a non-negative original `kx`, and a negative
+                // original `ky` is the conjugate of its mirror.
+                let (i, j) = (index % nx, index / nx);
+                let ky = signed_index(i, self.ny).0 as isize;
+                let kx = j;
+                if ky >= 0 {
+                    self.spectrum[ky as usize * self.nx + kx]
+                } else {
+                    let mirror = (self.nx - kx) % self.nx;
+                    self.spectrum[(-ky) as usize * self.nx + mirror].conj()
+                }
+            })
+            .collect();
+        let mut plan = Self::planned(
+            (nx, ny),
+            (self.length.1, self.length.0),
+            (self.e.1, self.e.0),
+            self.speed,
+            self.nu,
+            self.elements.clone(),
+            self.rates.clone(),
+            spectrum,
+        );
+        plan.separable = self.separable;
+        plan
     }
 
     /// The multipliers whose dissipation forms sum to `D`: one per
@@ -241,6 +308,15 @@ impl Dissipation {
         nodes: &[Vec<(f64, f64)>],
     ) -> Result<Vec<f64>, HeatError> {
         let n = self.nx * self.ny;
+        if self.separable && self.along_y() && self.speed != 0.0 {
+            // Sliding along y: along x on the transposed field.
+            let swapped = self.transposed().densities_with(rates, nodes)?;
+            let mut density = vec![0.0; nodes.len() * n];
+            for (out, map) in density.chunks_mut(n).zip(swapped.chunks(n)) {
+                height_fft::transpose_into(map, self.ny, self.nx, out);
+            }
+            return Ok(density);
+        }
         let mut density = vec![0.0; nodes.len() * n];
         if self.speed == 0.0 || !self.speed.is_finite() {
             return Ok(density);
