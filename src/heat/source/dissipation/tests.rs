@@ -56,6 +56,15 @@ fn assert_density_close(got: &[f64], want: &[f64], what: &str) {
     );
 }
 
+/// Every layer of `n` cells of `got` equals `want`'s
+/// ([`assert_density_close`]).
+fn assert_layers_close(got: &[f64], want: &[f64], n: usize, what: &str) {
+    assert_eq!(got.len(), want.len(), "{what}");
+    for (l, (g, w)) in got.chunks(n).zip(want.chunks(n)).enumerate() {
+        assert_density_close(g, w, &format!("{what} layer {l}"));
+    }
+}
+
 /// The direct evaluation the planned one replaced: per element, every
 /// mode's parts by the general rule ([`Dissipation::parts`]: the
 /// stresses of `mode_stress`, the Nyquist signs), six inverse transforms
@@ -275,13 +284,7 @@ fn separable_path_is_the_general_one() {
             let separable = plan.layer_densities(&nodes).unwrap();
             plan.separable = false;
             let general = plan.layer_densities(&nodes).unwrap();
-            for (l, (s, g)) in separable
-                .chunks(nx * ny)
-                .zip(general.chunks(nx * ny))
-                .enumerate()
-            {
-                assert_density_close(s, g, &format!("{nx}x{ny} nu {nu} layer {l}"));
-            }
+            assert_layers_close(&separable, &general, nx * ny, &format!("{nx}x{ny} nu {nu}"));
         }
     }
 }
@@ -311,13 +314,8 @@ fn sliding_along_y_is_the_general_path() {
                 let swapped = plan.layer_densities(&nodes).unwrap();
                 plan.separable = false;
                 let general = plan.layer_densities(&nodes).unwrap();
-                for (l, (s, g)) in swapped
-                    .chunks(nx * ny)
-                    .zip(general.chunks(nx * ny))
-                    .enumerate()
-                {
-                    assert_density_close(s, g, &format!("{nx}x{ny} nu {nu} {angle} layer {l}"));
-                }
+                let what = format!("{nx}x{ny} nu {nu} {angle}");
+                assert_layers_close(&swapped, &general, nx * ny, &what);
             }
         }
     }
