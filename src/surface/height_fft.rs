@@ -3,6 +3,9 @@
 //! self-affine generator, the tabulated-PSD synthesis) and their spectral
 //! analysis (`forward`: PSDs), for arbitrary grid sizes (rustfft / realfft
 //! plan any length, not only powers of two), parallel over rows.
+//! [`Forward`] and [`Inverse`] are the same transforms planned once for
+//! many maps of one grid, on work space the caller keeps (the heat
+//! problem's layers and depth nodes).
 //!
 //! Not the operators' transform: `operator/fft_convolution.rs` keeps plans,
 //! a multiplier and work buffers alive for thousands of products on one

@@ -4,9 +4,9 @@
 //! - [`SourceKind::Volume`]: the dissipation density `D` of the creep
 //!   elements on depth layers (`dissipation/`: the elements combined in
 //!   `rank.rs`, the deep nodes on coarser grids in `band.rs`, sliding along
-//!   x in `separable.rs`, the Nyquist modes in `nyquist.rs`; its planned
-//!   transforms in `fft.rs`, the stresses of each surface mode in
-//!   `stress.rs`, the layers in `depth.rs`); a periodic
+//!   x in `separable.rs`, the Nyquist modes in `nyquist.rs`; its
+//!   transforms `surface/height_fft.rs`'s planned ones, the stresses of
+//!   each surface mode in `stress.rs`, the layers in `depth.rs`); a periodic
 //!   cell on a half-space. `D` is the dashpots' power where they are, in
 //!   the depth `~1/|q|` where each scale dissipates.
 //! - [`SourceKind::Surface`]: the work of the contact pressure,
@@ -24,7 +24,6 @@
 
 mod depth;
 mod dissipation;
-mod fft;
 mod stress;
 mod work;
 

@@ -15,9 +15,8 @@
 use num_complex::Complex64;
 use rayon::prelude::*;
 
-use super::super::fft::InverseFft;
 use super::super::stress::unit_component;
-use super::{accumulate, Dissipation};
+use super::{accumulate, transform_error, Dissipation};
 use crate::heat::error::HeatError;
 use crate::operator::signed_index;
 use crate::surface::height_fft;
@@ -83,8 +82,9 @@ pub(super) fn pad_into(
 }
 
 /// A depth node evaluated on a coarser grid (`band.rs`): which of the
-/// planned coarse grids, and every regular mode in its band (its index in
-/// `regular`, its index in the coarse half spectrum).
+/// planned coarse grids, its band, and (for the general path) every regular
+/// mode in its band (its index in `regular`, its index in the coarse half
+/// spectrum).
 pub(super) struct Coarse {
     pub grid: usize,
     /// The band `(B_x, B_y)` kept.
@@ -95,16 +95,19 @@ pub(super) struct Coarse {
 /// A coarse grid's size and inverse transform.
 pub(super) struct CoarseGrid {
     pub size: (usize, usize),
-    pub fft: InverseFft,
+    pub fft: height_fft::Inverse,
 }
 
 impl Dissipation {
     /// The coarse grids the depth nodes need and, per layer and node, the
     /// coarse plan of a node whose band fits a coarser grid along both
-    /// axes (`None`: the full grid).
+    /// axes (`None`: the full grid); `with_modes`, each plan lists the
+    /// regular modes of its band (the general path reads them, the
+    /// separable one builds its columns from the band).
     pub(super) fn coarse_plans(
         &self,
         nodes: &[Vec<(f64, f64)>],
+        with_modes: bool,
     ) -> (Vec<CoarseGrid>, Vec<Vec<Option<Coarse>>>) {
         let mut grids: Vec<CoarseGrid> = Vec::new();
         let plans = nodes
@@ -120,7 +123,7 @@ impl Dissipation {
                             None => {
                                 grids.push(CoarseGrid {
                                     size: (mx, my),
-                                    fft: InverseFft::new(mx, my),
+                                    fft: height_fft::Inverse::new(mx, my),
                                 });
                                 grids.len() - 1
                             }
@@ -129,6 +132,7 @@ impl Dissipation {
                             .regular
                             .iter()
                             .enumerate()
+                            .filter(|_| with_modes)
                             .filter_map(|(r, m)| {
                                 let (kx, _) = signed_index(m.index % self.nx, self.nx);
                                 let ky = m.index / self.nx;
@@ -167,7 +171,7 @@ impl Dissipation {
         let mut spec = vec![Complex64::default(); mx * (my / 2 + 1)];
         let mut field = vec![0.0; mx * my];
         let mut first = vec![0.0; mx * my];
-        let mut buf = grid.fft.buffers();
+        let mut rows = Vec::new();
         let amp: Vec<(Complex64, f64)> = plan
             .modes
             .iter()
@@ -183,7 +187,9 @@ impl Dissipation {
             for (&(r, index), &(a, t)) in plan.modes.iter().zip(&amp) {
                 spec[index] = a * unit_component(self.regular[r].n, t, nu, c);
             }
-            grid.fft.run(&mut spec, &mut field, &mut buf)?;
+            grid.fft
+                .run(&mut spec, &mut rows, &mut field)
+                .map_err(transform_error)?;
             accumulate(c, &field, &mut first, acc, dev, trace);
         }
         Ok(())
@@ -202,7 +208,6 @@ impl Dissipation {
         density: &mut [f64],
     ) -> Result<(), HeatError> {
         let (nx, ny) = (self.nx, self.ny);
-        let transform = |e: crate::surface::SurfaceError| HeatError::Transform(e.to_string());
         let forward: Vec<height_fft::Forward> = grids
             .iter()
             .map(|g| height_fft::Forward::new(g.size.0, g.size.1))
@@ -221,14 +226,14 @@ impl Dissipation {
                     cs.resize(size.0 * height_fft::half_len(size.1), Complex64::default());
                     forward[c.grid]
                         .run(acc, &mut rows, &mut cs)
-                        .map_err(transform)?;
+                        .map_err(transform_error)?;
                     let scale = 1.0 / (size.0 * size.1) as f64;
                     pad_into(&cs, size, &mut spec, (nx, ny), scale);
                 }
             }
             inverse
                 .run(&mut spec, &mut rows, &mut field)
-                .map_err(transform)?;
+                .map_err(transform_error)?;
             out.par_iter_mut().zip(&field).for_each(|(o, f)| *o += f);
         }
         Ok(())

@@ -62,7 +62,6 @@ use rayon::prelude::*;
 use rustfft::{Fft, FftPlanner};
 
 use super::super::error::HeatError;
-use super::fft::{Buffers, InverseFft};
 use separable::SeparableWork;
 
 use super::stress::{unit_component, ModeStress};
@@ -92,7 +91,7 @@ pub(crate) struct Dissipation {
     /// Every mode of the half spectrum that is neither `q = 0` nor a
     /// Nyquist mode, with its pressure coefficient.
     regular: Vec<Regular>,
-    fft: InverseFft,
+    fft: height_fft::Inverse,
     line_x: Arc<dyn Fft<f64>>,
     line_y: Arc<dyn Fft<f64>>,
     /// Whether sliding along x takes the separable path (the general one
@@ -134,7 +133,8 @@ struct Work {
     first: Vec<f64>,
     amp: Vec<Complex64>,
     t: Vec<f64>,
-    fft: Buffers,
+    /// The inverse transform's work space.
+    rows: Vec<Complex64>,
 }
 
 impl Dissipation {
@@ -152,8 +152,7 @@ impl Dissipation {
             ));
         }
         let (nx, ny) = grid.size();
-        let mut spectrum = height_fft::forward(pressure, nx, ny)
-            .map_err(|e| HeatError::Transform(e.to_string()))?;
+        let mut spectrum = height_fft::forward(pressure, nx, ny).map_err(transform_error)?;
         let scale = 1.0 / (nx * ny) as f64;
         spectrum.iter_mut().for_each(|c| *c *= scale);
         let elements: Vec<(f64, f64)> = response
@@ -224,11 +223,27 @@ impl Dissipation {
             rates,
             spectrum,
             regular,
-            fft: InverseFft::new(nx, ny),
+            fft: height_fft::Inverse::new(nx, ny),
             line_x: planner.plan_fft_inverse(nx),
             line_y: planner.plan_fft_inverse(ny),
             separable: true,
         }
+    }
+
+    /// `P(kx, ky) / N` of the real pressure (`ky < 0` by its Hermitian
+    /// symmetry).
+    fn coefficient(&self, kx: isize, ky: isize) -> Complex64 {
+        if ky >= 0 {
+            self.half_coefficient(kx, ky)
+        } else {
+            self.half_coefficient(-kx, -ky).conj()
+        }
+    }
+
+    /// The half spectrum's coefficient at `(kx, ky >= 0)`.
+    fn half_coefficient(&self, kx: isize, ky: isize) -> Complex64 {
+        let i = kx.rem_euclid(self.nx as isize) as usize;
+        self.spectrum[ky as usize * self.nx + i]
     }
 
     /// Whether the sliding is along y (`e_v = (0, 1)` or `(0, -1)`).
@@ -243,20 +258,12 @@ impl Dissipation {
     /// order, so its density is this plan's transposed.
     fn transposed(&self) -> Self {
         let (nx, ny) = (self.ny, self.nx);
+        // Index `(i, j)` of the swapped grid is `(kx, ky) = (j, i)` here
+        // (`j <= ny / 2`: a non-negative `kx`).
         let spectrum: Vec<Complex64> = (0..(ny / 2 + 1) * nx)
             .map(|index| {
-                // `(i, j)` of the swapped grid is `(j, i)` here; `j <= ny /
-                // 2` is a non-negative original `kx`, and a negative
-                // original `ky` is the conjugate of its mirror.
-                let (i, j) = (index % nx, index / nx);
-                let ky = signed_index(i, self.ny).0 as isize;
-                let kx = j;
-                if ky >= 0 {
-                    self.spectrum[ky as usize * self.nx + kx]
-                } else {
-                    let mirror = (self.nx - kx) % self.nx;
-                    self.spectrum[(-ky) as usize * self.nx + mirror].conj()
-                }
+                let ky = signed_index(index % nx, self.ny).0 as isize;
+                self.coefficient((index / nx) as isize, ky)
             })
             .collect();
         let mut plan = Self::planned(
@@ -321,7 +328,8 @@ impl Dissipation {
         if self.speed == 0.0 || !self.speed.is_finite() {
             return Ok(density);
         }
-        let (grids, plans) = self.coarse_plans(nodes);
+        let separable = self.separable && self.along_x();
+        let (grids, plans) = self.coarse_plans(nodes, !separable);
         // Each coarse node's density, summed over the multipliers.
         let mut coarse: Vec<Vec<Vec<f64>>> = plans
             .iter()
@@ -340,7 +348,6 @@ impl Dissipation {
         // Sliding along x: every node by `separable.rs`, one after the
         // other (each one's transforms run on the pool), on the full grid
         // or its coarse one.
-        let separable = self.separable && self.along_x();
         if separable {
             let full = self.full_columns();
             let mut work = SeparableWork::default();
@@ -405,7 +412,7 @@ impl Dissipation {
             first: vec![0.0; n],
             amp: vec![Complex64::default(); self.regular.len()],
             t: vec![0.0; self.regular.len()],
-            fft: self.fft.buffers(),
+            rows: Vec::new(),
         }
     }
 
@@ -456,7 +463,8 @@ impl Dissipation {
                 }
             }
             self.fft
-                .run(&mut work.spec, &mut work.field, &mut work.fft)?;
+                .run(&mut work.spec, &mut work.rows, &mut work.field)
+                .map_err(transform_error)?;
             accumulate(c, &work.field, &mut work.first, out, dev, trace);
         }
         self.add_nyquist(&nyquist, weight, out);
@@ -557,6 +565,11 @@ fn accumulate(c: usize, field: &[f64], first: &mut [f64], out: &mut [f64], dev: 
             .zip(field)
             .for_each(|(o, v)| *o += 2.0 * dev * v * v),
     }
+}
+
+/// A failed transform of `height_fft`.
+fn transform_error(e: crate::surface::SurfaceError) -> HeatError {
+    HeatError::Transform(e.to_string())
 }
 
 /// Component `c` of a stress: the five deviatoric ones, then the trace.

@@ -29,6 +29,7 @@ use super::super::stress::unit_component;
 use super::nyquist::OddForms;
 use super::{accumulate, component, Dissipation, RateFn};
 use crate::heat::error::HeatError;
+use crate::operator::signed_index;
 use crate::surface::height_fft;
 
 /// Side of the tiles the transposes move.
@@ -98,7 +99,7 @@ impl Dissipation {
             .enumerate()
             .for_each(|(kx, column)| {
                 for (j, entry) in column.iter_mut().enumerate() {
-                    let ky = signed(j, ny);
+                    let ky = signed_index(j, ny).0 as isize;
                     if kx == 0 && ky == 0 {
                         continue;
                     }
@@ -171,22 +172,6 @@ impl Dissipation {
             p,
             nyquist,
         }
-    }
-
-    /// `P(kx, ky) / N` of the real pressure (`ky < 0` by its Hermitian
-    /// symmetry).
-    fn coefficient(&self, kx: isize, ky: isize) -> Complex64 {
-        if ky >= 0 {
-            self.half_coefficient(kx, ky)
-        } else {
-            self.half_coefficient(-kx, -ky).conj()
-        }
-    }
-
-    /// The half spectrum's coefficient at `(kx, ky >= 0)`.
-    fn half_coefficient(&self, kx: isize, ky: isize) -> Complex64 {
-        let i = kx.rem_euclid(self.nx as isize) as usize;
-        self.spectrum[ky as usize * self.nx + i]
     }
 
     /// `out += weight sum_rates D_rate(z)` on the grid of `columns` (`out`
@@ -326,15 +311,6 @@ impl Dissipation {
         // `sum` is by row y; `out` by x.
         transpose_add(&work.sum, out, mx, my);
         Ok(())
-    }
-}
-
-/// The signed wavenumber of index `j` of `n` (the Nyquist index positive).
-fn signed(j: usize, n: usize) -> isize {
-    if 2 * j <= n {
-        j as isize
-    } else {
-        j as isize - n as isize
     }
 }
 

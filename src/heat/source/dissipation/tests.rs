@@ -226,7 +226,7 @@ fn coarse_nodes_are_the_direct_density() {
                     vec![(2.0 * lx, 1.0)],
                     vec![(3.0 * a, 0.3), (0.6 * lx, 0.5), (1.5 * lx, 0.2)],
                 ];
-                let (_, plans) = plan.coarse_plans(&nodes);
+                let (_, plans) = plan.coarse_plans(&nodes, true);
                 let coarse: Vec<Vec<bool>> = plans
                     .iter()
                     .map(|l| l.iter().map(Option::is_some).collect())
