@@ -77,6 +77,17 @@ pub(crate) fn transpose_into<T: Copy + Send + Sync>(
         });
 }
 
+/// `fft` in place on every contiguous row of `data` (rows of its length),
+/// in parallel.
+fn fft_rows(data: &mut [Complex64], fft: &dyn Fft<f64>) {
+    let len = fft.len();
+    data.par_chunks_mut(len * rows_per_task(data.len() / len))
+        .for_each_init(
+            || vec![Complex64::default(); fft.get_inplace_scratch_len()],
+            |scratch, chunk| fft.process_with_scratch(chunk, scratch),
+        );
+}
+
 /// Half spectrum (layout above) of a real `nx x ny` field in C order.
 pub(crate) fn forward(
     heights: &[f64],
@@ -132,11 +143,7 @@ impl Forward {
             )
             .map_err(|e| SurfaceError::Invalid(format!("real FFT failed: {e}")))?;
         transpose_into(rows, nx, nh, out);
-        let fft = &self.along_x;
-        out.par_chunks_mut(nx * rows_per_task(nh)).for_each_init(
-            || vec![Complex64::default(); fft.get_inplace_scratch_len()],
-            |scratch, chunk| fft.process_with_scratch(chunk, scratch),
-        );
+        fft_rows(out, self.along_x.as_ref());
         Ok(())
     }
 }
@@ -186,11 +193,7 @@ impl Inverse {
         let (nx, ny) = (self.nx, self.ny);
         let nh = half_len(ny);
         debug_assert!(spec.len() == nx * nh && out.len() == nx * ny);
-        let fft = &self.along_x;
-        spec.par_chunks_mut(nx * rows_per_task(nh)).for_each_init(
-            || vec![Complex64::default(); fft.get_inplace_scratch_len()],
-            |scratch, chunk| fft.process_with_scratch(chunk, scratch),
-        );
+        fft_rows(spec, self.along_x.as_ref());
         rows.resize(nx * nh, Complex64::default());
         transpose_into(spec, nh, nx, rows);
         let c2r = &self.along_y;
