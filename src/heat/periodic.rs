@@ -17,7 +17,7 @@ use rayon::prelude::*;
 
 use super::error::HeatError;
 use super::layers::{DepthLadder, DepthLayers};
-use super::modes::{layer_integral, phi1_with, Modes};
+use super::modes::{exp_phi1, layer_integral, Modes};
 use super::setup::HeatSetup;
 use crate::operator::SpectralEngine;
 use crate::surface::height_fft::{self, ReducedInverse};
@@ -467,8 +467,7 @@ impl Scan {
         for (l, &(top, bottom)) in bounds.iter().enumerate() {
             let h = bottom - top;
             let w = m * (0.5 * h);
-            let e = (-w).exp();
-            let p = phi1_with(w, e);
+            let (e, p) = exp_phi1(w);
             // phi1(2 w) = phi1(w) (1 + exp(-w)) / 2.
             self.whole[l] = h * p * (1.0 + e) * 0.5 * self.q[l];
             self.half[l] = e;
