@@ -14,7 +14,8 @@ use crate::errors::to_py;
 /// \[m\] (square when `None`), sliding at `speed` \[m/s\] along
 /// `direction_deg` from +x, for a pad (`periodic` false) or one period of
 /// a periodic cell (with the block's background heating when
-/// `block_length` \[m\] is given).
+/// `block_length` \[m\] is given); with it, the setup's notes
+/// (`HeatSetup::notes`: what the rise leaves out or may overstate).
 #[pyfunction]
 #[pyo3(signature = (flux, cell_size, speed, conductivity, diffusivity, periodic, block_length, direction_deg, cell_size_y=None))]
 #[allow(clippy::too_many_arguments)]
@@ -29,7 +30,7 @@ pub fn surface_temperature<'py>(
     block_length: Option<f64>,
     direction_deg: f64,
     cell_size_y: Option<f64>,
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Vec<String>)> {
     let view = flux.as_array();
     let (nx, ny) = view.dim();
     let values: Vec<f64> = view.iter().copied().collect();
@@ -51,5 +52,5 @@ pub fn surface_temperature<'py>(
     let t = py
         .detach(|| solve(setup, &values))
         .map_err(|e| to_py(py, e.into()))?;
-    t.rise.into_pyarray(py).reshape([nx, ny])
+    Ok((t.rise.into_pyarray(py).reshape([nx, ny])?, setup.notes()))
 }

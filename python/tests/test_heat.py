@@ -4,6 +4,7 @@ periodic cell against ``q / (lam m)`` and the block's background, and
 argument errors that name the argument."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -41,6 +42,19 @@ def test_the_block_adds_its_background():
     qbar = flux.mean()
     background = 4 / 3 * qbar * math.sqrt(KAPPA * block / v / math.pi) / LAM
     np.testing.assert_allclose(blocked - free, background, rtol=1e-12)
+
+
+def test_a_passage_too_short_for_the_cell_warns():
+    # 8 um cell, depth 8e-6 / (2 pi) = 1.27 um; one passage of a 1 cm block
+    # diffuses sqrt(KAPPA * 0.01 / v): at 1 m/s 32 um (quiet), at 300 m/s
+    # 1.8 um, less than the depth over 0.3 (warned).
+    flux = np.full((8, 6), 2e4)
+    flux[3, 2] += 1e5
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        vs.surface_temperature(flux, 1e-6, 1.0, LAM, KAPPA, periodic=True, block_length=0.01)
+    with pytest.warns(UserWarning, match="longest period 8.000e-6 m"):
+        vs.surface_temperature(flux, 1e-6, 300.0, LAM, KAPPA, periodic=True, block_length=0.01)
 
 
 def test_a_pad_trails_heat_behind_and_keeps_the_orientation():

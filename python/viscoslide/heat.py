@@ -4,6 +4,7 @@ surface heat flux map (physics.md section 14)."""
 
 from __future__ import annotations
 
+import warnings
 from typing import Any, Optional
 
 import numpy as np
@@ -60,7 +61,12 @@ def surface_temperature(
     array then has zero mean unless ``block_length`` [m], the length of the
     sliding block along the sliding direction, is given, in which case the
     block's background heating over a passage, ``(4/3) qbar sqrt(kappa t_c
-    / pi) / lam`` with ``t_c = block_length / speed``, is added.
+    / pi) / lam`` with ``t_c = block_length / speed``, is added. Where the
+    passage is too short for the cell (the depth ``L / (2 pi)`` of its
+    longest period ``L`` above 0.3 of ``sqrt(kappa t_c)``: the background
+    formula and the steady rise of the modes constant along the sliding
+    direction then overstate what one passage reaches), a warning says so
+    (``warnings.warn``), as ``viscoslide heat`` notes it.
 
     Returns an array of the shape of ``flux``: the rise at the cell centres.
     """
@@ -71,7 +77,7 @@ def surface_temperature(
         raise ValueError(
             "block_length is the periodic cell's (its background heating); pass periodic=True or drop block_length"
         )
-    return _native.surface_temperature(
+    rise, notes = _native.surface_temperature(
         q,
         _checks.positive("cell_size", cell_size, "m"),
         _checks.positive("speed", speed, "m/s"),
@@ -82,3 +88,8 @@ def surface_temperature(
         _checks.number("direction_deg", direction_deg),
         None if cell_size_y is None else _checks.positive("cell_size_y", cell_size_y, "m"),
     )
+    if block_length is not None:
+        # Without a block the one note is the zero mean, stated above.
+        for note in notes:
+            warnings.warn(note, stacklevel=2)
+    return rise

@@ -12,7 +12,7 @@ use std::time::Instant;
 use serde_json::json;
 
 use crate::error::{Error, Result};
-use crate::heat::{Conduction, HeatDomain, HeatSetup, HeatSolver, SourceKind, Temperature};
+use crate::heat::{Conduction, HeatDomain, HeatSetup, SourceKind, Temperature};
 use crate::io::{npy, StagedOutput};
 use crate::plot;
 use crate::response::Grid;
@@ -137,10 +137,10 @@ pub fn run(args: HeatArgs) -> Result<()> {
     let t0 = Instant::now();
     let temperature = crate::heat::surface_temperature(setup, &flux)?;
     let wall = t0.elapsed().as_secs_f64();
-    let note = HeatSolver::note_for(&setup);
-    let doc = report(&args, flux_path, &setup, &flux, &temperature, note, wall);
+    let notes = setup.notes();
+    let doc = report(&args, flux_path, &setup, &flux, &temperature, &notes, wall);
     let dir = write(&args.out, &setup, args.direction_deg, &temperature, &doc)?;
-    if let Some(n) = note {
+    for n in &notes {
         eprintln!("note: {n}");
     }
     let background = temperature
@@ -207,7 +207,7 @@ fn report(
     setup: &HeatSetup,
     flux: &[f64],
     t: &Temperature,
-    note: Option<&str>,
+    notes: &[String],
     wall: f64,
 ) -> serde_json::Value {
     let g = setup.grid;
@@ -232,7 +232,7 @@ fn report(
         "background_rise_k": t.background,
         "total_power_w": power,
         "mean_flux_w_per_m2": power / (g.cells() as f64 * g.cell_area()),
-        "notes": note.into_iter().collect::<Vec<_>>(),
+        "notes": notes,
         "wall_time_s": wall,
         "files": HEAT_FILES,
         "conventions": {

@@ -217,7 +217,7 @@ pub(super) fn run(args: &HeatArgs, dir: &Path) -> Result<()> {
         &heat.temperature,
         &doc,
     )?;
-    if let Some(n) = heat.note {
+    for n in &heat.notes {
         eprintln!("note: {n}");
     }
     println!(

@@ -98,4 +98,45 @@ impl HeatSetup {
     pub fn is_periodic(&self) -> bool {
         matches!(self.domain, HeatDomain::Periodic { .. })
     }
+
+    /// What the rise leaves out or may overstate, a sentence each:
+    /// - a periodic cell without a block length: its mean has no steady
+    ///   state, and the rise is given about it;
+    /// - a periodic cell whose longest period `L` reaches deeper, `L / (2
+    ///   pi)`, than 0.3 of the diffusion length
+    ///   `sqrt(kappa t_c)` of one passage (physics.md section 14): the
+    ///   background heating's formula needs the heat released well within
+    ///   that length, and the modes constant along the sliding direction,
+    ///   which no sliding refreshes, settle only after about `(L / 2
+    ///   pi)^2 / kappa`; within the passage their steady rise is not
+    ///   reached.
+    pub fn notes(&self) -> Vec<String> {
+        let HeatDomain::Periodic { block_length } = self.domain else {
+            return Vec::new();
+        };
+        let Some(lb) = block_length else {
+            return vec![NO_BLOCK_NOTE.to_string()];
+        };
+        let (lx, ly) = self.grid.lengths();
+        let period = lx.max(ly);
+        let depth = period / (2.0 * std::f64::consts::PI);
+        let passage = lb / self.speed;
+        let diffusion = (self.conduction.diffusivity * passage).sqrt();
+        if depth > PASSAGE_DEPTH_SHARE * diffusion {
+            vec![format!(
+                "the cell's longest period {period:.3e} m reaches about {depth:.3e} m deep, against the diffusion length sqrt(kappa L_b / v) = {diffusion:.3e} m of one passage: the background heating's formula needs the first much smaller, and the steady rise of the modes constant along the sliding direction, which settle in about {:.3e} s (the passage takes {passage:.3e} s), overstates what one passage reaches (physics.md section 14); take a smaller cell or a longer block",
+                depth * depth / self.conduction.diffusivity
+            )]
+        } else {
+            Vec::new()
+        }
+    }
 }
+
+/// What a periodic cell without a block length says about its mean.
+pub(crate) const NO_BLOCK_NOTE: &str = "periodic cell without a block length: the mean rise (k = 0) has no steady state, so the rise is given about its mean (zero mean); give the block length along the sliding direction for the block's background heating";
+
+/// A periodic cell's rise holds while the depth `L / (2 pi)` of its longest
+/// period `L` is below this share of the diffusion length `sqrt(kappa
+/// t_c)` of one passage ([`HeatSetup::notes`]).
+pub(crate) const PASSAGE_DEPTH_SHARE: f64 = 0.3;

@@ -33,9 +33,6 @@ impl Temperature {
     }
 }
 
-/// What a periodic cell without a block length says about its mean.
-pub(crate) const NO_BLOCK_NOTE: &str = "periodic cell without a block length: the mean rise (k = 0) has no steady state, so the rise is given about its mean (zero mean); give the block length along the sliding direction for the block's background heating";
-
 const VOLUME_ON_PAD: &str =
     "a volume source is solved on a periodic cell only; give a surface flux for a pad";
 
@@ -51,10 +48,6 @@ pub struct HeatSolver {
 }
 
 impl HeatSolver {
-    /// What a periodic cell without a block length says about its mean
-    /// ([`HeatSolver::note`]).
-    pub const NO_BLOCK_NOTE: &'static str = NO_BLOCK_NOTE;
-
     /// Check `setup` and plan it: the pad's table of cell integrals and its
     /// FFT embedding, or the periodic cell's multiplier.
     pub fn new(setup: HeatSetup) -> Result<Self, HeatError> {
@@ -81,20 +74,6 @@ impl HeatSolver {
     /// The problem this solver was planned for.
     pub fn setup(&self) -> &HeatSetup {
         &self.setup
-    }
-
-    /// What the solution leaves out, in a sentence (a periodic cell without
-    /// a block length), or `None`.
-    pub fn note(&self) -> Option<&'static str> {
-        Self::note_for(&self.setup)
-    }
-
-    /// [`HeatSolver::note`] of `setup`, without planning it.
-    pub fn note_for(setup: &HeatSetup) -> Option<&'static str> {
-        match setup.domain {
-            HeatDomain::Periodic { block_length: None } => Some(NO_BLOCK_NOTE),
-            _ => None,
-        }
     }
 
     /// The mean of a map.

@@ -32,11 +32,6 @@ use super::two_level::{Level, DISCREPANCY_WARNING};
 /// given: the default depth layers hold it to 1e-3 (physics.md section 14).
 const BALANCE_WARNING: f64 = 1e-2;
 
-/// The background heating's formula holds while the dissipation depth
-/// (the cell's longest wavelength over `2 pi`) is below this share of the
-/// diffusion length `sqrt(kappa L_b / v)` of one passage.
-const BACKGROUND_DEPTH_SHARE: f64 = 0.3;
-
 /// One evaluation kept for the answer.
 struct Solved {
     temperature: f64,
@@ -258,14 +253,8 @@ pub fn solve_heated(
             answer.heat, balance
         ));
     }
-    if let Some(lb) = params.block_length {
-        let diffusion = (params.conduction.diffusivity * lb / problem.speed).sqrt();
-        let depth = length / (2.0 * std::f64::consts::PI);
-        if depth > BACKGROUND_DEPTH_SHARE * diffusion {
-            warnings.push(format!(
-                "the cell's longest wavelength dissipates down to about {depth:.3e} m, against the diffusion length sqrt(kappa L_b / v) = {diffusion:.3e} m of one passage: the background heating's formula (physics.md section 14) needs the first much smaller; take a smaller cell or a longer block"
-            ));
-        }
+    if params.block_length.is_some() {
+        warnings.extend(heat.setup().notes());
     }
     let report = HeatingReport {
         ambient_temperature: params.ambient,

@@ -34,8 +34,9 @@ pub struct ContactHeating {
     /// dissipation route's `mu` for the volume source (Appendix A3-A4),
     /// the stencil's (paper Eq. 9) for the surface flux.
     pub friction_power_w: f64,
-    /// What the rise leaves out (a periodic cell without a block length).
-    pub note: Option<&'static str>,
+    /// What the rise leaves out or may overstate, a sentence each
+    /// ([`HeatSetup::notes`]).
+    pub notes: Vec<String>,
 }
 
 impl ContactHeating {
@@ -80,7 +81,7 @@ impl ContactHeating {
             temperature,
             effective_rise,
             friction_power_w,
-            note: solver.note(),
+            notes: setup.notes(),
         })
     }
 
@@ -106,7 +107,7 @@ impl ContactHeating {
             "heat_total_w": self.heat_power_w,
             "friction_power_w": self.friction_power_w,
             "energy_balance": self.balance(),
-            "notes": self.note.into_iter().collect::<Vec<_>>(),
+            "notes": self.notes,
         })
     }
 }

@@ -142,6 +142,36 @@ fn heat_writes_the_map_the_figure_and_the_report() {
     let got = doc["background_rise_k"].as_f64().unwrap();
     assert!((got / want - 1.0).abs() < 1e-12, "{got} vs {want}");
     assert!((doc["contact_time_s"].as_f64().unwrap() / 0.2 - 1.0).abs() < 1e-15);
+    assert_eq!(doc["notes"], serde_json::json!([]));
+
+    // At 100 m/s one passage (1e-4 s) diffuses heat over sqrt(1e-11) m =
+    // 3.2 um, less than the 24 um period's depth 3.8 um: the rise is
+    // given, with a note on stderr and in the report.
+    let o = viscoslide(&[
+        "heat",
+        &flux_path,
+        "--cell-size",
+        "2e-6",
+        "--speed",
+        "100",
+        "--conductivity",
+        "0.25",
+        "--diffusivity",
+        "1e-7",
+        "--periodic",
+        "--block-length",
+        "0.01",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("note: the cell's longest period"));
+    let doc = json(&out.join("heat.json"));
+    let note = doc["notes"][0].as_str().unwrap();
+    assert!(
+        note.contains("take a smaller cell or a longer block"),
+        "{note}"
+    );
 }
 
 /// Each refusal: exit status 1, one line on stderr naming the problem,
