@@ -200,6 +200,11 @@ impl NativeResult {
             None if self.problem.formulation == Formulation::Periodic => SourceKind::Volume,
             None => SourceKind::Surface,
         };
+        if refined_layers && kind == SourceKind::Surface {
+            return Err(value_error(
+                "refined_layers refines the volume source's depth layers; the surface source has none: drop it or pass source=\"volume\" (periodic cells)",
+            ));
+        }
         let rule = if refined_layers {
             DepthRule::refined()
         } else {

@@ -159,6 +159,9 @@ def test_heat_of_the_answer_is_its_fixed_point(heated):
     # power (the work of the pressure, exact up to rounding).
     surface = heated.heat(0.25, 1e-7, block_length=0.05, source="surface")
     assert surface["source"] == "surface" and abs(surface["energy_balance"]) <= 1e-9
+    # The surface source has no depth layers to refine.
+    with pytest.raises(ValueError, match="surface source has none"):
+        heated.heat(0.25, 1e-7, block_length=0.05, source="surface", refined_layers=True)
 
 
 def test_heat_of_an_isothermal_pad_is_its_surface_work(pad, rubber):

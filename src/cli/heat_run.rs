@@ -134,6 +134,11 @@ pub(super) fn run(args: &HeatArgs, dir: &Path) -> Result<()> {
     } else {
         SourceKind::Surface
     });
+    if args.refined_layers && kind == SourceKind::Surface {
+        return Err(Error::Invalid(
+            "--refined-layers refines the volume source's depth layers; the surface source has none: drop it or give --source volume (periodic runs)".into(),
+        ));
+    }
     let rule = if args.refined_layers {
         DepthRule::refined()
     } else {

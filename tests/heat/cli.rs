@@ -338,6 +338,7 @@ fn heat_from_a_solved_run() {
     for (extra, word) in [
         (&["--block-length", "0.01"][..], "block-length"),
         (&["--source", "volume"][..], "periodic cells only"),
+        (&["--refined-layers"][..], "surface source has none"),
     ] {
         let o = heat(&pad, "refused", extra);
         let err = String::from_utf8_lossy(&o.stderr);
