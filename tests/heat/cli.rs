@@ -90,24 +90,33 @@ fn heat_writes_the_map_the_figure_and_the_report() {
 
     // A periodic cell without a block length says so; with one it reports
     // the background.
-    let o = viscoslide(&[
-        "heat",
-        &flux_path,
-        "--cell-size",
-        "2e-6",
-        "--speed",
-        "0.05",
-        "--conductivity",
-        "0.25",
-        "--diffusivity",
-        "1e-7",
-        "--periodic",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("block length"));
-    let doc = json(&out.join("heat.json"));
+    let out_dir = out.to_str().unwrap();
+    let periodic = |speed: &str, extra: &[&str]| {
+        let mut args = vec![
+            "heat",
+            &flux_path,
+            "--cell-size",
+            "2e-6",
+            "--speed",
+            speed,
+            "--conductivity",
+            "0.25",
+            "--diffusivity",
+            "1e-7",
+            "--periodic",
+            "--out",
+            out_dir,
+        ];
+        args.extend(extra);
+        let o = viscoslide(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        (
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+            json(&out.join("heat.json")),
+        )
+    };
+    let (stderr, doc) = periodic("0.05", &[]);
+    assert!(stderr.contains("block length"));
     assert_eq!(doc["formulation"], "periodic");
     assert!(doc["notes"][0]
         .as_str()
@@ -116,27 +125,8 @@ fn heat_writes_the_map_the_figure_and_the_report() {
     assert!(
         doc["mean_rise_k"].as_f64().unwrap().abs() < 1e-12 * doc["max_rise_k"].as_f64().unwrap()
     );
-    let o = viscoslide(&[
-        "heat",
-        &flux_path,
-        "--cell-size",
-        "2e-6",
-        "--speed",
-        "0.05",
-        "--conductivity",
-        "0.25",
-        "--diffusivity",
-        "1e-7",
-        "--periodic",
-        "--block-length",
-        "0.01",
-        "--direction-deg",
-        "90",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let doc = json(&out.join("heat.json"));
+    let block = ["--block-length", "0.01"];
+    let (_, doc) = periodic("0.05", &[&block[..], &["--direction-deg", "90"]].concat());
     let qbar = 6e6 / 84.0;
     let want = 4.0 / 3.0 * qbar * (1e-7 * 0.01 / 0.05 / std::f64::consts::PI).sqrt() / 0.25;
     let got = doc["background_rise_k"].as_f64().unwrap();
@@ -145,28 +135,13 @@ fn heat_writes_the_map_the_figure_and_the_report() {
     assert_eq!(doc["notes"], serde_json::json!([]));
 
     // At 100 m/s one passage (1e-4 s) diffuses heat over sqrt(1e-11) m =
-    // 3.2 um, less than the 24 um period's depth 3.8 um: the rise is
-    // given, with a note on stderr and in the report.
-    let o = viscoslide(&[
-        "heat",
-        &flux_path,
-        "--cell-size",
-        "2e-6",
-        "--speed",
-        "100",
-        "--conductivity",
-        "0.25",
-        "--diffusivity",
-        "1e-7",
-        "--periodic",
-        "--block-length",
-        "0.01",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("note: the cell's longest period"));
-    let doc = json(&out.join("heat.json"));
+    // 3.2 um, less than the 24 um period's depth 3.8 um over 0.3: the rise
+    // is given, with a note on stderr and in the report.
+    let (stderr, doc) = periodic("100", &block);
+    assert!(
+        stderr.contains("note: the cell's longest period"),
+        "{stderr}"
+    );
     let note = doc["notes"][0].as_str().unwrap();
     assert!(
         note.contains("take a smaller cell or a longer block"),
