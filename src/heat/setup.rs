@@ -102,14 +102,13 @@ impl HeatSetup {
     /// What the rise leaves out or may overstate, a sentence each:
     /// - a periodic cell without a block length: its mean has no steady
     ///   state, and the rise is given about it;
-    /// - a periodic cell whose longest period `L` reaches deeper, `L / (2
-    ///   pi)`, than 0.3 of the diffusion length
-    ///   `sqrt(kappa t_c)` of one passage (physics.md section 14): the
-    ///   background heating's formula needs the heat released well within
-    ///   that length, and the modes constant along the sliding direction,
-    ///   which no sliding refreshes, settle only after about `(L / 2
-    ///   pi)^2 / kappa`; within the passage their steady rise is not
-    ///   reached.
+    /// - a periodic cell whose longest period `L` (of either axis) reaches
+    ///   deeper, `L / (2 pi)`, than 0.3 of the diffusion length `sqrt(kappa
+    ///   t_c)` of one passage (physics.md section 14): the background
+    ///   heating's formula needs the heat released well within that
+    ///   length, and the modes constant along the sliding direction, which
+    ///   no sliding refreshes, settle only after about `(L / 2 pi)^2 /
+    ///   kappa`; within the passage their steady rise is not reached.
     pub fn notes(&self) -> Vec<String> {
         let HeatDomain::Periodic { block_length } = self.domain else {
             return Vec::new();
