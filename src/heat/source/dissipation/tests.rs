@@ -262,6 +262,25 @@ fn coarse_nodes_are_the_direct_density() {
     }
 }
 
+/// `plan`'s density on the separable path (along y: through
+/// `Dissipation::transposed`) equals the general path's at every point of
+/// every layer ([`assert_layers_close`]), on three layers of a cell of
+/// side `a = CELL` and period `period` along the sliding: one shallow
+/// full-grid node, two shallow nodes, and a full-grid node beside deep
+/// coarse ones.
+fn assert_separable_is_general(plan: &mut Dissipation, period: f64, what: &str) {
+    let a = CELL;
+    let nodes: Vec<Vec<(f64, f64)>> = vec![
+        vec![(0.01 * a, 1.0)],
+        vec![(0.3 * a, 0.5), (2.0 * a, 0.5)],
+        vec![(a, 0.4), (period, 0.3), (3.0 * period, 0.3)],
+    ];
+    let separable = plan.layer_densities(&nodes).unwrap();
+    plan.separable = false;
+    let general = plan.layer_densities(&nodes).unwrap();
+    assert_layers_close(&separable, &general, plan.nx * plan.ny, what);
+}
+
 /// Sliding along x, the separable path (`separable.rs`) gives the general
 /// path's density at every point of every layer: 1e-12 of the largest
 /// value (the same sums in another order: round-off). Even and odd sizes
@@ -276,15 +295,7 @@ fn separable_path_is_the_general_one() {
             let mut plan = rough_plan(&spectrum, nu, (nx, ny), 0.0);
             assert!(plan.along_x() && plan.separable);
             let lx = nx as f64 * a;
-            let nodes: Vec<Vec<(f64, f64)>> = vec![
-                vec![(0.01 * a, 1.0)],
-                vec![(0.3 * a, 0.5), (2.0 * a, 0.5)],
-                vec![(a, 0.4), (lx, 0.3), (3.0 * lx, 0.3)],
-            ];
-            let separable = plan.layer_densities(&nodes).unwrap();
-            plan.separable = false;
-            let general = plan.layer_densities(&nodes).unwrap();
-            assert_layers_close(&separable, &general, nx * ny, &format!("{nx}x{ny} nu {nu}"));
+            assert_separable_is_general(&mut plan, lx, &format!("{nx}x{ny} nu {nu}"));
         }
     }
 }
@@ -306,16 +317,7 @@ fn sliding_along_y_is_the_general_path() {
                 let mut plan = rough_plan(&spectrum, nu, (nx, ny), angle);
                 assert!(plan.along_y() && !plan.along_x() && plan.separable);
                 let ly = ny as f64 * 1.3 * a;
-                let nodes: Vec<Vec<(f64, f64)>> = vec![
-                    vec![(0.01 * a, 1.0)],
-                    vec![(0.3 * a, 0.5), (2.0 * a, 0.5)],
-                    vec![(a, 0.4), (ly, 0.3), (3.0 * ly, 0.3)],
-                ];
-                let swapped = plan.layer_densities(&nodes).unwrap();
-                plan.separable = false;
-                let general = plan.layer_densities(&nodes).unwrap();
-                let what = format!("{nx}x{ny} nu {nu} {angle}");
-                assert_layers_close(&swapped, &general, nx * ny, &what);
+                assert_separable_is_general(&mut plan, ly, &format!("{nx}x{ny} nu {nu} {angle}"));
             }
         }
     }
