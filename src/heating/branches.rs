@@ -14,8 +14,11 @@
 //! Each evaluation of `Theta` is a whole contact solve, so the search is
 //! frugal: `Theta(T0)` sets the scale of the rise, a geometric scan of
 //! rises `Theta(T0) r^i` (ratio `r`, default 3) up to `max_rise` finds the
-//! sign changes, and each is closed by the Illinois variant of regula falsi
-//! to `|g| <= tolerance`. Roots closer together than one scan step, or a
+//! sign changes, and each is closed to `|g| <= tolerance` by the Illinois
+//! variant of regula falsi, with quadratic (Muller) steps through the last
+//! three evaluations where they fall inside the bracket: near a fold `g`
+//! bends across the bracket and regula falsi alone converges from one
+//! side. Roots closer together than one scan step, or a
 //! tangent root (`g` touching zero without changing sign), can be missed;
 //! the report says how the bracket was scanned.
 
@@ -183,7 +186,7 @@ impl BranchSearch {
             if gb.abs() <= self.tolerance || ga.signum() == gb.signum() {
                 continue;
             }
-            let root = self.illinois(a, b, &mut |t| eval(t, &mut evaluations))?;
+            let root = self.close_bracket(a, b, &mut |t| eval(t, &mut evaluations))?;
             branches.push(root);
         }
         if let Some(last) = scan.last() {
@@ -220,7 +223,7 @@ impl BranchSearch {
             scanned: scan.len(),
             bracket: [t0, end],
             method: format!(
-                "rises Theta(T0) x {}^i scanned up to {} K, sign changes closed by Illinois regula falsi to |g| <= {} K",
+                "rises Theta(T0) x {}^i scanned up to {} K, sign changes closed by regula falsi (Illinois) with quadratic steps to |g| <= {} K",
                 self.scan_ratio, self.max_rise, self.tolerance
             ),
         })
@@ -238,8 +241,11 @@ impl BranchSearch {
     }
 
     /// The root between `a` and `b` (residuals of opposite signs): regula
-    /// falsi with the Illinois halving of the retained end's residual.
-    pub(super) fn illinois<E>(
+    /// falsi with the Illinois halving of the retained end's residual,
+    /// where a quadratic through the last three evaluations does not
+    /// offer a better step ([`quadratic_root`]: taken where it lies inside
+    /// the bracket, unless the last quadratic step did not halve `|g|`).
+    pub(super) fn close_bracket<E>(
         &self,
         a: Evaluation,
         b: Evaluation,
@@ -250,8 +256,19 @@ impl BranchSearch {
         let (mut x0, mut g0) = (a.temperature, a.residual(t0));
         let (mut x1, mut g1) = (b.temperature, b.residual(t0));
         let mut side = 0i8;
+        // The evaluations so far, newest last (true residuals).
+        let mut last: Vec<(f64, f64)> = vec![(x0, g0), (x1, g1)];
+        let mut halved = true;
         loop {
-            let x = (x0 * g1 - x1 * g0) / (g1 - g0);
+            let (lo, hi) = (x0.min(x1), x0.max(x1));
+            let quadratic = match last.as_slice() {
+                [.., p, q, r] if halved => {
+                    quadratic_root(*p, *q, *r).filter(|x| *x > lo && *x < hi)
+                }
+                _ => None,
+            };
+            let x = quadratic.unwrap_or((x0 * g1 - x1 * g0) / (g1 - g0));
+            let g_before = last[last.len() - 1].1.abs();
             let e = eval(x)?;
             let g = e.residual(t0);
             if g.abs() <= self.tolerance || (x1 - x0).abs() <= f64::EPSILON * x.abs().max(1.0) {
@@ -262,6 +279,8 @@ impl BranchSearch {
                     stable: falling,
                 });
             }
+            halved = quadratic.is_none() || g.abs() <= 0.5 * g_before;
+            last.push((x, g));
             if g.signum() == g1.signum() {
                 (x1, g1) = (x, g);
                 if side == -1 {
@@ -277,6 +296,24 @@ impl BranchSearch {
             }
         }
     }
+}
+
+/// The root nearest `r` of the quadratic through the points `(x, g)` `p`,
+/// `q` and `r` (Muller's step); `None` where the three do not fix a
+/// quadratic with a real root.
+fn quadratic_root(p: (f64, f64), q: (f64, f64), r: (f64, f64)) -> Option<f64> {
+    let (d_qr, d_pq) = (r.0 - q.0, q.0 - p.0);
+    let (s_qr, s_pq) = ((r.1 - q.1) / d_qr, (q.1 - p.1) / d_pq);
+    let a = (s_qr - s_pq) / (r.0 - p.0);
+    let b = s_qr + a * d_qr;
+    let disc = b * b - 4.0 * a * r.1;
+    if disc.is_nan() || disc < 0.0 {
+        return None;
+    }
+    let sq = disc.sqrt();
+    let den = if b >= 0.0 { b + sq } else { b - sq };
+    let x = r.0 - 2.0 * r.1 / den;
+    x.is_finite().then_some(x)
 }
 
 #[cfg(test)]
@@ -336,6 +373,75 @@ pub(super) mod tests {
             r.branches[0].rise < 5.0 && r.branches[2].rise > 70.0,
             "{r:?}"
         );
+    }
+
+    #[test]
+    fn the_quadratic_step_is_the_root_of_the_parabola_nearest_the_last_point() {
+        // g = 0.3 (x - 2) (x + 5): roots 2 and -5.
+        let g = |x: f64| 0.3 * (x - 2.0) * (x + 5.0);
+        let p = |x: f64| (x, g(x));
+        let r = quadratic_root(p(0.0), p(4.0), p(1.5)).unwrap();
+        assert!((r - 2.0).abs() < 1e-12, "{r}");
+        let r = quadratic_root(p(0.0), p(4.0), p(-4.0)).unwrap();
+        assert!((r + 5.0).abs() < 1e-12, "{r}");
+        // A straight line: the secant's root.
+        let r = quadratic_root((0.0, 2.0), (1.0, 1.0), (3.0, -1.0)).unwrap();
+        assert!((r - 2.0).abs() < 1e-12, "{r}");
+        // No real root.
+        assert!(quadratic_root((-1.0, 2.0), (0.0, 1.0), (1.0, 2.0)).is_none());
+    }
+
+    #[test]
+    fn a_curved_g_closes_in_fewer_steps_than_regula_falsi() {
+        // Near a fold (the shape of the paper experiment heated at 10
+        // m/s): g = 17 + Theta - T falls through zero near 66.47 C with a
+        // slope of about -0.3 and bends strongly across the bracket.
+        let theta = |t: f64| -11.0 + 76.0 / (1.0 + (-(t - 42.0) / 18.0).exp());
+        let s = BranchSearch {
+            tolerance: 1e-3,
+            ..search(17.0)
+        };
+        let at = |t: f64| Evaluation {
+            temperature: t,
+            rise: theta(t),
+        };
+        let (a, b) = (at(47.0), at(80.0));
+        let mut made = 0;
+        let root = s
+            .close_bracket::<()>(a, b, &mut |t| {
+                made += 1;
+                Ok(at(t))
+            })
+            .unwrap();
+        assert!(root.residual.abs() <= 1e-3 && root.stable, "{root:?}");
+        assert!((17.0 + theta(root.temperature) - root.temperature).abs() <= 1e-3);
+        // The same bracket by regula falsi with the Illinois halving
+        // alone, written out here.
+        let g = |t: f64| 17.0 + theta(t) - t;
+        let (mut x0, mut g0, mut x1, mut g1) = (a.temperature, g(47.0), b.temperature, g(80.0));
+        let (mut plain, mut side) = (0, 0i8);
+        loop {
+            let x = (x0 * g1 - x1 * g0) / (g1 - g0);
+            let gx = g(x);
+            plain += 1;
+            if gx.abs() <= 1e-3 {
+                break;
+            }
+            if gx.signum() == g1.signum() {
+                (x1, g1) = (x, gx);
+                if side == -1 {
+                    g0 /= 2.0;
+                }
+                side = -1;
+            } else {
+                (x0, g0) = (x, gx);
+                if side == 1 {
+                    g1 /= 2.0;
+                }
+                side = 1;
+            }
+        }
+        assert!(made < plain, "{made} steps against regula falsi's {plain}");
     }
 
     #[test]

@@ -7,16 +7,16 @@
 //! 8-13 solves where one or three roots lie. Here:
 //!
 //! 1. `Theta(T0)` on the full grid (the report's isothermal friction).
-//! 2. The same scan and Illinois closing on the coarse grid, its `Theta`
+//! 2. The same scan and closing on the coarse grid, its `Theta`
 //!    calibrated to the full grid's at `T0` (`Theta_c(T) Theta(T0) /
 //!    Theta_c(T0)`), so that the scanned temperatures are the ones the
 //!    full-grid scan would take.
 //! 3. Each coarse root closed on the full grid inside its window (from the
 //!    midpoint to the neighbouring roots, or the bracket's end): an
 //!    evaluation at the coarse root, then secant steps (the coarse `g`'s
-//!    slope for the first) until `|g| <= tolerance`, or Illinois regula
-//!    falsi once two full-grid evaluations in the window bracket the root
-//!    with the coarse root's orientation. Usually one or two solves a root.
+//!    slope for the first) until `|g| <= tolerance`, or the bracket's
+//!    closing of `branches.rs` once two full-grid evaluations in the
+//!    window bracket the root with the coarse root's orientation. Usually one or two solves a root.
 //! 4. The honesty rule. The full and coarse `Theta` differ by the
 //!    relative discrepancy `delta = max |Theta / Theta_c - 1|`, measured
 //!    at every temperature solved on both grids besides `T0` (the roots;
@@ -172,7 +172,7 @@ impl BranchSearch {
                     out.found.branches = branches;
                     out.found.scanned = c.scanned;
                     out.found.method = format!(
-                        "rises Theta(T0) x {}^i scanned up to {} K on the coarse grid (its Theta x {scale:.6} to meet the full grid's at T0) and closed there by Illinois regula falsi; each of its {} roots closed on the full grid by secant and Illinois steps to |g| <= {} K; the grids' Theta differ by {discrepancy:.3e} (relative) where both were solved, and every scanned temperature whose sign decides the number of roots has |g| above {DISCREPANCY_MARGIN} times that or was solved on the full grid",
+                        "rises Theta(T0) x {}^i scanned up to {} K on the coarse grid (its Theta x {scale:.6} to meet the full grid's at T0) and closed there by regula falsi (Illinois) with quadratic steps; each of its {} roots closed on the full grid by secant, regula falsi and quadratic steps to |g| <= {} K; the grids' Theta differ by {discrepancy:.3e} (relative) where both were solved, and every scanned temperature whose sign decides the number of roots has |g| above {DISCREPANCY_MARGIN} times that or was solved on the full grid",
                         self.scan_ratio,
                         self.max_rise,
                         out.found.branches.len(),
@@ -384,7 +384,7 @@ impl BranchSearch {
                 if n.residual(t0) * ge < 0.0 {
                     let (a, b) = if up { (e, n) } else { (n, e) };
                     let mut step = |t: f64| full.eval(t);
-                    let r = self.illinois(a, b, &mut step)?;
+                    let r = self.close_bracket(a, b, &mut step)?;
                     return Ok(if r.residual.abs() <= tol {
                         Closed::Root(r)
                     } else {
