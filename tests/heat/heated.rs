@@ -3,7 +3,8 @@
 //! against an independent isothermal solve at the reported temperature,
 //! the fixed point itself recomputed from that solve's own heat, the limit
 //! of a perfect conductor, a pad with the surface source, the refusals,
-//! and `viscoslide solve` with `[heating]`.
+//! `viscoslide solve` with `[heating]`, and the cold, unstable and hot
+//! roots of a glassy rubber sliding fast, each branch chosen.
 
 use std::process::Command;
 
@@ -26,7 +27,12 @@ fn load(text: &str, sets: &[&str]) -> (tempfile::TempDir, LoadedConfig) {
 
 fn heated(text: &str, sets: &[&str]) -> (Problem, HeatingParams, HeatedSolution) {
     let (_dir, cfg) = load(text, sets);
-    let problem = Problem::from_config(&cfg).unwrap();
+    heated_config(&cfg)
+}
+
+/// The heated solve of a loaded configuration on the CPU.
+fn heated_config(cfg: &LoadedConfig) -> (Problem, HeatingParams, HeatedSolution) {
+    let problem = Problem::from_config(cfg).unwrap();
     let ambient = cfg.config.loading.as_ref().and_then(|l| l.temperature);
     let params =
         HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, ambient)
@@ -380,4 +386,92 @@ fn the_coarse_scan_finds_the_full_grid_scans_answer() {
     // Each answer is its own full-grid solve at its T_eff.
     let g = c.ambient_temperature + c.temperature_rise.effective - c.effective_temperature;
     assert!(g.abs() <= params.tolerance, "{g:e}");
+}
+
+#[test]
+fn a_glassy_rubber_sliding_fast_has_a_cold_and_a_hot_branch() {
+    // `configs/hot_branch.toml` (the SBR-like rubber on the paper
+    // experiment's surface, 128^2, its scan on 64^2) at T0 = 0 C and
+    // 10 m/s with lam = 0.1 W/(m K): glassy at T0, its friction rises
+    // steeply as it warms, and g folds: a cold branch near 0.8 C, an
+    // unstable root near 40 C and a hot branch near 100 C (physics.md
+    // section 14; BENCHMARKS.md has the same fold at 1024^2).
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/hot_branch.toml");
+    let load = |branch: &str| {
+        let sets: Vec<String> = [
+            "loading.temperature=0.0",
+            "loading.speed=10.0",
+            "heating.conductivity=0.1",
+            "heating.max_rise=150.0",
+            branch,
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        config::load(&file, &sets).unwrap()
+    };
+    let (problem, params, cold) = heated_config(&load("heating.branch=\"cold\""));
+    let r = &cold.report;
+    let stable: Vec<bool> = r.branches.iter().map(|b| b.stable).collect();
+    assert_eq!(stable, [true, false, true], "{:?}", r.branches);
+    let temps: Vec<f64> = r.branches.iter().map(|b| b.temperature).collect();
+    assert!(
+        temps[0] < 5.0 && temps[1] > 20.0 && temps[1] < 70.0 && temps[2] > 70.0,
+        "{temps:?}"
+    );
+    for b in &r.branches {
+        assert!(b.residual.abs() <= params.tolerance, "{b:?}");
+    }
+    assert_eq!(r.effective_temperature, temps[0]);
+    assert!(
+        cold.solution
+            .warnings
+            .iter()
+            .any(|w| w.contains("3 self-consistent temperatures")),
+        "{:?}",
+        cold.solution.warnings
+    );
+
+    // The hot branch: the same roots, the answer at the hottest; the
+    // identity and the fixed point checked by an independent solve there.
+    let (_, _, hot) = heated_config(&load("heating.branch=\"hot\""));
+    let h = &hot.report;
+    assert_eq!(h.chosen_branch, "hot");
+    assert_eq!(h.branches.len(), 3, "{:?}", h.branches);
+    assert!(
+        (h.effective_temperature - temps[2]).abs() <= 2.0 * params.tolerance,
+        "{} vs {}",
+        h.effective_temperature,
+        temps[2]
+    );
+    let iso = isothermal_at(&problem, h.effective_temperature);
+    let d = (hot.solution.friction_coefficient / iso.friction_coefficient - 1.0).abs();
+    assert!(d <= 1e-9, "mu_heated vs mu(T_eff): {d:e}");
+    let mut at = problem.clone();
+    at.material = problem
+        .material
+        .at_temperature(h.effective_temperature)
+        .unwrap();
+    let heat = at
+        .contact_heating(
+            &iso,
+            params.conduction,
+            params.block_length,
+            SourceKind::Volume,
+            &DepthRule::default(),
+        )
+        .unwrap();
+    let g = h.ambient_temperature + heat.effective_rise - h.effective_temperature;
+    assert!(g.abs() <= 1.01 * params.tolerance, "g(T_hot) = {g:e}");
+    // Warming the glassy rubber brings it back towards its friction peak.
+    let (mu0, mu_cold, mu_hot) = (
+        r.isothermal_friction_coefficient,
+        cold.solution.friction_coefficient,
+        hot.solution.friction_coefficient,
+    );
+    eprintln!("mu: {mu0} at T0, {mu_cold} cold, {mu_hot} hot; roots {temps:?}");
+    assert!(
+        mu0 < mu_cold && mu_cold < mu_hot,
+        "{mu0} {mu_cold} {mu_hot}"
+    );
 }
