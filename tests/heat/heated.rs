@@ -59,10 +59,31 @@ fn the_heated_friction_is_the_isothermal_friction_at_the_effective_temperature()
         r.temperature_rise.effective > 1.0 && r.temperature_rise.effective < 50.0,
         "{r:?}"
     );
-    // The identity (issue #40's target 1e-9): an independent solve at the
-    // reported temperature, from no warm start, reaches the same answer to
-    // the solver's tolerance (1e-11 on the residual).
-    let iso = isothermal_at(&problem, r.effective_temperature);
+    assert_identity_and_fixed_point(&problem, &params, &h);
+    // Heating softens this rubber below its friction peak: less friction
+    // than at T0.
+    assert!(
+        h.solution.friction_coefficient < r.isothermal_friction_coefficient,
+        "{r:?}"
+    );
+    // Energy balance of the volume source with the default layers: 1e-3.
+    assert!(
+        (r.heat_total_w / r.friction_power_w - 1.0).abs() <= 1e-3,
+        "{r:?}"
+    );
+    // Every reported number finite.
+    let v = serde_json::to_value(r).unwrap();
+    assert_finite("heating", &v);
+}
+
+/// The identity (issue #40's target 1e-9): an independent solve at the
+/// reported temperature, from no warm start, reaches the heated answer to
+/// the solver's tolerance (1e-11 on the residual); and the fixed point:
+/// that solve's heat, computed by the problem's own heat route, puts `T0 +
+/// Theta(T_eff)` on `T_eff` to the search's tolerance.
+fn assert_identity_and_fixed_point(problem: &Problem, params: &HeatingParams, h: &HeatedSolution) {
+    let r = &h.report;
+    let iso = isothermal_at(problem, r.effective_temperature);
     let d = (h.solution.friction_coefficient / iso.friction_coefficient - 1.0).abs();
     assert!(
         d <= 1e-9,
@@ -70,9 +91,6 @@ fn the_heated_friction_is_the_isothermal_friction_at_the_effective_temperature()
         h.solution.friction_coefficient,
         iso.friction_coefficient
     );
-    // The fixed point: the heat of that independent solve, computed by the
-    // problem's own heat route, puts T0 + Theta(T_eff) on T_eff to the
-    // search's tolerance.
     let mut at = problem.clone();
     at.material = problem
         .material
@@ -89,20 +107,6 @@ fn the_heated_friction_is_the_isothermal_friction_at_the_effective_temperature()
         .unwrap();
     let g = r.ambient_temperature + heat.effective_rise - r.effective_temperature;
     assert!(g.abs() <= 1.01 * params.tolerance, "g(T_eff) = {g:e}");
-    // Heating softens this rubber below its friction peak: less friction
-    // than at T0.
-    assert!(
-        h.solution.friction_coefficient < r.isothermal_friction_coefficient,
-        "{r:?}"
-    );
-    // Energy balance of the volume source with the default layers: 1e-3.
-    assert!(
-        (r.heat_total_w / r.friction_power_w - 1.0).abs() <= 1e-3,
-        "{r:?}"
-    );
-    // Every reported number finite.
-    let v = serde_json::to_value(r).unwrap();
-    assert_finite("heating", &v);
 }
 
 fn assert_finite(path: &str, v: &serde_json::Value) {
@@ -444,25 +448,7 @@ fn a_glassy_rubber_sliding_fast_has_a_cold_and_a_hot_branch() {
         h.effective_temperature,
         temps[2]
     );
-    let iso = isothermal_at(&problem, h.effective_temperature);
-    let d = (hot.solution.friction_coefficient / iso.friction_coefficient - 1.0).abs();
-    assert!(d <= 1e-9, "mu_heated vs mu(T_eff): {d:e}");
-    let mut at = problem.clone();
-    at.material = problem
-        .material
-        .at_temperature(h.effective_temperature)
-        .unwrap();
-    let heat = at
-        .contact_heating(
-            &iso,
-            params.conduction,
-            params.block_length,
-            SourceKind::Volume,
-            &DepthRule::default(),
-        )
-        .unwrap();
-    let g = h.ambient_temperature + heat.effective_rise - h.effective_temperature;
-    assert!(g.abs() <= 1.01 * params.tolerance, "g(T_hot) = {g:e}");
+    assert_identity_and_fixed_point(&problem, &params, &hot);
     // Warming the glassy rubber brings it back towards its friction peak.
     let (mu0, mu_cold, mu_hot) = (
         r.isothermal_friction_coefficient,
