@@ -159,6 +159,20 @@ pub fn solve_heated(
         }
     };
 
+    // g(T0) = Theta(T0) > 0: where the hottest root found is unstable (g
+    // rising through zero), g is still positive at the bracket's end, and
+    // a hotter branch, if any, lies above it.
+    let above = found
+        .branches
+        .last()
+        .filter(|b| !b.stable)
+        .map(|b| b.temperature);
+    if let (Some(t), BranchChoice::Hot) = (above, params.branch) {
+        return Err(Error::Invalid(format!(
+            "[heating] branch = \"hot\": the hottest self-consistent temperature in [{}, {}] C, {t:.4} C, is unstable and the rise at the bracket's end exceeds max_rise, so the hot branch lies above {} C; raise [heating] max_rise (now {} K)",
+            found.bracket[0], found.bracket[1], found.bracket[1], params.max_rise
+        )));
+    }
     let stable: Vec<&Branch> = found.branches.iter().filter(|b| b.stable).collect();
     let chosen = match params.branch {
         BranchChoice::Cold => stable.first().copied(),
@@ -236,6 +250,12 @@ pub fn solve_heated(
             found.bracket[1],
             list.join(", "),
             params.branch.name()
+        ));
+    }
+    if let Some(t) = above {
+        warnings.push(format!(
+            "the hottest self-consistent temperature found, {t:.4} C, is unstable: the rise at the bracket's end exceeds max_rise, so a hotter branch (or runaway heating) lies above {} C; raise [heating] max_rise to find it",
+            found.bracket[1]
         ));
     }
     if let Some((_, d)) = &coarse_found {

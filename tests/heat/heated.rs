@@ -392,6 +392,21 @@ fn the_coarse_scan_finds_the_full_grid_scans_answer() {
     assert!(g.abs() <= params.tolerance, "{g:e}");
 }
 
+/// `configs/hot_branch.toml` at T0 = 0 C and 10 m/s with lam = 0.1
+/// W/(m K), the bracket `max_rise` K above T0, `branch` set (`heating.branch
+/// = ...`).
+fn glassy_and_fast(max_rise: f64, branch: &str) -> LoadedConfig {
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/hot_branch.toml");
+    let sets = [
+        "loading.temperature=0.0".to_string(),
+        "loading.speed=10.0".to_string(),
+        "heating.conductivity=0.1".to_string(),
+        format!("heating.max_rise={max_rise}"),
+        branch.to_string(),
+    ];
+    config::load(&file, &sets).unwrap()
+}
+
 #[test]
 fn a_glassy_rubber_sliding_fast_has_a_cold_and_a_hot_branch() {
     // `configs/hot_branch.toml` (the SBR-like rubber on the paper
@@ -400,20 +415,7 @@ fn a_glassy_rubber_sliding_fast_has_a_cold_and_a_hot_branch() {
     // steeply as it warms, and g folds: a cold branch near 0.8 C, an
     // unstable root near 40 C and a hot branch near 100 C (physics.md
     // section 14; BENCHMARKS.md has the same fold at 1024^2).
-    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/hot_branch.toml");
-    let load = |branch: &str| {
-        let sets: Vec<String> = [
-            "loading.temperature=0.0",
-            "loading.speed=10.0",
-            "heating.conductivity=0.1",
-            "heating.max_rise=150.0",
-            branch,
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-        config::load(&file, &sets).unwrap()
-    };
+    let load = |branch: &str| glassy_and_fast(150.0, branch);
     let (problem, params, cold) = heated_config(&load("heating.branch=\"cold\""));
     let r = &cold.report;
     let stable: Vec<bool> = r.branches.iter().map(|b| b.stable).collect();
@@ -459,5 +461,40 @@ fn a_glassy_rubber_sliding_fast_has_a_cold_and_a_hot_branch() {
     assert!(
         mu0 < mu_cold && mu_cold < mu_hot,
         "{mu0} {mu_cold} {mu_hot}"
+    );
+}
+
+#[test]
+fn a_hot_branch_above_the_bracket_is_warned_of_and_refused() {
+    // The case above with the bracket ending at 90 C, below its hot
+    // branch (99.8 C): the cold and unstable roots are found, g is still
+    // positive at the end. The cold answer says a hotter branch lies above;
+    // asking for the hot one is refused in one line, not answered with the
+    // cold one.
+    let (_, _, cold) = heated_config(&glassy_and_fast(90.0, "heating.branch=\"cold\""));
+    let stable: Vec<bool> = cold.report.branches.iter().map(|b| b.stable).collect();
+    assert_eq!(stable, [true, false], "{:?}", cold.report.branches);
+    assert!(
+        cold.solution
+            .warnings
+            .iter()
+            .any(|w| w.contains("hotter branch") && w.contains("max_rise")),
+        "{:?}",
+        cold.solution.warnings
+    );
+    let cfg = glassy_and_fast(90.0, "heating.branch=\"hot\"");
+    let problem = Problem::from_config(&cfg).unwrap();
+    let params =
+        HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(0.0))
+            .unwrap()
+            .expect("heating enabled");
+    let e = solve_heated(&problem, &params, &Executor::Cpu, &mut Silent)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("branch = \"hot\"")
+            && e.contains("raise [heating] max_rise")
+            && !e.contains('\n'),
+        "{e}"
     );
 }
