@@ -31,6 +31,19 @@ def test_a_bad_value_in_a_later_combination_solves_nothing(small, rubber, option
     assert seen == [], "points were solved before the refusal"
 
 
+@pytest.mark.filterwarnings("ignore:.*the finite pad's own")
+def test_a_point_whose_solve_fails_is_named(small, rubber):
+    # One matvec allowed at the later combination: its first point's solve
+    # fails (after the earlier points were solved), and the error names it.
+    seen = []
+    with pytest.raises(vs.ConvergenceError) as e:
+        vs.sweep(small, rubber, speed=[1e-2, 2e-2], normal_load=0.3, backend="cpu",
+                 vary={"solver.max_matvecs": [100000, 1]}, progress=seen.append)
+    assert len(seen) == 2
+    if hasattr(e.value, "add_note"):
+        assert e.value.__notes__ == ["in sweep point 3 of 4 (speed = 0.01, normal_load = 0.3, solver.max_matvecs = 1)"]
+
+
 def test_too_many_combinations_are_refused_at_once(small, rubber):
     vary = {"solver.tolerance": [1e-9 * (1 + k) for k in range(101)], "loading.direction_deg": [0.1 * k for k in range(100)]}
     with pytest.raises(ValueError, match="limit of 10000"):

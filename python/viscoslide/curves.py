@@ -118,6 +118,15 @@ def _set_by(sections: Tuple[str, str, Optional[str], Optional[str]], options: Ma
     return given
 
 
+def _point_note(k: int, count: int, point: Dict[str, Any], sliding_key: str, load_key: str) -> str:
+    """The sweep point a failed solve belongs to, by its settings."""
+    parts = [f"{sliding_key} = {v}" for v in point["speed"].values()]
+    if point.get("normal_load") is not None:
+        parts.append(f"{load_key} = {point['normal_load']}")
+    parts += [f"{key} = {value}" for key, value in point.get("vary", {}).items()]
+    return f"in sweep point {k + 1} of {count} ({', '.join(parts)})"
+
+
 def sweep(
     surface: Any,
     material: Material,
@@ -207,7 +216,13 @@ def sweep(
     rows: Dict[str, list] = {c: [] for c in (*numeric, *keys)}
     with _progress.points(progress, len(points)) as callback:
         for k, point in enumerate(points):
-            s = _warned(Result(plan.solve(k, args[6]))).summary
+            try:
+                solved = plan.solve(k, args[6])
+            except Exception as e:
+                if hasattr(e, "add_note"):  # Python 3.11 and later
+                    e.add_note(_point_note(k, len(points), point, sliding_key, load_key))
+                raise
+            s = _warned(Result(solved)).summary
             row = {c: s.get(c) for c in COLUMNS}
             row["normal_load"] = s["normal_load"]
             if heated:

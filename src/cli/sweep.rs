@@ -7,7 +7,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::backend::BackendChoice;
 use crate::error::{Error, Result};
-use crate::sweep::{self, Shard, SweepObserver};
+use crate::sweep::{self, Point, Shard, SweepObserver};
 
 /// A sweep's progress on the terminal: the executor's line, a bar over the
 /// points this run solves, warnings and notes on stderr.
@@ -55,6 +55,16 @@ impl SweepObserver for SweepBar {
 
     fn warning(&mut self, id: &str, message: &str) {
         self.say(format!("warning: point {id}: {message}"));
+    }
+
+    fn point_failed(&mut self, point: &Point) {
+        if let Some(bar) = self.bar.take() {
+            bar.abandon();
+        }
+        self.say(format!(
+            "note: point {} failed (its error follows); the points written before it are kept",
+            point.describe()
+        ));
     }
 
     fn note(&mut self, message: &str) {

@@ -51,6 +51,9 @@ pub trait SweepObserver {
     fn point_finished(&mut self, _done: usize, _count: usize, _id: &str) {}
     /// A warning of point `id`'s solve (it is also in the point's file).
     fn warning(&mut self, _id: &str, _message: &str) {}
+    /// A point's solve failed: its error ends the run next, the points
+    /// written before it stay (a run of the same command resumes).
+    fn point_failed(&mut self, _point: &Point) {}
     /// A note on a merge: points left out, where Persson's curves come from.
     fn note(&mut self, _message: &str) {}
 }
@@ -159,7 +162,8 @@ pub fn run_and_merge(
     let mut solved = 0;
     for point in todo.into_iter().take(count) {
         observer.point_started(solved, count, &point.id);
-        let value = solve_point(cfg, point, &executor)?;
+        let value =
+            solve_point(cfg, point, &executor).inspect_err(|_| observer.point_failed(point))?;
         for w in value["warnings"].as_array().into_iter().flatten() {
             observer.warning(&point.id, w.as_str().unwrap_or(""));
         }

@@ -26,6 +26,26 @@ pub struct Point {
     pub vary: BTreeMap<String, toml::Value>,
 }
 
+impl Point {
+    /// The point as its settings name it, for a message: its file stem,
+    /// then its speed (or `xi`), load, seed and `[sweep.vary]` values,
+    /// e.g. `p0003 (v = 0.05 m/s, heating.max_rise = 1e-12)`.
+    pub fn describe(&self) -> String {
+        let mut parts = vec![match self.speed {
+            Sliding::Speed(v) => format!("v = {v} m/s"),
+            Sliding::Xi(x) => format!("xi = {x}"),
+        }];
+        if let Some(f) = self.normal_load {
+            parts.push(format!("F_N = {f} N"));
+        }
+        if let Some(seed) = self.seed {
+            parts.push(format!("seed {seed}"));
+        }
+        parts.extend(self.vary.iter().map(|(k, v)| format!("{k} = {v}")));
+        format!("{} ({})", self.id, parts.join(", "))
+    }
+}
+
 /// All points of a sweep, in plan order (the `[sweep.vary]` values, then
 /// load, then speed, then seed; without `vary` the order and indices are
 /// those of speed, load and seed alone).

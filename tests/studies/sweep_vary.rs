@@ -280,3 +280,29 @@ fn a_vary_sweep_resumes_and_shards() {
     );
     assert_eq!(p["temperature"], serde_json::json!(10.0));
 }
+
+/// A point whose solve fails (one matvec allowed) ends the run with its
+/// error, named by its settings on the line before; the points solved
+/// before it are written and read back whole.
+#[test]
+fn a_point_that_fails_is_named_and_the_points_before_it_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), "\"solver.max_matvecs\" = [100000, 1]");
+    let out = dir.path().join("out");
+    let (ok, _, err) = viscoslide(&["sweep", &cfg, "--out", out.to_str().unwrap()]);
+    assert!(!ok, "{err}");
+    let lines: Vec<&str> = err.trim().lines().collect();
+    let error = lines.last().unwrap();
+    assert!(error.starts_with("error: "), "{err}");
+    let note = lines[lines.len() - 2];
+    assert!(
+        note.starts_with("note: point p0003 (v = 0.05 m/s, solver.max_matvecs = 1) failed"),
+        "{err}"
+    );
+    for id in ["p0000", "p0001", "p0002"] {
+        let text = std::fs::read_to_string(out.join("points").join(format!("{id}.json"))).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert!(v["friction_coefficient"].as_f64().unwrap() > 0.0, "{id}");
+    }
+    assert!(!out.join("points").join("p0003.json").exists());
+}
