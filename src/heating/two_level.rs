@@ -16,7 +16,8 @@
 //!    evaluation at the coarse root, then secant steps (the coarse `g`'s
 //!    slope for the first) until `|g| <= tolerance`, or the bracket's
 //!    closing of `branches.rs` once two full-grid evaluations in the
-//!    window bracket the root with the coarse root's orientation. Usually one or two solves a root.
+//!    window bracket the root with the coarse root's orientation. Usually
+//!    one or two solves a root.
 //! 4. The honesty rule. The full and coarse `Theta` differ by the
 //!    relative discrepancy `delta = max |Theta / Theta_c - 1|`, measured
 //!    at every temperature solved on both grids besides `T0` (the roots;
