@@ -91,6 +91,7 @@ impl NativeMaterial {
                 material = material.with_wlf(w, t).map_err(value_error)?;
                 if t.is_none_or(|t| t == w.reference_temperature) {
                     section.wlf = Some([w.c1, w.c2, w.reference_temperature]);
+                    section.wlf_range = w.data_range;
                 }
             }
         }
@@ -103,6 +104,16 @@ impl NativeMaterial {
         self.material
             .wlf
             .map(|w| (w.c1, w.c2, w.reference_temperature))
+    }
+
+    /// The lowest and highest temperature \[C\] of the data its WLF
+    /// constants were fitted to, if recorded.
+    #[getter]
+    fn wlf_range(&self) -> Option<(f64, f64)> {
+        self.material
+            .wlf
+            .and_then(|w| w.data_range)
+            .map(|[lo, hi]| (lo, hi))
     }
 
     /// Fit a creep spectrum to DMA data (as `viscoslide material fit`):
@@ -151,6 +162,14 @@ impl NativeMaterial {
             .map(|(c1, c2, t)| Wlf::new(c1, c2, t))
             .transpose()
             .map_err(|e| value_error(format!("wlf: {e}")))?;
+        // Data at several temperatures: the constants' fitted range.
+        let wlf = match (wlf, data.temperature_span()) {
+            (Some(w), Some(span)) => Some(
+                w.with_data_range(span)
+                    .map_err(|e| value_error(format!("temperatures: {e}")))?,
+            ),
+            (w, _) => w,
+        };
         let (points, at) = data
             .reduced(wlf.as_ref(), temperature)
             .map_err(value_error)?;
@@ -184,6 +203,7 @@ impl NativeMaterial {
         let mut section = creep_section(&material);
         if let Some(w) = wlf.filter(|w| at.is_none_or(|t| t == w.reference_temperature)) {
             section.wlf = Some([w.c1, w.c2, w.reference_temperature]);
+            section.wlf_range = w.data_range;
         }
         Ok((Self { material, section }, info))
     }
@@ -253,5 +273,6 @@ fn creep_section(m: &Material) -> MaterialConfig {
         poisson: Some(m.poisson),
         file: None,
         wlf: None,
+        wlf_range: None,
     }
 }

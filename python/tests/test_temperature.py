@@ -108,6 +108,39 @@ def test_material_toml_fitted_with_wlf_carries_its_constants(repo):
     assert not math.isnan(shift(7.0))
 
 
+def test_a_temperature_beyond_the_wlf_data_is_warned_of(small, repo):
+    # The constants said to be fitted from 0 to 40 C: at 45 C the solve is
+    # answered with the Rust warning; inside, nothing warns.
+    fitted = vs.Material.sls(relaxed_modulus=1e7 / 3, glassy_modulus=1e7, creep_time=0.01,
+                             wlf=WLF, wlf_range=(0.0, 40.0))
+    assert fitted.wlf_range == (0.0, 40.0)
+    assert fitted.section["wlf_range"] == [0.0, 40.0]
+
+    def data_warnings(t):
+        r = vs.solve(small, fitted, speed=0.05, mean_pressure=3000.0, temperature=t,
+                     formulation="periodic", backend="cpu")
+        assert r.summary["wlf_range"] == [0.0, 40.0]
+        return [w for w in r.summary["warnings"] if "DMA data" in w]
+
+    assert data_warnings(20.0) == []
+    above = data_warnings(45.0)
+    assert len(above) == 1 and "45.0000 C lies 5.000 K above the DMA data (0 to 40 C)" in above[0], above
+    # The shipped file records its data's range; a fit on several
+    # temperatures records theirs.
+    assert vs.Material.from_toml(repo / "configs" / "data" / "sbr_like_material.toml").wlf_range == (-20.0, 100.0)
+    freq = np.array([1.0, 10.0, 100.0] * 2)
+    e1 = 2e6 * (1.0 + 0.05 * np.log10(freq))
+    m = vs.Material.fit_dma(freq, e1, 0.1 * e1, wlf=WLF, temperatures=[5.0] * 3 + [30.0] * 3, terms=8)
+    assert m.wlf_range == (5.0, 30.0)
+    assert vs.Material.sls(relaxed_modulus=1e6, glassy_modulus=1e7, creep_time=0.01, wlf=WLF).wlf_range is None
+    for bad, needle in [((40.0, 0.0), "lowest first"), ((0.0,), "two numbers")]:
+        with pytest.raises(ValueError) as e:
+            vs.Material.sls(relaxed_modulus=1e6, glassy_modulus=1e7, creep_time=0.01, wlf=WLF, wlf_range=bad)
+        assert needle in str(e.value) and "\n" not in str(e.value), str(e.value)
+    with pytest.raises(ValueError, match="give the constants too"):
+        vs.Material.sls(relaxed_modulus=1e6, glassy_modulus=1e7, creep_time=0.01, wlf_range=(0.0, 40.0))
+
+
 def _numbers(value, path=""):
     """Every number of a nested summary with its path; nulls as None."""
     if isinstance(value, dict):

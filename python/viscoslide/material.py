@@ -43,6 +43,7 @@ class Material:
         relaxation_time: Optional[float] = None,
         poisson: float = 0.5,
         wlf: Optional[Tuple[float, float, float]] = None,
+        wlf_range: Optional[Tuple[float, float]] = None,
     ) -> "Material":
         """A standard linear solid (one creep time; the paper's material).
 
@@ -63,6 +64,10 @@ class Material:
             WLF constants (C2 in K, T_ref in C; ``[material] wlf``) that
             let a solve ask for another ``temperature``; the spectrum is
             the one at ``T_ref``.
+        wlf_range : (lowest, highest), optional
+            Temperatures [C] of the data the WLF constants were fitted to
+            (``[material] wlf_range``): a solve beyond them warns that its
+            shift is extrapolated.
         """
         return cls._from_section(
             {
@@ -73,6 +78,7 @@ class Material:
                 "relaxation_time": _checks.optional("relaxation_time", relaxation_time),
                 "poisson": _checks.number("poisson", poisson),
                 "wlf": _wlf(wlf),
+                "wlf_range": _wlf_range(wlf_range),
             }
         )
 
@@ -85,6 +91,7 @@ class Material:
         glassy_modulus: float,
         poisson: float = 0.5,
         wlf: Optional[Tuple[float, float, float]] = None,
+        wlf_range: Optional[Tuple[float, float]] = None,
     ) -> "Material":
         """A creep spectrum ``J(t) = 1/E_inf + sum_k C_k (1 - exp(-t/tau_k))``.
 
@@ -98,8 +105,9 @@ class Material:
             ``E_inf`` [Pa].
         poisson : float
             Poisson ratio (default 0.5).
-        wlf : (C1, C2, T_ref), optional
-            WLF constants, as for :meth:`sls`.
+        wlf, wlf_range : optional
+            WLF constants and the temperatures of their data, as for
+            :meth:`sls`.
         """
         t = _checks.real_array("times", times, 1)
         w = _checks.real_array("weights", weights, 1)
@@ -112,6 +120,7 @@ class Material:
                 "creep_spectrum": [[float(c), float(tau)] for c, tau in zip(w, t)],
                 "poisson": _checks.number("poisson", poisson),
                 "wlf": _wlf(wlf),
+                "wlf_range": _wlf_range(wlf_range),
             }
         )
 
@@ -124,6 +133,7 @@ class Material:
         relaxed_modulus: float,
         poisson: float = 0.5,
         wlf: Optional[Tuple[float, float, float]] = None,
+        wlf_range: Optional[Tuple[float, float]] = None,
     ) -> "Material":
         """A generalized Maxwell (Prony) series
         ``E(t) = E0 + sum_j E_j exp(-t/theta_j)``, converted exactly to a
@@ -139,8 +149,9 @@ class Material:
             ``E0`` [Pa].
         poisson : float
             Poisson ratio (default 0.5).
-        wlf : (C1, C2, T_ref), optional
-            WLF constants, as for :meth:`sls`.
+        wlf, wlf_range : optional
+            WLF constants and the temperatures of their data, as for
+            :meth:`sls`.
         """
         e = _checks.real_array("moduli", moduli, 1)
         t = _checks.real_array("times", times, 1)
@@ -153,6 +164,7 @@ class Material:
                 "prony": [[float(m), float(theta)] for m, theta in zip(e, t)],
                 "poisson": _checks.number("poisson", poisson),
                 "wlf": _wlf(wlf),
+                "wlf_range": _wlf_range(wlf_range),
             }
         )
 
@@ -203,7 +215,9 @@ class Material:
             Poisson ratio (default 0.5).
 
         The fit's quality (relative rms and maximum errors of E1 and E2) is
-        in the returned material's ``fit_info``.
+        in the returned material's ``fit_info``. With ``wlf`` and data at
+        several ``temperatures``, their lowest and highest are the
+        material's :attr:`wlf_range`: solves beyond them warn.
         """
         f = _checks.real_array("frequency", frequency, 1)
         omega = f if _checks.flag("angular", angular) else 2.0 * math.pi * f
@@ -246,6 +260,12 @@ class Material:
         return self._native.wlf
 
     @property
+    def wlf_range(self) -> Optional[Tuple[float, float]]:
+        """Lowest and highest temperature [C] of the data the WLF constants
+        were fitted to, or ``None`` where not recorded."""
+        return self._native.wlf_range
+
+    @property
     def poisson(self) -> float:
         """Poisson ratio."""
         return self._native.poisson
@@ -278,3 +298,12 @@ def _wlf(wlf: Any) -> Optional[list]:
     if len(w) != 3:
         raise ValueError(f"wlf must be (C1, C2, T_ref), got {wlf!r}")
     return w
+
+
+def _wlf_range(wlf_range: Any) -> Optional[list]:
+    """``(lowest, highest)`` checked as two numbers, or ``None``."""
+    if wlf_range is None:
+        return None
+    if not isinstance(wlf_range, (tuple, list, np.ndarray)) or len(wlf_range) != 2:
+        raise ValueError(f"wlf_range must be (lowest, highest) in C, two numbers, got {wlf_range!r}")
+    return [_checks.number(f"wlf_range[{i}]", v) for i, v in enumerate(wlf_range)]

@@ -138,6 +138,20 @@ fn describe(
             }
         }
         let _ = writeln!(out, "  a_T at{shifts}");
+        match w.data_range {
+            Some([lo, hi]) => {
+                let _ = writeln!(
+                    out,
+                    "  fitted to data from {lo} to {hi} C: beyond them a_T is extrapolated (solves there warn)"
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    out,
+                    "  the data's temperatures are not recorded: nothing warns of an extrapolated a_T ([material] wlf_range = [lowest, highest] records them)"
+                );
+            }
+        }
     }
     let tmin = s.terms.iter().map(|t| t.time).fold(f64::INFINITY, f64::min);
     let tmax = s.terms.iter().map(|t| t.time).fold(0.0, f64::max);
@@ -238,6 +252,7 @@ fn fit(args: &FitArgs) -> Result<()> {
         wlf_c1: wlf.map(|w| w.c1),
         wlf_c2: wlf.map(|w| w.c2),
         wlf_reference_temperature: wlf.map(|w| w.reference_temperature),
+        wlf_range: wlf.and(data.temperature_span()),
         temperature,
         weighting: "relative per component: (E1_fit - E1)/E1 and (E2_fit - E2)/E2".into(),
         rms_relative_error_e1: info.rms_relative_storage,

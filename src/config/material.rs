@@ -48,35 +48,51 @@ pub struct MaterialConfig {
     #[serde(
         default,
         skip_serializing_if = "Option::is_none",
-        deserialize_with = "three_numbers"
+        deserialize_with = "exactly::<3, _>"
     )]
     pub wlf: Option<[f64; 3]>,
+    /// The lowest and highest temperature \[C\] of the data the WLF
+    /// constants were fitted to (for `file`, replaces the `[fit]` table's
+    /// `wlf_range`): a solve at a temperature beyond them warns that its
+    /// shift is extrapolated. Needs WLF constants.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "exactly::<2, _>"
+    )]
+    pub wlf_range: Option<[f64; 2]>,
 }
 
-/// `wlf`: exactly three numbers. Serde's fixed-size arrays stop reading
-/// after their length, so `[C1, C2, T_ref, x]` would pass with `x` dropped.
-fn three_numbers<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 3]>, D::Error> {
-    struct Three([f64; 3]);
-    struct Visitor;
-    impl<'de> serde::de::Visitor<'de> for Visitor {
-        type Value = Three;
+/// `wlf` and `wlf_range`: exactly `N` numbers. Serde's fixed-size arrays
+/// stop reading after their length, so `[C1, C2, T_ref, x]` would pass
+/// with `x` dropped.
+fn exactly<'de, const N: usize, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Option<[f64; N]>, D::Error> {
+    struct Numbers<const N: usize>([f64; N]);
+    struct Visitor<const N: usize>;
+    impl<'de, const N: usize> serde::de::Visitor<'de> for Visitor<N> {
+        type Value = Numbers<N>;
         fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-            f.write_str("an array of length 3")
+            write!(f, "an array of length {N}")
         }
-        fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Three, A::Error> {
-            let mut v = Vec::with_capacity(3);
+        fn visit_seq<A: serde::de::SeqAccess<'de>>(
+            self,
+            mut seq: A,
+        ) -> Result<Numbers<N>, A::Error> {
+            let mut v = Vec::with_capacity(N);
             while let Some(x) = seq.next_element::<f64>()? {
                 v.push(x);
             }
-            <[f64; 3]>::try_from(v.as_slice())
-                .map(Three)
+            <[f64; N]>::try_from(v.as_slice())
+                .map(Numbers)
                 .map_err(|_| serde::de::Error::invalid_length(v.len(), &self))
         }
     }
-    impl<'de> Deserialize<'de> for Three {
+    impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
         fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-            d.deserialize_seq(Visitor)
+            d.deserialize_seq(Visitor::<N>)
         }
     }
-    Ok(Option::<Three>::deserialize(d)?.map(|t| t.0))
+    Ok(Option::<Numbers<N>>::deserialize(d)?.map(|t| t.0))
 }

@@ -252,6 +252,21 @@ pub fn solve_heated(
             params.branch.name()
         ));
     }
+    // The answer's own temperature is the solve's, which warns of it.
+    if let Some(wlf) = problem.material.wlf {
+        let beyond: Vec<String> = found
+            .branches
+            .iter()
+            .filter(|b| b.temperature != chosen.temperature)
+            .filter_map(|b| wlf.extrapolation(b.temperature))
+            .collect();
+        if !beyond.is_empty() {
+            warnings.push(format!(
+                "another self-consistent temperature rests on an extrapolated WLF shift: {}",
+                beyond.join("; ")
+            ));
+        }
+    }
     if let Some(t) = above {
         warnings.push(format!(
             "the hottest self-consistent temperature found, {t:.4} C, is unstable: the rise at the bracket's end exceeds max_rise, so a hotter branch (or runaway heating) lies above {} C; raise [heating] max_rise to find it",

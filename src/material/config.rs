@@ -8,7 +8,7 @@ use super::{CreepSpectrum, CreepTerm, Material, MaterialError, PronySeries, Pron
 use crate::config::{MaterialConfig, MaterialModel};
 
 /// Each key of `[material]` with the unit its error messages quote.
-const KEYS: [(&str, &str); 9] = [
+const KEYS: [(&str, &str); 10] = [
     ("relaxed_modulus", "E0 in Pa"),
     ("glassy_modulus", "E_inf in Pa"),
     ("creep_time", "s"),
@@ -18,6 +18,10 @@ const KEYS: [(&str, &str); 9] = [
     ("file", "path of a material.toml, relative to the config"),
     ("poisson", "dimensionless, in (-1, 0.5]"),
     ("wlf", "[C1, C2 in K, T_ref in C]"),
+    (
+        "wlf_range",
+        "[lowest, highest] temperature of the WLF fit's data, in C",
+    ),
 ];
 
 fn unit(key: &str) -> &'static str {
@@ -45,7 +49,9 @@ impl MaterialConfig {
     ///
     /// `wlf = [C1, C2, T_ref]` (any model) gives the WLF constants of a
     /// `[loading] temperature` (physics.md section 12); a `file` fitted
-    /// with `--wlf` carries its own.
+    /// with `--wlf` carries its own. `wlf_range = [lowest, highest]`
+    /// records the temperatures of the data they were fitted to
+    /// ([`Wlf::data_range`]; for `file`, the file's `[fit]` records its own).
     ///
     /// `poisson` defaults to 0.5. A key the model does not use is an error
     /// (it would be silently ignored otherwise), as is any non-finite or
@@ -68,7 +74,7 @@ impl MaterialConfig {
             MaterialModel::File => &["file"],
         };
         for key in self.present_keys() {
-            if key != "poisson" && key != "wlf" && !allowed.contains(&key) {
+            if !["poisson", "wlf", "wlf_range"].contains(&key) && !allowed.contains(&key) {
                 return Err(MaterialError::Invalid(format!(
                     "[material] model = \"{model}\" does not use `{key}` ({}); remove it (this model takes {})",
                     unit(key),
@@ -196,22 +202,41 @@ impl MaterialConfig {
                 })?;
                 let path = base_dir.join(rel);
                 let material = load_material_file(&path, self.poisson.map(|_| nu))?;
-                return match wlf {
+                let material = match wlf {
                     Some(w) => {
                         let t = material.temperature;
                         material
                             .with_wlf(w, t)
-                            .map_err(|e| invalid("wlf", e.to_string()))
+                            .map_err(|e| invalid("wlf", e.to_string()))?
                     }
-                    None => Ok(material),
+                    None => material,
                 };
+                return self.with_wlf_range(material);
             }
         };
         let material = Material::new(spectrum, nu)?;
-        match wlf {
-            Some(w) => material.with_wlf(w, None),
-            None => Ok(material),
-        }
+        let material = match wlf {
+            Some(w) => material.with_wlf(w, None)?,
+            None => material,
+        };
+        self.with_wlf_range(material)
+    }
+
+    /// `material` with this table's `wlf_range` on its WLF constants (the
+    /// table's own, or a file's), when one is given.
+    fn with_wlf_range(&self, mut material: Material) -> Result<Material, MaterialError> {
+        let Some(range) = self.wlf_range else {
+            return Ok(material);
+        };
+        let wlf = material.wlf.ok_or_else(|| {
+            MaterialError::Invalid(
+                "[material] wlf_range is the temperature range of the data WLF constants were fitted to: give the constants too (wlf = [C1, C2 (K), T_ref (C)], or a file fitted with `material fit --wlf`)".into(),
+            )
+        })?;
+        material.wlf = Some(wlf.with_data_range(range).map_err(|e| {
+            MaterialError::Invalid(format!("[material] wlf_range ({}): {e}", unit("wlf_range")))
+        })?);
+        Ok(material)
     }
 
     /// Names of the keys this table sets (besides `model`).
@@ -231,6 +256,7 @@ impl MaterialConfig {
         add(self.file.is_some(), "file");
         add(self.poisson.is_some(), "poisson");
         add(self.wlf.is_some(), "wlf");
+        add(self.wlf_range.is_some(), "wlf_range");
         k
     }
 

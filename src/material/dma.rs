@@ -43,6 +43,12 @@ pub struct Wlf {
     pub c2: f64,
     /// Reference temperature `T_ref` \[C\].
     pub reference_temperature: f64,
+    /// The lowest and highest temperature \[C\] of the DMA data the
+    /// constants shifted onto one master curve, when recorded
+    /// (`material fit --wlf` on data at several temperatures, or
+    /// `[material] wlf_range`): beyond them the shift is an extrapolation
+    /// of the form, however well it fits inside ([`Wlf::extrapolation`]).
+    pub data_range: Option<[f64; 2]>,
 }
 
 impl Wlf {
@@ -65,7 +71,43 @@ impl Wlf {
             c1,
             c2,
             reference_temperature,
+            data_range: None,
         })
+    }
+
+    /// The same constants with the temperatures of the data they were
+    /// fitted to, `[lowest, highest]` \[C\]: both finite, in order, and
+    /// inside the validity range ([`Wlf::log10_shift`]).
+    pub fn with_data_range(mut self, range: [f64; 2]) -> Result<Self, MaterialError> {
+        let [lo, hi] = range;
+        if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+            return Err(MaterialError::Invalid(format!(
+                "WLF data range [{lo}, {hi}] C must be two finite temperatures, the lowest first"
+            )));
+        }
+        for t in range {
+            self.log10_shift(t)
+                .map_err(|e| MaterialError::Invalid(format!("WLF data range: {e}")))?;
+        }
+        self.data_range = Some(range);
+        Ok(self)
+    }
+
+    /// Where temperature `t` \[C\] lies beyond the recorded data range
+    /// ([`Wlf::data_range`]), a phrase saying by how much and that the
+    /// shift there is extrapolated; `None` inside it or without a record.
+    pub fn extrapolation(&self, t: f64) -> Option<String> {
+        let [lo, hi] = self.data_range?;
+        let (side, by) = if t > hi {
+            ("above", t - hi)
+        } else if t < lo {
+            ("below", lo - t)
+        } else {
+            return None;
+        };
+        Some(format!(
+            "{t:.4} C lies {by:.3} K {side} the DMA data ({lo} to {hi} C) that the WLF constants were fitted to, so its shift factor a_T, and with it every modulus, is extrapolated"
+        ))
     }
 
     /// The lowest temperature of the validity range \[C\]:
@@ -295,6 +337,16 @@ impl DmaData {
         t.sort_by(f64::total_cmp);
         t.dedup();
         t
+    }
+
+    /// The lowest and highest test temperature \[C\] when the data span
+    /// several: the range WLF constants that shift them onto one master
+    /// curve were fitted over ([`Wlf::with_data_range`]).
+    pub fn temperature_span(&self) -> Option<[f64; 2]> {
+        match self.temperatures().as_slice() {
+            [lo, .., hi] => Some([*lo, *hi]),
+            _ => None,
+        }
     }
 
     /// The data as a master curve at temperature `target` \[C\]:

@@ -29,6 +29,10 @@ pub struct FitRecord {
     pub wlf_c1: Option<f64>,
     pub wlf_c2: Option<f64>,
     pub wlf_reference_temperature: Option<f64>,
+    /// The lowest and highest temperature \[C\] of the data the WLF
+    /// constants shifted (data at several temperatures only): beyond them
+    /// a solve's shift is extrapolated ([`Wlf::data_range`]).
+    pub wlf_range: Option<[f64; 2]>,
     /// Temperature the material describes \[C\], if known.
     pub temperature: Option<f64>,
     /// How residuals were weighted.
@@ -84,6 +88,7 @@ pub fn material_toml(
         poisson: Some(material.poisson),
         file: None,
         wlf: None,
+        wlf_range: None,
     };
     let doc = MaterialFileOut {
         material: config,
@@ -146,7 +151,8 @@ pub fn load_material_file(path: &Path, poisson: Option<f64>) -> Result<Material,
 }
 
 /// The WLF constants a `[fit]` table records (`wlf_c1`, `wlf_c2`,
-/// `wlf_reference_temperature`, written by `material fit --wlf`) and the
+/// `wlf_reference_temperature`, written by `material fit --wlf`, with the
+/// data's temperatures `wlf_range` when there were several) and the
 /// temperature the fitted spectrum describes (`temperature`), when all
 /// three constants are there. Other keys of `[fit]` are not interpreted.
 pub fn fit_wlf(fit: Option<&toml::Value>) -> Result<Option<(Wlf, Option<f64>)>, String> {
@@ -173,7 +179,21 @@ pub fn fit_wlf(fit: Option<&toml::Value>) -> Result<Option<(Wlf, Option<f64>)>, 
             )
         }
     };
-    let wlf = Wlf::new(c1, c2, t_ref).map_err(|e| format!("[fit] wlf_c1, wlf_c2: {e}"))?;
+    let mut wlf = Wlf::new(c1, c2, t_ref).map_err(|e| format!("[fit] wlf_c1, wlf_c2: {e}"))?;
+    if let Some(range) = fit.get("wlf_range") {
+        let bad =
+            || format!("[fit] wlf_range = {range} is not two temperatures [lowest, highest] (C)");
+        let values = range.as_array().ok_or_else(bad)?;
+        let numbers: Vec<f64> = values
+            .iter()
+            .map(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
+            .collect::<Option<_>>()
+            .ok_or_else(bad)?;
+        let pair: [f64; 2] = numbers.try_into().map_err(|_| bad())?;
+        wlf = wlf
+            .with_data_range(pair)
+            .map_err(|e| format!("[fit] wlf_range: {e}"))?;
+    }
     let t = number("temperature")?;
     if let Some(t) = t {
         wlf.log10_shift(t)

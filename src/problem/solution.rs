@@ -328,6 +328,9 @@ impl Solution {
         doc["temperature"] = json!(shift.map(|s| s.temperature));
         doc["shift_factor"] = json!(shift.map(|s| s.shift_factor));
         doc["reference_temperature"] = json!(shift.map(|s| s.reference_temperature));
+        // The temperatures of the data the WLF constants were fitted to,
+        // when recorded: beyond them the shift is extrapolated (warned).
+        doc["wlf_range"] = json!(r.material.wlf.and_then(|w| w.data_range));
         if let Value::Object(p) = &mut doc["persson"] {
             p.insert("temperature".into(), json!(shift.map(|s| s.temperature)));
             p.insert("shift_factor".into(), json!(shift.map(|s| s.shift_factor)));

@@ -462,6 +462,39 @@ fn a_glassy_rubber_sliding_fast_has_a_cold_and_a_hot_branch() {
         mu0 < mu_cold && mu_cold < mu_hot,
         "{mu0} {mu_cold} {mu_hot}"
     );
+    // Every root lies inside the DMA data (-20 to 100 C) the material
+    // file's WLF constants were fitted to: nothing warns of it.
+    for answer in [&cold, &hot] {
+        let w = &answer.solution.warnings;
+        assert!(!w.iter().any(|w| w.contains("DMA data")), "{w:?}");
+    }
+
+    // Said to be fitted up to 60 C only, the hot branch (about 100 C)
+    // rests on an extrapolated shift: the cold answer says so of the hot
+    // branch, the hot answer of its own temperature.
+    let narrow = |branch: &str| {
+        let mut cfg = load(branch);
+        cfg.config.material.as_mut().unwrap().wlf_range = Some([-20.0, 60.0]);
+        cfg
+    };
+    let (_, _, cold) = heated_config(&narrow("heating.branch=\"cold\""));
+    let (_, _, hot) = heated_config(&narrow("heating.branch=\"hot\""));
+    let about = |w: &[String], start: &str| -> Vec<String> {
+        w.iter()
+            .filter(|w| w.starts_with(start) && w.contains("above the DMA data (-20 to 60 C)"))
+            .cloned()
+            .collect()
+    };
+    let hot_t = format!("{:.4} C lies", hot.report.effective_temperature);
+    let other = about(
+        &cold.solution.warnings,
+        "another self-consistent temperature",
+    );
+    assert!(other.len() == 1 && other[0].contains(&hot_t), "{other:?}");
+    assert!(about(&cold.solution.warnings, "the material's temperature").is_empty());
+    let own = about(&hot.solution.warnings, "the material's temperature");
+    assert!(own.len() == 1 && own[0].contains(&hot_t), "{own:?}");
+    assert!(about(&hot.solution.warnings, "another").is_empty());
 }
 
 #[test]

@@ -12,3 +12,4 @@ mod conversion;
 mod dma_data;
 mod fit;
 mod temperature;
+mod wlf_range;

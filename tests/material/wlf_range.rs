@@ -1,0 +1,234 @@
+//! WLF constants hold where they were fitted: the temperatures of the data
+//! (`[material] wlf_range`, or `[fit] wlf_range` written by `material fit
+//! --wlf` on data at several temperatures). A solve beyond them is answered
+//! with a warning that names the temperature, by how many kelvin and beyond
+//! which end; inside them nothing warns; a range that cannot be one is
+//! refused in one line naming the key, with nothing written.
+
+use std::path::Path;
+
+use viscoslide::config;
+use viscoslide::internals::solver::Silent;
+use viscoslide::problem::{Executor, Problem};
+
+/// An SLS rubber with WLF constants `8.86, 101.6 K, 17 C` fitted over
+/// `RANGE`, on a small periodic cell at `T` C.
+const BASE: &str = r#"
+[material]
+model = "sls"
+relaxed_modulus = 3.3333333333333335e6
+glassy_modulus = 1.0e7
+creep_time = 0.01
+wlf = [8.86, 101.6, 17.0]
+RANGE
+
+[surface.generate]
+n = 16
+length = 0.01
+hurst = 0.8
+scales = 3
+rms_slope = 0.02
+seed = 3
+
+[loading]
+mean_pressure = 3000.0
+speed = 0.05
+temperature = T
+
+[solver]
+formulation = "periodic"
+
+[analysis]
+enabled = false
+"#;
+
+fn text(range: &str, t: f64) -> String {
+    BASE.replace("RANGE", range)
+        .replace("T\n", &format!("{t:?}\n"))
+}
+
+/// The problem of config `text`, or its error (reading or building).
+fn problem(dir: &Path, text: &str) -> Result<Problem, String> {
+    let p = dir.join("c.toml");
+    std::fs::write(&p, text).unwrap();
+    let cfg = config::load(&p, &[]).map_err(|e| e.to_string())?;
+    Problem::from_config(&cfg).map_err(|e| e.to_string())
+}
+
+/// The warnings of a solve of `text` that mention the WLF data.
+fn data_warnings(dir: &Path, text: &str) -> Vec<String> {
+    let s = problem(dir, text)
+        .unwrap()
+        .solve(&Executor::Cpu, &mut Silent)
+        .unwrap();
+    s.warnings
+        .into_iter()
+        .filter(|w| w.contains("DMA data"))
+        .collect()
+}
+
+#[test]
+fn a_temperature_beyond_the_fitted_range_is_warned_of() {
+    let dir = tempfile::tempdir().unwrap();
+    let range = "wlf_range = [0.0, 40.0]";
+    for t in [0.0, 7.0, 40.0] {
+        assert!(data_warnings(dir.path(), &text(range, t)).is_empty(), "{t}");
+    }
+    let above = data_warnings(dir.path(), &text(range, 45.0));
+    assert_eq!(above.len(), 1, "{above:?}");
+    assert!(
+        above[0].contains("45.0000 C lies 5.000 K above the DMA data (0 to 40 C)")
+            && above[0].contains("extrapolated")
+            && !above[0].contains('\n'),
+        "{}",
+        above[0]
+    );
+    let below = data_warnings(dir.path(), &text(range, -10.0));
+    assert!(
+        below.len() == 1 && below[0].contains("-10.0000 C lies 10.000 K below"),
+        "{below:?}"
+    );
+    // Without a recorded range nothing can be said, and nothing is.
+    assert!(data_warnings(dir.path(), &text("", 90.0)).is_empty());
+    // summary.json states the range (null without one).
+    let s = problem(dir.path(), &text(range, 45.0))
+        .unwrap()
+        .solve(&Executor::Cpu, &mut Silent)
+        .unwrap()
+        .summary();
+    assert_eq!(s["wlf_range"], serde_json::json!([0.0, 40.0]));
+    assert!(s["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|w| w.as_str().unwrap().contains("5.000 K above")));
+    let s = problem(dir.path(), &text("", 20.0))
+        .unwrap()
+        .solve(&Executor::Cpu, &mut Silent)
+        .unwrap()
+        .summary();
+    assert_eq!(s["wlf_range"], serde_json::Value::Null);
+}
+
+#[test]
+fn a_range_that_cannot_be_one_is_refused_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: [(&str, &str, &[&str]); 5] = [
+        ("[40.0, 0.0]", BASE, &["wlf_range", "lowest first"]),
+        ("[0.0, nan]", BASE, &["wlf_range", "finite"]),
+        (
+            "[-90.0, 40.0]",
+            BASE,
+            &["wlf_range", "-90 C", "T >= -69.3 C"],
+        ),
+        (
+            "[0.0, 40.0, 80.0]",
+            BASE,
+            &["wlf_range", "length 3", "length 2"],
+        ),
+        (
+            "[0.0, 40.0]",
+            &BASE.replace("wlf = [8.86, 101.6, 17.0]\n", ""),
+            &["wlf_range", "give the constants too"],
+        ),
+    ];
+    for (range, base, needles) in cases {
+        let t = base
+            .replace("RANGE", &format!("wlf_range = {range}"))
+            .replace("T\n", "20.0\n");
+        let e = match problem(dir.path(), &t) {
+            Ok(_) => panic!("{range} accepted"),
+            Err(e) => e,
+        };
+        for n in needles {
+            assert!(e.contains(n) && !e.contains('\n'), "{n} not in {e}");
+        }
+    }
+    // From the command line: one line, nothing written.
+    let p = dir.path().join("c.toml");
+    std::fs::write(&p, text("wlf_range = [40.0, 0.0]", 20.0)).unwrap();
+    let out = dir.path().join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(["solve", p.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.trim_end().lines().count() == 1,
+        "{err}"
+    );
+    assert!(err.contains("wlf_range"), "{err}");
+    assert!(!out.exists());
+}
+
+/// `material fit --wlf` records the data's temperatures when there are
+/// several (none for data at one temperature); the shipped SBR-like file
+/// carries `[-20, 100]` and a config's `wlf_range` replaces it.
+#[test]
+fn the_fit_records_its_data_range_and_a_config_may_replace_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin = env!("CARGO_BIN_EXE_viscoslide");
+    let fit = |csv: &str, name: &str| -> toml::Value {
+        let data = dir.path().join(format!("{name}.csv"));
+        std::fs::write(&data, csv).unwrap();
+        let out = dir.path().join(name);
+        let o = std::process::Command::new(bin)
+            .args([
+                "material",
+                "fit",
+                data.to_str().unwrap(),
+                "--wlf",
+                "8.86,101.6,17",
+            ])
+            .args(["--terms", "8", "--out", out.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        toml::from_str(&std::fs::read_to_string(out.join("material.toml")).unwrap()).unwrap()
+    };
+    let mut several = String::from("temperature_c,omega_rad_s,e1_pa,e2_pa\n");
+    let mut one = several.clone();
+    for (k, t) in [-5.0, 17.0, 35.5].iter().enumerate() {
+        for w in [1.0, 10.0, 100.0] {
+            let e1 = 2e6 * (1.0 + 0.1 * k as f64) * (1.0 + 0.05 * f64::log10(w));
+            several.push_str(&format!("{t},{w},{e1},{}\n", 0.1 * e1));
+            one.push_str(&format!(
+                "17,{},{e1},{}\n",
+                w * 10f64.powi(k as i32),
+                0.1 * e1
+            ));
+        }
+    }
+    let f = fit(&several, "several");
+    assert_eq!(
+        f["fit"]["wlf_range"],
+        toml::Value::try_from([-5.0, 35.5]).unwrap()
+    );
+    let f = fit(&one, "one");
+    assert!(f["fit"].get("wlf_range").is_none(), "{f}");
+
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/data/sbr_like_material.toml");
+    let material = |range: &str, t: f64| -> String {
+        let whole = text("", t);
+        format!(
+            "[material]\nmodel = \"file\"\nfile = \"{}\"\n{range}\n\n{}",
+            shipped.display(),
+            &whole[whole.find("[surface.generate]").unwrap()..]
+        )
+    };
+    let s = problem(dir.path(), &material("", 110.0))
+        .unwrap()
+        .solve(&Executor::Cpu, &mut Silent)
+        .unwrap();
+    let w: Vec<&String> = s
+        .warnings
+        .iter()
+        .filter(|w| w.contains("DMA data"))
+        .collect();
+    assert!(
+        w.len() == 1 && w[0].contains("110.0000 C lies 10.000 K above the DMA data (-20 to 100 C)"),
+        "{w:?}"
+    );
+    assert!(data_warnings(dir.path(), &material("", 90.0)).is_empty());
+    assert!(data_warnings(dir.path(), &material("wlf_range = [-20.0, 120.0]", 110.0)).is_empty());
+}
