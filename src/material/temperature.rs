@@ -83,6 +83,16 @@ impl Material {
         Ok(shifted)
     }
 
+    /// A warning when the temperature this material describes lies beyond
+    /// the data its WLF constants were fitted to ([`Wlf::extrapolation`]):
+    /// the solve and Persson's theory there rest on an extrapolated shift.
+    pub fn extrapolated_shift_warning(&self) -> Option<String> {
+        let phrase = self.wlf?.extrapolation(self.temperature?)?;
+        Some(format!(
+            "the material's temperature {phrase}: the friction is an estimate there; DMA data nearer this temperature would confirm it"
+        ))
+    }
+
     /// [`Material::at_temperature`] when a temperature is given, else the
     /// material unchanged.
     pub fn at(&self, temperature: Option<f64>) -> Result<Material, MaterialError> {

@@ -113,7 +113,7 @@ pub fn theory_inputs(
         .build(&cfg.base_dir)?
         .at(loading.temperature)?;
     let mut notes = Vec::new();
-    let mut warnings = Vec::new();
+    let mut warnings: Vec<String> = material.extrapolated_shift_warning().into_iter().collect();
     if cfg.config.layer.is_some() {
         notes.push(
             "the config has a [layer]; Persson's theory here is for a half-space and ignores it"

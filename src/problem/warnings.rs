@@ -57,7 +57,7 @@ impl Problem {
             ));
         }
         out.extend(self.wrapped_map_warning());
-        out.extend(self.extrapolated_shift_warning());
+        out.extend(self.material.extrapolated_shift_warning());
         // A layer thinner than one cell: in summary.json and Python's
         // warnings, not only on the command line's stderr.
         let coarser_side = self.surface.cell_size.max(self.surface.cell_size_y);
@@ -147,16 +147,6 @@ impl Problem {
 }
 
 impl Problem {
-    /// The material's temperature beyond the data its WLF constants were
-    /// fitted to ([`crate::material::Wlf::extrapolation`]).
-    fn extrapolated_shift_warning(&self) -> Option<String> {
-        let wlf = self.material.wlf?;
-        let phrase = wlf.extrapolation(self.material.temperature?)?;
-        Some(format!(
-            "the material's temperature {phrase}: the friction is an estimate there; DMA data nearer this temperature would confirm it"
-        ))
-    }
-
     /// A measured map (read from a file or given as values) that is not
     /// marked periodic, solved with the periodic formulation: the solve
     /// takes it as one period, so its opposite edges meet. States the rms

@@ -9,6 +9,7 @@ use std::path::Path;
 
 use viscoslide::config;
 use viscoslide::internals::solver::Silent;
+use viscoslide::problem::persson::theory_inputs;
 use viscoslide::problem::{Executor, Problem};
 
 /// An SLS rubber with WLF constants `8.86, 101.6 K, 17 C` fitted over
@@ -87,6 +88,21 @@ fn a_temperature_beyond_the_fitted_range_is_warned_of() {
     assert!(
         below.len() == 1 && below[0].contains("-10.0000 C lies 10.000 K below"),
         "{below:?}"
+    );
+    // Persson's theory at the same temperature (`viscoslide persson`)
+    // says the same.
+    let p = dir.path().join("c.toml");
+    std::fs::write(&p, text(range, 45.0)).unwrap();
+    let inputs = theory_inputs(&config::load(&p, &[]).unwrap(), None, None).unwrap();
+    assert!(
+        inputs
+            .warnings
+            .iter()
+            .filter(|w| w.contains("5.000 K above the DMA data"))
+            .count()
+            == 1,
+        "{:?}",
+        inputs.warnings
     );
     // Without a recorded range nothing can be said, and nothing is.
     assert!(data_warnings(dir.path(), &text("", 90.0)).is_empty());
