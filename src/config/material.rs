@@ -5,6 +5,8 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
+use super::exact::{exact_rows, exactly};
+
 /// Which material description a config gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -34,8 +36,10 @@ pub struct MaterialConfig {
     /// Stress-relaxation time of the SLS \[s\] (`creep_time * E0 / E_inf`).
     pub relaxation_time: Option<f64>,
     /// `[[C_k (1/Pa), tau_k (s)], ...]`.
+    #[serde(default, deserialize_with = "exact_rows::<2, _>")]
     pub creep_spectrum: Option<Vec<[f64; 2]>>,
     /// `[[E_j (Pa), theta_j (s)], ...]`.
+    #[serde(default, deserialize_with = "exact_rows::<2, _>")]
     pub prony: Option<Vec<[f64; 2]>>,
     /// Poisson ratio (default 0.5).
     pub poisson: Option<f64>,
@@ -61,38 +65,4 @@ pub struct MaterialConfig {
         deserialize_with = "exactly::<2, _>"
     )]
     pub wlf_range: Option<[f64; 2]>,
-}
-
-/// `wlf` and `wlf_range`: exactly `N` numbers. Serde's fixed-size arrays
-/// stop reading after their length, so `[C1, C2, T_ref, x]` would pass
-/// with `x` dropped.
-fn exactly<'de, const N: usize, D: serde::Deserializer<'de>>(
-    d: D,
-) -> Result<Option<[f64; N]>, D::Error> {
-    struct Numbers<const N: usize>([f64; N]);
-    struct Visitor<const N: usize>;
-    impl<'de, const N: usize> serde::de::Visitor<'de> for Visitor<N> {
-        type Value = Numbers<N>;
-        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-            write!(f, "an array of length {N}")
-        }
-        fn visit_seq<A: serde::de::SeqAccess<'de>>(
-            self,
-            mut seq: A,
-        ) -> Result<Numbers<N>, A::Error> {
-            let mut v = Vec::with_capacity(N);
-            while let Some(x) = seq.next_element::<f64>()? {
-                v.push(x);
-            }
-            <[f64; N]>::try_from(v.as_slice())
-                .map(Numbers)
-                .map_err(|_| serde::de::Error::invalid_length(v.len(), &self))
-        }
-    }
-    impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
-        fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-            d.deserialize_seq(Visitor::<N>)
-        }
-    }
-    Ok(Option::<Numbers<N>>::deserialize(d)?.map(|t| t.0))
 }

@@ -8,6 +8,7 @@
 //! `kernel`, the problem in `problem`, the sweep plan in `sweep`).
 
 pub mod analysis;
+mod exact;
 pub mod heating;
 pub mod layer;
 pub mod loading;

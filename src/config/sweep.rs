@@ -5,6 +5,8 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+use super::exact::exactly;
+
 /// `[sweep]`: the axes of a sweep. Exactly one speed axis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
@@ -14,8 +16,10 @@ pub struct SweepConfig {
     /// Dimensionless speeds `xi = v tau / L`.
     pub xi: Option<Vec<f64>>,
     /// Log-spaced speeds `[from, to, points]` [m/s].
+    #[serde(default, deserialize_with = "exactly::<3, _>")]
     pub speed_range: Option<[f64; 3]>,
     /// Log-spaced `xi`: `[from, to, points]`.
+    #[serde(default, deserialize_with = "exactly::<3, _>")]
     pub xi_range: Option<[f64; 3]>,
     /// Add the static point (`v = 0`, fully relaxed), the reference of
     /// `A / A(xi = 0)` (default true).

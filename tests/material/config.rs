@@ -185,4 +185,16 @@ fn bad_input_gives_clear_one_line_errors() {
         &["prony", "sls"],
     );
     error("[material]\nmodel = \"prony\"\nrelaxed_modulus = 1e6\nglassy_modulus = 2e6\nprony = [[1e6, 1e-3]]\n", &["glassy_modulus", "prony"]);
+    // A row of another length: not read as its first two numbers.
+    for row in ["[1e-8, 0.01, 5.0]", "[1e-8]", "[]"] {
+        let n = row.matches(',').count() + usize::from(row != "[]");
+        error(
+            &format!("[material]\nmodel = \"creep_spectrum\"\nglassy_modulus = 1e9\ncreep_spectrum = [[2e-8, 1.0], {row}]\n"),
+            &["creep_spectrum", &format!("invalid length {n}"), "length 2"],
+        );
+        error(
+            &format!("[material]\nmodel = \"prony\"\nrelaxed_modulus = 1e6\nprony = [{row}]\n"),
+            &["prony", &format!("invalid length {n}"), "length 2"],
+        );
+    }
 }

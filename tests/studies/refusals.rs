@@ -138,6 +138,35 @@ fn a_sweep_refused_in_a_later_combination_solves_and_writes_nothing() {
     assert!(!out.exists(), "a refused sweep made {}", out.display());
 }
 
+/// A speed range of another length than `[from, to, points]` is refused
+/// in one line, not read as its first three numbers.
+#[test]
+fn a_speed_range_of_another_length_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (key, range, n) in [
+        ("speed_range", "[1e-3, 1e-1, 3, 7]", 4),
+        ("speed_range", "[1e-3, 1e-1]", 2),
+        ("xi_range", "[1e-3, 1e-1, 3, 7]", 4),
+    ] {
+        let cfg = write_config(
+            tmp.path(),
+            &format!("[sweep]\n{key} = {range}\ninclude_static = false\n"),
+        );
+        let out = tmp.path().join("run");
+        let (ok, stdout, err) = viscoslide(&["sweep", &cfg, "--out", out.to_str().unwrap()]);
+        assert!(!ok, "accepted: {stdout}");
+        assert!(
+            err.contains(key)
+                && err.contains(&format!(
+                    "invalid length {n}, expected an array of length 3"
+                )),
+            "{err}"
+        );
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(!out.exists(), "a refused sweep made {}", out.display());
+    }
+}
+
 /// `sweep --backend` as `solve --backend`: the executor is named on
 /// stderr and in every point; a bad name is refused before anything is
 /// written.
