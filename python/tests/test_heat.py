@@ -89,6 +89,7 @@ def test_a_pad_trails_heat_behind_and_keeps_the_orientation():
         ({"direction_deg": float("inf")}, ["direction_deg"]),
         ({"block_length": 0.01}, ["block_length", "periodic=True"]),
         ({"periodic": True, "block_length": -1.0}, ["block_length"]),
+        ({"periodic": True, "block_length": 3e-6}, ["shorter than the periodic cell", "4.0000e-6 m"]),
         ({"periodic": "yes"}, ["periodic"]),
         ({"flux": np.array([[1.0, np.nan]])}, ["flux", "non-finite", "(0, 1)"]),
         ({"flux": np.ones(5)}, ["flux", "2-dimensional"]),

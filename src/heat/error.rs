@@ -12,6 +12,9 @@ pub enum HeatError {
         value: f64,
         unit: &'static str,
     },
+    /// A block shorter than the periodic cell it holds.
+    #[error("the block length {block:e} m is shorter than the periodic cell along the sliding direction ({cell:.4e} m): the cell is one piece of the block's nominal contact, so the block is at least as long; give the block's length along the sliding direction (m)")]
+    BlockShorterThanCell { block: f64, cell: f64 },
     /// A sliding direction that is not a finite angle.
     #[error("the sliding direction {0} rad must be finite")]
     Direction(f64),

@@ -55,7 +55,8 @@ pub struct HeatSetup {
 impl HeatSetup {
     /// Every value checked: positive, finite speed, conductivity,
     /// diffusivity, cell sides and block length; a finite direction; a
-    /// grid with cells.
+    /// grid with cells; a block at least as long as the periodic cell
+    /// along the sliding direction ([`HeatSetup::cell_length_along_sliding`]).
     pub fn check(&self) -> Result<(), HeatError> {
         self.conduction.check()?;
         positive("the speed", self.speed, "m/s")?;
@@ -67,8 +68,22 @@ impl HeatSetup {
         } = self.domain
         {
             positive("the block length", l, "m")?;
+            let cell = self.cell_length_along_sliding();
+            if l < cell {
+                return Err(HeatError::BlockShorterThanCell { block: l, cell });
+            }
         }
         Ok(())
+    }
+
+    /// The cell's length along the sliding direction \[m\]: the chord
+    /// through its centre along `e_v`, `min(L_x / |e_x|, L_y / |e_y|)`
+    /// (`L_x` sliding along x).
+    pub fn cell_length_along_sliding(&self) -> f64 {
+        let (lx, ly) = self.grid.lengths();
+        let (ex, ey) = self.direction();
+        let along = |l: f64, e: f64| if e == 0.0 { f64::INFINITY } else { l / e.abs() };
+        along(lx, ex).min(along(ly, ey))
     }
 
     /// Unit vector `e_v` of the sliding direction

@@ -4,7 +4,7 @@
 use crate::config::HeatingConfig;
 use crate::config::{Formulation, MeshKind};
 use crate::error::{Error, Result};
-use crate::heat::{Conduction, SourceKind};
+use crate::heat::{Conduction, HeatDomain, HeatError, HeatSetup, SourceKind};
 use crate::problem::Problem;
 
 use super::branches::BranchSearch;
@@ -165,7 +165,7 @@ impl HeatingParams {
         })?;
         let max_rise = positive("max_rise", cfg.max_rise, "K")?.unwrap_or(DEFAULT_MAX_RISE);
         let tolerance = positive("tolerance", cfg.tolerance, "K")?.unwrap_or(DEFAULT_TOLERANCE);
-        Ok(Some(Self {
+        let params = Self {
             conduction: Conduction {
                 conductivity,
                 diffusivity,
@@ -177,7 +177,37 @@ impl HeatingParams {
             max_rise,
             tolerance,
             coarse_scan: true,
-        }))
+        };
+        // The block holds the cell: refused here, before any solve.
+        if let Some(block) = block_length {
+            let cell = params.heat_setup(problem)?.cell_length_along_sliding();
+            if block < cell {
+                return Err(invalid(format!(
+                    "[heating] {}",
+                    HeatError::BlockShorterThanCell { block, cell }
+                )));
+            }
+        }
+        Ok(Some(params))
+    }
+
+    /// The heat problem of `problem`'s grid with these parameters.
+    pub(crate) fn heat_setup(&self, problem: &Problem) -> Result<HeatSetup> {
+        let grid = problem.grid()?;
+        let domain = if grid.is_periodic() {
+            HeatDomain::Periodic {
+                block_length: self.block_length,
+            }
+        } else {
+            HeatDomain::Pad
+        };
+        Ok(HeatSetup {
+            grid,
+            conduction: self.conduction,
+            speed: problem.speed,
+            direction_rad: problem.direction_rad,
+            domain,
+        })
     }
 
     /// The root search these parameters ask for.

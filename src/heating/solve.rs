@@ -16,10 +16,7 @@
 use std::time::Instant;
 
 use crate::error::{Error, Result};
-use crate::heat::{
-    DepthExtremes, DepthLadder, DepthRule, HeatDomain, HeatSetup, HeatSolver, HeatSource,
-    SourceKind,
-};
+use crate::heat::{DepthExtremes, DepthLadder, DepthRule, HeatSolver, HeatSource, SourceKind};
 use crate::problem::{Discretisation, Executor, Observer, Problem, Solution};
 
 use super::branches::{Branch, SearchFailure};
@@ -64,14 +61,14 @@ pub fn solve_heated(
     let search = params.search();
     search.check().map_err(Error::Invalid)?;
     let periodic = problem.grid()?.is_periodic();
-    let mut heat = HeatSolver::new(heat_setup(problem, params)?).map_err(heat_error)?;
+    let mut heat = HeatSolver::new(params.heat_setup(problem)?).map_err(heat_error)?;
     let rule = DepthRule::default();
     let warm_starts = problem.discretisation() != Discretisation::Adaptive;
     // The coarse grid that scans the bracket (`two_level.rs`), with its
     // own heat problem; none on small grids.
     let coarse = match coarse_problem(problem).filter(|_| params.coarse_scan) {
         Some(c) => {
-            let h = HeatSolver::new(heat_setup(&c, params)?).map_err(heat_error)?;
+            let h = HeatSolver::new(params.heat_setup(&c)?).map_err(heat_error)?;
             Some((c, h))
         }
         None => None,
@@ -413,25 +410,6 @@ fn depth_profile(
                 .collect())
         }
     }
-}
-
-/// The heat problem of `problem`'s grid.
-fn heat_setup(problem: &Problem, params: &HeatingParams) -> Result<HeatSetup> {
-    let grid = problem.grid()?;
-    let domain = if grid.is_periodic() {
-        HeatDomain::Periodic {
-            block_length: params.block_length,
-        }
-    } else {
-        HeatDomain::Pad
-    };
-    Ok(HeatSetup {
-        grid,
-        conduction: params.conduction,
-        speed: problem.speed,
-        direction_rad: problem.direction_rad,
-        domain,
-    })
 }
 
 /// The map's side along the sliding direction \[m\].

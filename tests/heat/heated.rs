@@ -162,6 +162,10 @@ fn heating_is_refused_without_what_it_needs() {
             "conductivity",
         ),
         (&["heating.block_length=0"], "block_length"),
+        (
+            &["heating.block_length=1e-5"],
+            "shorter than the periodic cell",
+        ),
         (&["heating.source=\"heat\""], "source"),
         (&["heating.closure=\"per_scale\""], "closure"),
         (&["heating.branch=\"warm\""], "branch"),

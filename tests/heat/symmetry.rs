@@ -257,6 +257,26 @@ fn bad_inputs_are_refused_in_one_line() {
         block_length: Some(-1.0),
     };
     refuse(s, &flux, &["block length"]);
+    // The block holds the 4 x 3 um cell: at least 4 um long sliding along
+    // x, 3 um along y, and the chord through the cell's centre, 3 um /
+    // sin 45 deg = 4.243 um, at 45 deg.
+    for (deg, cell, text) in [
+        (0.0, 4e-6, "4.0000e-6 m"),
+        (90.0, 3e-6, "3.0000e-6 m"),
+        (45.0, 3e-6 * 2f64.sqrt(), "4.2426e-6 m"),
+        (180.0, 4e-6, "4.0000e-6 m"),
+    ] {
+        let mut s = good;
+        s.direction_rad = f64::to_radians(deg);
+        s.domain = HeatDomain::Periodic {
+            block_length: Some(0.99 * cell),
+        };
+        refuse(s, &flux, &["shorter than the periodic cell", text]);
+        s.domain = HeatDomain::Periodic {
+            block_length: Some(1.001 * cell),
+        };
+        assert!(surface_temperature(s, &flux).is_ok(), "{deg} deg");
+    }
     let mut bad = flux.clone();
     bad[7] = f64::NAN;
     refuse(good, &bad, &["heat flux", "NaN", "(2, 1)"]);
