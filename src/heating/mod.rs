@@ -7,10 +7,12 @@
 //!   (`Branches`).
 //! - `two_level.rs`: the same bracket scanned on a coarse grid, its roots
 //!   closed on the full grid; `coarse.rs`: that coarse grid.
-//! - `solve.rs`: the fixed point over isothermal solves ([`solve_heated`]).
+//! - `solve.rs`: the fixed point over isothermal solves ([`solve_heated`]);
+//!   `at_rest.rs`: its answer at `v = 0`, where nothing is dissipated.
 //! - `report.rs`: what it reports ([`HeatingReport`]) and writes
 //!   ([`HeatedSolution`]).
 
+mod at_rest;
 mod branches;
 mod coarse;
 mod params;

@@ -19,6 +19,7 @@ use crate::error::{Error, Result};
 use crate::heat::{DepthExtremes, DepthLadder, DepthRule, HeatSolver, HeatSource, SourceKind};
 use crate::problem::{Discretisation, Executor, Observer, Problem, Solution};
 
+use super::at_rest::solve_at_rest;
 use super::branches::{Branch, SearchFailure};
 use super::coarse::coarse_problem;
 use super::params::{BranchChoice, HeatingParams};
@@ -60,6 +61,9 @@ pub fn solve_heated(
     problem.check()?;
     let search = params.search();
     search.check().map_err(Error::Invalid)?;
+    if problem.speed == 0.0 {
+        return solve_at_rest(problem, params, executor, observer);
+    }
     let periodic = problem.grid()?.is_periodic();
     let mut heat = HeatSolver::new(params.heat_setup(problem)?).map_err(heat_error)?;
     let rule = DepthRule::default();

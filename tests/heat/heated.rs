@@ -535,3 +535,65 @@ fn a_hot_branch_above_the_bracket_is_warned_of_and_refused() {
         "{e}"
     );
 }
+
+/// At rest nothing is dissipated: on a periodic cell and on a pad, the
+/// heated answer at `v = 0` is the isothermal solve at `T0` (the same
+/// friction and contact to the bit), every rise zero, one root at `T0`,
+/// the reason stated; and a heated sweep's static point is that answer,
+/// where it was refused after the sliding points had been solved.
+#[test]
+fn at_rest_the_heated_answer_is_the_isothermal_one_at_t0() {
+    let pad = heated_pad();
+    for (text, periodic) in [(PERIODIC, true), (pad.as_str(), false)] {
+        let mut sets = vec!["loading.speed=0.0"];
+        if !periodic {
+            sets.push("solver.formulation=\"non_periodic\"");
+        }
+        let (problem, params, h) = heated(text, &sets);
+        let r = &h.report;
+        let iso = isothermal_at(&problem, params.ambient);
+        assert_eq!(r.effective_temperature, params.ambient);
+        assert_eq!(h.solution.friction_coefficient, iso.friction_coefficient);
+        assert_eq!(h.solution.fields.pressure, iso.fields.pressure);
+        assert_eq!(
+            (
+                r.temperature_rise.effective,
+                r.heat_total_w,
+                r.friction_power_w
+            ),
+            (0.0, 0.0, 0.0)
+        );
+        assert_eq!(r.temperature_rise.background, periodic.then_some(0.0));
+        assert_eq!(r.branches.len(), 1);
+        assert!(h.surface_rise.iter().all(|&t| t == 0.0));
+        assert_eq!(h.surface_rise.len(), iso.fields.pressure.len());
+        assert!(
+            h.solution.warnings.iter().any(|w| w.starts_with("at rest")),
+            "{:?}",
+            h.solution.warnings
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let written = h.write(dir.path()).unwrap();
+        assert_eq!(
+            written.iter().any(|p| p.ends_with("temperature_depth.csv")),
+            periodic
+        );
+    }
+    // The sweep: its static point (include_static defaults to true).
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("case.toml");
+    std::fs::write(
+        &cfg,
+        format!("{PERIODIC}\n[sweep]\nspeed = [1e-3]\n\n[sweep.vary]\n\"heating.enabled\" = [false, true]\n"),
+    )
+    .unwrap();
+    let out = dir.path().join("run");
+    let o = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(["sweep", cfg.to_str().unwrap(), "--backend", "cpu", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 5, "{csv}");
+}
