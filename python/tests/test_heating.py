@@ -200,6 +200,7 @@ def test_heat_of_an_isothermal_pad_is_its_surface_work(pad, rubber):
         ({"heating": dict(HEATING, max_rise=0.0)}, "[heating] max_rise = 0 K"),
         ({"temperature": None}, "needs [loading] temperature"),
         ({"formulation": "nonperiodic"}, "block_length applies to periodic cells"),
+        ({"heating": dict(HEATING, block_length=1e-4)}, "shorter than the periodic cell"),
     ],
 )
 def test_bad_heating_is_refused_before_solving(cell, wlf_rubber, change, words):
@@ -213,6 +214,19 @@ def test_bad_heating_is_refused_before_solving(cell, wlf_rubber, change, words):
     message = str(e.value)
     assert words in message and "\n" not in message, message
     assert calls == []
+
+
+def test_at_rest_the_heated_answer_is_the_isothermal_one(cell, wlf_rubber):
+    """``speed=0``: nothing is dissipated; the answer is the isothermal solve
+    at T0 with every rise zero, and says so."""
+    rest = dict(LOADING, speed=0.0)
+    heated = vs.solve(cell, wlf_rubber, **rest, formulation="periodic", heating=HEATING, backend="cpu")
+    iso = vs.solve(cell, wlf_rubber, **rest, formulation="periodic", backend="cpu")
+    h = heated.heating
+    assert h["effective_temperature"] == 17.0 and h["temperature_rise"]["effective"] == 0.0
+    assert heated.friction_coefficient == iso.friction_coefficient
+    assert not heated.temperature_rise.any()
+    assert any(w.startswith("at rest") for w in heated.summary["warnings"])
 
 
 def test_heating_needs_wlf_and_a_mapping(cell):
