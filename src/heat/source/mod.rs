@@ -137,6 +137,39 @@ impl HeatSource {
         }
     }
 
+    /// The share of the heat put in that the source takes back out: the
+    /// negative flux over the positive, `sum max(-q_s, 0) / sum max(q_s,
+    /// 0)`, for a surface work flux (which is negative where the surface
+    /// rises back as it leaves the contact, `work.rs`); 0 for the volume
+    /// source, a dissipation (`D >= 0`). Near 1 the net power is a small
+    /// difference of large parts, and a mean weighted by the flux (the
+    /// effective temperature) is ill-conditioned.
+    pub fn returned_share(&self) -> f64 {
+        match self {
+            Self::Surface { flux } => {
+                let (gain, loss) =
+                    flux.iter().fold(
+                        (0.0, 0.0),
+                        |(g, l), &q| {
+                            if q > 0.0 {
+                                (g + q, l)
+                            } else {
+                                (g, l - q)
+                            }
+                        },
+                    );
+                if gain > 0.0 {
+                    loss / gain
+                } else if loss > 0.0 {
+                    f64::INFINITY
+                } else {
+                    0.0
+                }
+            }
+            Self::Volume { .. } => 0.0,
+        }
+    }
+
     /// Which kind of source this is.
     pub fn kind(&self) -> SourceKind {
         match self {
