@@ -30,12 +30,6 @@ use super::two_level::{Level, DISCREPANCY_WARNING};
 /// given: the default depth layers hold it to 1e-3 (physics.md section 14).
 const BALANCE_WARNING: f64 = 1e-2;
 
-/// The share of its heat that a surface work flux takes back above which
-/// the effective temperature it weights is warned of
-/// ([`HeatSource::returned_share`]): beyond one half, the weighted mean
-/// amplifies the rise's errors more than threefold (`(1 + s) / (1 - s)`).
-const RETURNED_SHARE_WARNING: f64 = 0.5;
-
 /// One evaluation kept for the answer.
 struct Solved {
     temperature: f64,
@@ -299,21 +293,7 @@ pub fn solve_heated(
         warnings.extend(heat.setup().notes());
     }
     warnings.extend(params.layer_note(problem, length));
-    let returned = answer.source.returned_share();
-    if returned > RETURNED_SHARE_WARNING {
-        let symptom = if answer.rise > peak {
-            format!(
-                " (here Theta = {:.4e} K exceeds the highest surface rise, {peak:.4e} K)",
-                answer.rise
-            )
-        } else {
-            String::new()
-        };
-        warnings.push(format!(
-            "the surface work flux takes back {:.0} % of the heat it puts in (it is negative where the surface rises back behind the contact): the net power is a small difference of large parts, and the effective temperature, a mean weighted by this flux, is ill-conditioned{symptom}; the volume source (source = \"volume\", periodic cells on a half-space) weights by the dissipation itself",
-            100.0 * returned
-        ));
-    }
+    warnings.extend(answer.source.returned_share_warning(answer.rise, peak));
     let report = HeatingReport {
         ambient_temperature: params.ambient,
         effective_temperature: answer.temperature,

@@ -35,7 +35,7 @@ pub struct ContactHeating {
     /// the stencil's (paper Eq. 9) for the surface flux.
     pub friction_power_w: f64,
     /// What the rise leaves out or may overstate, a sentence each
-    /// ([`HeatSetup::notes`]).
+    /// ([`HeatSetup::notes`], [`HeatSource::returned_share_warning`]).
     pub notes: Vec<String>,
 }
 
@@ -75,13 +75,15 @@ impl ContactHeating {
         let source = HeatSource::from_contact(kind, pressure, grid, response, rule)?;
         let mut solver = HeatSolver::new(setup)?;
         let (temperature, effective_rise) = solver.under(&source)?;
+        let mut notes = setup.notes();
+        notes.extend(source.returned_share_warning(effective_rise, temperature.max()));
         Ok(Self {
             heat_power_w: source.power(grid.cell_area()),
             source,
             temperature,
             effective_rise,
             friction_power_w,
-            notes: setup.notes(),
+            notes,
         })
     }
 

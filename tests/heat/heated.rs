@@ -696,4 +696,31 @@ fn a_surface_flux_that_takes_back_most_of_its_heat_is_warned_of() {
         "{:?}",
         dissipative.solution.warnings
     );
+    // The heat of a solved contact (`viscoslide heat --from-run`, Python's
+    // `Result.heat`) notes the same.
+    let (problem, params, _) = heated(
+        PERIODIC,
+        &[
+            "heating.source=\"surface\"",
+            "loading.mean_pressure=1e5",
+            "loading.speed=1e-3",
+        ],
+    );
+    let solution = problem.solve(&Executor::Cpu, &mut Silent).unwrap();
+    let heat = problem
+        .contact_heating(
+            &solution,
+            params.conduction,
+            params.block_length,
+            SourceKind::Surface,
+            &DepthRule::default(),
+        )
+        .unwrap();
+    assert!(
+        heat.notes
+            .iter()
+            .any(|n| n.starts_with("the surface work flux takes back 99 %")),
+        "{:?}",
+        heat.notes
+    );
 }

@@ -70,6 +70,13 @@ impl std::str::FromStr for SourceKind {
     }
 }
 
+/// The share of its heat that a surface work flux takes back above which
+/// the effective temperature it weights is warned of
+/// ([`HeatSource::returned_share_warning`]): beyond one half, the weighted
+/// mean amplifies the rise's errors more than threefold (`(1 + s) / (1 -
+/// s)`).
+pub(crate) const RETURNED_SHARE_WARNING: f64 = 0.5;
+
 /// A heat source on a grid, as [`super::HeatSolver`] takes it.
 #[derive(Debug, Clone, PartialEq)]
 pub enum HeatSource {
@@ -168,6 +175,28 @@ impl HeatSource {
             }
             Self::Volume { .. } => 0.0,
         }
+    }
+
+    /// A warning where the source takes back more than
+    /// one half of its heat ([`HeatSource::returned_share`]),
+    /// naming the symptom where the weighted rise `effective` \[K\] exceeds
+    /// the highest surface rise `peak` \[K\].
+    pub fn returned_share_warning(&self, effective: f64, peak: f64) -> Option<String> {
+        let returned = self.returned_share();
+        if returned <= RETURNED_SHARE_WARNING {
+            return None;
+        }
+        let symptom = if effective > peak {
+            format!(
+                " (here Theta = {effective:.4e} K exceeds the highest surface rise, {peak:.4e} K)"
+            )
+        } else {
+            String::new()
+        };
+        Some(format!(
+            "the surface work flux takes back {:.0} % of the heat it puts in (it is negative where the surface rises back behind the contact): the net power is a small difference of large parts, and the effective temperature, a mean weighted by this flux, is ill-conditioned{symptom}; the volume source (source = \"volume\", periodic cells on a half-space) weights by the dissipation itself",
+            100.0 * returned
+        ))
     }
 
     /// Which kind of source this is.
