@@ -443,10 +443,22 @@ pub fn generate_with_target(
     };
     let (m0, m2) = (moment(0), moment(1));
     if m0.is_nan() || m0 <= 0.0 {
-        return Err(SurfaceError::Invalid(
-            "the prescribed PSD has no Fourier mode on this grid (check ql, q1 and the grid size)"
-                .into(),
-        ));
+        let cause = match params.anisotropy {
+            // Stretched by `s`, a mode keeps a band wavenumber only where
+            // `s |q.e| <= q1`: a large stretch leaves the modes with
+            // `q.e = 0` alone, and off the grid's axes there are none.
+            Some(a) => format!(
+                "anisotropy.ratio = {} stretches every mode's component along {} deg beyond q1 = {:.6e} 1/m; give a smaller ratio (every ratio above q1 / q_L = {:.3} leaves at most the modes across that direction)",
+                a.ratio,
+                a.angle_deg,
+                target.q1,
+                target.q1 / target.ql
+            ),
+            None => "check ql, q1 and the grid size".into(),
+        };
+        return Err(SurfaceError::Invalid(format!(
+            "the prescribed PSD has no Fourier mode on this grid: {cause}"
+        )));
     }
     let scale = match params.normalisation {
         Normalisation::RmsHeight(h) => h / m0.sqrt(),

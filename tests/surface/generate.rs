@@ -299,6 +299,22 @@ fn bad_parameters_are_named() {
         let msg = e.to_string();
         assert!(msg.contains(what) && !msg.contains('\n'), "{msg}");
     }
+    // A stretch that takes every mode's component along an oblique
+    // direction beyond q1 leaves no mode: the error names the ratio.
+    let stretched = GenerateParams {
+        anisotropy: Some(Anisotropy {
+            ratio: 1e9,
+            angle_deg: 30.0,
+        }),
+        ..ok.clone()
+    };
+    let msg = generate(&stretched).unwrap_err().to_string();
+    assert!(
+        msg.contains("anisotropy.ratio = 1000000000")
+            && msg.contains("30 deg")
+            && !msg.contains('\n'),
+        "{msg}"
+    );
 }
 
 /// Resolution consistency: the same seed gives the same Fourier modes at
