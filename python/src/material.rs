@@ -82,6 +82,12 @@ impl NativeMaterial {
             }
         };
         let mut material = section.build(&base_dir).map_err(value_error)?;
+        if material.frequency_range.is_none() {
+            material.frequency_range =
+                viscoslide::material::file::fit_frequency_range(doc.get("fit"))
+                    .map_err(|e| value_error(format!("{}: {e}", path.display())))?;
+            section.frequency_range = material.frequency_range;
+        }
         // A material.toml fitted with `--wlf` keeps its WLF constants in
         // `[fit]` (as `model = "file"` reads them).
         if material.wlf.is_none() {
@@ -104,6 +110,13 @@ impl NativeMaterial {
         self.material
             .wlf
             .map(|w| (w.c1, w.c2, w.reference_temperature))
+    }
+
+    /// The lowest and highest angular frequency \[rad/s\] of the data
+    /// its spectrum was fitted to, if recorded.
+    #[getter]
+    fn frequency_range(&self) -> Option<(f64, f64)> {
+        self.material.frequency_range.map(|[lo, hi]| (lo, hi))
     }
 
     /// The lowest and highest temperature \[C\] of the data its WLF
@@ -185,6 +198,8 @@ impl NativeMaterial {
         };
         let fit = fit_spectrum(&omega, &measured, &params).map_err(value_error)?;
         let mut material = Material::new(fit.creep.clone(), poisson).map_err(value_error)?;
+        material.frequency_range = Some(fit.info.frequency_range);
+        let frequency_range = material.frequency_range;
         if let Some(w) = wlf {
             // The fitted spectrum describes `at` (T_ref unless shifted).
             material = material.with_wlf(w, at).map_err(value_error)?;
@@ -201,6 +216,7 @@ impl NativeMaterial {
         info.set_item("max_relative_error_e2", i.max_relative_loss)?;
         info.set_item("temperature", at)?;
         let mut section = creep_section(&material);
+        section.frequency_range = frequency_range;
         if let Some(w) = wlf.filter(|w| at.is_none_or(|t| t == w.reference_temperature)) {
             section.wlf = Some([w.c1, w.c2, w.reference_temperature]);
             section.wlf_range = w.data_range;
@@ -274,5 +290,6 @@ fn creep_section(m: &Material) -> MaterialConfig {
         file: None,
         wlf: None,
         wlf_range: None,
+        frequency_range: None,
     }
 }

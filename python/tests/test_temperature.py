@@ -137,6 +137,21 @@ def test_a_temperature_beyond_the_wlf_data_is_warned_of(small, repo):
         with pytest.raises(ValueError) as e:
             vs.Material.sls(relaxed_modulus=1e6, glassy_modulus=1e7, creep_time=0.01, wlf=WLF, wlf_range=bad)
         assert needle in str(e.value) and "\n" not in str(e.value), str(e.value)
+    # The data's frequencies: recorded by a fit (shifted to its
+    # temperature), read from the shipped file, and warned of beyond a
+    # decade (the Rust test's case: q1 = 3 q_L on 0.01 m, 20 m/s reaches
+    # 3.77e4 rad/s against data up to 1e3).
+    assert m.frequency_range == pytest.approx((2 * math.pi * 1.0 * shift(30.0) / shift(17.0), 2 * math.pi * 100.0 * shift(5.0) / shift(17.0)), rel=1e-12)
+    assert vs.Material.from_toml(repo / "configs" / "data" / "sbr_like_material.toml").frequency_range[1] == pytest.approx(74609283.86623685, rel=1e-15)
+    narrow = vs.Material.sls(relaxed_modulus=1e7 / 3, glassy_modulus=1e7, creep_time=0.01, wlf=WLF,
+                             frequency_range=(1.0, 1e3))
+    assert narrow.frequency_range == (1.0, 1e3)
+    cell = vs.Surface.self_affine(16, 0.01, 0.8, scales=3, rms_slope=0.02, seed=3)
+    r = vs.solve(cell, narrow, speed=20.0, mean_pressure=3000.0, formulation="periodic", backend="cpu")
+    above = [w for w in r.summary["warnings"] if w.startswith("the sliding excites")]
+    assert len(above) == 1 and "up to 3.770e4 rad/s, 1.6 decades above" in above[0], above
+    with pytest.raises(ValueError, match="frequency_range"):
+        vs.Material.sls(relaxed_modulus=1e6, glassy_modulus=1e7, creep_time=0.01, frequency_range=(1e3, 1.0))
     with pytest.raises(ValueError, match="give the constants too"):
         vs.Material.sls(relaxed_modulus=1e6, glassy_modulus=1e7, creep_time=0.01, wlf_range=(0.0, 40.0))
 

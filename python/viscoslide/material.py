@@ -44,6 +44,7 @@ class Material:
         poisson: float = 0.5,
         wlf: Optional[Tuple[float, float, float]] = None,
         wlf_range: Optional[Tuple[float, float]] = None,
+        frequency_range: Optional[Tuple[float, float]] = None,
     ) -> "Material":
         """A standard linear solid (one creep time; the paper's material).
 
@@ -68,6 +69,10 @@ class Material:
             Temperatures [C] of the data the WLF constants were fitted to
             (``[material] wlf_range``): a solve beyond them warns that its
             shift is extrapolated.
+        frequency_range : (lowest, highest), optional
+            Angular frequencies [rad/s] of the data the spectrum was fitted
+            to, at ``T_ref`` (``[material] frequency_range``): a solve that
+            excites frequencies a decade beyond them warns.
         """
         return cls._from_section(
             {
@@ -78,7 +83,8 @@ class Material:
                 "relaxation_time": _checks.optional("relaxation_time", relaxation_time),
                 "poisson": _checks.number("poisson", poisson),
                 "wlf": _wlf(wlf),
-                "wlf_range": _wlf_range(wlf_range),
+                "wlf_range": _pair("wlf_range", wlf_range, "(lowest, highest) in C"),
+                "frequency_range": _pair("frequency_range", frequency_range, "(lowest, highest) in rad/s"),
             }
         )
 
@@ -92,6 +98,7 @@ class Material:
         poisson: float = 0.5,
         wlf: Optional[Tuple[float, float, float]] = None,
         wlf_range: Optional[Tuple[float, float]] = None,
+        frequency_range: Optional[Tuple[float, float]] = None,
     ) -> "Material":
         """A creep spectrum ``J(t) = 1/E_inf + sum_k C_k (1 - exp(-t/tau_k))``.
 
@@ -105,9 +112,9 @@ class Material:
             ``E_inf`` [Pa].
         poisson : float
             Poisson ratio (default 0.5).
-        wlf, wlf_range : optional
-            WLF constants and the temperatures of their data, as for
-            :meth:`sls`.
+        wlf, wlf_range, frequency_range : optional
+            WLF constants, the temperatures of their data and the data's
+            frequencies, as for :meth:`sls`.
         """
         t = _checks.real_array("times", times, 1)
         w = _checks.real_array("weights", weights, 1)
@@ -120,7 +127,8 @@ class Material:
                 "creep_spectrum": [[float(c), float(tau)] for c, tau in zip(w, t)],
                 "poisson": _checks.number("poisson", poisson),
                 "wlf": _wlf(wlf),
-                "wlf_range": _wlf_range(wlf_range),
+                "wlf_range": _pair("wlf_range", wlf_range, "(lowest, highest) in C"),
+                "frequency_range": _pair("frequency_range", frequency_range, "(lowest, highest) in rad/s"),
             }
         )
 
@@ -134,6 +142,7 @@ class Material:
         poisson: float = 0.5,
         wlf: Optional[Tuple[float, float, float]] = None,
         wlf_range: Optional[Tuple[float, float]] = None,
+        frequency_range: Optional[Tuple[float, float]] = None,
     ) -> "Material":
         """A generalized Maxwell (Prony) series
         ``E(t) = E0 + sum_j E_j exp(-t/theta_j)``, converted exactly to a
@@ -149,9 +158,9 @@ class Material:
             ``E0`` [Pa].
         poisson : float
             Poisson ratio (default 0.5).
-        wlf, wlf_range : optional
-            WLF constants and the temperatures of their data, as for
-            :meth:`sls`.
+        wlf, wlf_range, frequency_range : optional
+            WLF constants, the temperatures of their data and the data's
+            frequencies, as for :meth:`sls`.
         """
         e = _checks.real_array("moduli", moduli, 1)
         t = _checks.real_array("times", times, 1)
@@ -164,7 +173,8 @@ class Material:
                 "prony": [[float(m), float(theta)] for m, theta in zip(e, t)],
                 "poisson": _checks.number("poisson", poisson),
                 "wlf": _wlf(wlf),
-                "wlf_range": _wlf_range(wlf_range),
+                "wlf_range": _pair("wlf_range", wlf_range, "(lowest, highest) in C"),
+                "frequency_range": _pair("frequency_range", frequency_range, "(lowest, highest) in rad/s"),
             }
         )
 
@@ -217,7 +227,9 @@ class Material:
         The fit's quality (relative rms and maximum errors of E1 and E2) is
         in the returned material's ``fit_info``. With ``wlf`` and data at
         several ``temperatures``, their lowest and highest are the
-        material's :attr:`wlf_range`: solves beyond them warn.
+        material's :attr:`wlf_range`, and the data's frequencies (shifted to
+        ``temperature``) its :attr:`frequency_range`: solves beyond them
+        warn.
         """
         f = _checks.real_array("frequency", frequency, 1)
         omega = f if _checks.flag("angular", angular) else 2.0 * math.pi * f
@@ -266,6 +278,13 @@ class Material:
         return self._native.wlf_range
 
     @property
+    def frequency_range(self) -> Optional[Tuple[float, float]]:
+        """Lowest and highest angular frequency [rad/s] of the data the
+        spectrum was fitted to (at the temperature it describes), or
+        ``None`` where not recorded."""
+        return self._native.frequency_range
+
+    @property
     def poisson(self) -> float:
         """Poisson ratio."""
         return self._native.poisson
@@ -300,10 +319,10 @@ def _wlf(wlf: Any) -> Optional[list]:
     return w
 
 
-def _wlf_range(wlf_range: Any) -> Optional[list]:
-    """``(lowest, highest)`` checked as two numbers, or ``None``."""
-    if wlf_range is None:
+def _pair(name: str, value: Any, what: str) -> Optional[list]:
+    """Two numbers, or ``None``."""
+    if value is None:
         return None
-    if not isinstance(wlf_range, (tuple, list, np.ndarray)) or len(wlf_range) != 2:
-        raise ValueError(f"wlf_range must be (lowest, highest) in C, two numbers, got {wlf_range!r}")
-    return [_checks.number(f"wlf_range[{i}]", v) for i, v in enumerate(wlf_range)]
+    if not isinstance(value, (tuple, list, np.ndarray)) or len(value) != 2:
+        raise ValueError(f"{name} must be {what}, two numbers, got {value!r}")
+    return [_checks.number(f"{name}[{i}]", v) for i, v in enumerate(value)]

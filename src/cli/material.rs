@@ -121,6 +121,12 @@ fn describe(
     if let Some(t) = m.temperature {
         let _ = writeln!(out, "  spectrum at T = {t} C");
     }
+    if let Some([lo, hi]) = m.frequency_range {
+        let _ = writeln!(
+            out,
+            "  fitted to data from {lo:.4e} to {hi:.4e} rad/s: solves that excite frequencies a decade beyond them warn"
+        );
+    }
     if let Some(w) = &m.wlf {
         let tr = w.reference_temperature;
         let _ = writeln!(
@@ -253,6 +259,7 @@ fn fit(args: &FitArgs) -> Result<()> {
         wlf_c2: wlf.map(|w| w.c2),
         wlf_reference_temperature: wlf.map(|w| w.reference_temperature),
         wlf_range: wlf.and(data.temperature_span()),
+        frequency_range: Some(info.frequency_range),
         temperature,
         weighting: "relative per component: (E1_fit - E1)/E1 and (E2_fit - E2)/E2".into(),
         rms_relative_error_e1: info.rms_relative_storage,

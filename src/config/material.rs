@@ -65,4 +65,15 @@ pub struct MaterialConfig {
         deserialize_with = "exactly::<2, _>"
     )]
     pub wlf_range: Option<[f64; 2]>,
+    /// The lowest and highest angular frequency \[rad/s\] of the data the
+    /// spectrum was fitted to, at the temperature it describes (for
+    /// `file`, replaces the `[fit]` table's `frequency_range`): a solve
+    /// that excites frequencies a decade beyond them warns that its moduli
+    /// there are extrapolated.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "exactly::<2, _>"
+    )]
+    pub frequency_range: Option<[f64; 2]>,
 }

@@ -8,7 +8,7 @@ use super::{CreepSpectrum, CreepTerm, Material, MaterialError, PronySeries, Pron
 use crate::config::{MaterialConfig, MaterialModel};
 
 /// Each key of `[material]` with the unit its error messages quote.
-const KEYS: [(&str, &str); 10] = [
+const KEYS: [(&str, &str); 11] = [
     ("relaxed_modulus", "E0 in Pa"),
     ("glassy_modulus", "E_inf in Pa"),
     ("creep_time", "s"),
@@ -21,6 +21,10 @@ const KEYS: [(&str, &str); 10] = [
     (
         "wlf_range",
         "[lowest, highest] temperature of the WLF fit's data, in C",
+    ),
+    (
+        "frequency_range",
+        "[lowest, highest] angular frequency of the fit's data, in rad/s",
     ),
 ];
 
@@ -51,7 +55,9 @@ impl MaterialConfig {
     /// `[loading] temperature` (physics.md section 12); a `file` fitted
     /// with `--wlf` carries its own. `wlf_range = [lowest, highest]`
     /// records the temperatures of the data they were fitted to
-    /// ([`Wlf::data_range`]; for `file`, the file's `[fit]` records its own).
+    /// ([`Wlf::data_range`]; for `file`, the file's `[fit]` records its own),
+    /// `frequency_range = [lowest, highest]` the data's angular frequencies
+    /// ([`Material::frequency_range`]).
     ///
     /// `poisson` defaults to 0.5. A key the model does not use is an error
     /// (it would be silently ignored otherwise), as is any non-finite or
@@ -74,7 +80,9 @@ impl MaterialConfig {
             MaterialModel::File => &["file"],
         };
         for key in self.present_keys() {
-            if !["poisson", "wlf", "wlf_range"].contains(&key) && !allowed.contains(&key) {
+            if !["poisson", "wlf", "wlf_range", "frequency_range"].contains(&key)
+                && !allowed.contains(&key)
+            {
                 return Err(MaterialError::Invalid(format!(
                     "[material] model = \"{model}\" does not use `{key}` ({}); remove it (this model takes {})",
                     unit(key),
@@ -222,9 +230,19 @@ impl MaterialConfig {
         self.with_wlf_range(material)
     }
 
-    /// `material` with this table's `wlf_range` on its WLF constants (the
-    /// table's own, or a file's), when one is given.
+    /// `material` with this table's `frequency_range`, and its
+    /// `wlf_range` on its WLF constants (the table's own, or a file's),
+    /// when given.
     fn with_wlf_range(&self, mut material: Material) -> Result<Material, MaterialError> {
+        if let Some([lo, hi]) = self.frequency_range {
+            if !(lo > 0.0 && lo <= hi && hi.is_finite()) {
+                return Err(MaterialError::Invalid(format!(
+                    "[material] frequency_range ({}): [{lo}, {hi}] must be two positive finite frequencies, the lowest first",
+                    unit("frequency_range")
+                )));
+            }
+            material.frequency_range = Some([lo, hi]);
+        }
         let Some(range) = self.wlf_range else {
             return Ok(material);
         };
@@ -257,6 +275,7 @@ impl MaterialConfig {
         add(self.poisson.is_some(), "poisson");
         add(self.wlf.is_some(), "wlf");
         add(self.wlf_range.is_some(), "wlf_range");
+        add(self.frequency_range.is_some(), "frequency_range");
         k
     }
 

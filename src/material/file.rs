@@ -33,6 +33,11 @@ pub struct FitRecord {
     /// constants shifted (data at several temperatures only): beyond them
     /// a solve's shift is extrapolated ([`Wlf::data_range`]).
     pub wlf_range: Option<[f64; 2]>,
+    /// The lowest and highest angular frequency \[rad/s\] of the data,
+    /// shifted to `temperature` when WLF constants shifted them: beyond
+    /// them the spectrum's moduli are extrapolated
+    /// ([`Material::frequency_range`]).
+    pub frequency_range: Option<[f64; 2]>,
     /// Temperature the material describes \[C\], if known.
     pub temperature: Option<f64>,
     /// How residuals were weighted.
@@ -89,6 +94,7 @@ pub fn material_toml(
         file: None,
         wlf: None,
         wlf_range: None,
+        frequency_range: None,
     };
     let doc = MaterialFileOut {
         material: config,
@@ -130,10 +136,18 @@ pub fn load_material_file(path: &Path, poisson: Option<f64>) -> Result<Material,
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    let material = cfg.build(dir).map_err(|e| MaterialError::Data {
+    let mut material = cfg.build(dir).map_err(|e| MaterialError::Data {
         source_name: name.clone(),
         message: e.to_string(),
     })?;
+    // The file's own `[material] frequency_range` wins over its provenance.
+    if material.frequency_range.is_none() {
+        material.frequency_range =
+            fit_frequency_range(doc.fit.as_ref()).map_err(|message| MaterialError::Data {
+                source_name: name.clone(),
+                message,
+            })?;
+    }
     if material.wlf.is_some() {
         // The file's own `[material] wlf` wins over its provenance.
         return Ok(material);
@@ -180,16 +194,7 @@ pub fn fit_wlf(fit: Option<&toml::Value>) -> Result<Option<(Wlf, Option<f64>)>, 
         }
     };
     let mut wlf = Wlf::new(c1, c2, t_ref).map_err(|e| format!("[fit] wlf_c1, wlf_c2: {e}"))?;
-    if let Some(range) = fit.get("wlf_range") {
-        let bad =
-            || format!("[fit] wlf_range = {range} is not two temperatures [lowest, highest] (C)");
-        let values = range.as_array().ok_or_else(bad)?;
-        let numbers: Vec<f64> = values
-            .iter()
-            .map(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
-            .collect::<Option<_>>()
-            .ok_or_else(bad)?;
-        let pair: [f64; 2] = numbers.try_into().map_err(|_| bad())?;
+    if let Some(pair) = two_numbers(fit, "wlf_range", "two temperatures [lowest, highest] (C)")? {
         wlf = wlf
             .with_data_range(pair)
             .map_err(|e| format!("[fit] wlf_range: {e}"))?;
@@ -200,4 +205,35 @@ pub fn fit_wlf(fit: Option<&toml::Value>) -> Result<Option<(Wlf, Option<f64>)>, 
             .map_err(|e| format!("[fit] temperature = {t}: {e}"))?;
     }
     Ok(Some((wlf, t)))
+}
+
+/// The data's angular frequencies a `[fit]` table records
+/// (`frequency_range`, written by `material fit`): two positive finite
+/// numbers, the lowest first.
+pub fn fit_frequency_range(fit: Option<&toml::Value>) -> Result<Option<[f64; 2]>, String> {
+    let what = "two angular frequencies [lowest, highest] (rad/s)";
+    let Some(fit) = fit else { return Ok(None) };
+    match two_numbers(fit, "frequency_range", what)? {
+        Some([lo, hi]) if lo > 0.0 && lo <= hi && hi.is_finite() => Ok(Some([lo, hi])),
+        Some([lo, hi]) => Err(format!(
+            "[fit] frequency_range = [{lo}, {hi}] is not {what}, positive and finite"
+        )),
+        None => Ok(None),
+    }
+}
+
+/// `[fit] key = [a, b]` as two numbers, if present.
+fn two_numbers(fit: &toml::Value, key: &str, what: &str) -> Result<Option<[f64; 2]>, String> {
+    let Some(value) = fit.get(key) else {
+        return Ok(None);
+    };
+    let bad = || format!("[fit] {key} = {value} is not {what}");
+    let numbers: Vec<f64> = value
+        .as_array()
+        .ok_or_else(bad)?
+        .iter()
+        .map(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
+        .collect::<Option<_>>()
+        .ok_or_else(bad)?;
+    numbers.try_into().map(Some).map_err(|_| bad())
 }

@@ -62,6 +62,9 @@ pub struct FitInfo {
     /// low-frequency ends: `log10(1 / (w_max theta_min))` and
     /// `log10(w_min theta_max)`; negative means the data reach past the grid.
     pub margin_decades: (f64, f64),
+    /// The lowest and highest angular frequency of the data \[rad/s\]:
+    /// beyond them the spectrum's moduli are extrapolated.
+    pub frequency_range: [f64; 2],
     /// Loss tangent of the fit at the lowest data frequency. When it is not
     /// small the data do not reach the rubbery plateau and the relaxed modulus
     /// `E0` is an extrapolation (the fit may place relaxation below the data).
@@ -201,6 +204,7 @@ pub fn fit_spectrum(
         shortest_time: times[0],
         longest_time: times[n - 1],
         margin_decades: (-(wmax * times[0]).log10(), (wmin * times[n - 1]).log10()),
+        frequency_range: [wmin, wmax],
         tan_delta_at_lowest_frequency: {
             let e = creep.modulus(wmin);
             e.im / e.re

@@ -69,6 +69,12 @@ pub struct Material {
     /// Temperature \[C\] the spectrum describes, when known
     /// ([`Material::at_temperature`]).
     pub temperature: Option<f64>,
+    /// The lowest and highest angular frequency \[rad/s\] of the DMA data
+    /// the spectrum was fitted to, at the temperature it describes (a
+    /// `material.toml` from `material fit` records them; shifted with the
+    /// creep times by [`Material::at_temperature`]): beyond them its
+    /// moduli are the fitted spectrum's extrapolation.
+    pub frequency_range: Option<[f64; 2]>,
 }
 
 impl Material {
@@ -84,6 +90,7 @@ impl Material {
             poisson,
             wlf: None,
             temperature: None,
+            frequency_range: None,
         })
     }
 

@@ -80,6 +80,11 @@ impl Material {
             term.time = time;
         }
         shifted.temperature = Some(temperature);
+        // `E_T(w) = E_from(w a_T(T) / a_T(from))`: the data's frequencies
+        // divide by the ratio.
+        shifted.frequency_range = self
+            .frequency_range
+            .map(|[lo, hi]| [lo / ratio, hi / ratio]);
         Ok(shifted)
     }
 

@@ -73,7 +73,7 @@ impl Problem {
     }
 
     /// The longer side of a cell \[m\]: the resolution of the coarser axis.
-    fn coarser_cell_side(&self) -> f64 {
+    pub(super) fn coarser_cell_side(&self) -> f64 {
         self.surface.cell_size.max(self.surface.cell_size_y)
     }
 

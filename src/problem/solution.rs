@@ -331,6 +331,9 @@ impl Solution {
         // The temperatures of the data the WLF constants were fitted to,
         // when recorded: beyond them the shift is extrapolated (warned).
         doc["wlf_range"] = json!(r.material.wlf.and_then(|w| w.data_range));
+        // The data's angular frequencies at the solve's temperature, when
+        // recorded: a decade beyond them the moduli are extrapolated.
+        doc["frequency_range"] = json!(r.material.frequency_range);
         if let Value::Object(p) = &mut doc["persson"] {
             p.insert("temperature".into(), json!(shift.map(|s| s.temperature)));
             p.insert("shift_factor".into(), json!(shift.map(|s| s.shift_factor)));

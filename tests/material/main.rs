@@ -9,7 +9,7 @@ mod common;
 mod cli;
 mod config;
 mod conversion;
+mod data_range;
 mod dma_data;
 mod fit;
 mod temperature;
-mod wlf_range;

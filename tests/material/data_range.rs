@@ -1,7 +1,9 @@
-//! WLF constants hold where they were fitted: the temperatures of the data
-//! (`[material] wlf_range`, or `[fit] wlf_range` written by `material fit
-//! --wlf` on data at several temperatures). A solve beyond them is answered
-//! with a warning that names the temperature, by how many kelvin and beyond
+//! A fitted material holds where its data were taken. WLF constants hold
+//! over the temperatures of the data (`[material] wlf_range`, or `[fit]
+//! wlf_range` written by `material fit --wlf` on data at several
+//! temperatures), the spectrum over the data's frequencies (`[material]
+//! frequency_range`, `[fit] frequency_range`). A solve beyond them is
+//! answered with a warning that names the value, by how much and beyond
 //! which end; inside them nothing warns; a range that cannot be one is
 //! refused in one line naming the key, with nothing written.
 
@@ -247,4 +249,117 @@ fn the_fit_records_its_data_range_and_a_config_may_replace_it() {
     );
     assert!(data_warnings(dir.path(), &material("", 90.0)).is_empty());
     assert!(data_warnings(dir.path(), &material("wlf_range = [-20.0, 120.0]", 110.0)).is_empty());
+}
+
+/// The warnings of a solve of `text` that mention the data's frequencies.
+fn frequency_warnings(dir: &Path, text: &str) -> Vec<String> {
+    let s = problem(dir, text)
+        .unwrap()
+        .solve(&Executor::Cpu, &mut Silent)
+        .unwrap();
+    s.warnings
+        .into_iter()
+        .filter(|w| w.starts_with("the sliding excites frequencies"))
+        .collect()
+}
+
+/// The cell of [`BASE`] excites `v q` from `v q_L` (`q_L = 2 pi / 0.01
+/// m`) to `v q1` (`q1 = 3 q_L`, three scales). With data from 1 to 1e3
+/// rad/s at 17 C: 20 m/s reaches 3.77e4 rad/s, 1.6 decades above (warned);
+/// at 27 C the data's frequencies are `1 / a_T` times higher (`a_T(27) /
+/// a_T(17) = 0.1417`: up to 7.06e3 rad/s), and 3.77e4 lies within a decade
+/// of them (not warned); 1e-4 m/s reaches down to 0.0628 rad/s, 1.2
+/// decades below 1 rad/s.
+#[test]
+fn frequencies_beyond_the_fitted_data_are_warned_of() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = "frequency_range = [1.0, 1.0e3]";
+    let at = |t: f64, v: f64| text(data, t).replace("speed = 0.05", &format!("speed = {v:e}"));
+    let above = frequency_warnings(dir.path(), &at(17.0, 20.0));
+    assert!(
+        above.len() == 1
+            && above[0].contains("up to 3.770e4 rad/s, 1.6 decades above")
+            && above[0].contains("(1.000e3 rad/s at this temperature)"),
+        "{above:?}"
+    );
+    assert!(frequency_warnings(dir.path(), &at(27.0, 20.0)).is_empty());
+    // summary.json states the range at the solve's temperature.
+    let s = problem(dir.path(), &at(27.0, 20.0))
+        .unwrap()
+        .solve(&Executor::Cpu, &mut Silent)
+        .unwrap()
+        .summary();
+    let a = 10f64.powf(-8.86 * 10.0 / 111.6);
+    let hi = s["frequency_range"][1].as_f64().unwrap();
+    assert!((hi * a / 1e3 - 1.0).abs() < 1e-12, "{hi}");
+    let below = frequency_warnings(dir.path(), &at(17.0, 1e-4));
+    assert!(
+        below.len() == 1 && below[0].contains("down to 6.283e-2 rad/s, 1.2 decades below"),
+        "{below:?}"
+    );
+    assert!(frequency_warnings(dir.path(), &at(17.0, 0.05)).is_empty());
+    for (range, needle) in [
+        ("[0.0, 1.0e3]", "positive"),
+        ("[1.0e3, 1.0]", "lowest first"),
+        ("[1.0, 2.0, 3.0]", "length 2"),
+    ] {
+        let t = text(&format!("frequency_range = {range}"), 17.0);
+        let e = problem(dir.path(), &t).expect_err(range);
+        assert!(
+            e.contains("frequency_range") && e.contains(needle) && !e.contains('\n'),
+            "{e}"
+        );
+    }
+}
+
+/// `material fit` records the data's angular frequencies, shifted to the
+/// fit's temperature, in `[fit] frequency_range`; the shipped SBR-like
+/// file carries them (7.46e7 rad/s at most at 17 C), and sliding it at
+/// 1 km/s at -10 C excites 1.9e6 rad/s, beyond its data's 4.6e4 there
+/// (`a_T(-10) / a_T(17) = 10^(8.86 27 / 74.6)`).
+#[test]
+fn the_fit_records_its_frequencies() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("d.csv");
+    // Three temperatures, frequencies in rad/s; shifted to 17 C by
+    // `a_T(T) / a_T(17)` written out here.
+    std::fs::write(
+        &csv,
+        "temperature_c,omega_rad_s,e1_pa,e2_pa\n-5,1,2e6,2e5\n-5,100,3e6,3e5\n17,10,2.5e6,2.5e5\n35.5,1,2e6,2e5\n35.5,1000,4e6,4e5\n",
+    )
+    .unwrap();
+    let out = dir.path().join("fit");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args([
+            "material",
+            "fit",
+            csv.to_str().unwrap(),
+            "--wlf",
+            "8.86,101.6,17",
+        ])
+        .args(["--terms", "8", "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let f: toml::Value =
+        toml::from_str(&std::fs::read_to_string(out.join("material.toml")).unwrap()).unwrap();
+    let shift = |t: f64| 10f64.powf(-8.86 * (t - 17.0) / (101.6 + t - 17.0));
+    let range = f["fit"]["frequency_range"].as_array().unwrap();
+    let (lo, hi) = (range[0].as_float().unwrap(), range[1].as_float().unwrap());
+    assert!((lo / shift(35.5) - 1.0).abs() < 1e-12, "{lo}");
+    assert!((hi / (100.0 * shift(-5.0)) - 1.0).abs() < 1e-12, "{hi}");
+
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/data/sbr_like_material.toml");
+    let whole = text("", -10.0).replace("speed = 0.05", "speed = 1e3");
+    let config = format!(
+        "[material]\nmodel = \"file\"\nfile = \"{}\"\n\n{}",
+        shipped.display(),
+        &whole[whole.find("[surface.generate]").unwrap()..]
+    );
+    let w = frequency_warnings(dir.path(), &config);
+    let hi = 74_609_283.866_236_85 / 10f64.powf(8.86 * 27.0 / 74.6);
+    assert!(
+        w.len() == 1 && w[0].contains(&format!("({hi:.3e} rad/s at this temperature)")),
+        "{w:?}"
+    );
 }
