@@ -9,6 +9,11 @@
 
 use super::{Material, MaterialError, Wlf};
 
+/// Decades beyond the data's frequencies that a sliding may excite before
+/// [`Material::extrapolated_frequencies_warnings`] warns: a fitted
+/// spectrum's plateaus carry about a decade past its data.
+pub(crate) const FREQUENCY_MARGIN_DECADES: f64 = 1.0;
+
 /// The temperature a material describes and its WLF shift, as reported in
 /// `summary.json`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -96,6 +101,32 @@ impl Material {
         Some(format!(
             "the material's temperature {phrase}: the friction is an estimate there; DMA data nearer this temperature would confirm it"
         ))
+    }
+
+    /// Warnings where the frequencies `[w_lo, w_hi]` \[rad/s\] a sliding
+    /// excites reach more than a decade beyond the
+    /// data the spectrum was fitted to ([`Material::frequency_range`], at
+    /// the temperature it describes): one for each end, naming the
+    /// decades.
+    pub fn extrapolated_frequencies_warnings(&self, w_lo: f64, w_hi: f64) -> Vec<String> {
+        let Some([lo, hi]) = self.frequency_range else {
+            return Vec::new();
+        };
+        let margin = 10f64.powf(FREQUENCY_MARGIN_DECADES);
+        let mut out = Vec::new();
+        if w_hi > margin * hi {
+            out.push(format!(
+                "the sliding excites frequencies v q up to {w_hi:.3e} rad/s, {:.1} decades above the highest of the DMA data the spectrum was fitted to ({hi:.3e} rad/s at this temperature): the moduli there are the fit's extrapolation (its glassy end), and the friction rests on them; data at higher frequencies or lower temperatures would measure them",
+                (w_hi / hi).log10()
+            ));
+        }
+        if w_lo > 0.0 && w_lo < lo / margin {
+            out.push(format!(
+                "the sliding excites frequencies v q down to {w_lo:.3e} rad/s, {:.1} decades below the lowest of the DMA data the spectrum was fitted to ({lo:.3e} rad/s at this temperature): the moduli there are the fit's extrapolation (its relaxed end); data at lower frequencies or higher temperatures would measure them",
+                (lo / w_lo).log10()
+            ));
+        }
+        out
     }
 
     /// [`Material::at_temperature`] when a temperature is given, else the

@@ -147,24 +147,17 @@ impl Problem {
     }
 }
 
-/// Decades beyond the data's frequencies that a solve may excite before
-/// it warns that the moduli there are extrapolated: a fitted spectrum's
-/// plateaus carry about a decade past its data.
-const FREQUENCY_MARGIN_DECADES: f64 = 1.0;
-
 impl Problem {
     /// The frequencies the sliding excites, `v |q . e_v|` from the map's
     /// fundamental along the sliding to its shortest wavelength (the
     /// band's `q1`, or the grid's Nyquist wavenumber), against the
     /// frequencies of the data the material was fitted to
     /// ([`crate::material::Material::frequency_range`], at this
-    /// temperature): a warning for each end more than
-    /// [`FREQUENCY_MARGIN_DECADES`] beyond them.
+    /// temperature): a warning for each end more than a decade beyond
+    /// them ([`crate::material::Material::extrapolated_frequencies_warnings`]).
     fn extrapolated_frequencies_warning(&self) -> Vec<String> {
-        let (Some([lo, hi]), v) = (self.material.frequency_range, self.speed) else {
-            return Vec::new();
-        };
-        if v <= 0.0 || !v.is_finite() {
+        let v = self.speed;
+        if self.material.frequency_range.is_none() || v <= 0.0 || !v.is_finite() {
             return Vec::new();
         }
         let (ex, ey) = crate::response::unit_direction(self.direction_rad);
@@ -178,21 +171,7 @@ impl Problem {
             .shortest_wavelength()
             .map_or(2.0 * self.coarser_cell_side(), |w| w.length());
         let (w_lo, w_hi) = (v * fundamental, v * std::f64::consts::TAU / shortest);
-        let margin = 10f64.powf(FREQUENCY_MARGIN_DECADES);
-        let mut out = Vec::new();
-        if w_hi > margin * hi {
-            out.push(format!(
-                "the sliding excites frequencies v q up to {w_hi:.3e} rad/s, {:.1} decades above the highest of the DMA data the spectrum was fitted to ({hi:.3e} rad/s at this temperature): the moduli there are the fit's extrapolation (its glassy end), and the friction rests on them; data at higher frequencies or lower temperatures would measure them",
-                (w_hi / hi).log10()
-            ));
-        }
-        if w_lo < lo / margin {
-            out.push(format!(
-                "the sliding excites frequencies v q down to {w_lo:.3e} rad/s, {:.1} decades below the lowest of the DMA data the spectrum was fitted to ({lo:.3e} rad/s at this temperature): the moduli there are the fit's extrapolation (its relaxed end); data at lower frequencies or higher temperatures would measure them",
-                (lo / w_lo).log10()
-            ));
-        }
-        out
+        self.material.extrapolated_frequencies_warnings(w_lo, w_hi)
     }
 
     /// A measured map (read from a file or given as values) that is not

@@ -298,6 +298,36 @@ fn frequencies_beyond_the_fitted_data_are_warned_of() {
         "{below:?}"
     );
     assert!(frequency_warnings(dir.path(), &at(17.0, 0.05)).is_empty());
+    // `viscoslide persson` over speeds from 1 mm/s to 20 m/s: the same
+    // upper end (its PSD is the band q_L .. q1 of the cell).
+    let p = dir.path().join("p.toml");
+    std::fs::write(&p, at(17.0, 0.05)).unwrap();
+    let out = dir.path().join("persson");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args([
+            "persson",
+            p.to_str().unwrap(),
+            "--speeds",
+            "1e-3,20,5",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("persson.json")).unwrap()).unwrap();
+    let w: Vec<&str> = doc["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|w| w.as_str())
+        .filter(|w| w.starts_with("the sliding excites"))
+        .collect();
+    assert!(
+        w.len() == 1 && w[0].contains("up to 3.770e4 rad/s"),
+        "{w:?}"
+    );
     for (range, needle) in [
         ("[0.0, 1.0e3]", "positive"),
         ("[1.0e3, 1.0]", "lowest first"),
