@@ -58,16 +58,21 @@ fn problem(dir: &Path, text: &str) -> Result<Problem, String> {
     Problem::from_config(&cfg).map_err(|e| e.to_string())
 }
 
-/// The warnings of a solve of `text` that mention the WLF data.
-fn data_warnings(dir: &Path, text: &str) -> Vec<String> {
+/// The warnings of a solve of `text` that hold `needle`.
+fn warnings_with(dir: &Path, text: &str, needle: &str) -> Vec<String> {
     let s = problem(dir, text)
         .unwrap()
         .solve(&Executor::Cpu, &mut Silent)
         .unwrap();
     s.warnings
         .into_iter()
-        .filter(|w| w.contains("DMA data"))
+        .filter(|w| w.contains(needle))
         .collect()
+}
+
+/// The warnings of a solve of `text` that mention the WLF constants' data.
+fn data_warnings(dir: &Path, text: &str) -> Vec<String> {
+    warnings_with(dir, text, "that the WLF constants were fitted to")
 }
 
 #[test]
@@ -234,15 +239,7 @@ fn the_fit_records_its_data_range_and_a_config_may_replace_it() {
             &whole[whole.find("[surface.generate]").unwrap()..]
         )
     };
-    let s = problem(dir.path(), &material("", 110.0))
-        .unwrap()
-        .solve(&Executor::Cpu, &mut Silent)
-        .unwrap();
-    let w: Vec<&String> = s
-        .warnings
-        .iter()
-        .filter(|w| w.contains("DMA data"))
-        .collect();
+    let w = data_warnings(dir.path(), &material("", 110.0));
     assert!(
         w.len() == 1 && w[0].contains("110.0000 C lies 10.000 K above the DMA data (-20 to 100 C)"),
         "{w:?}"
@@ -253,14 +250,7 @@ fn the_fit_records_its_data_range_and_a_config_may_replace_it() {
 
 /// The warnings of a solve of `text` that mention the data's frequencies.
 fn frequency_warnings(dir: &Path, text: &str) -> Vec<String> {
-    let s = problem(dir, text)
-        .unwrap()
-        .solve(&Executor::Cpu, &mut Silent)
-        .unwrap();
-    s.warnings
-        .into_iter()
-        .filter(|w| w.starts_with("the sliding excites frequencies"))
-        .collect()
+    warnings_with(dir, text, "the sliding excites frequencies")
 }
 
 /// The cell of [`BASE`] excites `v q` from `v q_L` (`q_L = 2 pi / 0.01
