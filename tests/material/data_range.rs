@@ -58,6 +58,22 @@ fn problem(dir: &Path, text: &str) -> Result<Problem, String> {
     Problem::from_config(&cfg).map_err(|e| e.to_string())
 }
 
+/// `material fit DATA --wlf 8.86,101.6,17 --terms 8` on the DMA table
+/// `csv`, written in `dir` as `name.csv`: the `material.toml` it writes.
+fn fitted(dir: &Path, csv: &str, name: &str) -> toml::Value {
+    let data = dir.join(format!("{name}.csv"));
+    std::fs::write(&data, csv).unwrap();
+    let out = dir.join(name);
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(["material", "fit", data.to_str().unwrap()])
+        .args(["--wlf", "8.86,101.6,17", "--terms", "8", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    toml::from_str(&std::fs::read_to_string(out.join("material.toml")).unwrap()).unwrap()
+}
+
 /// The warnings of a solve of `text` that hold `needle`.
 fn warnings_with(dir: &Path, text: &str, needle: &str) -> Vec<String> {
     let s = problem(dir, text)
@@ -190,25 +206,7 @@ fn a_range_that_cannot_be_one_is_refused_naming_the_key() {
 #[test]
 fn the_fit_records_its_data_range_and_a_config_may_replace_it() {
     let dir = tempfile::tempdir().unwrap();
-    let bin = env!("CARGO_BIN_EXE_viscoslide");
-    let fit = |csv: &str, name: &str| -> toml::Value {
-        let data = dir.path().join(format!("{name}.csv"));
-        std::fs::write(&data, csv).unwrap();
-        let out = dir.path().join(name);
-        let o = std::process::Command::new(bin)
-            .args([
-                "material",
-                "fit",
-                data.to_str().unwrap(),
-                "--wlf",
-                "8.86,101.6,17",
-            ])
-            .args(["--terms", "8", "--out", out.to_str().unwrap()])
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        toml::from_str(&std::fs::read_to_string(out.join("material.toml")).unwrap()).unwrap()
-    };
+    let fit = |csv: &str, name: &str| fitted(dir.path(), csv, name);
     let mut several = String::from("temperature_c,omega_rad_s,e1_pa,e2_pa\n");
     let mut one = several.clone();
     for (k, t) in [-5.0, 17.0, 35.5].iter().enumerate() {
@@ -340,29 +338,11 @@ fn frequencies_beyond_the_fitted_data_are_warned_of() {
 #[test]
 fn the_fit_records_its_frequencies() {
     let dir = tempfile::tempdir().unwrap();
-    let csv = dir.path().join("d.csv");
-    // Three temperatures, frequencies in rad/s; shifted to 17 C by
-    // `a_T(T) / a_T(17)` written out here.
-    std::fs::write(
-        &csv,
+    let f = fitted(
+        dir.path(),
         "temperature_c,omega_rad_s,e1_pa,e2_pa\n-5,1,2e6,2e5\n-5,100,3e6,3e5\n17,10,2.5e6,2.5e5\n35.5,1,2e6,2e5\n35.5,1000,4e6,4e5\n",
-    )
-    .unwrap();
-    let out = dir.path().join("fit");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_viscoslide"))
-        .args([
-            "material",
-            "fit",
-            csv.to_str().unwrap(),
-            "--wlf",
-            "8.86,101.6,17",
-        ])
-        .args(["--terms", "8", "--out", out.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let f: toml::Value =
-        toml::from_str(&std::fs::read_to_string(out.join("material.toml")).unwrap()).unwrap();
+        "d",
+    );
     let shift = |t: f64| 10f64.powf(-8.86 * (t - 17.0) / (101.6 + t - 17.0));
     let range = f["fit"]["frequency_range"].as_array().unwrap();
     let (lo, hi) = (range[0].as_float().unwrap(), range[1].as_float().unwrap());
