@@ -11,7 +11,7 @@ use crate::problem::{Executor, Observer, Problem};
 
 use super::branches::{Branch, Evaluation};
 use super::params::HeatingParams;
-use super::report::{DepthRow, HeatedSolution, HeatingReport, Rises};
+use super::report::{persson_friction, DepthRow, HeatedSolution, HeatingReport, Rises};
 
 /// What the answer at rest says of itself.
 pub(super) const AT_REST: &str = "at rest (speed = 0) nothing is dissipated: the effective temperature is T0 and the answer is the isothermal solve there, without a search";
@@ -57,11 +57,7 @@ pub(super) fn solve_at_rest(
         heat_total_w: 0.0,
         friction_power_w: 0.0,
         isothermal_friction_coefficient: solution.friction_coefficient,
-        persson_friction_coefficient: solution
-            .persson
-            .as_ref()
-            .ok()
-            .map(|p| p.friction_coefficient),
+        persson_friction_coefficient: persson_friction(&solution),
         source: params.source.name(),
         closure: "effective",
         conductivity: params.conduction.conductivity,

@@ -90,6 +90,16 @@ pub struct HeatingReport {
     pub heat_time_s: f64,
 }
 
+/// Persson's friction coefficient beside `solution`, when his theory
+/// applies to it (the report's `persson_friction_coefficient`).
+pub(super) fn persson_friction(solution: &Solution) -> Option<f64> {
+    solution
+        .persson
+        .as_ref()
+        .ok()
+        .map(|p| p.friction_coefficient)
+}
+
 /// One depth of the answer's temperature profile.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct DepthRow {

@@ -23,7 +23,7 @@ use super::at_rest::solve_at_rest;
 use super::branches::{Branch, SearchFailure};
 use super::coarse::coarse_problem;
 use super::params::{BranchChoice, HeatingParams};
-use super::report::{DepthRow, HeatedSolution, HeatingReport, Rises};
+use super::report::{persson_friction, DepthRow, HeatedSolution, HeatingReport, Rises};
 use super::two_level::{Level, DISCREPANCY_WARNING};
 
 /// Heat balance `|Int Q dV / (mu F_N v) - 1|` above which a warning is
@@ -318,11 +318,7 @@ pub fn solve_heated(
         heat_total_w: answer.heat,
         friction_power_w: friction_power,
         isothermal_friction_coefficient: isothermal.expect("T0 is evaluated first"),
-        persson_friction_coefficient: solution
-            .persson
-            .as_ref()
-            .ok()
-            .map(|p| p.friction_coefficient),
+        persson_friction_coefficient: persson_friction(&solution),
         source: params.source.name(),
         closure: "effective",
         conductivity: params.conduction.conductivity,
