@@ -83,10 +83,14 @@ impl NativeMaterial {
         };
         let mut material = section.build(&base_dir).map_err(value_error)?;
         if material.frequency_range.is_none() {
-            material.frequency_range =
-                viscoslide::material::file::fit_frequency_range(doc.get("fit"))
-                    .map_err(|e| value_error(format!("{}: {e}", path.display())))?;
-            section.frequency_range = material.frequency_range;
+            let recorded = viscoslide::material::file::fit_frequency_range(doc.get("fit"))
+                .map_err(|e| value_error(format!("{}: {e}", path.display())))?;
+            if let Some(range) = recorded {
+                material = material.with_frequency_range(range).map_err(|e| {
+                    value_error(format!("{}: [fit] frequency_range: {e}", path.display()))
+                })?;
+                section.frequency_range = Some(range);
+            }
         }
         // A material.toml fitted with `--wlf` keeps its WLF constants in
         // `[fit]` (as `model = "file"` reads them).

@@ -63,6 +63,14 @@ impl HeatSetup {
         if !self.direction_rad.is_finite() {
             return Err(HeatError::Direction(self.direction_rad));
         }
+        self.check_block()
+    }
+
+    /// A periodic cell's block length, where one is given: positive,
+    /// finite and at least the cell's length along the sliding direction
+    /// ([`HeatSetup::cell_length_along_sliding`]). Needs no speed, so a
+    /// heated solve checks it before any solve, at rest too.
+    pub fn check_block(&self) -> Result<(), HeatError> {
         if let HeatDomain::Periodic {
             block_length: Some(l),
         } = self.domain

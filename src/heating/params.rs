@@ -4,7 +4,7 @@
 use crate::config::HeatingConfig;
 use crate::config::{Formulation, MeshKind};
 use crate::error::{Error, Result};
-use crate::heat::{Conduction, HeatDomain, HeatError, HeatSetup, SourceKind};
+use crate::heat::{Conduction, HeatDomain, HeatSetup, SourceKind};
 use crate::problem::Problem;
 
 use super::branches::BranchSearch;
@@ -195,15 +195,10 @@ impl HeatingParams {
             coarse_scan: true,
         };
         // The block holds the cell: refused here, before any solve.
-        if let Some(block) = block_length {
-            let cell = params.heat_setup(problem)?.cell_length_along_sliding();
-            if block < cell {
-                return Err(invalid(format!(
-                    "[heating] {}",
-                    HeatError::BlockShorterThanCell { block, cell }
-                )));
-            }
-        }
+        params
+            .heat_setup(problem)?
+            .check_block()
+            .map_err(|e| invalid(format!("[heating] {e}")))?;
         Ok(Some(params))
     }
 

@@ -219,7 +219,7 @@ impl MaterialConfig {
                     }
                     None => material,
                 };
-                return self.with_wlf_range(material);
+                return self.with_data_ranges(material);
             }
         };
         let material = Material::new(spectrum, nu)?;
@@ -227,21 +227,20 @@ impl MaterialConfig {
             Some(w) => material.with_wlf(w, None)?,
             None => material,
         };
-        self.with_wlf_range(material)
+        self.with_data_ranges(material)
     }
 
     /// `material` with this table's `frequency_range`, and its
     /// `wlf_range` on its WLF constants (the table's own, or a file's),
     /// when given.
-    fn with_wlf_range(&self, mut material: Material) -> Result<Material, MaterialError> {
-        if let Some([lo, hi]) = self.frequency_range {
-            if !(lo > 0.0 && lo <= hi && hi.is_finite()) {
-                return Err(MaterialError::Invalid(format!(
-                    "[material] frequency_range ({}): [{lo}, {hi}] must be two positive finite frequencies, the lowest first",
+    fn with_data_ranges(&self, mut material: Material) -> Result<Material, MaterialError> {
+        if let Some(range) = self.frequency_range {
+            material = material.with_frequency_range(range).map_err(|e| {
+                MaterialError::Invalid(format!(
+                    "[material] frequency_range ({}): {e}",
                     unit("frequency_range")
-                )));
-            }
-            material.frequency_range = Some([lo, hi]);
+                ))
+            })?;
         }
         let Some(range) = self.wlf_range else {
             return Ok(material);

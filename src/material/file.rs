@@ -142,11 +142,15 @@ pub fn load_material_file(path: &Path, poisson: Option<f64>) -> Result<Material,
     })?;
     // The file's own `[material] frequency_range` wins over its provenance.
     if material.frequency_range.is_none() {
-        material.frequency_range =
-            fit_frequency_range(doc.fit.as_ref()).map_err(|message| MaterialError::Data {
-                source_name: name.clone(),
-                message,
-            })?;
+        let data = |message| MaterialError::Data {
+            source_name: name.clone(),
+            message,
+        };
+        if let Some(range) = fit_frequency_range(doc.fit.as_ref()).map_err(data)? {
+            material = material
+                .with_frequency_range(range)
+                .map_err(|e| data(format!("[fit] frequency_range: {e}")))?;
+        }
     }
     if material.wlf.is_some() {
         // The file's own `[material] wlf` wins over its provenance.
@@ -208,18 +212,15 @@ pub fn fit_wlf(fit: Option<&toml::Value>) -> Result<Option<(Wlf, Option<f64>)>, 
 }
 
 /// The data's angular frequencies a `[fit]` table records
-/// (`frequency_range`, written by `material fit`): two positive finite
-/// numbers, the lowest first.
+/// (`frequency_range`, written by `material fit`) as two numbers;
+/// [`Material::with_frequency_range`] checks them.
 pub fn fit_frequency_range(fit: Option<&toml::Value>) -> Result<Option<[f64; 2]>, String> {
-    let what = "two angular frequencies [lowest, highest] (rad/s)";
     let Some(fit) = fit else { return Ok(None) };
-    match two_numbers(fit, "frequency_range", what)? {
-        Some([lo, hi]) if lo > 0.0 && lo <= hi && hi.is_finite() => Ok(Some([lo, hi])),
-        Some([lo, hi]) => Err(format!(
-            "[fit] frequency_range = [{lo}, {hi}] is not {what}, positive and finite"
-        )),
-        None => Ok(None),
-    }
+    two_numbers(
+        fit,
+        "frequency_range",
+        "two angular frequencies [lowest, highest] (rad/s)",
+    )
 }
 
 /// `[fit] key = [a, b]` as two numbers, if present.

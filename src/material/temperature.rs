@@ -103,6 +103,21 @@ impl Material {
         ))
     }
 
+    /// The same material with the angular frequencies `[lowest, highest]`
+    /// \[rad/s\] of the data its spectrum was fitted to, at the temperature
+    /// it describes ([`Material::frequency_range`]): both positive and
+    /// finite, the lowest first.
+    pub fn with_frequency_range(mut self, range: [f64; 2]) -> Result<Self, MaterialError> {
+        let [lo, hi] = range;
+        if !(lo > 0.0 && lo <= hi && hi.is_finite()) {
+            return Err(MaterialError::Invalid(format!(
+                "[{lo}, {hi}] rad/s must be two positive finite frequencies, the lowest first"
+            )));
+        }
+        self.frequency_range = Some(range);
+        Ok(self)
+    }
+
     /// Warnings where the frequencies `[w_lo, w_hi]` \[rad/s\] a sliding
     /// excites reach more than a decade beyond the
     /// data the spectrum was fitted to ([`Material::frequency_range`], at

@@ -50,6 +50,16 @@ fn text(range: &str, t: f64) -> String {
         .replace("T\n", &format!("{t:?}\n"))
 }
 
+/// Config `text` with its `[material]` the `material.toml` at `file`, with
+/// the `extra` keys beside it.
+fn on_file(file: &Path, extra: &str, text: &str) -> String {
+    format!(
+        "[material]\nmodel = \"file\"\nfile = \"{}\"\n{extra}\n\n{}",
+        file.display(),
+        &text[text.find("[surface.generate]").unwrap()..]
+    )
+}
+
 /// The problem of config `text`, or its error (reading or building).
 fn problem(dir: &Path, text: &str) -> Result<Problem, String> {
     let p = dir.join("c.toml");
@@ -229,14 +239,7 @@ fn the_fit_records_its_data_range_and_a_config_may_replace_it() {
     assert!(f["fit"].get("wlf_range").is_none(), "{f}");
 
     let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/data/sbr_like_material.toml");
-    let material = |range: &str, t: f64| -> String {
-        let whole = text("", t);
-        format!(
-            "[material]\nmodel = \"file\"\nfile = \"{}\"\n{range}\n\n{}",
-            shipped.display(),
-            &whole[whole.find("[surface.generate]").unwrap()..]
-        )
-    };
+    let material = |range: &str, t: f64| on_file(&shipped, range, &text("", t));
     let w = data_warnings(dir.path(), &material("", 110.0));
     assert!(
         w.len() == 1 && w[0].contains("110.0000 C lies 10.000 K above the DMA data (-20 to 100 C)"),
@@ -349,12 +352,33 @@ fn the_fit_records_its_frequencies() {
     assert!((lo / shift(35.5) - 1.0).abs() < 1e-12, "{lo}");
     assert!((hi / (100.0 * shift(-5.0)) - 1.0).abs() < 1e-12, "{hi}");
 
+    // A recorded range that cannot be one is refused as the config's is.
+    let shipped_text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/data/sbr_like_material.toml"),
+    )
+    .unwrap();
+    let line = shipped_text
+        .lines()
+        .find(|l| l.starts_with("frequency_range"))
+        .unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(
+        &bad,
+        shipped_text.replace(line, "frequency_range = [0.0, 1.0]"),
+    )
+    .unwrap();
+    let e = problem(dir.path(), &on_file(&bad, "", &text("", 17.0)))
+        .expect_err("a frequency range of zero");
+    assert!(
+        e.contains("[fit] frequency_range") && e.contains("positive") && !e.contains('\n'),
+        "{e}"
+    );
+
     let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/data/sbr_like_material.toml");
-    let whole = text("", -10.0).replace("speed = 0.05", "speed = 1e3");
-    let config = format!(
-        "[material]\nmodel = \"file\"\nfile = \"{}\"\n\n{}",
-        shipped.display(),
-        &whole[whole.find("[surface.generate]").unwrap()..]
+    let config = on_file(
+        &shipped,
+        "",
+        &text("", -10.0).replace("speed = 0.05", "speed = 1e3"),
     );
     let w = frequency_warnings(dir.path(), &config);
     let hi = 74_609_283.866_236_85 / 10f64.powf(8.86 * 27.0 / 74.6);
