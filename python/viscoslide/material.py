@@ -309,20 +309,20 @@ class Material:
 
 def _wlf(wlf: Any) -> Optional[list]:
     """``(C1, C2, T_ref)`` checked as three numbers, or ``None``."""
-    if wlf is None:
-        return None
-    if not isinstance(wlf, (tuple, list, np.ndarray)):
-        raise ValueError(f"wlf must be (C1, C2, T_ref), three numbers, got {wlf!r}")
-    w = [_checks.number(f"wlf[{i}]", v) for i, v in enumerate(wlf)]
-    if len(w) != 3:
-        raise ValueError(f"wlf must be (C1, C2, T_ref), got {wlf!r}")
-    return w
+    return _numbers("wlf", wlf, 3, "(C1, C2, T_ref)")
 
 
 def _pair(name: str, value: Any, what: str) -> Optional[list]:
     """Two numbers, or ``None``."""
+    return _numbers(name, value, 2, what)
+
+
+def _numbers(name: str, value: Any, count: int, what: str) -> Optional[list]:
+    """``value`` as ``count`` finite numbers, or ``None``; otherwise a
+    ``ValueError`` naming ``name`` and ``what`` it must be."""
     if value is None:
         return None
-    if not isinstance(value, (tuple, list, np.ndarray)) or len(value) != 2:
-        raise ValueError(f"{name} must be {what}, two numbers, got {value!r}")
+    words = {2: "two", 3: "three"}[count]
+    if not isinstance(value, (tuple, list, np.ndarray)) or len(value) != count:
+        raise ValueError(f"{name} must be {what}, {words} numbers, got {value!r}")
     return [_checks.number(f"{name}[{i}]", v) for i, v in enumerate(value)]
