@@ -493,10 +493,13 @@ impl Executes for GpuMixedExecutor {
     }
 }
 
-/// The GPU executor's refusal of the periodic formulation in f32.
+/// The GPU executor's refusal of the periodic formulation in f32. An
+/// explicit `precision = "f32"` is refused with the periodic formulation
+/// by [`Problem::check`]; this is the route of `gpu_refine = false`, whose
+/// own fix is to drop it (`precision = "mixed"` beside it disagrees).
 pub(crate) fn periodic_refused() -> Error {
     invalid(
-        "the GPU's f32 iteration solves the non-periodic formulation; use precision = \"mixed\" or --backend cpu for formulation = \"periodic\"",
+        "[solver] gpu_refine = false keeps the GPU's f32 iteration, which solves the non-periodic formulation; for formulation = \"periodic\" remove gpu_refine (a GPU then runs precision = \"mixed\") or use --backend cpu",
     )
 }
 

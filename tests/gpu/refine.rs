@@ -224,6 +224,23 @@ fn precision_is_one_choice_on_the_gpu() {
     assert_eq!(a.fields.pressure, b.fields.pressure);
     assert_eq!(a.summary()["precision"], "f32");
 
+    // `gpu_refine = false` keeps the f32 iteration, which has no periodic
+    // formulation: refused before solving, naming the key, and the fix it
+    // suggests (the same problem without it) solves.
+    let periodic = "solver.formulation=\"periodic\"";
+    let err = problem(&["solver.gpu_refine=false", periodic])
+        .precision_on(&gpu)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("gpu_refine = false") && err.contains("remove gpu_refine"),
+        "{err}"
+    );
+    assert!(!err.contains('\n'), "one line: {err}");
+    let fixed = problem(&[periodic]);
+    assert_eq!(fixed.precision_on(&gpu).unwrap(), Precision::Mixed);
+    assert!(fixed.solve(&gpu, &mut Silent).is_ok());
+
     let f64_asked = problem(&["solver.precision=\"f64\""]);
     for err in [
         f64_asked.precision_on(&gpu).unwrap_err().to_string(),
