@@ -128,6 +128,19 @@ impl NativeSurface {
         Self::from_config(section, &base_dir)
     }
 
+    /// The one-line warnings of a generated surface's making: a stretch the
+    /// grid cannot hold ([`viscoslide::surface::anisotropy_warning`]); none
+    /// for any other surface.
+    fn generation_warnings(&self) -> PyResult<Vec<String>> {
+        Ok(match &self.source {
+            SurfaceSource::Generated(p) => viscoslide::surface::anisotropy_warning(p)
+                .map_err(value_error)?
+                .into_iter()
+                .collect(),
+            _ => Vec::new(),
+        })
+    }
+
     /// A surface read from `path` in any format the library reads (`.x3p`,
     /// `.gwy`, `.npy`, text); `length` (m) is needed for `.npy` and text.
     #[staticmethod]

@@ -92,3 +92,19 @@ def test_bad_generator_and_material_keys_are_named():
         vs.Material.sls(relaxed_modulus=1e7, glassy_modulus=-1.0, creep_time=0.01)
     with pytest.raises(ValueError, match="times and weights"):
         vs.Material.creep_spectrum([0.1, 1.0], [1e-7], glassy_modulus=1e7)
+
+
+def test_a_stretch_the_grid_cannot_hold_is_warned(rubber):
+    """`anisotropy` beyond q1 / q_L along an axis leaves a ridged surface
+    whatever the ratio: the surface is made and warned, and a solve on it
+    carries the warning; a stretch the grid holds is quiet."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        vs.Surface.self_affine(64, 0.01, 0.8, scales=16, rms_slope=0.02, anisotropy=(2.0, 45.0))
+    with pytest.warns(UserWarning, match=r"anisotropy.ratio = 20 .*ridged"):
+        ridged = vs.Surface.self_affine(64, 0.01, 0.8, scales=16, rms_slope=0.02, anisotropy=(20.0, 0.0))
+    with pytest.warns(UserWarning, match="ridged"):
+        r = vs.solve(ridged, rubber, xi=1.17e-2, mean_pressure=3000.0, backend="cpu")
+    assert any("ridged" in w for w in r.summary["warnings"]), r.summary["warnings"]

@@ -116,14 +116,21 @@ class Surface:
         """A surface from the keys of a ``[surface.generate]`` section
         (``n``, ``length``, ``hurst``, ``scales``, ``rms_slope``, ``seed``,
         ..., or ``psd`` with a ``q, C`` CSV path for a surface following a
-        tabulated PSD). Unknown keys are refused by name."""
+        tabulated PSD). Unknown keys are refused by name. An ``anisotropy``
+        stretch whose rms-slope ratio the grid does not hold within 10 % is
+        warned about (``warnings.warn``), as ``viscoslide surface generate``
+        and a solve on it warn."""
         section = _checks.drop_none(keys)
         for key, value in section.items():
             if isinstance(value, float) and not math.isfinite(value):
                 raise ValueError(f"{key} must be finite, got {value}")
         if "psd" in section:
             section["psd"] = os.path.abspath(_checks.path("psd", section["psd"]))
-        return cls(_native.Surface.generate(json.dumps(section), os.getcwd()))
+        native = _native.Surface.generate(json.dumps(section), os.getcwd())
+        # A stretch the grid cannot hold (the surface is made, and warned).
+        for w in native.generation_warnings():
+            warnings.warn(w, stacklevel=2)
+        return cls(native)
 
     @classmethod
     def from_file(

@@ -57,6 +57,10 @@ impl Problem {
             ));
         }
         out.extend(self.wrapped_map_warning());
+        if let super::SurfaceSource::Generated(p) = &self.source {
+            // The parameters made this surface: they are valid.
+            out.extend(crate::surface::anisotropy_warning(p).ok().flatten());
+        }
         out.extend(self.material.extrapolated_shift_warning());
         out.extend(self.extrapolated_frequencies_warning());
         // A layer thinner than one cell: in summary.json and Python's

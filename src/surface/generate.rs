@@ -343,6 +343,73 @@ impl GenerateParams {
 /// magnification study holds `C(q)` fixed while it cuts the band at
 /// several `q1` (physics.md section 12).
 pub fn lattice_moments(params: &GenerateParams) -> Result<(f64, f64), SurfaceError> {
+    let [m0, m2] = lattice_sums(params, |qx, qy| [1.0, qx * qx + qy * qy])?;
+    Ok((m0, m2))
+}
+
+/// Relative departure of the generated surface's rms-slope ratio from its
+/// stretch's `1/s` above which [`anisotropy_warning`] warns.
+const ANISOTROPY_RATIO_TOLERANCE: f64 = 0.1;
+
+/// The rms-slope ratio `sqrt(<(dh/de)^2> / <(dh/de_perp)^2>)` of the
+/// surface [`generate`] makes from `params` ([`Anisotropy`]: `1/s` for the
+/// continuous PSD), from the amplitudes alone as [`lattice_moments`]
+/// sums them (the phases do not enter a mean square slope); `None`
+/// without a stretch. Infinite where no mode varies across `e`, zero where
+/// none varies along it.
+pub(crate) fn lattice_slope_ratio(params: &GenerateParams) -> Result<Option<f64>, SurfaceError> {
+    let Some(a) = params.anisotropy else {
+        return Ok(None);
+    };
+    let (s, c) = a.angle_deg.to_radians().sin_cos();
+    let [along, across] = lattice_sums(params, |qx, qy| {
+        let (qe, qp) = (qx * c + qy * s, -qx * s + qy * c);
+        [qe * qe, qp * qp]
+    })?;
+    Ok(Some((along / across).sqrt()))
+}
+
+/// A one-line warning where the generated surface's rms-slope ratio along
+/// and across the stretch departs from the asked `1/s` by more than 10 %
+/// (its modes' sum, the ratio the heights have): the grid holds too few modes along the
+/// stretched direction (`s |q.e| <= q1` keeps about `q1 / (s q_L)` of
+/// them; above `s = q1 / q_L` only the modes across it, a ridged surface
+/// whatever the ratio).
+pub fn anisotropy_warning(params: &GenerateParams) -> Result<Option<String>, SurfaceError> {
+    let (Some(a), Some(got)) = (params.anisotropy, lattice_slope_ratio(params)?) else {
+        return Ok(None);
+    };
+    let want = 1.0 / a.ratio;
+    if (got / want - 1.0).abs() <= ANISOTROPY_RATIO_TOLERANCE {
+        return Ok(None);
+    }
+    let target = params.resolve()?;
+    // Below 1e-9 of the asked ratio (or above 1e9 times it) what is left
+    // is the round-off of `cos` and `sin` at a grid axis.
+    let realised = if got <= 1e-9 * want || got >= 1e9 * want {
+        format!(
+            "{got:.1e}, heights that do not vary {} it (a ridged, one-dimensional surface)",
+            if got < want { "along" } else { "across" }
+        )
+    } else {
+        format!("{got:.4}")
+    };
+    Ok(Some(format!(
+        "anisotropy.ratio = {} along {} deg asks for an rms-slope ratio (along / across) of {want:.4}; the grid's modes give {realised} (more than {:.0} % off): the stretched band holds about q1 / (ratio q_L) = {:.2} modes along it; bring the ratio closer to 1 or raise q1 / q_L = {:.3}",
+        a.ratio,
+        a.angle_deg,
+        100.0 * ANISOTROPY_RATIO_TOLERANCE,
+        target.q1 / (a.ratio * target.ql),
+        target.q1 / target.ql
+    )))
+}
+
+/// `sum_q f(q) C(q) dqx dqy` over the Fourier modes of the grid of
+/// `params` for the PSD with `C0 = 1`, `K` weights at once.
+fn lattice_sums<const K: usize>(
+    params: &GenerateParams,
+    f: impl Fn(f64, f64) -> [f64; K] + Sync,
+) -> Result<[f64; K], SurfaceError> {
     let target = params.resolve()?;
     let (nx, ny) = (params.nx, params.ny);
     let a = params.length / nx as f64;
@@ -358,21 +425,22 @@ pub fn lattice_moments(params: &GenerateParams) -> Result<(f64, f64), SurfaceErr
     };
     // Row sums in parallel, added in row order: the same bits on any
     // number of threads.
-    let rows: Vec<(f64, f64)> = (0..ny)
+    let add = |mut sum: [f64; K], terms: [f64; K], c: f64| {
+        sum.iter_mut().zip(terms).for_each(|(m, t)| *m += t * c);
+        sum
+    };
+    let rows: Vec<[f64; K]> = (0..ny)
         .into_par_iter()
         .map(|ky| {
             let qy = signed(ky, ny) * dqy;
-            (0..nx).fold((0.0, 0.0), |(m0, m2), kx| {
+            (0..nx).fold([0.0; K], |sum, kx| {
                 let qx = signed(kx, nx) * dqx;
                 let s = target.sqrt_eval(qx, qy);
-                let c = s * s * dqx * dqy;
-                (m0 + c, m2 + (qx * qx + qy * qy) * c)
+                add(sum, f(qx, qy), s * s * dqx * dqy)
             })
         })
         .collect();
-    Ok(rows
-        .iter()
-        .fold((0.0, 0.0), |(m0, m2), r| (m0 + r.0, m2 + r.1)))
+    Ok(rows.iter().fold([0.0; K], |sum, r| add(sum, *r, 1.0)))
 }
 
 /// Bytes per cell [`generate`] needs at its peak, roughly: the heights (8),

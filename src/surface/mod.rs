@@ -27,9 +27,10 @@ pub use crate::config::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceC
 pub use format::{
     encode_topography, read_topography, write_topography, ReadOptions, SurfaceFormat, WriteOptions,
 };
+pub(crate) use generate::lattice_slope_ratio;
 pub use generate::{
-    generate, generate_with_target, lattice_moments, Anisotropy, GenerateParams, Normalisation,
-    SelfAffinePsd, UpperCutoff,
+    anisotropy_warning, generate, generate_with_target, lattice_moments, Anisotropy,
+    GenerateParams, Normalisation, SelfAffinePsd, UpperCutoff,
 };
 pub use gwy::{decode_gwy, read_gwy};
 pub(crate) use io::npy_bytes_of;

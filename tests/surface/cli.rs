@@ -134,6 +134,68 @@ fn generate_from_config_with_overrides() {
     assert_eq!(json["params"]["normalisation"]["rms_height"], 2e-6);
     assert_eq!(json["params"]["anisotropy"]["ratio"], 2.0);
     assert_eq!(json["config"]["document"]["surface"]["generate"]["seed"], 9);
+    // A stretch of 2 at 45 deg is held (ratio 0.5 asked), unwarned.
+    let held = json["slope_ratio"].as_f64().unwrap();
+    assert!((held / 0.5 - 1.0).abs() < 0.1, "{held}");
+    assert_eq!(json["warnings"], serde_json::json!([]));
+
+    // A stretch beyond q1 / q_L = 16 along x leaves a ridged surface: the
+    // command and a solve on it say so, in their JSON and on stderr.
+    let ridged = tmp.path().join("ridged");
+    let stretch = "surface.generate.anisotropy={ ratio = 20.0, angle_deg = 0.0 }";
+    let o = viscoslide(&[
+        "surface",
+        "generate",
+        "--config",
+        cfg.to_str().unwrap(),
+        "--set",
+        stretch,
+        "--out",
+        ridged.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("warning: anisotropy.ratio = 20") && stderr.contains("ridged"),
+        "{stderr}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(ridged.join("surface.json")).unwrap()).unwrap();
+    assert_eq!(json["slope_ratio"], 0.0);
+    assert!(
+        json["warnings"][0].as_str().unwrap().contains("ridged"),
+        "{json}"
+    );
+    let solve_cfg = tmp.path().join("solve.toml");
+    std::fs::write(
+        &solve_cfg,
+        format!(
+            "{}[material]\nmodel = \"sls\"\nrelaxed_modulus = 3.3e6\nglassy_modulus = 1e7\ncreep_time = 0.01\n[loading]\nmean_pressure = 1e5\nspeed = 1e-3\n[analysis]\nenabled = false\n",
+            std::fs::read_to_string(&cfg).unwrap()
+        ),
+    )
+    .unwrap();
+    let run = tmp.path().join("solved");
+    let o = viscoslide(&[
+        "solve",
+        solve_cfg.to_str().unwrap(),
+        "--set",
+        stretch,
+        "--backend",
+        "cpu",
+        "--out",
+        run.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(run.join("summary.json")).unwrap()).unwrap();
+    let warnings = summary["warnings"].as_array().unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("ridged")),
+        "{warnings:?}"
+    );
 }
 
 /// A bad input fails with a one-line error and leaves no output directory.

@@ -195,6 +195,63 @@ fn anisotropy_gives_slope_ratio() {
     }
 }
 
+/// A stretch the grid cannot hold is warned about, with the rms-slope
+/// ratio the surface has: its heights' (the slope tensor of its PSD),
+/// which the warning sums from the amplitudes alone (the phases do not
+/// enter), written to 4 digits. Along a grid axis with 32 scales, `s = 8`
+/// keeps about 4 modes along the stretch and its ratio is 0.0758 for the
+/// asked 0.125 (measured), `s = 33` none (a ridged surface, ratio 0);
+/// along 30 deg `s = 4` holds the asked 0.25 within 0.3 %.
+#[test]
+fn a_stretch_the_grid_cannot_hold_is_warned() {
+    use viscoslide::surface::anisotropy_warning;
+    let with = |s: f64, theta: f64| {
+        let mut p = params(256, 0.8, 32.0, 4);
+        p.anisotropy = Some(Anisotropy {
+            ratio: s,
+            angle_deg: theta,
+        });
+        p
+    };
+    let mut iso = params(256, 0.8, 32.0, 4);
+    iso.anisotropy = None;
+    assert_eq!(anisotropy_warning(&iso).unwrap(), None);
+    for (s, theta, warned) in [(4.0, 30.0_f64, false), (8.0, 0.0, true), (33.0, 0.0, true)] {
+        let p = with(s, theta);
+        let m = psd_2d(&generate(&p).unwrap(), Window::None)
+            .unwrap()
+            .slope_tensor();
+        let (sn, cs) = theta.to_radians().sin_cos();
+        let quad = |v: [f64; 2]| {
+            m[0][0] * v[0] * v[0] + 2.0 * m[0][1] * v[0] * v[1] + m[1][1] * v[1] * v[1]
+        };
+        let from_heights = (quad([cs, sn]) / quad([-sn, cs])).sqrt();
+        println!(
+            "s = {s}, {theta} deg: {from_heights:.6}, asked {:.6}",
+            1.0 / s
+        );
+        assert_eq!(
+            (from_heights * s - 1.0).abs() > 0.1,
+            warned,
+            "{from_heights}"
+        );
+        let warning = anisotropy_warning(&p).unwrap();
+        assert_eq!(warning.is_some(), warned, "s = {s}: {warning:?}");
+        if let Some(w) = warning {
+            let named = format!("anisotropy.ratio = {s} along {theta} deg");
+            assert!(w.starts_with(&named) && !w.contains('\n'), "{w}");
+            if s > 32.0 {
+                assert!(
+                    from_heights == 0.0 && w.contains("give 0.0e0") && w.contains("ridged"),
+                    "{w}"
+                );
+            } else {
+                assert!(w.contains(&format!("give {from_heights:.4} ")), "{w}");
+            }
+        }
+    }
+}
+
 #[test]
 fn hann_window_removes_edge_leakage() {
     // A periodic surface plus a tilt: the tilt makes the map non-periodic,

@@ -167,6 +167,7 @@ pub(super) fn run(args: GenerateArgs) -> Result<()> {
     let radial = surface::radial_average(&psd);
     // Fit over the self-affine band, away from the cut-offs.
     let fit = surface::fit_hurst(&radial, 2.0 * target.q0, 0.5 * target.q1).ok();
+    let warnings: Vec<String> = surface::anisotropy_warning(&params)?.into_iter().collect();
 
     let json = serde_json::json!({
         "version": crate::version::VERSION,
@@ -175,6 +176,8 @@ pub(super) fn run(args: GenerateArgs) -> Result<()> {
         "target_psd": target,
         "stats": stats,
         "hurst_fit": fit,
+        "slope_ratio": surface::lattice_slope_ratio(&params)?,
+        "warnings": warnings,
         "config": config_json(config.as_ref()),
         "files": ["heights.npy", "psd.csv", "psd.png", "surface.json"],
     });
@@ -186,6 +189,9 @@ pub(super) fn run(args: GenerateArgs) -> Result<()> {
     out.write("surface.json", json_bytes(&json)?.as_slice())?;
     let dir = out.dir().to_path_buf();
     out.commit()?;
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
     println!(
         "{} x {} surface, seed {}, rms height {:.4e} m, rms slope {:.4e}: {}",
         map.nx,
