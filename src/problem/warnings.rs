@@ -16,7 +16,7 @@ pub(crate) const FRICTION_ROUTES_TOLERANCE: f64 = 0.02;
 const RMS_SLOPE_LIMIT: f64 = 1.0;
 
 /// Friction coefficients below this are zero to round-off.
-const FRICTION_ROUND_OFF: f64 = 1e-14;
+pub(super) const FRICTION_ROUND_OFF: f64 = 1e-14;
 
 /// A relative difference as a percentage, in scientific notation beyond
 /// 1e4 % (a difference against a value near zero).

@@ -9,6 +9,7 @@ use crate::error::Result;
 
 use super::super::executor::Executes;
 use super::super::smooth_pad::SMOOTH_PAD_SHARE_LIMIT;
+use super::super::warnings::FRICTION_ROUND_OFF;
 use super::super::{Problem, Solution, Timings};
 use super::Raw;
 
@@ -53,7 +54,10 @@ impl Problem {
         }
         let smooth_pad = pad.zip(pad_force).map(|(p, force)| p.with_force(force, mu));
         if let Some(pad) = &smooth_pad {
-            if pad.share.abs() > SMOOTH_PAD_SHARE_LIMIT {
+            // No friction to share at rest or on an elastic solid: both
+            // zero to round-off, whose ratio means nothing.
+            let zero = mu.abs().max(pad.friction_coefficient.abs()) < FRICTION_ROUND_OFF;
+            if pad.share.abs() > SMOOTH_PAD_SHARE_LIMIT && !zero {
                 warnings.push(format!(
                     "{:.0} % of the friction is the finite pad's own: the same pad without roughness gives mu = {:.4e} at this load and speed (its rim's hysteresis), the roughness part is {:.4e}; a rubber block on a large rough plate has no such rim: compare the roughness part (smooth_pad in summary.json) with experiments and Persson, or use formulation = \"periodic\" or a larger pad",
                     100.0 * pad.share,
