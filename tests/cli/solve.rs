@@ -433,3 +433,55 @@ fn a_periodic_approach_beyond_full_contact_is_refused_naming_the_bound() {
         std::fs::remove_dir_all(tmp.path().join("out")).unwrap();
     }
 }
+
+/// A contact of a few cells is at the grid's resolution and warned about
+/// (before, one cell in contact at 3e-4 N gave a friction that only
+/// followed the load, beside Persson's, without a word); the default
+/// load's 300 cells are not.
+#[test]
+fn a_contact_of_a_few_cells_is_warned() {
+    let tmp = tempfile::tempdir().unwrap();
+    let config =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/default.toml"))
+            .unwrap();
+    for (dir, load, warned) in [("tiny", "3e-4", true), ("default", "0.3", false)] {
+        let d = tmp.path().join(dir);
+        std::fs::create_dir_all(&d).unwrap();
+        let load = format!("loading.normal_load={load}");
+        let args = [
+            "--set",
+            "surface.generate.n=64",
+            "--set",
+            "surface.generate.scales=8",
+            "--set",
+            "analysis.enabled=false",
+            "--set",
+            &load,
+        ];
+        let (ok, _, stderr) = run(&d, &config, &args);
+        assert!(ok, "{stderr}");
+        let s: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(d.join("out/summary.json")).unwrap()).unwrap();
+        let cells = s["contact_cells"].as_u64().unwrap();
+        let warning = s["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|w| w.as_str())
+            .find(|w| w.contains("the contact holds only"));
+        assert_eq!(
+            warning.is_some(),
+            warned,
+            "{cells} cells: {}",
+            s["warnings"]
+        );
+        assert_eq!(cells < 16, warned, "{cells}");
+        if let Some(w) = warning {
+            assert!(
+                w.contains(&format!("only {cells} cell")) && w.contains("64 x 64"),
+                "{w}"
+            );
+            assert!(stderr.contains(w), "{stderr}");
+        }
+    }
+}
