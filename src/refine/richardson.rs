@@ -151,7 +151,22 @@ pub fn richardson(cell_sizes: &[f64], values: &[f64], params: &RichardsonParams)
             )
         })
         .collect();
-    let relative = |e: f64, v: f64| if v != 0.0 { e / v.abs() } else { e };
+    // Relative to `v` (the limit or the finest value); against a limit
+    // smaller than the error itself (a contact area that shrinks with the
+    // cells, one cell on every grid: a limit of zero), relative to the
+    // finest value, whose whole size is then the error.
+    let relative = |e: f64, v: f64| {
+        let d = if v.abs() > e {
+            v.abs()
+        } else {
+            v.abs().max(finest.abs())
+        };
+        if d > 0.0 {
+            e / d
+        } else {
+            e
+        }
+    };
     let converged = |spread: f64, levels: usize| {
         Richardson {
         verdict: Verdict::Converged,
@@ -291,6 +306,18 @@ mod tests {
                 assert!((o.unwrap() - p).abs() < 1e-9);
             }
         }
+    }
+
+    /// One cell in contact on every grid: the area fraction is `h^2`, its
+    /// limit 0, and the finest value is all error (it was reported as
+    /// 0.01 %: the absolute error of 6.1e-5 taken for a relative one).
+    #[test]
+    fn a_limit_of_zero_has_the_finest_value_as_its_error() {
+        let h = [1.0 / 32.0, 1.0 / 64.0, 1.0 / 128.0];
+        let f: Vec<f64> = h.iter().map(|h| h * h).collect();
+        let r = richardson(&h, &f, &RichardsonParams::default());
+        assert!(r.extrapolated.unwrap().abs() < 1e-18, "{r:?}");
+        assert!((r.relative_error_estimate - 1.0).abs() < 1e-9, "{r:?}");
     }
 
     #[test]
