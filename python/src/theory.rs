@@ -39,6 +39,8 @@ pub fn persson<'py>(
     f64,
     Option<String>,
     Option<(f64, f64)>,
+    Vec<String>,
+    Vec<String>,
 )> {
     let sections = problem::Sections {
         loading: loading_json,
@@ -48,6 +50,11 @@ pub fn persson<'py>(
     };
     let (problem, _) = problem::build(&surface, &material, sections)?;
     let (psd, kind, report) = problem.persson_psd_report().map_err(value_error)?;
+    // As `viscoslide persson` gives them: the material's data ranges, the
+    // map PSD's rms-slope check, and what the theory leaves out.
+    let mut warnings = problem.persson_curve_warnings(&psd, &speeds);
+    warnings.extend(report.as_ref().and_then(|r| r.warning.clone()));
+    let notes = problem.persson_notes(report.as_ref());
     let report = report
         .map(|r| serde_json::to_string(&r))
         .transpose()
@@ -80,6 +87,8 @@ pub fn persson<'py>(
             .material
             .temperature_shift()
             .map(|t| (t.temperature, t.shift_factor)),
+        warnings,
+        notes,
     ))
 }
 

@@ -3,6 +3,7 @@ sweeps over config keys (``vary=``) from Python: the same identities,
 numbers and refusals as the command line."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -150,6 +151,19 @@ def test_a_temperature_beyond_the_wlf_data_is_warned_of(small, repo):
     r = vs.solve(cell, narrow, speed=20.0, mean_pressure=3000.0, formulation="periodic", backend="cpu")
     above = [w for w in r.summary["warnings"] if w.startswith("the sliding excites")]
     assert len(above) == 1 and "up to 3.770e4 rad/s, 1.6 decades above" in above[0], above
+    # Persson's curve warns as `viscoslide persson` does: the temperature
+    # beyond the WLF data, the speeds' frequencies beyond the frequency
+    # data; inside both, nothing.
+    with pytest.warns(UserWarning, match="above the DMA data"):
+        curve = vs.persson(small, fitted, [1e-3], mean_pressure=3000.0, temperature=45.0)
+    assert len(curve["warnings"]) == 1 and "45.0000 C lies 5.000 K above" in curve["warnings"][0], curve["warnings"]
+    with pytest.warns(UserWarning, match="decades above"):
+        curve = vs.persson(cell, narrow, [1e-3, 20.0], mean_pressure=3000.0, as_frame=True)
+    assert any("decades above" in w for w in curve.attrs["warnings"]), curve.attrs["warnings"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        quiet = vs.persson(small, fitted, [1e-3], mean_pressure=3000.0, temperature=20.0)
+    assert quiet["warnings"] == [] and quiet["notes"] == []
     with pytest.raises(ValueError, match="frequency_range"):
         vs.Material.sls(relaxed_modulus=1e6, glassy_modulus=1e7, creep_time=0.01, frequency_range=(1e3, 1.0))
     with pytest.raises(ValueError, match="give the constants too"):

@@ -165,6 +165,8 @@ def persson(
     float,
     Optional[str],
     Optional[Tuple[float, float]],
+    List[str],
+    List[str],
 ]: ...
 def kernel_table(
     material: Material,

@@ -305,8 +305,12 @@ def persson(
     scalars ``psd`` (which PSD), ``nominal_pressure`` [Pa], ``temperature``
     [C] and ``shift_factor`` (``a_T``; ``None`` without WLF constants) and ``map_psd``
     (for a map's radial average: preprocessing, band, rms-slope check;
-    else ``None``). A PSD whose rms slope differs from the map's real-space
-    rms slope by more than 20 % is warned about (``warnings.warn``).
+    else ``None``), ``warnings`` and ``notes``. As ``viscoslide persson``
+    warns (``warnings.warn`` and the ``warnings`` list): a PSD whose rms
+    slope differs from the map's real-space rms slope by more than 20 %, a
+    temperature beyond the material's WLF data, and speeds whose
+    frequencies ``v q`` lie a decade beyond its frequency data; ``notes``
+    say what the theory leaves out (a map's anisotropic slopes).
     """
     surf = Surface.coerce(surface, fill_missing=fill_missing, detrend=detrend, window=window)
     if not isinstance(material, Material):
@@ -314,13 +318,13 @@ def persson(
     _checks.flag("as_frame", as_frame)
     v = _axis("speeds", speeds)
     loading = _loading(0.0, None, normal_load, mean_pressure, None, None, temperature)
-    mu, area, g, kind, sigma0, report, shift = _native.persson(
+    mu, area, g, kind, sigma0, report, shift, warned, notes = _native.persson(
         surf._native, material._native, json.dumps(loading), v.tolist()
     )
     map_psd = None if report is None else json.loads(report)
     temperature_c, a_t = (None, None) if shift is None else shift
-    if map_psd is not None and map_psd.get("warning"):
-        warnings.warn(map_psd["warning"], stacklevel=2)
+    for w in warned:
+        warnings.warn(w, stacklevel=2)
     columns: Dict[str, Any] = {
         "speed": v,
         "friction_coefficient": mu,
@@ -329,10 +333,24 @@ def persson(
     }
     if as_frame:
         frame = _frame(columns, True)
-        frame.attrs.update(psd=kind, nominal_pressure=sigma0, map_psd=map_psd, temperature=temperature_c, shift_factor=a_t)
+        frame.attrs.update(
+            psd=kind,
+            nominal_pressure=sigma0,
+            map_psd=map_psd,
+            temperature=temperature_c,
+            shift_factor=a_t,
+            warnings=warned,
+            notes=notes,
+        )
         return frame
     columns.update(
-        psd=kind, nominal_pressure=sigma0, map_psd=map_psd, temperature=temperature_c, shift_factor=a_t
+        psd=kind,
+        nominal_pressure=sigma0,
+        map_psd=map_psd,
+        temperature=temperature_c,
+        shift_factor=a_t,
+        warnings=warned,
+        notes=notes,
     )
     return columns
 

@@ -150,10 +150,8 @@ pub fn run(args: PerssonArgs) -> Result<()> {
     let speeds = persson::log_speeds(from, to, count);
     // The frequencies the curve's slowest and fastest speeds excite over
     // the PSD's wavenumbers, against the material's data.
-    let q = inputs.psd.q();
-    let beyond = inputs
-        .material
-        .extrapolated_frequencies_warnings(from * q[0], to * q[q.len() - 1]);
+    let beyond =
+        crate::problem::persson::curve_frequency_warnings(&inputs.material, &inputs.psd, from, to);
     let mut inputs = inputs;
     inputs.warnings.extend(beyond);
     for n in &inputs.notes {

@@ -145,10 +145,15 @@ pub fn run(args: SolveArgs) -> Result<()> {
         );
     }
     match &solution.persson {
-        Ok(p) => println!(
-            "Persson's theory at this speed and {:.4e} Pa: friction coefficient {:.6e}, contact area fraction {:.5} ({} PSD)",
-            p.nominal_pressure, p.friction_coefficient, p.contact_area_fraction, p.psd
-        ),
+        Ok(p) => {
+            println!(
+                "Persson's theory at this speed and {:.4e} Pa: friction coefficient {:.6e}, contact area fraction {:.5} ({} PSD)",
+                p.nominal_pressure, p.friction_coefficient, p.contact_area_fraction, p.psd
+            );
+            for note in &p.notes {
+                println!("note: {note}");
+            }
+        }
         Err(why) => println!("Persson's theory not evaluated: {why}"),
     }
     match solution.cells_per_shortest_wavelength() {

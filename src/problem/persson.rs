@@ -114,12 +114,7 @@ pub fn theory_inputs(
         .at(loading.temperature)?;
     let mut notes = Vec::new();
     let mut warnings: Vec<String> = material.extrapolated_shift_warning().into_iter().collect();
-    if cfg.config.layer.is_some() {
-        notes.push(
-            "the config has a [layer]; Persson's theory here is for a half-space and ignores it"
-                .to_string(),
-        );
-    }
+    notes.extend(layer_note(cfg.config.layer.as_ref().map(|l| l.thickness)));
     let surface = cfg.config.surface.as_ref();
     let generate = match surface {
         Some(s) => s.generate_params()?,
@@ -195,12 +190,7 @@ pub fn theory_inputs(
                     .unwrap_or(Preprocessing::default_for(false));
                 pre.window = window.unwrap_or(pre.window);
                 let (t, info) = persson::psd::map_psd(&map, &pre, true)?;
-                if info.radial.slope_isotropy < 0.7 {
-                    notes.push(format!(
-                        "the surface file's slopes are anisotropic (gamma = {:.3}); the isotropic theory uses its radial average",
-                        info.radial.slope_isotropy
-                    ));
-                }
+                notes.extend(anisotropy_note(&info));
                 warnings.extend(info.warning.clone());
                 let path = s
                     .file
@@ -246,6 +236,81 @@ pub fn theory_inputs(
     })
 }
 
+/// Degree of isotropy of a map's slopes (`gamma`,
+/// [`persson::psd::RadialInfo::slope_isotropy`]) below which Persson's
+/// theory, isotropic, is noted to see only the radial average.
+const SLOPE_ISOTROPY_NOTE: f64 = 0.7;
+
+/// The note beside Persson's theory of a problem with a layer of
+/// `thickness` \[m\] (`None`: no layer, no note): the theory is for a
+/// half-space.
+fn layer_note(thickness: Option<f64>) -> Option<String> {
+    thickness.map(|h| {
+        format!(
+            "the problem has a [layer] (h = {h:.3e} m); Persson's theory here is for a half-space and ignores it: its numbers compare with the solve only where the contact's wavelengths are much shorter than h"
+        )
+    })
+}
+
+/// The note beside Persson's theory of a map whose slopes are anisotropic
+/// (`gamma` below [`SLOPE_ISOTROPY_NOTE`]): the isotropic theory sees
+/// the map's radial average.
+fn anisotropy_note(map: &MapPsdReport) -> Option<String> {
+    let gamma = map.radial.slope_isotropy;
+    (gamma < SLOPE_ISOTROPY_NOTE).then(|| {
+        format!(
+            "the map's slopes are anisotropic (gamma = {gamma:.3}, the ratio of its mean square slopes along its principal axes); the isotropic theory uses its radial average"
+        )
+    })
+}
+
+/// The warnings of a Persson curve of `material` over the speeds `from`
+/// to `to` \[m/s\] on `psd`: the frequencies `v q` it excites, from the
+/// slowest speed on the PSD's first wavenumber to the fastest on its last,
+/// a decade beyond the material's data
+/// ([`Material::extrapolated_frequencies_warnings`]).
+pub(crate) fn curve_frequency_warnings(
+    material: &Material,
+    psd: &TabulatedPsd,
+    from: f64,
+    to: f64,
+) -> Vec<String> {
+    let q = psd.q();
+    material.extrapolated_frequencies_warnings(from * q[0], to * q[q.len() - 1])
+}
+
+impl Problem {
+    /// What Persson's theory of this problem leaves out, noted beside its
+    /// numbers: a layer (the theory is for a half-space) and, with `map`
+    /// (the radial average of a map), slopes that are anisotropic.
+    pub fn persson_notes(&self, map: Option<&MapPsdReport>) -> Vec<String> {
+        layer_note(self.layer.map(|l| l.thickness))
+            .into_iter()
+            .chain(map.and_then(anisotropy_note))
+            .collect()
+    }
+
+    /// The warnings of a Persson curve of this problem on `psd` over
+    /// `speeds` \[m/s\], as `viscoslide persson` gives them: the
+    /// material's temperature beyond its WLF data, and the frequencies the
+    /// positive speeds excite beyond its frequency data.
+    pub fn persson_curve_warnings(&self, psd: &TabulatedPsd, speeds: &[f64]) -> Vec<String> {
+        let mut out: Vec<String> = self
+            .material
+            .extrapolated_shift_warning()
+            .into_iter()
+            .collect();
+        let positive = speeds.iter().copied().filter(|v| *v > 0.0 && v.is_finite());
+        let (from, to) = positive.fold((f64::INFINITY, 0.0_f64), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+        if to > 0.0 {
+            out.extend(curve_frequency_warnings(&self.material, psd, from, to));
+        }
+        out
+    }
+}
+
 /// Persson's theory at a solve's speed and nominal pressure, recorded
 /// beside the simulated friction and area.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -263,6 +328,9 @@ pub struct PerssonEstimate {
     /// How the radial average of a map was made (preprocessing, band,
     /// rms-slope check); `None` for the other PSDs.
     pub map: Option<MapPsdReport>,
+    /// What the theory leaves out of this problem (a layer, a map's
+    /// anisotropy), as `viscoslide persson` notes it.
+    pub notes: Vec<String>,
 }
 
 impl Problem {
@@ -334,12 +402,14 @@ impl Problem {
         let p = Persson::new(&self.material, &psd, sigma0, PerssonParams::default())
             .and_then(|t| t.point(self.speed))
             .map_err(|e| e.to_string())?;
+        let notes = self.persson_notes(map.as_ref());
         Ok(PerssonEstimate {
             friction_coefficient: p.friction_coefficient,
             contact_area_fraction: p.contact_area_fraction,
             nominal_pressure: sigma0,
             psd: kind,
             map,
+            notes,
         })
     }
 }

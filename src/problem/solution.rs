@@ -262,6 +262,7 @@ impl Solution {
                 "nominal_pressure": p.nominal_pressure,
                 "psd": p.psd,
                 "map_psd": p.map,
+                "notes": p.notes,
                 "theory": "Persson, J. Chem. Phys. 115, 3840 (2001); physics.md section 10",
             }),
             Err(why) => json!({ "not_evaluated": why }),

@@ -317,6 +317,86 @@ fn solve_records_persson_beside_the_simulation() {
     );
     assert!((area / p.contact_area_fraction - 1.0).abs() < 1e-9);
     assert_eq!(s["persson"]["psd"], "self_affine");
+    assert_eq!(s["persson"]["notes"], serde_json::json!([]));
+}
+
+/// What Persson's theory leaves out is noted beside a solve's Persson
+/// numbers as `viscoslide persson` notes it: a `[layer]` (the theory is for
+/// a half-space) and a map whose slopes are anisotropic (the theory sees
+/// its radial average). Before, a solve printed both beside the simulation
+/// without a word.
+#[test]
+fn solve_notes_what_persson_leaves_out() {
+    let tmp = tempfile::tempdir().unwrap();
+    let solve = |name: &str, config: &str| -> (serde_json::Value, String) {
+        let dir = tmp.path().join(name);
+        std::fs::create_dir_all(&dir).unwrap();
+        let cfg = write_config(&dir, config);
+        let out = tmp.path().join(name).join("out");
+        let o = viscoslide(&[
+            "solve",
+            cfg.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let s = serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+        (s, String::from_utf8_lossy(&o.stdout).into_owned())
+    };
+    let loading = "[loading]\nnormal_load = 0.3\nspeed = 0.01\n[analysis]\nenabled = false\n";
+    let notes = |s: &serde_json::Value| s["persson"]["notes"].as_array().unwrap().clone();
+    let (layered, stdout) = solve(
+        "layer",
+        &format!("{SLS}{ROUGH}{loading}[layer]\nthickness = 2e-4\nbase = \"bonded\"\n"),
+    );
+    let n = notes(&layered);
+    assert_eq!(n.len(), 1, "{n:?}");
+    let note = n[0].as_str().unwrap();
+    assert!(
+        note.contains("[layer] (h = 2.000e-4 m)") && note.contains("half-space"),
+        "{note}"
+    );
+    assert!(stdout.contains(&format!("note: {note}")), "{stdout}");
+
+    // A map stretched 3 times along x (mean square slopes 1:9) read as a file.
+    let mut p = GenerateParams {
+        nx: 64,
+        ny: 64,
+        length: 0.01,
+        hurst: 0.8,
+        upper: UpperCutoff::Scales(8.0),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 1,
+        ..GenerateParams::default()
+    };
+    p.anisotropy = Some(surface::Anisotropy {
+        ratio: 3.0,
+        angle_deg: 0.0,
+    });
+    let dir = tmp.path().join("aniso");
+    std::fs::create_dir_all(&dir).unwrap();
+    let save = |p: &GenerateParams| {
+        let map = surface::generate(p).unwrap();
+        surface::save_npy(&map, &dir.join("h.npy"), surface::NpyPrecision::F64).unwrap();
+    };
+    save(&p);
+    let file = "[surface]\nfile = \"h.npy\"\nlength = 0.01\nperiodic = true\n[solver]\nformulation = \"periodic\"\n";
+    let (aniso, _) = solve("aniso", &format!("{SLS}{file}{loading}"));
+    let n = notes(&aniso);
+    assert_eq!(n.len(), 1, "{n:?}");
+    assert!(
+        n[0].as_str()
+            .unwrap()
+            .contains("slopes are anisotropic (gamma = 0.0"),
+        "{n:?}"
+    );
+    // The same map unstretched: no note.
+    p.anisotropy = None;
+    save(&p);
+    let (iso, _) = solve("aniso", &format!("{SLS}{file}{loading}"));
+    assert_eq!(notes(&iso), Vec::<serde_json::Value>::new());
 }
 
 fn csv_column(text: &str, name: &str) -> Vec<String> {
