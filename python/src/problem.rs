@@ -185,6 +185,7 @@ pub fn from_sections(
     }
     problem.source = surface.source.clone();
     problem.preprocessing = preprocessing;
+    problem.filled_points = surface.filled;
     problem.seed = surface.seed;
     let mut document = toml::Table::new();
     document.insert(

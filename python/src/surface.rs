@@ -38,13 +38,17 @@ pub struct NativeSurface {
     /// given; [`SurfaceConfig::preprocessing_for`]); `None` when that is
     /// `map` itself, and for files ([`NativeSurface::as_period`]).
     pub period: Option<(HeightMap, Preprocessing)>,
+    /// Missing points filled by harmonic interpolation (`fill_missing`).
+    pub filled: usize,
 }
 
 impl NativeSurface {
     /// The surface of a `[surface]` section, relative paths resolved
     /// against `base_dir`.
     pub(crate) fn from_config(section: SurfaceConfig, base_dir: &Path) -> PyResult<Self> {
-        let map = section.load(base_dir).map_err(value_error)?;
+        let (map, filled) = section
+            .load_counting(base_dir, false)
+            .map_err(value_error)?;
         let source = SurfaceSource::of(&section, base_dir).map_err(value_error)?;
         let seed = section.generate.as_ref().map(|g| g.seed.unwrap_or(0));
         let preprocessing = section.preprocessing().map_err(value_error)?;
@@ -57,6 +61,7 @@ impl NativeSurface {
             // A file is read again as one period only when a periodic
             // solve asks for it ([`NativeSurface::as_period`]).
             period: None,
+            filled,
         })
     }
 
@@ -237,6 +242,7 @@ impl NativeSurface {
             section: None,
             preprocessing: Some(pre),
             period,
+            filled: topo.filled,
         })
     }
 

@@ -108,3 +108,20 @@ def test_a_stretch_the_grid_cannot_hold_is_warned(rubber):
     with pytest.warns(UserWarning, match="ridged"):
         r = vs.solve(ridged, rubber, xi=1.17e-2, mean_pressure=3000.0, backend="cpu")
     assert any("ridged" in w for w in r.summary["warnings"]), r.summary["warnings"]
+
+
+def test_filled_points_are_counted_and_many_are_warned_about(pad, rubber):
+    """`fill_missing` fills NaN points by harmonic interpolation: their
+    count is in the summary (`filled_points`), and more than 5 % of the map
+    filled is warned about, as the command line does."""
+    h = pad.heights.copy()
+    h[3, 5] = np.nan
+    few = vs.solve(vs.Surface.from_array(h, 0.01, fill_missing=True), rubber, xi=1.17e-2,
+                   mean_pressure=3000.0, backend="cpu")
+    assert few.summary["filled_points"] == 1
+    assert not any("missing from the contact" in w for w in few.summary["warnings"])
+    h[20:40, 20:40] = np.nan
+    with pytest.warns(UserWarning, match="401 of 4096 points .* missing from the contact"):
+        many = vs.solve(vs.Surface.from_array(h, 0.01, fill_missing=True), rubber, xi=1.17e-2,
+                        mean_pressure=3000.0, backend="cpu")
+    assert many.summary["filled_points"] == 401

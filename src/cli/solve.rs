@@ -76,6 +76,11 @@ pub fn run(args: SolveArgs) -> Result<()> {
             .map(|x| format!(" (xi = {x:.4e})"))
             .unwrap_or_default()
     );
+    if let Some(note) =
+        crate::surface::filled_note(problem.filled_points, problem.surface.heights.len())
+    {
+        eprintln!("note: {note}");
+    }
     let bar = ProgressBar::new_spinner();
     bar.set_style(
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}")

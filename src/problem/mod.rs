@@ -102,6 +102,9 @@ pub struct Problem {
     /// `None` for generated surfaces, spheres and maps given as values
     /// without a record, which are taken as they are.
     pub preprocessing: Option<Preprocessing>,
+    /// Missing points of a measured map filled by harmonic interpolation
+    /// (`fill_missing`) before it became `surface`; 0 where none were.
+    pub filled_points: usize,
     pub control: Control,
     /// Sliding speed \[m/s\].
     pub speed: f64,
@@ -150,6 +153,7 @@ impl Problem {
             surface,
             source: SurfaceSource::Given,
             preprocessing: None,
+            filled_points: 0,
             control,
             speed,
             direction_rad: 0.0,

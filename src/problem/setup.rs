@@ -28,7 +28,7 @@ impl Problem {
         }
         // The periodic formulation takes a measured map as one period.
         let periodic_solve = formulation == Formulation::Periodic;
-        let surface = surface_cfg.load_for(&cfg.base_dir, periodic_solve)?;
+        let (surface, filled_points) = surface_cfg.load_counting(&cfg.base_dir, periodic_solve)?;
         check_memory(surface.nx, surface.ny, restart, formulation, precision)?;
         let seed = surface_cfg.generate.as_ref().map(|g| g.seed.unwrap_or(0));
         let source = SurfaceSource::of(surface_cfg, &cfg.base_dir)?;
@@ -44,6 +44,7 @@ impl Problem {
         let layer = cfg.config.layer.as_ref().map(|l| l.build()).transpose()?;
         problem.source = source;
         problem.preprocessing = surface_cfg.preprocessing_for(periodic_solve)?;
+        problem.filled_points = filled_points;
         problem.layer = layer;
         problem.seed = seed;
         problem.document = cfg.document.clone();

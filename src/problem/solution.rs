@@ -55,6 +55,7 @@ struct Record {
     direction_rad: f64,
     seed: Option<u64>,
     preprocessing: Option<Preprocessing>,
+    filled_points: usize,
     formulation: Formulation,
     precision: Precision,
     material: Material,
@@ -136,6 +137,7 @@ impl Solution {
                 direction_rad: problem.direction_rad,
                 seed: problem.seed,
                 preprocessing: problem.preprocessing,
+                filled_points: problem.filled_points,
                 formulation: problem.formulation,
                 precision: problem.precision.unwrap_or_default(),
                 material: problem.material.clone(),
@@ -320,6 +322,8 @@ impl Solution {
             "persson": persson,
         });
         doc["surface_preprocessing"] = preprocessing;
+        // Missing points of a measured map filled before solving.
+        doc["filled_points"] = json!(r.filled_points);
         doc["precision"] = json!(r.precision);
         doc["exact_matvecs"] = json!(self.info.exact_matvecs);
         // The isothermal temperature and its WLF shift `a_T` (relative to

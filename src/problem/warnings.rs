@@ -38,6 +38,12 @@ const CELLS_PER_WAVELENGTH: f64 = 8.0;
 /// under-resolved.
 const CELLS_PER_THICKNESS: f64 = 4.0;
 
+/// Share of a map's points filled by harmonic interpolation above which a
+/// solve warns: the filling is smooth (a harmonic function has no interior
+/// extremum), so the roughness of the filled points is missing from the
+/// contact, about that share of the map's.
+const FILLED_SHARE_WARNING: f64 = 0.05;
+
 /// Cells in contact below which the contact is warned to be at the grid's
 /// resolution. A spot of a few cells is mostly its edge: on
 /// `configs/default.toml` at 64^2 (8 scales, `v = 0.0117 m/s`) against the
@@ -75,6 +81,7 @@ impl Problem {
             ));
         }
         out.extend(self.wrapped_map_warning());
+        out.extend(self.filled_warning());
         if let super::SurfaceSource::Generated(p) = &self.source {
             // The parameters made this surface: they are valid.
             out.extend(crate::surface::anisotropy_warning(p).ok().flatten());
@@ -194,6 +201,19 @@ impl Problem {
             .map_or(2.0 * self.coarser_cell_side(), |w| w.length());
         let (w_lo, w_hi) = (v * fundamental, v * std::f64::consts::TAU / shortest);
         self.material.extrapolated_frequencies_warnings(w_lo, w_hi)
+    }
+
+    /// A map whose filled points ([`Problem::filled_points`]) are more
+    /// than [`FILLED_SHARE_WARNING`] of it.
+    fn filled_warning(&self) -> Option<String> {
+        let total = self.surface.heights.len();
+        let share = self.filled_points as f64 / total as f64;
+        (share > FILLED_SHARE_WARNING).then(|| {
+            format!(
+                "{}: the filling is smooth, so the roughness of that part of the map is missing from the contact and the friction; crop the map to where it was measured",
+                crate::surface::filled_note(self.filled_points, total).unwrap_or_default()
+            )
+        })
     }
 
     /// A measured map (read from a file or given as values) that is not

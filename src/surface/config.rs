@@ -275,18 +275,30 @@ impl SurfaceConfig {
         base_dir: &Path,
         periodic_solve: bool,
     ) -> Result<HeightMap, SurfaceError> {
+        self.load_counting(base_dir, periodic_solve)
+            .map(|(map, _)| map)
+    }
+
+    /// [`SurfaceConfig::load_for`] with the number of a file's missing
+    /// points filled by harmonic interpolation (`fill_missing`; 0 for a
+    /// generated surface or a sphere).
+    pub fn load_counting(
+        &self,
+        base_dir: &Path,
+        periodic_solve: bool,
+    ) -> Result<(HeightMap, usize), SurfaceError> {
         let pre = self.preprocessing_for(periodic_solve)?;
         if let Some(params) = self.generate_params()? {
-            return super::generate(&params);
+            return super::generate(&params).map(|m| (m, 0));
         }
         if let Some(g) = &self.generate {
             if let Some((table, sp)) = g.synth_params(self.length)? {
                 let table = super::TabulatedPsd::from_csv(&base_dir.join(table))?;
-                return super::generate_from_table(&table, &sp);
+                return super::generate_from_table(&table, &sp).map(|m| (m, 0));
             }
         }
         if let Some(sphere) = &self.sphere {
-            return sphere.height_map();
+            return sphere.height_map().map(|m| (m, 0));
         }
         let file = self.file.as_ref().ok_or_else(|| {
             SurfaceError::Invalid("[surface] needs `file` or [surface.generate]".into())
@@ -312,6 +324,7 @@ impl SurfaceConfig {
         };
         let pre = pre.unwrap_or(Preprocessing::default_for(false));
         let topo = super::read_topography(&path, &opts)?;
-        super::prepare(&topo, &pre, &path.display().to_string())
+        let map = super::prepare(&topo, &pre, &path.display().to_string())?;
+        Ok((map, topo.filled))
     }
 }

@@ -42,7 +42,7 @@ pub use measured::{
     analyse, detrend, line_psd, psd_topography, trusted_band, Analysis, Axis, Detrend, LinePsd,
     MeasuredStats,
 };
-pub(crate) use preprocess::{edge_steps, EdgeSteps};
+pub(crate) use preprocess::{edge_steps, filled_note, EdgeSteps};
 pub use preprocess::{
     parse_detrend, parse_window, prepare, rms_slope_real, slope_warning, Preprocessing,
     SLOPE_TOLERANCE,

@@ -87,6 +87,17 @@ pub fn parse_window(s: &str) -> Result<Window, String> {
     }
 }
 
+/// The line that says how many of a map's `total` points were missing
+/// and filled by harmonic interpolation (`None` when none were).
+pub(crate) fn filled_note(filled: usize, total: usize) -> Option<String> {
+    (filled > 0).then(|| {
+        format!(
+            "{filled} of {total} points ({:.3} %) were missing and filled by harmonic (Laplace) interpolation",
+            100.0 * filled as f64 / total as f64
+        )
+    })
+}
+
 /// The height map the solver uses: `topo` with `pre.detrend` removed.
 /// Missing points must have been filled; cells must be square
 /// ([`Topography::to_height_map`]). `name` labels errors.

@@ -127,7 +127,7 @@ impl Topography {
         match policy {
             MissingData::Error => Err(SurfaceError::Invalid(format!(
                 "{name}: {:.3} % of the points ({m} of {}) are missing (NaN or masked invalid); \
-                 pass --fill-missing (config: fill_missing = true) to fill them by harmonic interpolation",
+                 fill them by harmonic interpolation with [surface] fill_missing = true (the surface commands' --fill-missing, Python's fill_missing=True)",
                 100.0 * m as f64 / self.heights.len() as f64,
                 self.heights.len()
             ))),

@@ -167,7 +167,64 @@ fn nan_heights_in_a_surface_file_are_rejected() {
         stderr.to_lowercase().contains("nan") || stderr.contains("finite"),
         "{stderr}"
     );
+    // The fix it names is the config's key (solve has no --fill-missing).
+    assert!(stderr.contains("[surface] fill_missing = true"), "{stderr}");
     assert!(!tmp.path().join("out").exists());
+}
+
+/// Missing points filled by harmonic interpolation are counted in
+/// `summary.json` (`filled_points`) and noted on the console; more than 5 %
+/// of the map filled is warned about, since the filling is smooth and the
+/// roughness there is missing (before, a map mostly missing was solved as
+/// a smooth pad without a word).
+#[test]
+fn filled_points_are_counted_and_many_are_warned_about() {
+    use viscoslide::surface::{generate, GenerateParams, Normalisation, UpperCutoff};
+    let rough = generate(&GenerateParams {
+        nx: 32,
+        ny: 32,
+        length: 0.01,
+        hurst: 0.8,
+        upper: UpperCutoff::Scales(8.0),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 3,
+        ..GenerateParams::default()
+    })
+    .unwrap();
+    let config = CONFIG.replace(
+        "[surface.generate]\nn = 48\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\nseed = 3\n",
+        "[surface]\nfile = \"h.npy\"\nlength = 0.01\nfill_missing = true\n",
+    );
+    // Two points (0.2 %), then a 12 x 12 hole (14 %).
+    let holes: [Vec<usize>; 2] = [
+        vec![37, 500],
+        (0..144).map(|k| (10 + k / 12) * 32 + 10 + k % 12).collect(),
+    ];
+    for (holes, warned) in holes.iter().zip([false, true]) {
+        let tmp = tempfile::tempdir().unwrap();
+        let mut z = rough.heights.clone();
+        holes.iter().for_each(|&k| z[k] = f64::NAN);
+        std::fs::write(
+            tmp.path().join("h.npy"),
+            viscoslide::io::npy::encode_f64(&[32, 32], &z),
+        )
+        .unwrap();
+        let (ok, _, stderr) = run(tmp.path(), &config, &[]);
+        assert!(ok, "{stderr}");
+        let s: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(tmp.path().join("out/summary.json")).unwrap(),
+        )
+        .unwrap();
+        assert_eq!(s["filled_points"], holes.len(), "{s}");
+        let note = format!("note: {} of 1024 points", holes.len());
+        assert!(stderr.contains(&note), "{stderr}");
+        let warning = s["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("missing from the contact"));
+        assert_eq!(warning, warned, "{}", s["warnings"]);
+    }
 }
 
 #[test]

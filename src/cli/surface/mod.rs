@@ -125,14 +125,7 @@ pub(super) fn read_input(file: &Path, input: &InputArgs) -> Result<(Topography, 
 }
 
 pub(super) fn filled_note(topo: &Topography) -> Option<String> {
-    (topo.filled > 0).then(|| {
-        format!(
-            "{} of {} points ({:.3} %) were missing and filled by harmonic (Laplace) interpolation",
-            topo.filled,
-            topo.heights.len(),
-            100.0 * topo.filled as f64 / topo.heights.len() as f64
-        )
-    })
+    surface::filled_note(topo.filled, topo.heights.len())
 }
 
 pub(super) fn json_bytes(v: &serde_json::Value) -> Result<Vec<u8>> {
