@@ -40,6 +40,7 @@ use crate::material::Material;
 use crate::persson::{Persson, PerssonParams};
 use crate::problem::{Executor, Problem};
 use crate::solver::{Control, Observer};
+use crate::sweep::files::{pinned_files, with_files, PinnedFile};
 use crate::sweep::{PointStore, Shard};
 
 /// File in the study directory that pins the study it holds.
@@ -115,6 +116,8 @@ pub struct Study {
     pub material: Material,
     /// Nominal pressure `sigma0` \[Pa\] of every level.
     pub nominal_pressure: f64,
+    /// The files the configuration reads, their content hashed (pinned).
+    files: Vec<PinnedFile>,
 }
 
 impl Study {
@@ -180,7 +183,9 @@ impl Study {
                 });
             }
         }
+        let files = pinned_files([&cfg.config], &cfg.base_dir)?;
         Ok(Self {
+            files,
             cfg: cfg.clone(),
             params,
             psd,
@@ -192,9 +197,9 @@ impl Study {
         })
     }
 
-    /// What a study directory pins: the configuration and the planned
-    /// levels and speeds (a rerun with other levels needs another
-    /// directory).
+    /// What a study directory pins: the configuration, the content of the
+    /// files it reads and the planned levels and speeds (a rerun with
+    /// other levels, or a changed file, needs another directory).
     pub fn pin_text(&self) -> String {
         let levels: Vec<toml::Value> = self
             .levels
@@ -219,7 +224,7 @@ impl Study {
             "config".into(),
             toml::Value::Table(self.cfg.document.clone()),
         );
-        toml::to_string(&doc).expect("a table serialises")
+        toml::to_string(&with_files(doc, &self.files)).expect("a table serialises")
     }
 
     /// Persson's theory at 48 cut-offs log-spaced over the levels' range
