@@ -16,7 +16,8 @@ mod theory;
 
 pub use crate::config::SweepConfig;
 pub use compare::{compare, Measured};
-pub use merge::merge;
+pub(crate) use merge::MERGE_FILE;
+pub use merge::{merge, Merged};
 pub use plan::{Point, Shard, SweepPlan};
 pub use row::MergedRow;
 pub use store::PointStore;
@@ -195,7 +196,7 @@ pub fn run_and_merge(
     };
     let rows = if merge && shard == Shard::ALL && run.skipped + run.solved == run.in_shard {
         // The run holds the directory alone (no shard): merge under its lock.
-        Some(merge::merge_locked(dir, observer)?)
+        Some(merge::merge_locked(dir, false, observer)?.rows)
     } else {
         None
     };
