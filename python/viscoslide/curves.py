@@ -145,7 +145,8 @@ def sweep(
     per point, ``vary`` values outermost, then loads, speeds inner.
 
     Each of ``speed``, ``xi``, ``normal_load``, ``mean_pressure`` may be a
-    number or a 1-D array; ``options`` are those of :func:`solve`
+    number or a 1-D array (a prescribed ``approach`` is refused: the
+    sweep's axis is the load); ``options`` are those of :func:`solve`
     (``formulation``, ``thickness``, ``backend``, ``tolerance``,
     ``temperature``, ``heating``, ...). ``vary`` maps config keys to lists of values,
     as ``[sweep.vary]`` of ``viscoslide sweep``: ``{"loading.temperature":
@@ -190,7 +191,13 @@ def sweep(
     pressures = _axis("mean_pressure", mean_pressure)
     if (speeds is None) == (xis is None):
         raise ValueError("give exactly one of speed (m/s) and xi (v tau / L)")
-    if (loads is None) == (pressures is None):
+    # The load as solve takes it: one of the three, and a sweep's axis is
+    # a load (a prescribed approach would be dropped for it).
+    if sum(v is not None for v in (loads, pressures, options.get("approach"))) > 1:
+        raise ValueError("give only one of normal_load (N), mean_pressure (Pa) and approach (m)")
+    if options.get("approach") is not None:
+        raise ValueError("a sweep prescribes the load: give normal_load (N) or mean_pressure (Pa), not approach (m)")
+    if loads is None and pressures is None:
         raise ValueError("give exactly one of normal_load (N) and mean_pressure (Pa)")
     if "progress" in options or "speed" in options:
         raise ValueError("progress and speed are arguments of sweep itself")
