@@ -118,6 +118,19 @@ def _set_by(sections: Tuple[str, str, Optional[str], Optional[str]], options: Ma
     return given
 
 
+def _key_column(values: list) -> np.ndarray:
+    """The column of a varied key, one entry per point: the values as numpy
+    makes them, but an object array when they are lists or dicts (a
+    ``creep_spectrum``'s rows, ``wlf``'s three numbers), which numpy would
+    otherwise stack into more dimensions or refuse."""
+    if any(isinstance(v, (list, tuple, dict)) for v in values):
+        column = np.empty(len(values), dtype=object)
+        for k, v in enumerate(values):
+            column[k] = v
+        return column
+    return np.asarray(values)
+
+
 def _point_note(k: int, count: int, point: Dict[str, Any], sliding_key: str, load_key: str) -> str:
     """The sweep point a failed solve belongs to, by its settings."""
     parts = [f"{sliding_key} = {v}" for v in point["speed"].values()]
@@ -169,8 +182,10 @@ def sweep(
     gets a dict per finished point (``point``, ``points`` and the point's
     columns).
 
-    Returns a dict of 1-D arrays (:data:`COLUMNS` and the varied keys), or
-    a pandas DataFrame with ``as_frame=True``. With ``temperature`` (or
+    Returns a dict of 1-D arrays (:data:`COLUMNS` and the varied keys; a
+    key whose values are lists or dicts, such as ``material.wlf`` or
+    ``material.creep_spectrum``, is an object array of one value per
+    point), or a pandas DataFrame with ``as_frame=True``. With ``temperature`` (or
     ``vary={"loading.temperature": ...}``) the ``temperature`` and
     ``shift_factor`` columns give ``a_T``: ``mu(v, T) = mu(a_T v, T_ref)``.
     A heated sweep (``heating=``, see :func:`solve`, or a varied
@@ -241,7 +256,7 @@ def sweep(
                 callback({"point": k + 1, "points": len(points), **row})
     columns = {c: np.asarray(v, dtype=float) for c, v in rows.items() if c not in keys}
     for c in keys:
-        columns[c] = np.asarray(rows[c])
+        columns[c] = _key_column(rows[c])
     for c in ("iterations", "matvecs"):
         columns[c] = columns[c].astype(np.int64)
     return _frame(columns, as_frame)
