@@ -204,3 +204,33 @@ fn a_psd_table_changed_between_magnification_shards_is_refused() {
         "surface.generate.psd = \"table.csv\" has changed since the magnification study",
     );
 }
+
+/// A directory whose pin does not record the files (made by an earlier
+/// version) cannot vouch for them: refused, saying so.
+#[test]
+fn a_pin_without_the_files_content_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("surf.txt"), height_map(0.0)).unwrap();
+    let cfg = tmp.path().join("case.toml");
+    std::fs::write(
+        &cfg,
+        format!("{MATERIAL}\n[surface]\nfile = \"surf.txt\"\nlength = 0.01\n{REST}"),
+    )
+    .unwrap();
+    let (cfg, out) = (s(&cfg), tmp.path().join("out"));
+    let o = s(&out);
+    let first = run(&["sweep", &cfg, "--out", &o, "--limit", "1"]);
+    assert!(first.status.success(), "{}", text(&first.stderr));
+    let pin = out.join("sweep.toml");
+    let mut pinned: toml::Table = std::fs::read_to_string(&pin).unwrap().parse().unwrap();
+    assert!(
+        pinned.remove("pinned_files").is_some(),
+        "the pin records the file"
+    );
+    std::fs::write(&pin, toml::to_string(&pinned).unwrap()).unwrap();
+    refused(
+        &["sweep", &cfg, "--out", &o],
+        &out,
+        "started by an earlier version, which did not record the content of surface.file = \"surf.txt\"",
+    );
+}
