@@ -81,3 +81,15 @@ def test_refusals_are_the_commands(config, tmp_path):
     with pytest.raises(ValueError, match="increase strictly"):
         vs.magnification(config, scales=[4, 2], out=tmp_path / "never")
     assert not (tmp_path / "never").exists()
+
+
+def test_heating_is_refused_before_anything_is_written(tmp_path):
+    # The levels are isothermal: a [heating] section would be ignored.
+    p = tmp_path / "heated.toml"
+    p.write_text(CONFIG + "\n[heating]\nconductivity = 0.25\ndiffusivity = 1.16e-7\nblock_length = 0.01\n")
+    out = tmp_path / "never"
+    with pytest.raises(ValueError, match=r"\[heating\].*--set heating.enabled=false"):
+        vs.magnification(p, scales=[4, 8], out=out, backend="cpu")
+    assert not out.exists()
+    table = vs.magnification(p, scales=[4, 8], backend="cpu", set={"heating.enabled": False})
+    assert len(table["q1"]) == 2

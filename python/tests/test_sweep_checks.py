@@ -109,3 +109,25 @@ def test_a_magnification_into_a_held_directory_is_refused(tmp_path):
         assert list(out.iterdir()) == []
     finally:
         os.close(fd)
+
+
+@pytest.mark.parametrize(
+    "loads, needle",
+    [
+        ({"mean_pressure": 3e3, "approach": 1e-6}, "give only one of normal_load \\(N\\), mean_pressure \\(Pa\\) and approach \\(m\\)"),
+        ({"normal_load": 0.3, "approach": 1e-6}, "give only one of normal_load \\(N\\), mean_pressure \\(Pa\\) and approach \\(m\\)"),
+        ({"normal_load": 0.3, "mean_pressure": 3e3}, "give only one of normal_load \\(N\\), mean_pressure \\(Pa\\) and approach \\(m\\)"),
+        ({"approach": 1e-6}, "a sweep prescribes the load"),
+    ],
+)
+def test_two_loads_are_refused_as_solve_refuses_them(small, rubber, loads, needle):
+    # None of them is dropped for the other: refused before any solve.
+    for run in (
+        lambda seen: vs.sweep(small, rubber, speed=[1e-2], backend="cpu", progress=seen.append, **loads),
+        lambda seen: vs.friction_curve(small, rubber, [1e-2], backend="cpu", progress=seen.append, **loads),
+    ):
+        seen = []
+        with pytest.raises(ValueError, match=needle) as e:
+            run(seen)
+        assert "\n" not in str(e.value)
+        assert seen == [], "points were solved before the refusal"

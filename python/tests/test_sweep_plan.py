@@ -130,3 +130,28 @@ def test_any_key_of_the_sections_can_be_varied(pad, rubber):
     one = vs.solve(cut, rubber, speed=0.05, mean_pressure=3000.0, thickness=1e-3, backend="cpu")
     assert out["friction_coefficient"][1] == one.friction_coefficient
     assert np.all(np.isfinite(out["friction_coefficient"]))
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_list_valued_keys_are_object_columns(pad, rubber):
+    # A creep spectrum of two rows and of one, WLF constants of three
+    # numbers: one value per point, as a dict value is, in the dict and in
+    # a DataFrame alike (not stacked, not refused after the solves).
+    spectrum = vs.Material.creep_spectrum([1e-3, 1e-2], [1e-7, 2e-7], glassy_modulus=1e7)
+    rows = [[[1e-7, 1e-3], [2e-7, 1e-2]], [[1e-7, 1e-3]]]
+    wlf = [[8.86, 101.6, 17.0], [8.0, 100.0, 17.0]]
+    cases = [
+        (spectrum, {}, "material.creep_spectrum", rows),
+        (rubber, {"temperature": 20.0}, "material.wlf", wlf),
+    ]
+    for material, options, key, values in cases:
+        out = vs.sweep(pad, material, speed=[0.01, 0.1], mean_pressure=3e3, backend="cpu", vary={key: values}, **options)
+        column = out[key]
+        assert column.dtype == object and column.shape == (4,), key
+        assert column.tolist() == [values[0], values[0], values[1], values[1]]
+        assert np.all(np.isfinite(out["friction_coefficient"]))
+        pandas = pytest.importorskip("pandas")
+        frame = vs.sweep(pad, material, speed=[0.01, 0.1], mean_pressure=3e3, backend="cpu", vary={key: values}, as_frame=True, **options)
+        assert isinstance(frame, pandas.DataFrame) and len(frame) == 4
+        assert frame[key].tolist() == column.tolist()
+        assert frame["friction_coefficient"].tolist() == out["friction_coefficient"].tolist()

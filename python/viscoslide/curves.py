@@ -118,6 +118,19 @@ def _set_by(sections: Tuple[str, str, Optional[str], Optional[str]], options: Ma
     return given
 
 
+def _key_column(values: list) -> np.ndarray:
+    """The column of a varied key, one entry per point: the values as numpy
+    makes them, but an object array when they are lists or dicts (a
+    ``creep_spectrum``'s rows, ``wlf``'s three numbers), which numpy would
+    otherwise stack into more dimensions or refuse."""
+    if any(isinstance(v, (list, tuple, dict)) for v in values):
+        column = np.empty(len(values), dtype=object)
+        for k, v in enumerate(values):
+            column[k] = v
+        return column
+    return np.asarray(values)
+
+
 def _point_note(k: int, count: int, point: Dict[str, Any], sliding_key: str, load_key: str) -> str:
     """The sweep point a failed solve belongs to, by its settings."""
     parts = [f"{sliding_key} = {v}" for v in point["speed"].values()]
@@ -145,7 +158,8 @@ def sweep(
     per point, ``vary`` values outermost, then loads, speeds inner.
 
     Each of ``speed``, ``xi``, ``normal_load``, ``mean_pressure`` may be a
-    number or a 1-D array; ``options`` are those of :func:`solve`
+    number or a 1-D array (a prescribed ``approach`` is refused: the
+    sweep's axis is the load); ``options`` are those of :func:`solve`
     (``formulation``, ``thickness``, ``backend``, ``tolerance``,
     ``temperature``, ``heating``, ...). ``vary`` maps config keys to lists of values,
     as ``[sweep.vary]`` of ``viscoslide sweep``: ``{"loading.temperature":
@@ -168,8 +182,10 @@ def sweep(
     gets a dict per finished point (``point``, ``points`` and the point's
     columns).
 
-    Returns a dict of 1-D arrays (:data:`COLUMNS` and the varied keys), or
-    a pandas DataFrame with ``as_frame=True``. With ``temperature`` (or
+    Returns a dict of 1-D arrays (:data:`COLUMNS` and the varied keys; a
+    key whose values are lists or dicts, such as ``material.wlf`` or
+    ``material.creep_spectrum``, is an object array of one value per
+    point), or a pandas DataFrame with ``as_frame=True``. With ``temperature`` (or
     ``vary={"loading.temperature": ...}``) the ``temperature`` and
     ``shift_factor`` columns give ``a_T``: ``mu(v, T) = mu(a_T v, T_ref)``.
     A heated sweep (``heating=``, see :func:`solve`, or a varied
@@ -190,7 +206,13 @@ def sweep(
     pressures = _axis("mean_pressure", mean_pressure)
     if (speeds is None) == (xis is None):
         raise ValueError("give exactly one of speed (m/s) and xi (v tau / L)")
-    if (loads is None) == (pressures is None):
+    # The load as solve takes it: one of the three, and a sweep's axis is
+    # a load (a prescribed approach would be dropped for it).
+    if sum(v is not None for v in (loads, pressures, options.get("approach"))) > 1:
+        raise ValueError("give only one of normal_load (N), mean_pressure (Pa) and approach (m)")
+    if options.get("approach") is not None:
+        raise ValueError("a sweep prescribes the load: give normal_load (N) or mean_pressure (Pa), not approach (m)")
+    if loads is None and pressures is None:
         raise ValueError("give exactly one of normal_load (N) and mean_pressure (Pa)")
     if "progress" in options or "speed" in options:
         raise ValueError("progress and speed are arguments of sweep itself")
@@ -234,7 +256,7 @@ def sweep(
                 callback({"point": k + 1, "points": len(points), **row})
     columns = {c: np.asarray(v, dtype=float) for c, v in rows.items() if c not in keys}
     for c in keys:
-        columns[c] = np.asarray(rows[c])
+        columns[c] = _key_column(rows[c])
     for c in ("iterations", "matvecs"):
         columns[c] = columns[c].astype(np.int64)
     return _frame(columns, as_frame)

@@ -100,6 +100,11 @@ pub struct SweepArgs {
 pub struct MergeArgs {
     /// Sweep directory.
     pub dir: PathBuf,
+    /// Merge the finished points of a sweep with points still missing (a
+    /// shard not run yet, a run stopped early); without it such a sweep is
+    /// refused, naming them. merge.json records which are missing.
+    #[arg(long)]
+    pub partial: bool,
 }
 
 pub fn run(args: SweepArgs) -> Result<()> {
@@ -135,10 +140,20 @@ pub fn run(args: SweepArgs) -> Result<()> {
 }
 
 pub fn merge(args: MergeArgs) -> Result<()> {
-    let rows = sweep::merge(&args.dir, &mut SweepBar::default())?;
+    let merged = sweep::merge(&args.dir, args.partial, &mut SweepBar::default())?;
+    let gap = match merged.planned {
+        _ if merged.missing.is_empty() => String::new(),
+        Some(planned) => format!(
+            " (partial: {} of the sweep's {planned} points missing: {}; all listed in {})",
+            merged.missing.len(),
+            merged.missing_text(),
+            args.dir.join(sweep::MERGE_FILE).display()
+        ),
+        None => String::new(),
+    };
     println!(
-        "merged {} rows into {}",
-        rows.len(),
+        "merged {} rows into {}{gap}",
+        merged.rows.len(),
         args.dir.join("sweep.csv").display()
     );
     Ok(())

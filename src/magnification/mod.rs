@@ -40,6 +40,7 @@ use crate::material::Material;
 use crate::persson::{Persson, PerssonParams};
 use crate::problem::{Executor, Problem};
 use crate::solver::{Control, Observer};
+use crate::sweep::files::{pinned_files, with_files, PinnedFile};
 use crate::sweep::{PointStore, Shard};
 
 /// File in the study directory that pins the study it holds.
@@ -115,14 +116,30 @@ pub struct Study {
     pub material: Material,
     /// Nominal pressure `sigma0` \[Pa\] of every level.
     pub nominal_pressure: f64,
+    /// The files the configuration reads, their content hashed (pinned).
+    files: Vec<PinnedFile>,
 }
 
 impl Study {
-    /// Plan and check the study of `cfg`: levels within the PSD's band,
+    /// Plan and check the study of `cfg` (isothermal: an enabled
+    /// `[heating]` is refused): levels within the PSD's band,
     /// grids within memory, the coarsest level built whole (material,
     /// loading, solver), a nominal pressure for the theory, Persson's theory
     /// planned for every level. Writes nothing.
     pub fn new(cfg: &LoadedConfig, params: MagnificationParams) -> Result<Self> {
+        // The levels are isothermal solves: a heated contact would be
+        // reported as if it were not.
+        if cfg
+            .config
+            .heating
+            .as_ref()
+            .is_some_and(|h| h.enabled != Some(false))
+        {
+            return Err(Error::Invalid(format!(
+                "{}: a magnification study solves its levels isothermally and does not take [heating]; give --set heating.enabled=false (or remove the section) for the levels at the ambient temperature",
+                cfg.path.display()
+            )));
+        }
         let (psd, levels) = plan::plan_levels(cfg, &params.levels, params.cells_per_wavelength)?;
         let loading = cfg.config.loading.clone().unwrap_or_default();
         if loading.approach.is_some() {
@@ -180,7 +197,9 @@ impl Study {
                 });
             }
         }
+        let files = pinned_files([&cfg.config], &cfg.base_dir)?;
         Ok(Self {
+            files,
             cfg: cfg.clone(),
             params,
             psd,
@@ -192,9 +211,9 @@ impl Study {
         })
     }
 
-    /// What a study directory pins: the configuration and the planned
-    /// levels and speeds (a rerun with other levels needs another
-    /// directory).
+    /// What a study directory pins: the configuration, the content of the
+    /// files it reads and the planned levels and speeds (a rerun with
+    /// other levels, or a changed file, needs another directory).
     pub fn pin_text(&self) -> String {
         let levels: Vec<toml::Value> = self
             .levels
@@ -219,7 +238,7 @@ impl Study {
             "config".into(),
             toml::Value::Table(self.cfg.document.clone()),
         );
-        toml::to_string(&doc).expect("a table serialises")
+        toml::to_string(&with_files(doc, &self.files)).expect("a table serialises")
     }
 
     /// Persson's theory at 48 cut-offs log-spaced over the levels' range

@@ -93,7 +93,7 @@ pub fn compare(
         )));
     }
     let measured = read_measured(measured_csv)?;
-    let rows = super::merge::aggregate(dir, observer)?;
+    let (rows, _) = super::merge::aggregate(dir, observer)?;
     let computed: Vec<(f64, f64, f64)> = rows
         .iter()
         .filter(|r| r.speed > 0.0)

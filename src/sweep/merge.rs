@@ -19,13 +19,16 @@ use serde::Deserialize;
 
 use super::row::MergedRow;
 use super::theory::{recorded_curves, theory_curves, theory_for};
-use super::{master, Point, SweepObserver};
+use super::{master, Point, SweepObserver, SweepPlan};
 
+use crate::config;
 use crate::error::{Error, Result};
 use crate::io::{LockMode, StagedOutput, StudyLock};
 use crate::plot::{xy_chart, Series, XyChart};
 
 struct PointResult {
+    /// The point's file stem in the plan.
+    id: String,
     /// Grouping keys: the plan position of the point's `[sweep.vary]`
     /// combination, its planned load (NaN when the config's) and speed.
     key_combo: usize,
@@ -92,6 +95,33 @@ struct Headline {
     lambda: Option<f64>,
 }
 
+/// The points the sweep pinned in `dir` plans (all shards), from its
+/// pinned configuration; `Err` says why they cannot be told.
+fn planned_points(dir: &Path) -> std::result::Result<Vec<Point>, String> {
+    let pin = dir.join(super::CONFIG_FILE);
+    let text = std::fs::read_to_string(&pin).map_err(|e| format!("{}: {e}", pin.display()))?;
+    let mut document: toml::Table =
+        toml::from_str(&text).map_err(|e| format!("{}: {e}", pin.display()))?;
+    document.remove(super::files::FILES_KEY);
+    let name = pin.display().to_string();
+    let config = config::parse_document(&document, &name).map_err(|e| e.to_string())?;
+    let sweep = config
+        .sweep
+        .ok_or_else(|| format!("{name} has no [sweep] section"))?;
+    Ok(SweepPlan::new(&sweep).map_err(|e| e.to_string())?.points)
+}
+
+/// The points of `planned` that no merged point stands for, each as its
+/// settings name it (at most `SHOWN` of them, then how many more).
+fn missing_text(missing: &[Point]) -> String {
+    const SHOWN: usize = 5;
+    let mut parts: Vec<String> = missing.iter().take(SHOWN).map(Point::describe).collect();
+    if missing.len() > SHOWN {
+        parts.push(format!("and {} more", missing.len() - SHOWN));
+    }
+    parts.join(", ")
+}
+
 fn read_points(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<PointResult>> {
     let points_dir = dir.join("points");
     if !points_dir.is_dir() {
@@ -124,6 +154,7 @@ fn read_points(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<Point
             continue;
         }
         out.push(PointResult {
+            id: v.point.id.clone(),
             key_combo: v.point.index,
             vary: v.point.vary.clone(),
             temperature: v.temperature,
@@ -174,8 +205,12 @@ fn read_points(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<Point
 /// Aggregate the points of `dir` into rows, ordered by `[sweep.vary]`
 /// combination (plan order), planned load, then speed (the group keys are
 /// bit patterns of non-negative floats, whose order is the numeric order).
-pub(crate) fn aggregate(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<MergedRow>> {
+pub(crate) fn aggregate(
+    dir: &Path,
+    observer: &mut dyn SweepObserver,
+) -> Result<(Vec<MergedRow>, Vec<String>)> {
     let mut points = read_points(dir, observer)?;
+    let ids = points.iter().map(|p| p.id.clone()).collect();
     let key = |p: &PointResult| (p.key_combo, p.key_load.to_bits(), p.key_speed.to_bits());
     points.sort_by_key(|p| (key(p), p.seed));
     // Static areas per (combination, planned load, seed) for A / A(0).
@@ -221,7 +256,7 @@ pub(crate) fn aggregate(dir: &Path, observer: &mut dyn SweepObserver) -> Result<
             }
         })
         .collect();
-    Ok(rows)
+    Ok((rows, ids))
 }
 
 fn fmt_opt(v: Option<(f64, f64)>) -> (String, String) {
@@ -263,23 +298,78 @@ pub fn csv(rows: &[MergedRow]) -> String {
     out
 }
 
-/// Merge the finished points of `dir` into `dir/sweep.csv` and the plots
-/// (written atomically together). Returns the rows; notes (points left
-/// out, Persson's theory from the points' own values) go to `observer`.
-pub fn merge(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<MergedRow>> {
+/// What a merge merged: the rows, and the points of the sweep's plan
+/// that no finished point stands for.
+#[derive(Debug, Clone)]
+pub struct Merged {
+    pub rows: Vec<MergedRow>,
+    /// Points the sweep plans (all shards); `None` when the pinned
+    /// configuration cannot be planned again (then `missing` is empty).
+    pub planned: Option<usize>,
+    /// The planned points not merged (unsolved, or a file of another study).
+    pub missing: Vec<Point>,
+}
+
+impl Merged {
+    /// The missing points as their settings name them, for a message (the
+    /// first five, then how many more); empty when none is missing.
+    pub fn missing_text(&self) -> String {
+        missing_text(&self.missing)
+    }
+}
+
+/// Merge the finished points of `dir` into `dir/sweep.csv`, `merge.json`
+/// (how many points the sweep plans, which of them are missing) and the
+/// plots (written atomically together). A sweep with points missing (a
+/// shard not run yet, a run stopped early) is refused, naming them,
+/// unless `partial`. Notes (points left out, Persson's theory from the
+/// points' own values) go to `observer`.
+pub fn merge(dir: &Path, partial: bool, observer: &mut dyn SweepObserver) -> Result<Merged> {
     crate::io::atomic::recover(dir);
     if !dir.join("points").is_dir() {
         // aggregate's error, before the lock (which would make `dir`).
-        return aggregate(dir, observer);
+        aggregate(dir, observer)?;
     }
     // One writer: no sweep adds points while they are merged.
     let _lock = StudyLock::acquire(dir, LockMode::Exclusive)?;
-    merge_locked(dir, observer)
+    merge_locked(dir, partial, observer)
 }
 
 /// [`merge`] with `dir` already locked.
-pub(super) fn merge_locked(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<MergedRow>> {
-    let mut rows = aggregate(dir, observer)?;
+pub(super) fn merge_locked(
+    dir: &Path,
+    partial: bool,
+    observer: &mut dyn SweepObserver,
+) -> Result<Merged> {
+    let (mut rows, ids) = aggregate(dir, observer)?;
+    let (planned, missing) = match planned_points(dir) {
+        Ok(plan) => {
+            let missing: Vec<Point> = plan.iter().filter(|p| !ids.contains(&p.id)).cloned().collect();
+            (Some(plan.len()), missing)
+        }
+        Err(why) if partial => {
+            observer.note(&format!(
+                "which points the sweep plans cannot be told ({why}); merged the {} finished ones",
+                ids.len()
+            ));
+            (None, Vec::new())
+        }
+        Err(why) => {
+            return Err(Error::Invalid(format!(
+                "{}: which points the sweep plans cannot be told ({why}); `viscoslide merge --partial` merges the finished ones",
+                dir.display()
+            )))
+        }
+    };
+    if !missing.is_empty() && !partial {
+        return Err(Error::Invalid(format!(
+            "{}: {} of the sweep's {} points are missing: {}; run the shards that hold them (the same `viscoslide sweep` command resumes), or merge the finished ones with `viscoslide merge --partial`",
+            dir.display(),
+            missing.len(),
+            planned.unwrap_or_default(),
+            missing_text(&missing)
+        )));
+    }
     let use_xi = rows.iter().all(|r| r.xi.is_some());
     let x_of = |r: &MergedRow| if use_xi { r.xi.unwrap_or(0.0) } else { r.speed };
     let x_label = if use_xi { "xi = v tau / L" } else { "v [m/s]" };
@@ -321,6 +411,18 @@ pub(super) fn merge_locked(dir: &Path, observer: &mut dyn SweepObserver) -> Resu
     }
     let mut staged = StagedOutput::for_study(dir, &["points"])?;
     staged.write("sweep.csv", csv(&rows).as_bytes())?;
+    let record = serde_json::json!({
+        "complete": planned.is_some() && missing.is_empty(),
+        "points_planned": planned,
+        "points_merged": ids.len(),
+        "missing": missing.iter().map(Point::describe).collect::<Vec<_>>(),
+    });
+    staged.write(
+        MERGE_FILE,
+        serde_json::to_string_pretty(&record)
+            .expect("serialisable")
+            .as_bytes(),
+    )?;
     type Pick = fn(&MergedRow) -> Option<(f64, f64)>;
     type TheoryPick = Option<fn(&(f64, f64, f64, f64)) -> f64>;
     // Paper Fig. 1 and 7 are against xi; Fig. 6 is against the speed.
@@ -430,5 +532,12 @@ pub(super) fn merge_locked(dir: &Path, observer: &mut dyn SweepObserver) -> Resu
     };
     master::master_chart(&mut staged, &rows, &label, &theory)?;
     staged.commit()?;
-    Ok(rows)
+    Ok(Merged {
+        rows,
+        planned,
+        missing,
+    })
 }
+
+/// The merge's record beside `sweep.csv`: points planned, merged, missing.
+pub(crate) const MERGE_FILE: &str = "merge.json";

@@ -6,6 +6,7 @@
 //! `DIR/sweep.csv` (mean and standard deviation over realisations) and plots.
 
 mod compare;
+pub(crate) mod files;
 mod master;
 mod merge;
 mod plan;
@@ -15,7 +16,8 @@ mod theory;
 
 pub use crate::config::SweepConfig;
 pub use compare::{compare, Measured};
-pub use merge::merge;
+pub(crate) use merge::MERGE_FILE;
+pub use merge::{merge, Merged};
 pub use plan::{Point, Shard, SweepPlan};
 pub use row::MergedRow;
 pub use store::PointStore;
@@ -140,6 +142,21 @@ pub fn run_and_merge(
         }
     }
     let (executor, line) = selected.expect("a plan has points");
+    // The content of every file a combination reads is pinned with the
+    // configuration, hashed before anything is written.
+    let configs = plan
+        .vary_combinations()
+        .into_iter()
+        .map(|combo| {
+            let first = plan
+                .points
+                .iter()
+                .find(|p| &p.vary == combo)
+                .expect("a combination has points");
+            point_config(cfg, first)
+        })
+        .collect::<Result<Vec<Config>>>()?;
+    let files = files::pinned_files(&configs, &cfg.base_dir)?;
     observer.executor(&line);
     let mode = if shard == Shard::ALL {
         LockMode::Exclusive
@@ -147,7 +164,7 @@ pub fn run_and_merge(
         LockMode::Shared
     };
     let _lock = StudyLock::acquire(dir, mode)?;
-    let store = pin_config(cfg, dir)?;
+    let store = pin_config(cfg, &files, dir)?;
     let mine: Vec<&Point> = plan
         .points
         .iter()
@@ -179,7 +196,7 @@ pub fn run_and_merge(
     };
     let rows = if merge && shard == Shard::ALL && run.skipped + run.solved == run.in_shard {
         // The run holds the directory alone (no shard): merge under its lock.
-        Some(merge::merge_locked(dir, observer)?)
+        Some(merge::merge_locked(dir, false, observer)?.rows)
     } else {
         None
     };
@@ -314,11 +331,13 @@ fn parse_message(e: config::ConfigError) -> String {
     }
 }
 
-/// Record the configuration in `dir`, or check that it matches the one
-/// recorded there: a sweep directory holds the points of one configuration.
+/// Record the configuration and the content of the `files` it reads in
+/// `dir`, or check that they match those recorded there: a sweep
+/// directory holds the points of one configuration.
 /// The caller holds the directory's lock.
-fn pin_config(cfg: &LoadedConfig, dir: &Path) -> Result<PointStore> {
-    let text = toml::to_string(&cfg.document).expect("a parsed document serialises");
+fn pin_config(cfg: &LoadedConfig, files: &[files::PinnedFile], dir: &Path) -> Result<PointStore> {
+    let pinned = files::with_files(cfg.document.clone(), files);
+    let text = toml::to_string(&pinned).expect("a parsed document serialises");
     let store = PointStore::open(dir, CONFIG_FILE, &text, "sweep")?;
     // Where the pinned configuration's relative paths point (for `merge`,
     // which rebuilds Persson's theory from it); not part of the pin.

@@ -55,10 +55,16 @@ impl PointStore {
             Err(e) => return Err(Error::io(&pinned, e)),
         };
         if !ours {
-            return Err(Error::Invalid(format!(
-                "{} holds a {what} made with a different configuration; use another --out directory (or delete it) instead of mixing results",
-                dir.display()
-            )));
+            // A file the configuration reads, changed, is named.
+            let changed = std::fs::read_to_string(&pinned)
+                .ok()
+                .and_then(|old| super::files::changed_file(&old, pin_text, dir, what));
+            return Err(Error::Invalid(changed.unwrap_or_else(|| {
+                format!(
+                    "{} holds a {what} made with a different configuration; use another --out directory (or delete it) instead of mixing results",
+                    dir.display()
+                )
+            })));
         }
         let points = dir.join("points");
         std::fs::create_dir_all(&points).map_err(|e| Error::io(&points, e))?;

@@ -23,15 +23,19 @@ pub(super) fn theory_for(
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut document: toml::Table =
         toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let base_dir = std::fs::read_to_string(dir.join(super::CONFIG_DIR_FILE))
+        .map(|t| Path::new(t.trim()).to_path_buf())
+        .unwrap_or_else(|_| dir.to_path_buf());
+    // The files the points were solved with, unchanged since (else the
+    // theory would be another surface's or material's).
+    super::files::check_unchanged(&document, &base_dir)?;
+    document.remove(super::files::FILES_KEY);
     // The combination's `[sweep.vary]` values, set as the sweep set them.
     for (key, value) in vary {
         config::set_value(&mut document, key, value.clone())?;
     }
     let name = path.display().to_string();
     let config = config::parse_document(&document, &name).map_err(|e| e.to_string())?;
-    let base_dir = std::fs::read_to_string(dir.join(super::CONFIG_DIR_FILE))
-        .map(|t| Path::new(t.trim()).to_path_buf())
-        .unwrap_or_else(|_| dir.to_path_buf());
     let cfg = LoadedConfig {
         config,
         path,

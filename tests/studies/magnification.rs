@@ -686,3 +686,38 @@ fn the_report_states_the_temperature_and_the_shift_factor() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The levels are isothermal: a `[heating]` section is refused in one line
+/// naming it and the fix, before anything is written; with heating
+/// disabled the same study runs.
+#[test]
+fn a_study_with_heating_is_refused_naming_the_fix() {
+    let dir = tmp("heating");
+    let heated = format!(
+        "{CONFIG}\n[heating]\nconductivity = 0.25\ndiffusivity = 1.16e-7\nblock_length = 0.01\n"
+    );
+    let path = write_config(&dir, &heated);
+    let p = path.to_str().unwrap();
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let args = [
+        "magnification",
+        p,
+        "--scales",
+        "4,8",
+        "--backend",
+        "cpu",
+        "--out",
+        o,
+    ];
+    let (ok, _, err) = viscoslide(&args);
+    assert!(!ok);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("[heating]"), "{err}");
+    assert!(err.contains("--set heating.enabled=false"), "{err}");
+    assert!(!out.exists(), "a refused study writes nothing");
+    let (ok, _, err) = viscoslide(&[&args[..], &["--set", "heating.enabled=false"]].concat());
+    assert!(ok, "{err}");
+    assert!(out.join("magnification.json").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

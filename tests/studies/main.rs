@@ -7,6 +7,7 @@ mod magnification;
 mod one_writer;
 mod persson_cli;
 mod persson_theory;
+mod pinned_files;
 mod refusals;
 mod study_faults;
 mod support;

@@ -158,7 +158,16 @@ fn a_point_of_another_study_is_not_counted_as_done() {
     v["study"] = "another".into();
     v["friction_coefficient"] = 1.0.into();
     std::fs::write(&p, v.to_string()).unwrap();
-    let merged = run(&["merge", &s(&out)]);
+    // The point left out is missing: a merge of the others is partial.
+    let refused = run(&["merge", &s(&out)]);
+    assert!(!refused.status.success());
+    assert!(
+        text(&refused.stderr).contains("1 of the sweep's 6 points are missing: p0001"),
+        "{}",
+        text(&refused.stderr)
+    );
+    let merged = run(&["merge", &s(&out), "--partial"]);
+    assert!(merged.status.success(), "{}", text(&merged.stderr));
     assert!(
         text(&merged.stderr).contains("another study"),
         "{}",

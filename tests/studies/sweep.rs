@@ -283,3 +283,65 @@ fn a_refused_sweep_leaves_its_directory_untouched() {
     assert!(ok, "{err}");
     assert_eq!(point_times(&out).len(), 1);
 }
+
+/// A merge of a sweep with a shard not run is refused, naming the missing
+/// points, and writes nothing; `--partial` merges the finished ones and
+/// says which are missing, on its line and in `merge.json`; once all are
+/// there `merge.json` says the sweep is complete.
+#[test]
+fn merging_an_incomplete_sweep_is_refused_unless_partial() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), CONFIG);
+    let out = tmp.path().join("run");
+    let o = out.display().to_string();
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o, "--shard", "0/2"]);
+    assert!(ok, "{err}");
+    let names = |d: &Path| {
+        let mut v: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    let before = names(&out);
+    let (ok, err) = viscoslide(&["merge", &o]);
+    assert!(!ok);
+    // Seed 2 is shard 1's: points 1, 3 and 5 (3 speeds x 2 seeds).
+    assert!(
+        err.contains("3 of the sweep's 6 points are missing: p0001 (xi = 0, seed 2), p0003 (xi = 0.001, seed 2), p0005 (xi = 0.01, seed 2)"),
+        "{err}"
+    );
+    assert!(err.contains("merge --partial"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert_eq!(names(&out), before, "a refused merge writes nothing");
+
+    let merged = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(["merge", &o, "--partial"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&merged.stdout);
+    assert!(merged.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("(partial: 3 of the sweep's 6 points missing: p0001 (xi = 0, seed 2)"),
+        "{stdout}"
+    );
+    let record = |d: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join("merge.json")).unwrap()).unwrap()
+    };
+    let r = record(&out);
+    assert_eq!(r["complete"], false, "{r}");
+    assert_eq!(r["points_planned"], 6, "{r}");
+    assert_eq!(r["points_merged"], 3, "{r}");
+    assert_eq!(r["missing"].as_array().unwrap().len(), 3, "{r}");
+    assert!(out.join("sweep.csv").exists());
+
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o, "--shard", "1/2"]);
+    assert!(ok, "{err}");
+    let (ok, err) = viscoslide(&["merge", &o]);
+    assert!(ok, "{err}");
+    let r = record(&out);
+    assert_eq!(r["complete"], true, "{r}");
+    assert_eq!(r["points_merged"], 6, "{r}");
+    assert_eq!(r["missing"], serde_json::json!([]), "{r}");
+}
