@@ -542,3 +542,51 @@ fn a_contact_of_a_few_cells_is_warned() {
         }
     }
 }
+
+/// A map marked periodic solved as a finite pad only because no
+/// formulation was given is warned about (Python's `formulation="auto"`
+/// solves it periodic; the two differ); a formulation given is a choice.
+#[test]
+fn a_periodic_map_solved_as_a_pad_by_default_is_warned() {
+    use viscoslide::surface::{generate, GenerateParams, Normalisation, UpperCutoff};
+    let map = generate(&GenerateParams {
+        nx: 32,
+        ny: 32,
+        length: 0.01,
+        hurst: 0.8,
+        upper: UpperCutoff::Scales(8.0),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 3,
+        ..GenerateParams::default()
+    })
+    .unwrap();
+    let config = CONFIG.replace(
+        "[surface.generate]\nn = 48\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\nseed = 3\n",
+        "[surface]\nfile = \"h.npy\"\nlength = 0.01\nperiodic = true\n",
+    );
+    for (extra, warned) in [
+        (None, true),
+        (Some("solver.formulation=\"non_periodic\""), false),
+        (Some("solver.formulation=\"periodic\""), false),
+    ] {
+        let tmp = tempfile::tempdir().unwrap();
+        std::fs::write(
+            tmp.path().join("h.npy"),
+            viscoslide::io::npy::encode_f64(&[32, 32], &map.heights),
+        )
+        .unwrap();
+        let args: Vec<&str> = extra.iter().flat_map(|e| ["--set", *e]).collect();
+        let (ok, _, stderr) = run(tmp.path(), &config, &args);
+        assert!(ok, "{stderr}");
+        let s: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(tmp.path().join("out/summary.json")).unwrap(),
+        )
+        .unwrap();
+        let warning = s["warnings"].as_array().unwrap().iter().any(|w| {
+            w.as_str().unwrap().contains(
+                "marked periodic ([surface] periodic = true) but is solved as a finite pad",
+            )
+        });
+        assert_eq!(warning, warned, "{extra:?}: {}", s["warnings"]);
+    }
+}
