@@ -179,8 +179,9 @@ impl NativeResult {
     /// and `diffusivity` \[m^2/s\] (`viscoslide heat --from-run`,
     /// `viscoslide::problem::ContactHeating`, physics.md section 14): the
     /// creep elements' dissipation on depth layers (`source` `"volume"`,
-    /// periodic cells; default there) or the surface work of the pressure
-    /// (`"surface"`, default on a pad), `refined_layers` for depth
+    /// periodic cells on a half-space; default there) or the surface work
+    /// of the pressure (`"surface"`, default on a pad or a layer),
+    /// `refined_layers` for depth
     /// integrals to about 5e-9; `block_length` \[m\] gives a periodic
     /// cell its background heating. A heated solve's solution is at its
     /// effective temperature, and so is its heat. Returns the `heat.json`
@@ -195,11 +196,18 @@ impl NativeResult {
         source: Option<&str>,
         refined_layers: bool,
     ) -> PyResult<(String, Bound<'py, PyArray2<f64>>)> {
+        let periodic = self.problem.formulation == Formulation::Periodic;
+        let layered = self.problem.layer.is_some();
         let kind = match source {
             Some(s) => s.parse::<SourceKind>().map_err(value_error)?,
-            None if self.problem.formulation == Formulation::Periodic => SourceKind::Volume,
-            None => SourceKind::Surface,
+            None => SourceKind::default_for(periodic, layered),
         };
+        if let Some(why) = kind.unsupported(periodic, layered) {
+            return Err(value_error(format!(
+                "source=\"{}\": {why}; pass source=\"surface\" (the default on a pad or a layer)",
+                kind.name()
+            )));
+        }
         if refined_layers && kind == SourceKind::Surface {
             return Err(value_error(
                 "refined_layers refines the volume source's depth layers; the surface source has none: drop it or pass source=\"volume\" (periodic cells)",

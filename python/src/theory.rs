@@ -97,7 +97,11 @@ pub fn persson<'py>(
 /// \[m/s\] along `direction_deg`, for cells of sides `cell_size` x
 /// `cell_size_y` \[m\] (square when `cell_size_y` is `None`), over all
 /// offsets of an `nx x ny` grid: shape `(2 nx - 1, 2 ny - 1)`, offset
-/// `(i, j)` at index `(i + nx - 1, j + ny - 1)`.
+/// `(i, j)` at index `(i + nx - 1, j + ny - 1)`; with it the warning of a
+/// layer thinner than a cell. The cells are checked as `viscoslide
+/// kernel` checks them (`SlidingKernel::check_cells`: a layer below the
+/// bound of a cell is refused), and a table with a value that is not
+/// finite is refused, naming the cell size.
 #[pyfunction]
 #[pyo3(signature = (material, nx, ny, cell_size, speed, direction_deg, layer_json, derivative, cell_size_y=None))]
 #[allow(clippy::too_many_arguments)]
@@ -112,7 +116,7 @@ pub fn kernel_table<'py>(
     layer_json: Option<&str>,
     derivative: bool,
     cell_size_y: Option<f64>,
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Option<String>)> {
     let (ax, ay) = (cell_size, cell_size_y.unwrap_or(cell_size));
     let layer = layer_json
         .map(|j| {
@@ -130,6 +134,7 @@ pub fn kernel_table<'py>(
         SlidingResponse::new(&material.material, speed, direction_deg.to_radians(), layer)
             .map_err(value_error)?;
     let kernel = SlidingKernel::new(&response).map_err(value_error)?;
+    let warning = kernel.check_cells(ax, ay).map_err(value_error)?;
     let grid = Grid::new(nx, ny, (ax, ay)).map_err(value_error)?;
     let table = py
         .detach(|| {
@@ -140,8 +145,9 @@ pub fn kernel_table<'py>(
             }
         })
         .map_err(value_error)?;
-    table
+    let values = table
         .values
         .into_pyarray(py)
-        .reshape([2 * table.nx - 1, 2 * table.ny - 1])
+        .reshape([2 * table.nx - 1, 2 * table.ny - 1])?;
+    Ok((values, warning))
 }

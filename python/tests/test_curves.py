@@ -81,6 +81,33 @@ def test_kernel_table_matches_the_kernel_command(cli, repo):
         vs.kernel_table(m, nx=3, cell_size=3.9e-5, cell_size_y=-1.0, speed=0.0117)
 
 
+def test_kernel_table_checks_cells_and_speeds_as_the_kernel_command(cli, repo):
+    """``kernel_table`` refuses what ``viscoslide kernel`` refuses, with its
+    words: a layer below the bound of a cell, cells beyond the range of the
+    kernel's arithmetic (not a table of NaN); it warns of a layer thinner
+    than a cell as the command does, and takes ``speed=inf``, the glassy
+    limit, giving the command's ``--speed inf`` coefficients."""
+    config = str(repo / "configs" / "default.toml")
+    m = vs.Material.from_toml(config)
+    with pytest.raises(ValueError) as e:
+        vs.kernel_table(m, nx=4, cell_size=1e-4, speed=0.01, thickness=1e-9)
+    assert str(e.value).startswith("[layer] thickness = 1e-9 m is 1.000e-5 of a cell (1e-4 m), below the bound of 1e-3 of a cell")
+    for cell, text in ((1e-300, "1e-300"), (1e200, "1e200")):
+        with pytest.raises(ValueError, match=f"the cell size {text} m is beyond the range"):
+            vs.kernel_table(m, nx=4, cell_size=cell, speed=0.01)
+    with pytest.warns(UserWarning, match=r"\[layer\] thickness = 0.00005 m is thinner than one cell"):
+        vs.kernel_table(m, nx=4, cell_size=1e-4, speed=0.01, thickness=5e-5)
+    glassy = vs.kernel_table(m, nx=3, cell_size=3.9e-5, speed=float("inf"))
+    rows = json.loads(
+        cli("kernel", "--config", config, "--cell-size", "3.9e-5", "--speed", "inf", "--offset", "0,0", "--offset", "2,-1", "--json")
+    )
+    for row in rows:
+        assert row["K_viscoelastic"] == 0.0
+        assert glassy[row["i"] + 2, row["j"] + 2] == pytest.approx(row["K"], rel=1e-12)
+    with pytest.raises(ValueError, match="speed"):
+        vs.kernel_table(m, nx=3, cell_size=3.9e-5, speed=-float("inf"))
+
+
 def test_a_surface_from_a_psd_table_keeps_its_table(tmp_path, rubber):
     """A surface synthesised from a q, C table: Persson's theory uses the
     table (as for the same [surface.generate] psd in a config), not the

@@ -90,7 +90,6 @@ def test_a_pad_trails_heat_behind_and_keeps_the_orientation():
         ({"block_length": 0.01}, ["block_length", "periodic=True"]),
         ({"periodic": True, "block_length": -1.0}, ["block_length"]),
         ({"periodic": True, "block_length": 3e-6}, ["shorter than the periodic cell", "4.0000e-6 m"]),
-        ({"periodic": "yes"}, ["periodic"]),
         ({"flux": np.array([[1.0, np.nan]])}, ["flux", "non-finite", "(0, 1)"]),
         ({"flux": np.ones(5)}, ["flux", "2-dimensional"]),
         ({"flux": np.ones((0, 3))}, ["flux", "empty"]),
@@ -105,3 +104,25 @@ def test_argument_errors_name_the_argument(change, words):
         vs.surface_temperature(**args)
     for w in words:
         assert w in str(e.value), str(e.value)
+
+
+def test_a_flag_of_the_wrong_type_and_masked_flux_are_named():
+    """``periodic='yes'`` is a flag of the wrong type: a ``TypeError`` (as
+    every flag of the package, README "Errors and warnings"); the masked
+    points of a masked array are refused as masked, in one line, not as
+    non-finite values they do not hold; a masked array with nothing
+    masked is its data."""
+    flux = np.ones((4, 3))
+    with pytest.raises(TypeError, match="periodic must be True or False, got 'yes'"):
+        vs.surface_temperature(flux, 1e-6, 0.1, LAM, KAPPA, periodic="yes")
+    mask = np.zeros((4, 3), dtype=bool)
+    mask[2, 1] = mask[3, 0] = True
+    with pytest.raises(ValueError) as e:
+        vs.surface_temperature(np.ma.masked_array(flux, mask=mask), 1e-6, 0.1, LAM, KAPPA)
+    message = str(e.value)
+    assert "flux has 2 masked value(s), the first at index (2, 1)" in message, message
+    assert "non-finite" not in message and "\n" not in message, message
+    unmasked = np.ma.masked_array(flux, mask=np.zeros((4, 3), dtype=bool))
+    np.testing.assert_array_equal(
+        vs.surface_temperature(unmasked, 1e-6, 0.1, LAM, KAPPA), vs.surface_temperature(flux, 1e-6, 0.1, LAM, KAPPA)
+    )

@@ -229,6 +229,40 @@ def test_at_rest_the_heated_answer_is_the_isothermal_one(cell, wlf_rubber):
     assert any(w.startswith("at rest") for w in heated.summary["warnings"])
 
 
+def test_heat_of_a_layer_takes_the_surface_source_and_warns_as_the_heated_solve(cell, wlf_rubber):
+    """On a layer ``Result.heat`` defaults to the surface work (as
+    ``[heating]`` and ``heat --from-run`` do: the volume source is the
+    half-space's, refused naming ``source="surface"``), and warns where the
+    heat reaches through the layer with the heated solve's own warning (a
+    50 um layer, heat reaching 2.24e-4 m in one passage of the block)."""
+    layer = dict(LOADING, mean_pressure=1e5, formulation="periodic", thickness=5e-5, backend="cpu")
+    heated = vs.solve(cell, wlf_rubber, **layer, heating=HEATING)
+    expected = [w for w in heated.summary["warnings"] if w.startswith("the heat problem is a rubber half-space")]
+    assert len(expected) == 1 and "2.236e-4 m deep" in expected[0], heated.summary["warnings"]
+    with pytest.warns(UserWarning) as record:
+        heat = heated.heat(0.25, 1e-7, block_length=0.05)
+    assert heat["source"] == "surface"
+    assert expected[0] in heat["notes"]
+    assert expected[0] in [str(w.message) for w in record]
+    with pytest.raises(ValueError) as e:
+        heated.heat(0.25, 1e-7, block_length=0.05, source="volume")
+    assert 'source="volume"' in str(e.value) and 'pass source="surface"' in str(e.value), str(e.value)
+
+
+def test_heat_at_rest_is_zero_with_the_heated_solves_note(cell, wlf_rubber):
+    """A solution at rest (``speed=0``) has no heat: ``Result.heat`` answers
+    zero rise everywhere and a zero balance, with the at-rest note warned
+    (as the heated solve at rest, and ``heat --from-run``), instead of
+    refusing the speed."""
+    rest = vs.solve(cell, wlf_rubber, **dict(LOADING, speed=0.0), formulation="periodic", backend="cpu")
+    with pytest.warns(UserWarning, match=r"^at rest \(speed = 0\) nothing is dissipated"):
+        heat = rest.heat(0.25, 1e-7, block_length=0.05)
+    assert heat["source"] == "volume"
+    for key in ("max_rise_k", "effective_rise_k", "background_rise_k", "heat_total_w", "friction_power_w", "energy_balance"):
+        assert heat[key] == 0.0, key
+    assert heat["temperature_rise"].shape == (32, 32) and not heat["temperature_rise"].any()
+
+
 def test_heating_needs_wlf_and_a_mapping(cell):
     plain = vs.Material.sls(relaxed_modulus=1e7 / 3, glassy_modulus=1e7, creep_time=1e-4)
     with pytest.raises(ValueError, match=r"\[heating\] needs the material's WLF constants"):

@@ -53,8 +53,9 @@ def real_array(name: str, value: Any, ndim: int, allow_nan: bool = False) -> np.
     return arr
 
 
-def number(name: str, value: Any) -> float:
-    """A finite real number."""
+def number(name: str, value: Any, allow_inf: bool = False) -> float:
+    """A finite real number (``allow_inf``: or an infinite one, a limit
+    the callee takes, such as the glassy speed)."""
     if isinstance(value, (bool, np.bool_)):
         raise ValueError(f"{name} must be a real number, got the boolean {value!r}")
     if not isinstance(value, numbers.Real):
@@ -65,7 +66,9 @@ def number(name: str, value: Any) -> float:
         else:
             raise ValueError(f"{name} must be a real number, got {value!r}")
     x = float(value)
-    if not math.isfinite(x):
+    if math.isnan(x) and allow_inf:
+        raise ValueError(f"{name} must be a number (inf allowed), got {x}")
+    if not math.isfinite(x) and not allow_inf:
         raise ValueError(f"{name} must be finite, got {x}")
     return x
 

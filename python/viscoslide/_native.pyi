@@ -178,7 +178,7 @@ def kernel_table(
     layer_json: Optional[str],
     derivative: bool,
     cell_size_y: Optional[float] = None,
-) -> npt.NDArray[np.float64]: ...
+) -> Tuple[npt.NDArray[np.float64], Optional[str]]: ...
 def magnification(
     path: str,
     overrides: List[str],

@@ -398,6 +398,13 @@ def kernel_table(
     ``nx x ny`` grid; with ``derivative=True`` the cell-averaged ``dK/dx``
     [1/Pa] of the friction stencil.
 
+    ``speed`` is ``>= 0``: ``0`` the relaxed limit, ``float("inf")`` the
+    glassy one, as ``viscoslide kernel --speed inf``. The cells are checked
+    as the command checks them: a layer below the bound of a cell is
+    refused, one thinner than a cell is warned about (``warnings.warn``),
+    and cells so far from a contact's scales that a coefficient is not
+    finite are refused, naming the cell size.
+
     Returns an array of shape ``(2 nx - 1, 2 ny - 1)``; offset ``(i, j)``
     is at index ``(i + nx - 1, j + ny - 1)``.
     """
@@ -405,14 +412,17 @@ def kernel_table(
         raise TypeError(f"material must be a viscoslide.Material, got {type(material).__name__}")
     n = _checks.count("nx", nx)
     m = n if ny is None else _checks.count("ny", ny)
-    return _native.kernel_table(
+    table, warning = _native.kernel_table(
         material._native,
         n,
         m,
         _checks.positive("cell_size", cell_size, "m"),
-        _checks.number("speed", speed),
+        _checks.number("speed", speed, allow_inf=True),
         _checks.number("direction_deg", direction_deg),
         _layer(thickness, layer_base),
         _checks.flag("derivative", derivative),
         None if cell_size_y is None else _checks.positive("cell_size_y", cell_size_y, "m"),
     )
+    if warning is not None:
+        warnings.warn(warning, stacklevel=2)
+    return table

@@ -13,9 +13,18 @@ from . import _checks, _native
 
 
 def _flux(value: Any) -> np.ndarray:
-    """``value`` as a C-contiguous float64 2-D array of finite values."""
-    if isinstance(value, np.ma.MaskedArray) and value.dtype.kind in "fiu":
-        value = np.ma.filled(value.astype(np.float64), np.nan)
+    """``value`` as a C-contiguous float64 2-D array of finite values; a
+    masked array's masked points are refused as such (a flux has no
+    missing cells: 0 where no heat enters)."""
+    if isinstance(value, np.ma.MaskedArray):
+        mask = np.ma.getmaskarray(value)
+        if mask.any():
+            first = tuple(int(i) for i in np.argwhere(mask)[0])
+            raise ValueError(
+                f"flux has {int(np.count_nonzero(mask))} masked value(s), the first at index {first}; "
+                "a flux has a value in every cell: fill them (flux.filled(0.0) where no heat enters)"
+            )
+        value = np.ma.getdata(value)
     try:
         arr = np.asarray(value)
     except Exception as e:  # ragged lists and the like
@@ -71,8 +80,7 @@ def surface_temperature(
     Returns an array of the shape of ``flux``: the rise at the cell centres.
     """
     q = _flux(flux)
-    if not isinstance(periodic, (bool, np.bool_)):
-        raise ValueError(f"periodic must be True or False, got {periodic!r}")
+    periodic = _checks.flag("periodic", periodic)
     if block_length is not None and not periodic:
         raise ValueError(
             "block_length is the periodic cell's (its background heating); pass periodic=True or drop block_length"
@@ -83,7 +91,7 @@ def surface_temperature(
         _checks.positive("speed", speed, "m/s"),
         _checks.positive("conductivity", conductivity, "W/(m K)"),
         _checks.positive("diffusivity", diffusivity, "m^2/s"),
-        bool(periodic),
+        periodic,
         None if block_length is None else _checks.positive("block_length", block_length, "m"),
         _checks.number("direction_deg", direction_deg),
         None if cell_size_y is None else _checks.positive("cell_size_y", cell_size_y, "m"),

@@ -152,14 +152,19 @@ class Result:
         friction.
 
         ``source`` is ``"volume"`` (the creep elements' dissipation on depth
-        layers; periodic cells only, their default) or ``"surface"`` (the
-        work of the contact pressure as a surface flux; a pad's default);
+        layers; periodic cells on a half-space only, their default) or
+        ``"surface"`` (the work of the contact pressure as a surface flux;
+        the default on a pad or a layer);
         ``refined_layers`` takes finer depth layers (depth integrals to
         about 5e-9 instead of 5e-5, the weighted rise to about 3e-4
         instead of 2e-3); ``block_length`` [m] adds a periodic
         cell's background heating over the block's passage. A heated
         solve's solution is at its effective temperature, and so is its
-        heat.
+        heat. At rest (speed 0) nothing is dissipated: every rise is zero.
+        Each of ``notes`` (what the rise leaves out or may overstate, such
+        as a layer the heat reaches through, or the rest) is also warned
+        about (``warnings.warn``), as ``viscoslide heat --from-run`` notes
+        it.
 
         Returns the numbers of ``heat.json`` (``source``,
         ``effective_rise_k``, ``max_rise_k``, ``mean_rise_k``,
@@ -177,6 +182,8 @@ class Result:
         )
         doc = json.loads(report)
         doc["temperature_rise"] = rise
+        for note in doc["notes"]:
+            warnings.warn(note, stacklevel=2)
         return doc
 
     def analysis(self) -> Optional[Dict[str, Any]]:

@@ -34,7 +34,7 @@ pub struct HeatArgs {
     /// With --from-run: the creep elements' dissipation density on depth
     /// layers (`volume`, periodic cells on a half-space) or the surface
     /// work of the contact pressure (`surface`); default `volume` on a
-    /// periodic cell, `surface` on a pad.
+    /// periodic cell on a half-space, `surface` on a pad or a layer.
     #[arg(long, value_name = "KIND", requires = "from_run")]
     pub source: Option<SourceKind>,
     /// With --from-run and the volume source: the refined depth layers

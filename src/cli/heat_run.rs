@@ -129,11 +129,16 @@ pub(super) fn run(args: &HeatArgs, dir: &Path) -> Result<()> {
                 .into(),
         ));
     }
-    let kind = args.source.unwrap_or(if periodic {
-        SourceKind::Volume
-    } else {
-        SourceKind::Surface
-    });
+    let layered = run.response.layer().is_some();
+    let kind = args
+        .source
+        .unwrap_or(SourceKind::default_for(periodic, layered));
+    if let Some(why) = kind.unsupported(periodic, layered) {
+        return Err(Error::Invalid(format!(
+            "--source {}: {why}; give --source surface (the default on a pad or a layer)",
+            kind.name()
+        )));
+    }
     if args.refined_layers && kind == SourceKind::Surface {
         return Err(Error::Invalid(
             "--refined-layers refines the volume source's depth layers; the surface source has none: drop it or give --source volume (periodic runs)".into(),

@@ -3,8 +3,8 @@
 //! by the friction stencil (physics.md section 5).
 
 use crate::error::{Error, Result};
-use crate::kernel::{Axis, SlidingKernel, ThetaRule};
-use crate::response::{Grid, SlidingResponse};
+use crate::kernel::{non_finite, Axis, SlidingKernel, ThetaRule};
+use crate::response::SlidingResponse;
 
 #[derive(Debug, clap::Args)]
 pub struct KernelArgs {
@@ -86,28 +86,33 @@ pub fn run(args: KernelArgs) -> Result<()> {
         ThetaRule::CellIntegral
     });
     let (a, ay) = (args.cell_size, args.cell_size_y.unwrap_or(args.cell_size));
-    Grid::new(1, 1, (a, ay))?;
-    kernel.check_layer_cells(a, ay)?;
-    if let Some(w) = layer.and_then(|l| l.resolution_warning(a.min(ay))) {
+    let warning = kernel.check_cells(a, ay)?;
+    let mut rows = Vec::with_capacity(args.offsets.len());
+    for &(i, j) in &args.offsets {
+        let (dx, dy) = (i as f64 * a, j as f64 * ay);
+        let c = kernel.coefficient(dx, dy, a, ay);
+        let d = kernel.derivative(dx, dy, a, ay, Axis::X);
+        let values = [
+            ("K", c.total()),
+            ("K_elastic", c.elastic),
+            ("K_viscoelastic", c.viscoelastic),
+            ("dK/dx", d),
+        ];
+        if let Some(&(name, v)) = values.iter().find(|(_, v)| !v.is_finite()) {
+            return Err(non_finite(name, (i, j), v, (a, ay)).into());
+        }
+        rows.push(serde_json::json!({
+            "i": i,
+            "j": j,
+            "K": c.total(),
+            "K_elastic": c.elastic,
+            "K_viscoelastic": c.viscoelastic,
+            "dK_dx": d,
+        }));
+    }
+    if let Some(w) = warning {
         eprintln!("warning: {w}");
     }
-    let rows: Vec<serde_json::Value> = args
-        .offsets
-        .iter()
-        .map(|&(i, j)| {
-            let (dx, dy) = (i as f64 * a, j as f64 * ay);
-            let c = kernel.coefficient(dx, dy, a, ay);
-            let d = kernel.derivative(dx, dy, a, ay, Axis::X);
-            serde_json::json!({
-                "i": i,
-                "j": j,
-                "K": c.total(),
-                "K_elastic": c.elastic,
-                "K_viscoelastic": c.viscoelastic,
-                "dK_dx": d,
-            })
-        })
-        .collect();
     if args.json {
         println!(
             "{}",

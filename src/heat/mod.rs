@@ -41,6 +41,7 @@ mod source;
 pub use error::HeatError;
 pub(crate) use layers::DepthLadder;
 pub use layers::DepthLayers;
+pub(crate) use setup::AT_REST_NOTE;
 pub use setup::{Conduction, HeatDomain, HeatSetup};
 pub(crate) use solve::DepthExtremes;
 pub use solve::{surface_temperature, HeatSolver, Temperature};

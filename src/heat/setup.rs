@@ -58,8 +58,15 @@ impl HeatSetup {
     /// grid with cells; a block at least as long as the periodic cell
     /// along the sliding direction ([`HeatSetup::cell_length_along_sliding`]).
     pub fn check(&self) -> Result<(), HeatError> {
-        self.conduction.check()?;
         positive("the speed", self.speed, "m/s")?;
+        self.check_at_rest()
+    }
+
+    /// [`HeatSetup::check`] but for the speed, which may be zero: a
+    /// contact at rest, whose zero source has zero rise without a
+    /// solve.
+    pub(crate) fn check_at_rest(&self) -> Result<(), HeatError> {
+        self.conduction.check()?;
         if !self.direction_rad.is_finite() {
             return Err(HeatError::Direction(self.direction_rad));
         }
@@ -153,7 +160,58 @@ impl HeatSetup {
             Vec::new()
         }
     }
+
+    /// Where the rubber is a layer `thickness` \[m\] thick: the heat
+    /// problem is a rubber half-space, so once the heat reaches the
+    /// layer's base (whose conduction is not modelled) the rise depends
+    /// on it. The depth the heat reaches: with a block length, one
+    /// passage under the block, `sqrt(kappa L_b / v)` (physics.md section
+    /// 14); otherwise the thermal boundary layer of the cell's length `L`
+    /// along the sliding ([`HeatSetup::cell_length_along_sliding`]),
+    /// `min(L, sqrt(kappa L / v))`. A sentence when that depth exceeds
+    /// [`LAYER_DEPTH_SHARE`] of the thickness; `None` at rest, where no
+    /// heat is released.
+    pub(crate) fn layer_note(&self, thickness: f64) -> Option<String> {
+        if self.speed == 0.0 {
+            return None;
+        }
+        let kappa = self.conduction.diffusivity;
+        let (depth, how) = match self.domain {
+            HeatDomain::Periodic {
+                block_length: Some(lb),
+            } => (
+                (kappa * lb / self.speed).sqrt(),
+                "the block's passage sqrt(kappa L_b / v)",
+            ),
+            domain => {
+                let along = self.cell_length_along_sliding();
+                (
+                    along.min((kappa * along / self.speed).sqrt()),
+                    if domain == HeatDomain::Pad {
+                        "the pad's thermal boundary layer min(L, sqrt(kappa L / v))"
+                    } else {
+                        "the cell's thermal boundary layer min(L, sqrt(kappa L / v))"
+                    },
+                )
+            }
+        };
+        (depth > LAYER_DEPTH_SHARE * thickness).then(|| {
+            format!(
+                "the heat problem is a rubber half-space, but the rubber is a layer {thickness:.3e} m thick: heat reaches about {depth:.3e} m deep ({how}), so the layer's base, whose conduction is not modelled, changes the rise (a metal base lowers it); the rise holds only where that depth is well within the layer"
+            )
+        })
+    }
 }
+
+/// The heat of a layered rubber stays within its layer while the depth it
+/// reaches is below this share of the thickness
+/// ([`HeatSetup::layer_note`]).
+pub(crate) const LAYER_DEPTH_SHARE: f64 = 0.3;
+
+/// What the heat of a contact at rest says of itself (the heated solve
+/// adds what its answer is).
+pub(crate) const AT_REST_NOTE: &str =
+    "at rest (speed = 0) nothing is dissipated, so every temperature rise is zero";
 
 /// What a periodic cell without a block length says about its mean.
 pub(crate) const NO_BLOCK_NOTE: &str = "periodic cell without a block length: the mean rise (k = 0) has no steady state, so the rise is given about its mean (zero mean); give the block length along the sliding direction for the block's background heating";

@@ -7,14 +7,18 @@
 use std::time::Instant;
 
 use crate::error::Result;
+use crate::heat::AT_REST_NOTE;
 use crate::problem::{Executor, Observer, Problem};
 
 use super::branches::{Branch, Evaluation};
 use super::params::HeatingParams;
 use super::report::{persson_friction, DepthRow, HeatedSolution, HeatingReport, Rises};
 
-/// What the answer at rest says of itself.
-pub(super) const AT_REST: &str = "at rest (speed = 0) nothing is dissipated: the effective temperature is T0 and the answer is the isothermal solve there, without a search";
+/// What the answer at rest says of itself: the heat's own note
+/// (`ContactHeating` at rest says the same) and what the answer is.
+fn at_rest() -> String {
+    format!("{AT_REST_NOTE}: the effective temperature is T0 and the answer is the isothermal solve there, without a search")
+}
 
 /// The heated answer of `problem` at rest (its material at `T0`).
 pub(super) fn solve_at_rest(
@@ -44,7 +48,7 @@ pub(super) fn solve_at_rest(
             stable: true,
         }],
         bracket: [t0, t0 + params.max_rise],
-        search: AT_REST.into(),
+        search: at_rest(),
         fixed_point_evaluations: 1,
         evaluations: vec![Evaluation {
             temperature: t0,
@@ -64,12 +68,12 @@ pub(super) fn solve_at_rest(
         diffusivity: params.conduction.diffusivity,
         block_length: params.block_length,
         peclet: 0.0,
-        warnings: vec![AT_REST.to_string()],
+        warnings: vec![at_rest()],
         wall_time_s: clock.elapsed().as_secs_f64(),
         solve_time_s: solution.timings.total_s,
         heat_time_s: 0.0,
     };
-    solution.warnings.push(AT_REST.to_string());
+    solution.warnings.push(at_rest());
     let cells = solution.fields.contact.len();
     Ok(HeatedSolution {
         solution,

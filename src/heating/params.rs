@@ -18,11 +18,6 @@ const SCAN_RATIO: f64 = 3.0;
 /// At most this many isothermal solves per heated solve.
 const MAX_EVALUATIONS: usize = 40;
 
-/// The heat of a layered rubber stays within its layer while the depth it
-/// reaches is below this share of the thickness
-/// ([`HeatingParams::layer_note`]).
-const LAYER_DEPTH_SHARE: f64 = 0.3;
-
 /// Which self-consistent temperature is the answer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BranchChoice {
@@ -125,11 +120,7 @@ impl HeatingParams {
         // module has no buried source on a pad, and a layer's stress is
         // not the half-space's): the default follows.
         let layered = problem.layer.is_some();
-        let default_source = if periodic && !layered {
-            "volume"
-        } else {
-            "surface"
-        };
+        let default_source = SourceKind::default_for(periodic, layered).name();
         let source = match cfg.source.as_deref().unwrap_or(default_source) {
             "volume" if layered => {
                 return Err(invalid(
@@ -200,34 +191,6 @@ impl HeatingParams {
             .check_block()
             .map_err(|e| invalid(format!("[heating] {e}")))?;
         Ok(Some(params))
-    }
-
-    /// Where `problem`'s rubber is a layer: the heat problem is a rubber
-    /// half-space, so once the heat reaches the layer's base (whose
-    /// conduction is not modelled) the rise depends on it. The depth the
-    /// heat reaches: a periodic cell's one passage under the block,
-    /// `sqrt(kappa L_b / v)` (physics.md section 14); a pad of length `L`
-    /// along the sliding, its thermal boundary layer `min(L, sqrt(kappa L
-    /// / v))`. A note when that depth exceeds [`LAYER_DEPTH_SHARE`] of the
-    /// thickness.
-    pub(crate) fn layer_note(&self, problem: &Problem, along: f64) -> Option<String> {
-        let h = problem.layer.as_ref()?.thickness;
-        let kappa = self.conduction.diffusivity;
-        let (depth, how) = match self.block_length {
-            Some(lb) => (
-                (kappa * lb / problem.speed).sqrt(),
-                "the block's passage sqrt(kappa L_b / v)",
-            ),
-            None => (
-                along.min((kappa * along / problem.speed).sqrt()),
-                "the pad's thermal boundary layer min(L, sqrt(kappa L / v))",
-            ),
-        };
-        (depth > LAYER_DEPTH_SHARE * h).then(|| {
-            format!(
-                "the heat problem is a rubber half-space, but the rubber is a layer {h:.3e} m thick: heat reaches about {depth:.3e} m deep ({how}), so the layer's base, whose conduction is not modelled, changes the rise (a metal base lowers it); the rise holds only where that depth is well within the layer"
-            )
-        })
     }
 
     /// The heat problem of `problem`'s grid with these parameters.

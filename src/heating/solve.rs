@@ -292,7 +292,12 @@ pub fn solve_heated(
     if params.block_length.is_some() {
         warnings.extend(heat.setup().notes());
     }
-    warnings.extend(params.layer_note(problem, length));
+    warnings.extend(
+        problem
+            .layer
+            .as_ref()
+            .and_then(|l| heat.setup().layer_note(l.thickness)),
+    );
     warnings.extend(answer.source.returned_share_warning(answer.rise, peak));
     let report = HeatingReport {
         ambient_temperature: params.ambient,

@@ -33,8 +33,10 @@ pub struct LoveRect {
     /// Squared half-diagonal.
     rho2: f64,
     /// `poly[k][p]`: coefficient of `U^p` (`U = (x/r)^2`) in the averaged
-    /// Legendre term of degree `2k`, already divided by nothing: the term is
-    /// `poly[k](U) / r^(2k)`.
+    /// Legendre term of degree `2k`, in units of the half-diagonal: the
+    /// term is `poly[k](U) (rho^2 / r^2)^k`. No power of a side is formed,
+    /// so the expansion holds for cells of any size f64 represents (a
+    /// power `a^16` would leave f64's range for cells beyond 1e+-19 m).
     poly: [[f64; NDEG]; NDEG],
 }
 
@@ -53,8 +55,11 @@ fn fact(n: usize) -> f64 {
 impl LoveRect {
     /// Precompute the far-field coefficients for an `ax x ay` rectangle.
     pub fn new(ax: f64, ay: f64) -> Self {
-        let hx = 0.5 * ax;
-        let hy = 0.5 * ay;
+        // The half-sides in units of the half-diagonal (`hypot`: no
+        // square of a side either).
+        let rho = (0.5 * ax).hypot(0.5 * ay);
+        let hx = 0.5 * ax / rho;
+        let hy = 0.5 * ay / rho;
         // Moments of the uniform distribution on [-h, h]: <xi^p>.
         let mom = |h: f64, p: usize| {
             if p % 2 == 1 {
@@ -94,7 +99,7 @@ impl LoveRect {
                 }
             }
         }
-        let rho2 = hx * hx + hy * hy;
+        let rho2 = rho * rho;
         Self {
             ax,
             ay,
@@ -135,23 +140,21 @@ impl LoveRect {
     pub fn far(&self, x: f64, _y: f64, r2: f64) -> f64 {
         let inv_r2 = 1.0 / r2;
         let u2 = x * x * inv_r2;
-        let mut sum = 0.0;
-        let mut scale = 1.0;
-        // |term k| <= (rho^2/r^2)^k (|P_l| <= 1, |x'| <= rho): stop once the
-        // bound of the next term is below 1e-17.
         let ratio = self.rho2 * inv_r2;
-        let mut bound = 1.0;
+        let mut sum = 0.0;
+        // The term of degree 2k is scaled by ratio^k, which also bounds it
+        // (|P_l| <= 1, |x'| <= rho): stop once that is below 1e-17.
+        let mut scale = 1.0;
         for (k, row) in self.poly.iter().enumerate() {
-            if bound < 1e-17 {
+            if scale < 1e-17 {
                 break;
             }
             let mut t = 0.0;
-            for p in (0..=k).rev() {
-                t = t * u2 + row[p];
+            for &c in row[..=k].iter().rev() {
+                t = t * u2 + c;
             }
             sum += t * scale;
-            scale *= inv_r2;
-            bound *= ratio;
+            scale *= ratio;
         }
         self.area * sum / r2.sqrt()
     }

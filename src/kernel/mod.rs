@@ -380,22 +380,28 @@ impl SlidingKernel {
     /// Table of `K` over all `(2nx-1) x (2ny-1)` offsets of `grid` (rayon).
     /// Uses the row march when `e_v` is along a grid axis (see the `table`
     /// module docs), per-offset evaluation otherwise. Refuses a table that
-    /// does not fit in memory.
+    /// does not fit in memory, cells outside the range its arithmetic holds
+    /// (1.5e-154 m to 1.3e154 m), and a table with a value that is not
+    /// finite: each refusal names the cell size.
     pub fn table(&self, grid: &Grid) -> Result<CoefficientTable, KernelError> {
         check_grid(grid)?;
-        Ok(table::build(self, grid, None, false))
+        all_finite(table::build(self, grid, None, false), "K")
     }
 
     /// Table of the cell-averaged derivative `D_x` or `D_y` [1/Pa] over all
     /// offsets (same layout as [`Self::table`]). Fast when `axis` is the
-    /// sliding axis; per-offset otherwise.
+    /// sliding axis; per-offset otherwise. Refused as [`Self::table`] is.
     pub fn derivative_table(
         &self,
         grid: &Grid,
         axis: Axis,
     ) -> Result<CoefficientTable, KernelError> {
         check_grid(grid)?;
-        Ok(table::build(self, grid, Some(axis), false))
+        let name = match axis {
+            Axis::X => "dK/dx",
+            Axis::Y => "dK/dy",
+        };
+        all_finite(table::build(self, grid, Some(axis), false), name)
     }
 
     /// [`VertexTable`]: `K` at the corner offsets `((i + 1/2) a, (j + 1/2) a)`
@@ -422,13 +428,75 @@ impl SlidingKernel {
     }
 }
 
+/// `table` if every value is finite, else the first that is not, named
+/// ([`non_finite`]).
+fn all_finite(table: CoefficientTable, name: &str) -> Result<CoefficientTable, KernelError> {
+    let Some(k) = table.values.iter().position(|v| !v.is_finite()) else {
+        return Ok(table);
+    };
+    let row = 2 * table.ny - 1;
+    let offset = (
+        (k / row) as i64 - (table.nx as i64 - 1),
+        (k % row) as i64 - (table.ny as i64 - 1),
+    );
+    Err(non_finite(
+        name,
+        offset,
+        table.values[k],
+        (table.cell_size, table.cell_size_y),
+    ))
+}
+
+/// The cell sides `(ax, ay)` \[m\] as a refusal names them.
+fn cells_named((ax, ay): (f64, f64)) -> String {
+    if ax == ay {
+        format!("the cell size {ax:e} m")
+    } else {
+        format!("the cell size {ax:e} x {ay:e} m")
+    }
+}
+
+/// The cell sides the kernel's arithmetic holds for: their squares (and
+/// the distances' squares it forms) normal f64 numbers, `sqrt(f64::
+/// MIN_POSITIVE)` (1.5e-154 m) to `sqrt(f64::MAX)` (1.3e154 m). Outside,
+/// coefficients come out NaN, or zero where they are not.
+pub(crate) fn check_cell_range((ax, ay): (f64, f64)) -> Result<(), KernelError> {
+    let (lo, hi) = (f64::MIN_POSITIVE.sqrt(), f64::MAX.sqrt());
+    if [ax, ay].iter().all(|a| (lo..=hi).contains(a)) {
+        return Ok(());
+    }
+    Err(KernelError::Invalid(format!(
+        "{} is beyond the range of the kernel's arithmetic (cells of {lo:.3e} m to {hi:.3e} m, whose squares f64 holds); give cells nearer the contact's scales",
+        cells_named((ax, ay))
+    )))
+}
+
+/// A coefficient `name` at cell `offset` that came out `value`, not finite,
+/// on cells `cell` \[m\] within [`check_cell_range`]: a distance whose
+/// square leaves f64's range (an offset far across a grid of huge cells).
+/// The refusal names the cell size.
+pub(crate) fn non_finite(
+    name: &str,
+    offset: (i64, i64),
+    value: f64,
+    cell: (f64, f64),
+) -> KernelError {
+    KernelError::Invalid(format!(
+        "{} is beyond the range of the kernel's arithmetic: {name} at offset ({}, {}) comes out {value}; give cells nearer the contact's scales",
+        cells_named(cell),
+        offset.0, offset.1
+    ))
+}
+
 /// Bytes per entry of a table: the value and as much again of work space
 /// (the row march's rows, the per-offset evaluation's chunks).
 const TABLE_BYTES_PER_OFFSET: u64 = 16;
 
-/// The table of a grid's `2 nx x 2 ny` offsets (with checked arithmetic)
-/// fits in the memory available ([`crate::io::memory`]).
+/// The grid's cells within [`check_cell_range`], and the table of its `2
+/// nx x 2 ny` offsets (with checked arithmetic) fits in the memory
+/// available ([`crate::io::memory`]).
 fn check_grid(grid: &Grid) -> Result<(), KernelError> {
+    check_cell_range(grid.cell())?;
     let (nx, ny) = grid.size();
     let offsets = (2 * nx as u64).saturating_mul(2 * ny as u64);
     crate::io::memory::check_count(

@@ -374,6 +374,24 @@ impl SlidingKernel {
         self.thin_profile(ax, ay).is_some() || self.is_band(ax, ay)
     }
 
+    /// The checks of `ax x ay` cells \[m\] for coefficients asked for by
+    /// themselves (`viscoslide kernel`, Python's `kernel_table`), as a
+    /// solve on a pad checks them: positive, finite sides within the range
+    /// the kernel's arithmetic holds (1.5e-154 m to 1.3e154 m: squares of
+    /// lengths normal f64 numbers), and a layer the cells can discretise
+    /// ([`Self::check_layer_cells`]). Returns the
+    /// warning of a layer thinner than a cell
+    /// ([`crate::response::Layer::resolution_warning`]).
+    pub fn check_cells(&self, ax: f64, ay: f64) -> Result<Option<String>, KernelError> {
+        crate::response::Grid::new(1, 1, (ax, ay))?;
+        super::check_cell_range((ax, ay))?;
+        self.check_layer_cells(ax, ay)?;
+        Ok(self
+            .theta
+            .as_ref()
+            .and_then(|t| t.layer.resolution_warning(ax.min(ay))))
+    }
+
     /// Whether this kernel's layer can be discretised on `ax x ay` cells:
     /// at least [`THIN_RATIO_MIN`] of the longer side; in the local limit
     /// (reach below half the shorter side) a sliding direction along a grid

@@ -11,6 +11,7 @@ use serde_json::{json, Value};
 use crate::error::Result;
 use crate::heat::{
     Conduction, DepthRule, HeatDomain, HeatSetup, HeatSolver, HeatSource, SourceKind, Temperature,
+    AT_REST_NOTE,
 };
 use crate::response::{Grid, SlidingResponse};
 
@@ -43,7 +44,10 @@ impl ContactHeating {
     /// The heat of the cell pressures `pressure` \[Pa\] solved on `grid`
     /// under `response`, in a rubber of `conduction`; `block_length` \[m\]
     /// gives a periodic cell its background heating; `friction_power_w`
-    /// is the solve's `mu F_N v` by the route matching `kind`.
+    /// is the solve's `mu F_N v` by the route matching `kind`. At rest
+    /// (speed 0) nothing is dissipated: every rise is zero, with a note
+    /// saying so. On a layer, a note where the heat reaches deep into it
+    /// (the heat problem is a half-space).
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         pressure: &[f64],
@@ -71,12 +75,37 @@ impl ContactHeating {
                 HeatDomain::Pad
             },
         };
+        if response.speed() == 0.0 {
+            // At rest nothing is dissipated: the zero source has zero rise
+            // (as the heated solve's answer at rest, `heating/at_rest.rs`).
+            setup.check_at_rest()?;
+            let source = HeatSource::from_contact(kind, pressure, grid, response, rule)?;
+            let background = matches!(
+                setup.domain,
+                HeatDomain::Periodic {
+                    block_length: Some(_)
+                }
+            );
+            return Ok(Self {
+                heat_power_w: source.power(grid.cell_area()),
+                source,
+                temperature: Temperature {
+                    rise: vec![0.0; pressure.len()],
+                    background: background.then_some(0.0),
+                },
+                effective_rise: 0.0,
+                // `mu F_N v` at `v = 0`, without the sign of `mu`.
+                friction_power_w: 0.0,
+                notes: vec![AT_REST_NOTE.to_string()],
+            });
+        }
         setup.check()?;
         let source = HeatSource::from_contact(kind, pressure, grid, response, rule)?;
         let mut solver = HeatSolver::new(setup)?;
         let (temperature, effective_rise) = solver.under(&source)?;
         let mut notes = setup.notes();
         notes.extend(source.returned_share_warning(effective_rise, temperature.max()));
+        notes.extend(response.layer().and_then(|l| setup.layer_note(l.thickness)));
         Ok(Self {
             heat_power_w: source.power(grid.cell_area()),
             source,
@@ -87,8 +116,12 @@ impl ContactHeating {
         })
     }
 
-    /// `heat_power_w / friction_power_w - 1`.
+    /// `heat_power_w / friction_power_w - 1`; 0 where both are zero (at
+    /// rest).
     pub fn balance(&self) -> f64 {
+        if self.heat_power_w == 0.0 && self.friction_power_w == 0.0 {
+            return 0.0;
+        }
         self.heat_power_w / self.friction_power_w - 1.0
     }
 

@@ -327,3 +327,111 @@ fn heat_from_a_solved_run() {
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("summary.json"));
 }
+
+/// `--from-run` on a layer and at rest, as the heated solve answers them:
+/// on a `[layer]` the source defaults to the surface work (the volume
+/// source is refused naming the flag, writing nothing) and the heat that
+/// reaches deep into the layer is noted (`HeatSetup::layer_note`, the
+/// heated solve's warning); a run at rest has zero rise, its outputs
+/// written, with the at-rest note.
+#[test]
+fn heat_from_a_run_on_a_layer_and_at_rest() {
+    let dir = tempfile::tempdir().unwrap();
+    let solve = |name: &str, extra: &str| -> String {
+        let cfg = dir.path().join(format!("{name}.toml"));
+        std::fs::write(
+            &cfg,
+            format!(
+                "[material]\nmodel = \"sls\"\nrelaxed_modulus = 3.3e6\nglassy_modulus = 1e7\ncreep_time = 0.01\n\n[surface.generate]\nn = 24\nlength = 1e-3\nhurst = 0.8\nscales = 4\nrms_slope = 0.05\nseed = 2\n\n[solver]\ntolerance = 1e-10\nformulation = \"periodic\"\n\n{extra}"
+            ),
+        )
+        .unwrap();
+        let run = dir.path().join(name);
+        let o = viscoslide(&[
+            "solve",
+            cfg.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "--out",
+            run.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        run.display().to_string()
+    };
+    let heat = |run: &str, out: &str, extra: &[&str]| -> Output {
+        let out = dir.path().join(out);
+        let mut args = vec![
+            "heat",
+            "--from-run",
+            run,
+            "--conductivity",
+            "0.25",
+            "--diffusivity",
+            "1e-7",
+            "--block-length",
+            "0.01",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        viscoslide(&args)
+    };
+    // A layer of 1e-4 m (2.4 cells): one passage's heat reaches
+    // sqrt(kappa L_b / v) = 5.8e-4 m deep, through it.
+    let layer = solve(
+        "layer",
+        "[loading]\nmean_pressure = 2e4\nspeed = 3e-3\n\n[layer]\nthickness = 1e-4\nbase = \"bonded\"\n",
+    );
+    let o = heat(&layer, "l", &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let doc = json(&dir.path().join("l").join("heat.json"));
+    assert_eq!(doc["source"], "surface");
+    let note = "the heat problem is a rubber half-space, but the rubber is a layer 1.000e-4 m thick: heat reaches about 5.774e-4 m deep (the block's passage sqrt(kappa L_b / v))";
+    assert!(err.contains(note), "{err}");
+    let notes = doc["notes"].as_array().unwrap();
+    assert!(
+        notes.iter().any(|n| n.as_str().unwrap().starts_with(note)),
+        "{notes:?}"
+    );
+    let o = heat(&layer, "refused", &["--source", "volume"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("--source volume") && err.contains("give --source surface"),
+        "{err}"
+    );
+    assert!(!dir.path().join("refused").exists());
+
+    let rest = solve("rest", "[loading]\nmean_pressure = 2e4\nspeed = 0.0\n");
+    for (out, extra, kind) in [
+        ("r", &[][..], "volume"),
+        ("rs", &["--source", "surface"][..], "surface"),
+    ] {
+        let o = heat(&rest, out, extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        assert!(
+            err.contains("note: at rest (speed = 0) nothing is dissipated"),
+            "{err}"
+        );
+        let doc = json(&dir.path().join(out).join("heat.json"));
+        assert_eq!(doc["source"], kind);
+        for key in [
+            "max_rise_k",
+            "mean_rise_k",
+            "effective_rise_k",
+            "background_rise_k",
+            "heat_total_w",
+            "friction_power_w",
+            "energy_balance",
+        ] {
+            assert_eq!(doc[key].as_f64(), Some(0.0), "{key}: {doc}");
+        }
+        let (nx, ny, t) = npy::read_2d(dir.path().join(out).join("temperature.npy")).unwrap();
+        assert_eq!((nx, ny), (24, 24));
+        assert!(t.iter().all(|&v| v == 0.0));
+        assert!(dir.path().join(out).join("temperature.png").exists());
+    }
+}

@@ -127,3 +127,48 @@ fn bad_input_is_reported() {
         assert!(err.trim().lines().count() == 1, "{err}");
     }
 }
+
+/// Cells so far from a contact's scales that a coefficient is not finite
+/// (the far field's powers of the cell underflow or overflow) are refused
+/// in one line naming the cell size, as JSON and as a table, not printed
+/// as `NaN` or `null`; the glassy limit `--speed inf` is a speed.
+#[test]
+fn a_coefficient_that_is_not_finite_is_refused_naming_the_cell_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.toml");
+    std::fs::write(&path, CONFIG).unwrap();
+    for (cell, json) in [("1e-300", false), ("1e200", true), ("1e-300", true)] {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_viscoslide"));
+        cmd.args(["kernel", "--config"]).arg(&path).args([
+            "--cell-size",
+            cell,
+            "--speed",
+            "0.01",
+            "--offset",
+            "0,0",
+        ]);
+        if json {
+            cmd.arg("--json");
+        }
+        let out = cmd.output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{cell}: {err}");
+        assert!(
+            out.stdout.is_empty(),
+            "{}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(
+            err.contains(&format!("the cell size {cell} m is beyond the range")),
+            "{err}"
+        );
+    }
+    let glassy = kernel_json(
+        &path,
+        &["--cell-size", "1e-3", "--speed", "inf", "--offset", "0,0"],
+    );
+    let k = &glassy[0];
+    assert_eq!(k["K_viscoelastic"].as_f64(), Some(0.0));
+    assert!(k["K"].as_f64().unwrap() > 0.0);
+}

@@ -200,3 +200,64 @@ fn invalid_inputs_are_rejected() {
     assert!(Grid::square(0, 4, A).is_err());
     assert!(k.coefficient(0.0, 0.0, -A, A).total().is_nan());
 }
+
+/// The kernel holds at any scale whose squares f64 represents: with the
+/// speed scaled with the cell (the same `v tau / a`), `K / a` and `dK/dx`
+/// are the same at 1e-150 m and 1e150 m as at 1 mm (the far field's
+/// multipoles are formed in units of the cell: powers of the cell itself
+/// left f64's range beyond 1e+-19 m, giving NaN). Beyond that range cells
+/// are refused in one line naming the cell size, as is a table whose
+/// distances' squares overflow within it (huge cells, far offsets), not
+/// returned with NaN in it.
+#[test]
+fn the_kernel_holds_at_every_scale_f64_squares_and_refuses_beyond() {
+    let table = |a: f64, derivative: bool| {
+        let k = kernel(0.3 * a / A, 0.0);
+        let grid = Grid::square(6, 6, a).unwrap();
+        if derivative {
+            k.derivative_table(&grid, Axis::X)
+        } else {
+            k.table(&grid)
+        }
+    };
+    for derivative in [false, true] {
+        let unit = if derivative { 1.0 } else { A };
+        let reference = table(A, derivative).unwrap().values;
+        let peak = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for a in [1e-150, 1e-40, 1e-20, 1e20, 1e40, 1e150] {
+            let scale = if derivative { 1.0 } else { a };
+            let t = table(a, derivative).unwrap().values;
+            for (got, want) in t.iter().zip(&reference) {
+                let (got, want) = (got / scale, want / unit);
+                assert!(
+                    (got - want).abs() <= 1e-13 * peak / unit,
+                    "a = {a:e}, derivative {derivative}: {got} against {want}"
+                );
+            }
+        }
+    }
+    let k = kernel(0.01, 0.0);
+    for a in [1e-300, 1e-155, 1e155, 1e200] {
+        let grid = Grid::square(4, 4, a).unwrap();
+        for e in [
+            k.table(&grid).unwrap_err().to_string(),
+            k.derivative_table(&grid, Axis::X).unwrap_err().to_string(),
+            k.check_cells(a, a).unwrap_err().to_string(),
+        ] {
+            assert!(
+                e.contains(&format!("the cell size {a:e} m is beyond the range"))
+                    && !e.contains('\n'),
+                "{e}"
+            );
+        }
+    }
+    // Within the range, a distance of 3e154 m squares beyond f64::MAX.
+    let e = k
+        .table(&Grid::square(4, 4, 1e154).unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("the cell size 1e154 m is beyond the range") && e.contains("at offset ("),
+        "{e}"
+    );
+}

@@ -54,6 +54,35 @@ impl SourceKind {
             Self::Surface => "surface",
         }
     }
+
+    /// The source a contact is heated by unless told otherwise: the
+    /// creep elements' dissipation on a periodic cell on a half-space,
+    /// the surface work of the pressure on a pad (`periodic` false) or a
+    /// layer (`layered`), where the volume source is not solved.
+    pub fn default_for(periodic: bool, layered: bool) -> Self {
+        if periodic && !layered {
+            Self::Volume
+        } else {
+            Self::Surface
+        }
+    }
+
+    /// Why this source cannot heat a contact on a pad (`periodic` false)
+    /// or a layer (`layered`), or `None` where it can: a reason, to which
+    /// each caller adds the fix in its own words (the key or flag that
+    /// takes the surface source).
+    pub fn unsupported(self, periodic: bool, layered: bool) -> Option<&'static str> {
+        match self {
+            Self::Surface => None,
+            Self::Volume if layered => Some(
+                "the volume source (the creep elements' dissipation on depth layers) is solved on a half-space, whose stress a layer does not have",
+            ),
+            Self::Volume if !periodic => Some(
+                "the volume source (the creep elements' dissipation on depth layers) is solved on periodic cells only",
+            ),
+            Self::Volume => None,
+        }
+    }
 }
 
 impl std::str::FromStr for SourceKind {
@@ -98,7 +127,9 @@ impl HeatSource {
     /// elements at the solve's temperature, speed and direction): `kind`
     /// [`SourceKind::Volume`] on the layers of `rule` (periodic cells on a
     /// half-space only, refused otherwise in one line), or
-    /// [`SourceKind::Surface`]. The speed must be positive and finite.
+    /// [`SourceKind::Surface`]. The speed must be `>= 0` and finite: at
+    /// rest (`0`) nothing is dissipated and the source is zero (on the
+    /// volume source's layers for that kind).
     pub fn from_contact(
         kind: SourceKind,
         pressure: &[f64],
@@ -107,19 +138,27 @@ impl HeatSource {
         rule: &DepthRule,
     ) -> Result<Self, HeatError> {
         super::error::check_map("the pressure", pressure, grid.size(), None)?;
-        super::error::positive("the speed", response.speed(), "m/s")?;
+        let speed = response.speed();
+        if speed != 0.0 {
+            super::error::positive("the speed", speed, "m/s")?;
+        }
+        if let Some(why) = kind.unsupported(grid.is_periodic(), response.layer().is_some()) {
+            return Err(HeatError::Unsupported(why));
+        }
         match kind {
+            SourceKind::Surface if speed == 0.0 => Ok(Self::Surface {
+                flux: vec![0.0; pressure.len()],
+            }),
             SourceKind::Surface => Ok(Self::Surface {
                 flux: work::surface_work_flux(pressure, grid, response)?,
             }),
             SourceKind::Volume => {
-                if !grid.is_periodic() {
-                    return Err(HeatError::Unsupported(
-                        "the volume source (the creep elements' dissipation) is solved on periodic cells only; use the surface work flux (source = surface) on a pad",
-                    ));
+                let (layers, depths) = rule.source_layers(grid)?;
+                if speed == 0.0 {
+                    let density = vec![0.0; layers.count() * pressure.len()];
+                    return Ok(Self::Volume { layers, density });
                 }
                 let plan = Dissipation::new(pressure, grid, response)?;
-                let (layers, depths) = rule.source_layers(grid)?;
                 let nodes: Vec<Vec<(f64, f64)>> = depths.iter().map(|&z| vec![(z, 1.0)]).collect();
                 let density = plan.layer_densities(&nodes)?;
                 Ok(Self::Volume { layers, density })
