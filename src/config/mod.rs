@@ -111,8 +111,10 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedConfig, ConfigErr
         path: name.clone(),
         message: one_line(&e, &text),
     })?;
+    let mut given = Vec::new();
     for arg in overrides {
         apply_override(&mut document, arg)?;
+        drop_alternatives(&mut document, arg, &mut given);
     }
     // Without overrides, type-check the file's own text so that line numbers
     // in errors are the user's.
@@ -155,10 +157,12 @@ fn blame_override(text: &str, name: &str, overrides: &[String], err: ConfigError
     // (`layer.thickness`, then `layer.base`): a missing field is blamed
     // only when no later `--set` breaks the document otherwise.
     let mut incomplete: Option<ConfigError> = None;
+    let mut given = Vec::new();
     for arg in overrides {
         if apply_override(&mut document, arg).is_err() {
             return err;
         }
+        drop_alternatives(&mut document, arg, &mut given);
         if let Err(ConfigError::Parse { message, .. }) = parse_document(&document, name) {
             // "line N, key `k`: ..." names a line of the merged document.
             let missing = message.contains("missing field `");
@@ -190,6 +194,50 @@ pub fn parse_document(document: &toml::Table, name: &str) -> Result<Config, Conf
         path: name.into(),
         message: one_line(&e, &text),
     })
+}
+
+/// Keys of which a configuration gives one: the speed (m/s or `xi`), the
+/// load (a force, a pressure or an approach), a generated surface's upper
+/// cut-off and its amplitude.
+const ALTERNATIVES: [&[&str]; 4] = [
+    &["loading.speed", "loading.xi"],
+    &[
+        "loading.normal_load",
+        "loading.mean_pressure",
+        "loading.approach",
+    ],
+    &["surface.generate.scales", "surface.generate.q1"],
+    &["surface.generate.rms_height", "surface.generate.rms_slope"],
+];
+
+/// After the override `arg`, remove the alternatives of its key that the
+/// file gave (`--set loading.speed=0.01` on a config with `xi` replaces
+/// it, as a flag of `surface generate` replaces its config's exclusive
+/// key); alternatives given by earlier overrides (`given`, which gains
+/// this key) stay, so two of them are refused as in a file.
+fn drop_alternatives(document: &mut toml::Table, arg: &str, given: &mut Vec<String>) {
+    let Some((key, _)) = arg.split_once('=') else {
+        return;
+    };
+    let key: String = key.split('.').map(str::trim).collect::<Vec<_>>().join(".");
+    if let Some(group) = ALTERNATIVES.iter().find(|g| g.contains(&key.as_str())) {
+        for other in group
+            .iter()
+            .filter(|k| **k != key && !given.iter().any(|g| g == *k))
+        {
+            let (path, last) = other.rsplit_once('.').expect("dotted");
+            let mut table = Some(&mut *document);
+            for part in path.split('.') {
+                table = table
+                    .and_then(|t| t.get_mut(part))
+                    .and_then(|v| v.as_table_mut());
+            }
+            if let Some(t) = table {
+                t.remove(last);
+            }
+        }
+    }
+    given.push(key);
 }
 
 /// Apply one `section.key=value` override to a TOML document.

@@ -376,3 +376,51 @@ fn file_keys_beside_a_generated_surface_or_a_sphere_are_refused() {
         assert!(!out.exists(), "{args:?} wrote {}", out.display());
     }
 }
+
+/// A `--set` of one of a config's exclusive keys replaces the file's
+/// other one (before, `--set loading.speed=...` on a config with `xi` was
+/// "give only one of speed (m/s) and xi", and nothing could unset `xi`);
+/// two of them given by `--set` are still refused.
+#[test]
+fn a_set_of_an_exclusive_key_replaces_the_files_other() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), "");
+    let o = solve(
+        tmp.path(),
+        &cfg,
+        &[
+            "loading.speed=0.0117",
+            "loading.mean_pressure=3000.0",
+            "surface.generate.q1=2513.0",
+            "surface.generate.rms_height=1e-5",
+            "analysis.enabled=false",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(tmp.path().join("out/summary.json")).unwrap())
+            .unwrap();
+    let c = &s["config"];
+    assert_eq!(c["loading"]["speed"], 0.0117, "{c}");
+    assert_eq!(c["loading"]["mean_pressure"], 3000.0, "{c}");
+    for (section, key) in [
+        ("loading", "xi"),
+        ("loading", "normal_load"),
+        ("generate", "scales"),
+        ("generate", "rms_slope"),
+    ] {
+        let table = if section == "loading" {
+            &c["loading"]
+        } else {
+            &c["surface"]["generate"]
+        };
+        assert!(table.get(key).is_none(), "{key} kept: {c}");
+    }
+    // The load the solve met, to its tolerance (1e-8).
+    let p = s["mean_pressure"].as_f64().unwrap();
+    assert!((p / 3000.0 - 1.0).abs() < 1e-7, "{p}");
+    let both = tmp.path().join("both");
+    std::fs::create_dir_all(&both).unwrap();
+    let o = solve(&both, &cfg, &["loading.speed=0.01", "loading.xi=0.02"]);
+    assert_refused(&o, &["give only one of speed (m/s) and xi"]);
+}

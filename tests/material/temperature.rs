@@ -267,6 +267,20 @@ fn temperatures_the_material_cannot_take_are_refused() {
         e.contains("wlf") && e.contains("C2") && !e.contains('\n'),
         "{e}"
     );
+    // A negative speed is the speed's error at any temperature (it was
+    // blamed on the temperature: "give a temperature nearer T_ref").
+    let p = write(
+        dir.path(),
+        "e.toml",
+        &config_text("periodic", -0.1, "temperature = 17.0"),
+    );
+    let e = Problem::from_config(&config::load(&p, &[]).unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("speed must be >= 0") && !e.contains("temperature"),
+        "{e}"
+    );
     // Persson's inputs refuse the same way.
     let p = write(dir.path(), "d.toml", &no_wlf);
     let e = theory_inputs(&config::load(&p, &[]).unwrap(), None, None)
