@@ -99,7 +99,7 @@ impl Problem {
     /// keeps them so unless the inputs are themselves extreme.
     fn check_shifted_speed(&self, t: f64) -> Result<()> {
         let v = self.speed;
-        if !(v >= 0.0) {
+        if v.is_nan() || v < 0.0 {
             // A negative (or NaN) speed is the speed's own error, which
             // `Problem::check` names; no temperature would mend it.
             return Ok(());
