@@ -125,3 +125,15 @@ def test_filled_points_are_counted_and_many_are_warned_about(pad, rubber):
         many = vs.solve(vs.Surface.from_array(h, 0.01, fill_missing=True), rubber, xi=1.17e-2,
                         mean_pressure=3000.0, backend="cpu")
     assert many.summary["filled_points"] == 401
+
+
+def test_numpy_scalars_make_the_same_generated_surface():
+    """``Surface.generate`` takes numpy scalars as ``self_affine`` does
+    (a ``np.int64`` count raised a bare json TypeError), and a value of
+    another type is a TypeError naming its key."""
+    plain = vs.Surface.generate(n=32, length=0.01, hurst=0.8, scales=4, rms_slope=0.02, seed=3)
+    numpy = vs.Surface.generate(n=np.int64(32), length=np.float64(0.01), hurst=np.float64(0.8),
+                                scales=np.int32(4), rms_slope=np.float64(0.02), seed=np.uint8(3))
+    assert np.array_equal(plain.heights, numpy.heights)
+    with pytest.raises(TypeError, match="rms_slope must be a number or a string, got object"):
+        vs.Surface.generate(n=32, length=0.01, hurst=0.8, scales=4, rms_slope=object())

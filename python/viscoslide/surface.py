@@ -31,6 +31,22 @@ _DETREND = "'none', 'mean', 'plane' or 'quadratic'"
 _WINDOW = "'none', 'hann' or 'blackman_harris'"
 
 
+def _plain(key: str, value: Any) -> Any:
+    """``value`` as JSON takes it: numpy scalars as Python numbers (a
+    ``np.int64`` count, a ``np.float32`` length), dicts and lists item by
+    item; anything else that is not a number, string or bool is a
+    TypeError naming ``key``."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, dict):
+        return {k: _plain(f"{key}.{k}", v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(key, v) for v in value]
+    if value is None or isinstance(value, (bool, int, float, str, os.PathLike)):
+        return value
+    raise TypeError(f"{key} must be a number or a string, got {type(value).__name__}")
+
+
 class Surface:
     """A rigid rough surface: heights [m] at cell centres on a grid of
     ``dx x dy`` cells (rectangular where the pixels are).
@@ -120,7 +136,7 @@ class Surface:
         stretch whose rms-slope ratio the grid does not hold within 10 % is
         warned about (``warnings.warn``), as ``viscoslide surface generate``
         and a solve on it warn."""
-        section = _checks.drop_none(keys)
+        section = {key: _plain(key, value) for key, value in _checks.drop_none(keys).items()}
         for key, value in section.items():
             if isinstance(value, float) and not math.isfinite(value):
                 raise ValueError(f"{key} must be finite, got {value}")
