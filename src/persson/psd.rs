@@ -107,6 +107,7 @@ pub fn radial(map: &HeightMap, window: Window) -> Result<(TabulatedPsd, RadialIn
     };
     let r = radial_average(&psd);
     let peak = r.c.iter().copied().fold(0.0, f64::max);
+
     let floor = 1e-20 * peak;
     let (q, c): (Vec<f64>, Vec<f64>) =
         r.q.iter()
@@ -114,6 +115,20 @@ pub fn radial(map: &HeightMap, window: Window) -> Result<(TabulatedPsd, RadialIn
             .filter(|(_, c)| **c > floor)
             .map(|(q, c)| (*q, *c))
             .unzip();
+    if q.len() < 2 {
+        let why = if peak > 0.0 {
+            format!(
+                "has power in {} radial bin(s) of its PSD and the theory integrates over at least two; give a map of more cells",
+                q.len()
+            )
+        } else {
+            "has no roughness (its PSD is zero); the theory needs a rough surface".to_string()
+        };
+        return Err(PerssonError::Invalid(format!(
+            "the {} x {} map {why}",
+            map.nx, map.ny
+        )));
+    }
     let info = RadialInfo {
         bins: q.len(),
         dropped: r.q.len() - q.len(),

@@ -227,6 +227,41 @@ fn bad_psd_tables_are_one_line_errors_and_write_nothing() {
         assert!(err.contains(want), "{text:?}: {err}");
         assert!(!out.exists(), "{text:?}: output directory was created");
     }
+    // A map without roughness, and one too small to hold two radial bins,
+    // are named as such (before: "a tabulated PSD needs at least 2 rows,
+    // found 0").
+    let maps: [(usize, Vec<f64>, &str); 2] = [
+        (32, vec![0.0; 1024], "the 32 x 32 map has no roughness"),
+        (
+            3,
+            vec![0.0, 1e-6, 0.0, 2e-6, 0.0, -1e-6, 0.0, 0.0, 1e-6],
+            "the 3 x 3 map has power in 1 radial bin(s)",
+        ),
+    ];
+    for (i, (n, heights, want)) in maps.iter().enumerate() {
+        let dir = tmp.path().join(format!("map{i}"));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join("h.npy"),
+            viscoslide::io::npy::encode_f64(&[*n, *n], heights),
+        )
+        .unwrap();
+        let cfg = write_config(
+            &dir,
+            &format!("{SLS}[surface]\nfile = \"h.npy\"\nlength = 0.01\n[loading]\nmean_pressure = 3e3\nspeed = 0.01\n"),
+        );
+        let out = dir.join("out");
+        let o = viscoslide(&[
+            "persson",
+            cfg.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(want), "{err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(!out.exists());
+    }
 }
 
 #[test]
