@@ -77,10 +77,32 @@ pub fn run(cmd: MaterialCommand) -> Result<()> {
 }
 
 fn show(args: &ShowArgs) -> Result<()> {
-    let cfg = args.config.load()?;
-    let m = cfg.material()?.build(&cfg.base_dir)?;
+    let m = if is_material_file(&args.config.config) {
+        // The file `material fit` writes (a `[material]` and its `[fit]`
+        // record), shown as a config's `model = "file"` would load it.
+        if !args.config.set.is_empty() {
+            return Err(Error::Invalid(format!(
+                "{} is a material file (it has a [fit] record); --set applies to configs: load it from one with [material] model = \"file\"",
+                args.config.config.display()
+            )));
+        }
+        crate::material::load_material_file(&args.config.config, None)?
+    } else {
+        let cfg = args.config.load()?;
+        cfg.material()?.build(&cfg.base_dir)?
+    };
     print!("{}", describe(&m, args.from, args.to, args.points)?);
     Ok(())
+}
+
+/// Whether `path` is a material file `material fit` wrote: a TOML table
+/// with a `[fit]` record, which no config has. A file that cannot be read
+/// or parsed is left to the config's loader, whose errors name it.
+fn is_material_file(path: &std::path::Path) -> bool {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|text| text.parse::<toml::Table>().ok())
+        .is_some_and(|doc| doc.contains_key("fit"))
 }
 
 /// Bytes one frequency of `material show` holds: its moduli and loss

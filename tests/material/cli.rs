@@ -114,6 +114,40 @@ fn show_prints_the_wlf_shift() {
     assert!(show.status.success() && !text.contains("WLF"), "{text}");
 }
 
+/// `material show` of the file `material fit` writes shows it as a config
+/// loading it (`[material] model = "file"`) does, to the byte (before:
+/// "unknown field `fit`"); `--set` beside it is refused in one line.
+#[test]
+fn show_takes_the_file_material_fit_writes() {
+    let show = |path: &str, extra: &[&str]| {
+        Command::new(BIN)
+            .args(["material", "show"])
+            .arg(format!("{}/{path}", env!("CARGO_MANIFEST_DIR")))
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let file = show("configs/data/sbr_like_material.toml", &[]);
+    let config = show("configs/material_sbr_like.toml", &[]);
+    assert!(
+        file.status.success(),
+        "{}",
+        String::from_utf8_lossy(&file.stderr)
+    );
+    assert!(config.status.success());
+    assert_eq!(file.stdout, config.stdout);
+    let set = show(
+        "configs/data/sbr_like_material.toml",
+        &["--set", "material.poisson=0.49"],
+    );
+    let err = String::from_utf8_lossy(&set.stderr);
+    assert!(
+        !set.status.success() && err.contains("is a material file"),
+        "{err}"
+    );
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+}
+
 /// A failing `fit` prints exactly one `error:` line and writes nothing.
 fn fails_cleanly(csv: &str, needle: &str) {
     let dir = tempfile::tempdir().unwrap();
