@@ -398,6 +398,15 @@ fn fit(args: &FitArgs) -> Result<()> {
             info.tan_delta_at_lowest_frequency
         );
     }
+    // The fit's temperature beyond the data's: every modulus of the file
+    // is the WLF shift's extrapolation (a solve with it warns again).
+    let beyond = wlf
+        .zip(record.wlf_range)
+        .zip(temperature)
+        .and_then(|((w, range), t)| w.with_data_range(range).ok()?.extrapolation(t));
+    if let Some(phrase) = beyond {
+        eprintln!("warning: the fit's temperature {phrase}; fit nearer the data");
+    }
     for p in written {
         println!("  wrote {}", p.display());
     }

@@ -186,3 +186,38 @@ fn bad_csv_gives_one_line_error_and_writes_nothing() {
         "--wlf",
     );
 }
+
+/// A fit at a temperature beyond its data's (the shipped DMA data span -20
+/// to 100 C) warns that every modulus of the file is the WLF shift's
+/// extrapolation; a fit inside them does not.
+#[test]
+fn a_fit_beyond_its_datas_temperatures_is_warned() {
+    let dir = tempfile::tempdir().unwrap();
+    for (t, warned) in [("300", true), ("17", false)] {
+        let o = Command::new(BIN)
+            .args(["material", "fit"])
+            .arg(concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/configs/data/sbr_like_dma.csv"
+            ))
+            .args([
+                "--wlf",
+                "8.86,101.6,17",
+                "--terms",
+                "8",
+                "--temperature",
+                t,
+                "--out",
+            ])
+            .arg(dir.path().join(t))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        assert_eq!(
+            err.contains("warning: the fit's temperature 300.0000 C lies 200.000 K above the DMA data (-20 to 100 C)"),
+            warned,
+            "{t}: {err}"
+        );
+    }
+}
