@@ -137,3 +137,13 @@ def test_numpy_scalars_make_the_same_generated_surface():
     assert np.array_equal(plain.heights, numpy.heights)
     with pytest.raises(TypeError, match="rms_slope must be a number or a string, got object"):
         vs.Surface.generate(n=32, length=0.01, hurst=0.8, scales=4, rms_slope=object())
+
+
+def test_editing_a_summary_changes_nothing(pad, rubber):
+    r = solve(pad.heights, rubber)
+    mu = r.friction_coefficient
+    s = r.summary
+    s["friction_coefficient"] = 99.0
+    s["warnings"].append("edited")
+    assert r.summary["friction_coefficient"] == mu == r.friction_coefficient
+    assert "edited" not in r.summary["warnings"]

@@ -31,7 +31,7 @@ class Result:
     def __init__(self, native: "_native.Result"):
         """Wrap a native result; returned by :func:`solve`."""
         self._native = native
-        self._summary: Optional[Dict[str, Any]] = None
+        self._summary: Optional[str] = None
 
     @property
     def friction_coefficient(self) -> float:
@@ -77,10 +77,12 @@ class Result:
     @property
     def summary(self) -> Dict[str, Any]:
         """Every scalar result, the convergence history, timings, seed, the
-        configuration, version and backend: the ``summary.json`` document."""
+        configuration, version and backend: the ``summary.json`` document.
+        Each access gives a fresh copy: editing it changes neither the
+        result nor what the next access returns."""
         if self._summary is None:
-            self._summary = json.loads(self._native.summary_json())
-        return self._summary
+            self._summary = self._native.summary_json()
+        return json.loads(self._summary)
 
     @property
     def convergence(self) -> Dict[str, Any]:

@@ -424,3 +424,29 @@ fn a_set_of_an_exclusive_key_replaces_the_files_other() {
     let o = solve(&both, &cfg, &["loading.speed=0.01", "loading.xi=0.02"]);
     assert_refused(&o, &["give only one of speed (m/s) and xi"]);
 }
+
+/// A tolerance below the arithmetic's floor is answered at the floor, and
+/// said so (before: a residual of 2e-14 for the asked 1e-16 without a
+/// word); the default tolerance, met, is not.
+#[test]
+fn a_tolerance_below_the_floor_is_warned() {
+    for (tolerance, warned) in [("1e-16", true), ("1e-8", false)] {
+        let tmp = tempfile::tempdir().unwrap();
+        let cfg = config(tmp.path(), "");
+        let set = format!("solver.tolerance={tolerance}");
+        let o = solve(tmp.path(), &cfg, &[&set, "analysis.enabled=false"]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let s: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(tmp.path().join("out/summary.json")).unwrap())
+                .unwrap();
+        let residual = s["residual"].as_f64().unwrap();
+        let tol: f64 = tolerance.parse().unwrap();
+        assert_eq!(residual > tol, warned, "{residual}");
+        let warning = s["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("stayed above the tolerance"));
+        assert_eq!(warning, warned, "{}", s["warnings"]);
+    }
+}
