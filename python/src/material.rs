@@ -164,9 +164,9 @@ impl NativeMaterial {
                 temperatures.as_ref().map(|t| format!(", {}", t.len())).unwrap_or_default()
             )));
         }
-        let data = DmaData {
-            source: "DMA arrays".into(),
-            points: (0..n)
+        let data = DmaData::from_points(
+            "DMA arrays",
+            (0..n)
                 .map(|i| DmaPoint {
                     omega: omega[i],
                     storage: storage[i],
@@ -174,7 +174,8 @@ impl NativeMaterial {
                     temperature: temperatures.as_ref().map(|t| t[i]),
                 })
                 .collect(),
-        };
+        )
+        .map_err(value_error)?;
         let wlf = wlf
             .map(|(c1, c2, t)| Wlf::new(c1, c2, t))
             .transpose()

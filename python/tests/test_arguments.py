@@ -202,6 +202,9 @@ def test_curves_refuse_bad_arguments(small, rubber, call, kind, needles):
         (lambda s: vs.Material.fit_dma([1.0, 10.0], [1e6, 2e6], [1e5, 2e5], wlf=8.86), ValueError, ("wlf", "8.86")),
         (lambda s: vs.Material.fit_dma([1.0, 10.0], [1e6, 2e6], [1e5, 2e5], angular="yes"), TypeError, ("angular", "'yes'")),
         (lambda s: vs.Material.fit_dma([1.0, 10.0], [1e6, 2e6], [1e5, 2e5], terms=True), ValueError, ("terms", "True")),
+        (lambda s: vs.Material.fit_dma([1.0, -10.0, 100.0], [1e6, 2e6, 3e6], [1e5, 2e5, 3e5]), ValueError, ("point 1", "angular frequency", "must be positive")),
+        (lambda s: vs.Material.fit_dma([1.0, 10.0, 100.0], [1e6, 2e6, 3e6], [1e5, 0.0, 3e5]), ValueError, ("point 1", "E2 = 0")),
+        (lambda s: vs.Material.fit_dma([1.0, 10.0, 100.0], [1e6, 2e6, 3e6], [1e5, 2e5, 3e5], terms=1000), ValueError, ("terms = 1000", "decades")),
         (lambda s: vs.Material.from_toml(3), TypeError, ("path", "3")),
     ],
 )

@@ -197,6 +197,43 @@ const LOSS: &[&str] = &["e2_pa", "loss_modulus_pa"];
 const TEMP: &[&str] = &["temperature_c"];
 
 impl DmaData {
+    /// A data set of `points` given as values (`source` names it in
+    /// messages), checked as a CSV's rows are: every angular frequency,
+    /// `E1` and `E2` positive and finite, every temperature finite, at
+    /// least 3 points. The error names the first bad point (from 0).
+    pub fn from_points(source: &str, points: Vec<DmaPoint>) -> Result<Self, MaterialError> {
+        let err = |message: String| MaterialError::Data {
+            source_name: source.to_string(),
+            message,
+        };
+        for (i, p) in points.iter().enumerate() {
+            for (v, what) in [
+                (p.omega, "angular frequency"),
+                (p.storage, "E1"),
+                (p.loss, "E2"),
+            ] {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(err(format!(
+                        "point {i}: {what} = {v} must be positive and finite"
+                    )));
+                }
+            }
+            if let Some(t) = p.temperature.filter(|t| !t.is_finite()) {
+                return Err(err(format!("point {i}: temperature = {t} must be finite")));
+            }
+        }
+        if points.len() < 3 {
+            return Err(err(format!(
+                "{} data points; at least 3 are needed",
+                points.len()
+            )));
+        }
+        Ok(Self {
+            source: source.to_string(),
+            points,
+        })
+    }
+
     /// Read a CSV file (see [`DmaData::parse`]).
     pub fn read(path: &Path) -> Result<Self, MaterialError> {
         let text = std::fs::read_to_string(path).map_err(|e| MaterialError::Data {

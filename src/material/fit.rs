@@ -139,6 +139,24 @@ pub fn fit_spectrum(
         None => (-(wmin * wmax).sqrt().ln() - 0.5 * (n - 1) as f64 * ln_r).exp(),
     };
     let times: Vec<f64> = (0..n).map(|j| first * (j as f64 * ln_r).exp()).collect();
+    // Every `w tau` and its square must be finite and nonzero for the
+    // columns: the grid's span, `ratio^(terms - 1)`, against the data's.
+    let reach = |t: f64| {
+        let (lo, hi) = (wmin * t, wmax * t);
+        lo * lo > 0.0 && (hi * hi).is_finite()
+    };
+    if !times.iter().all(|&t| reach(t)) {
+        return Err(MaterialError::Fit(format!(
+            "terms = {n} with ratio = {} spans {:.0} decades of creep times, which with the data's {:.1} decades of frequency leaves double precision; use fewer terms or a smaller ratio",
+            if params.ratio < 1e6 {
+                params.ratio.to_string()
+            } else {
+                format!("{:e}", params.ratio)
+            },
+            (n - 1) as f64 * params.ratio.log10(),
+            (wmax / wmin).log10()
+        )));
+    }
 
     // Columns: E0, then E_j; rows: real parts / E1, imaginary parts / E2.
     let cols = n + 1;

@@ -221,3 +221,40 @@ fn a_fit_beyond_its_datas_temperatures_is_warned() {
         );
     }
 }
+
+/// A creep-time grid that leaves double precision (`--terms 1000` with the
+/// default ratio e spans 434 decades; `--ratio 1e300`) is refused naming
+/// both, before the fit (it was "nnls: non-finite entry in the matrix").
+#[test]
+fn a_time_grid_beyond_double_precision_is_refused() {
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/configs/data/sbr_like_dma.csv");
+    for (flag, value, needle) in [
+        (
+            "--terms",
+            "1000",
+            "terms = 1000 with ratio = 2.718281828459045 spans 434 decades",
+        ),
+        ("--ratio", "1e300", "ratio = 1e300 spans"),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let o = Command::new(BIN)
+            .args([
+                "material",
+                "fit",
+                data,
+                "--wlf",
+                "8.86,101.6,17",
+                flag,
+                value,
+                "--out",
+            ])
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(needle), "{err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(!out.exists());
+    }
+}
