@@ -180,7 +180,13 @@ pub fn map_psd(
         let band = [full.q_min(), full.q_max()];
         (full, band, false)
     } else {
-        let (lo, hi) = trusted_band(&Topography::from_height_map(map));
+        let topo = Topography::from_height_map(map);
+        if let Some(why) = crate::surface::empty_band_reason(&topo) {
+            return Err(PerssonError::Invalid(format!(
+                "{why}; give a wider map, or mark one period of a periodic map periodic"
+            )));
+        }
+        let (lo, hi) = trusted_band(&topo);
         let t = full.within(lo, hi, "radial PSD of the height map over its trusted band")?;
         let band = [t.q_min(), t.q_max()];
         (t, band, true)

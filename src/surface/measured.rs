@@ -246,6 +246,20 @@ pub fn trusted_band(topo: &Topography) -> (f64, f64) {
     )
 }
 
+/// Why a scan's PSD has no trusted band ([`trusted_band`] empty: its
+/// shorter side holds fewer than 12 of its coarser pixels, four
+/// wavelengths of at least three pixels), naming both sides in pixels;
+/// `None` when the band is not empty.
+pub(crate) fn empty_band_reason(topo: &Topography) -> Option<String> {
+    let (lo, hi) = trusted_band(topo);
+    (lo >= hi).then(|| {
+        format!(
+            "the {} x {} map's shorter side is too short for a trusted band of its PSD ({:.3e} to {:.3e} 1/m: four wavelengths across it need at least 12 of its coarser pixels)",
+            topo.nx, topo.ny, lo, hi
+        )
+    })
+}
+
 /// Statistics of a measured map, from its PSD and from real space.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MeasuredStats {

@@ -38,6 +38,7 @@ pub(crate) use io::validate_heights;
 pub use io::{
     encode_npy, load_npy, load_text, parse_text, read_height_map, save_npy, NpyPrecision,
 };
+pub(crate) use measured::empty_band_reason;
 pub use measured::{
     analyse, detrend, line_psd, psd_topography, trusted_band, Analysis, Axis, Detrend, LinePsd,
     MeasuredStats,

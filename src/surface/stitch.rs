@@ -43,6 +43,11 @@ impl ScanPsd {
         window: Window,
     ) -> Result<Self, SurfaceError> {
         let t = detrend(topo, trend);
+        if let Some(why) = super::empty_band_reason(&t) {
+            return Err(SurfaceError::Invalid(format!(
+                "{name}: {why}, so it adds nothing to the stitched PSD; leave it out"
+            )));
+        }
         let radial = radial_average(&psd_topography(&t, window)?);
         let (q_lo, q_hi) = trusted_band(&t);
         Ok(Self {

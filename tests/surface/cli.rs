@@ -260,3 +260,53 @@ fn bad_inputs_write_nothing() {
         assert!(!out.exists(), "{} was created", out.display());
     }
 }
+
+/// A strip whose shorter side holds fewer than 12 pixels has no trusted
+/// PSD band and is warned about (it printed an inverted band without a
+/// word); a flat map's PSD cannot be drawn, so `--out` is refused in one
+/// line with nothing written, and its statistics print without it.
+#[test]
+fn a_narrow_strip_and_a_flat_map_are_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let strip: Vec<f64> = (0..128 * 8)
+        .map(|k| 1e-6 * ((k * 7919 % 1013) as f64 / 1013.0 - 0.5))
+        .collect();
+    std::fs::write(
+        d.join("strip.npy"),
+        viscoslide::io::npy::encode_f64(&[128, 8], &strip),
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("flat.npy"),
+        viscoslide::io::npy::encode_f64(&[32, 32], &[3e-6; 1024]),
+    )
+    .unwrap();
+    let path = |f: &str| d.join(f).to_str().unwrap().to_string();
+    let o = viscoslide(&["surface", "stats", &path("strip.npy"), "--length", "0.01"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("128 x 8 map's shorter side is too short for a trusted band"),
+        "{err}"
+    );
+    let out = d.join("flat_out");
+    let o = viscoslide(&[
+        "surface",
+        "stats",
+        &path("flat.npy"),
+        "--length",
+        "0.005",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("the map is flat after detrending"),
+        "{err}"
+    );
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(!out.exists());
+    let o = viscoslide(&["surface", "stats", &path("flat.npy"), "--length", "0.005"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}

@@ -56,7 +56,19 @@ pub(super) fn run(args: StatsArgs) -> Result<()> {
         "the radial PSD of this map",
     )
     .into_iter()
+    .chain(surface::empty_band_reason(&topo).map(|r| {
+        format!(
+            "{r}: the Hurst fit and the PSD's low end are not to be trusted; measure a wider map"
+        )
+    }))
     .collect();
+    if args.out.is_some() && an.radial.c.iter().all(|c| *c == 0.0) {
+        return Err(crate::error::Error::Invalid(format!(
+            "{}: the map is flat after detrending (rms height {:.3e} m): its PSD is zero and there is nothing to draw; surface stats without --out prints its statistics",
+            args.file.display(),
+            an.stats.rms_height_real
+        )));
+    }
     for w in &warnings {
         eprintln!("warning: {w}");
     }
