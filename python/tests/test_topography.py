@@ -101,3 +101,18 @@ def test_the_periodic_formulation_takes_an_array_as_one_period(rubber, pad, tmp_
         from_file = vs.solve(vs.Surface.from_file(str(tmp_path / "map.npy"), length=0.01), rubber, xi=1.17e-2,
                              mean_pressure=3000.0, backend="cpu", formulation="periodic")
     assert np.array_equal(from_file.pressure, marked.pressure)
+
+
+def test_a_curve_of_a_topography_takes_solves_preparation_keys(pad, rubber):
+    """``friction_curve`` and ``sweep`` of a topography with a missing
+    point take ``fill_missing`` (and ``detrend``) as ``solve`` does (they
+    said "pass fill_missing=True" to a call that had, and "this Surface
+    was prepared already" of a topography), and give solve's answer."""
+    h = pad.heights.copy()
+    h[3, 4] = np.nan
+    topo = SurfaceTopography.Topography(np.ma.masked_invalid(h), physical_sizes=(0.01, 0.01), periodic=False)
+    one = vs.solve(topo, rubber, speed=0.01, normal_load=0.3, backend="cpu", fill_missing=True, detrend="plane")
+    curve = vs.friction_curve(topo, rubber, [0.01], normal_load=0.3, backend="cpu", fill_missing=True, detrend="plane")
+    assert curve["friction_coefficient"][0] == one.friction_coefficient
+    with pytest.raises(ValueError, match="fill_missing"):
+        vs.friction_curve(topo, rubber, [0.01], normal_load=0.3, backend="cpu")

@@ -198,7 +198,13 @@ def sweep(
     ``persson_friction_coefficient`` Persson's at ``T_eff`` and
     ``temperature``, ``shift_factor`` those of ``T_eff``.
     """
-    surf = Surface.coerce(surface)
+    # A topography-like surface is prepared once, with solve's keys for it.
+    surf = Surface.coerce(
+        surface,
+        fill_missing=options.pop("fill_missing", None),
+        detrend=options.pop("detrend", None),
+        window=options.pop("window", None),
+    )
     _checks.flag("as_frame", as_frame)
     speeds = _axis("speed", speed)
     xis = _axis("xi", xi)
