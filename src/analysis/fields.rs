@@ -36,6 +36,10 @@ pub(super) fn check_inputs(inp: &AnalysisInputs<'_>) -> Result<(), AnalysisError
     Ok(())
 }
 
+/// Contact fraction above which the contact-area anisotropy is warned to
+/// describe the gaps.
+const NEAR_FULL_CONTACT: f64 = 0.9;
+
 fn check_params(p: &AnalysisParams) -> Result<(), AnalysisError> {
     if !(p.zeta1.is_finite() && p.zeta1 >= 0.0) {
         return Err(param("zeta1", p.zeta1, "must be finite and >= 0"));
@@ -138,6 +142,31 @@ pub fn analyze(
         .as_ref()
         .and_then(|c| c.levels.iter().find(|l| l.ellipse.is_some()));
     let t = def.tensor;
+    let mut warnings = Vec::new();
+    // The band in units of q0 = 2 pi / Lx against the grid's Nyquist
+    // wavenumber pi / max(ax, ay).
+    let nyquist = (std::f64::consts::PI / ax.max(ay)) / def.band.q0;
+    if zeta2 > nyquist * (1.0 + 1e-9) {
+        warnings.push(format!(
+            "zeta2 = {zeta2} reaches beyond the grid's Nyquist wavenumber pi / a (zeta2 = {nyquist:.1}): the band holds there only the corners of the spectrum, so gamma and theta_P are the grid's, not the surface's; give zeta2 <= {nyquist:.1}"
+        ));
+    }
+    if let (Some(c), Some(asked)) = (&chi, params.chi_window_cells) {
+        // The estimator caps its window below half the map's shorter side.
+        if asked > c.window_radius_cells * (1.0 + 1e-9) {
+            warnings.push(format!(
+                "the C_chi window radius {asked} cells is beyond the largest this map allows ({:.1} cells, below half its shorter side), which was used instead: lambda and the ellipse are those of that window",
+                c.window_radius_cells
+            ));
+        }
+    }
+    let fraction = contact_cells as f64 / (nx * ny) as f64;
+    if fraction > NEAR_FULL_CONTACT {
+        warnings.push(format!(
+            "the contact covers {:.1} % of the map: C_chi is then the spectrum of the few gaps left, and lambda and the ellipse describe them rather than contact spots",
+            100.0 * fraction
+        ));
+    }
     Ok(AnalysisReport {
         m20: t.m20,
         m02: t.m02,
@@ -154,8 +183,9 @@ pub fn analyze(
         lambda_level: first.map(|l| l.level),
         chi,
         spots: spot_stats,
-        contact_area_fraction: contact_cells as f64 / (nx * ny) as f64,
+        contact_area_fraction: fraction,
         params: params.clone(),
+        warnings,
         version: crate::version::VERSION,
     })
 }

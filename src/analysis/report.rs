@@ -172,6 +172,11 @@ pub struct AnalysisReport {
     pub contact_area_fraction: f64,
     /// The parameters used.
     pub params: AnalysisParams,
+    /// Settings or fields under which a number above may mislead, one line
+    /// each: a band reaching beyond the grid's Nyquist wavenumber, a
+    /// `C_chi` window asked beyond the largest the map allows, a contact
+    /// that covers most of the map.
+    pub warnings: Vec<String>,
     pub version: &'static str,
 }
 

@@ -46,6 +46,9 @@ pub fn run(args: AnalyzeArgs) -> Result<()> {
         params.window = Window::None;
     }
     let r = analyze_dir(&args.dir, &params)?;
+    for w in &r.warnings {
+        eprintln!("warning: {w}");
+    }
     println!(
         "gamma = {:.4}, theta_P = {:.2} deg (band {} < |q|/q0 < {}, {} modes)",
         r.gamma, r.theta_p_deg, r.band.zeta1, r.band.zeta2, r.band.modes

@@ -192,3 +192,57 @@ fn no_contact_gives_no_lambda() {
     assert!(r.lambda.is_none() && r.chi.is_none());
     assert_eq!(r.spots.count, 0);
 }
+
+/// Settings and fields under which the analysis's numbers mislead are
+/// warned about in the report (`analysis.json`): a band beyond the grid's
+/// Nyquist wavenumber (n / 2 = 32 q0 on 64^2), a `C_chi` window asked
+/// beyond the largest the map allows (it is capped), a contact covering
+/// most of the map. Isolated spots with the defaults warn of nothing.
+#[test]
+fn misleading_settings_and_fields_are_warned() {
+    let n = 64;
+    let mut spots = vec![0.0; n * n];
+    for (i, j) in [(10, 10), (30, 40), (50, 20)] {
+        for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            spots[(i + di) * n + j + dj] = 1.0;
+        }
+    }
+    let warned = |chi: &[f64], params: &AnalysisParams| analyse(chi, n, params).warnings;
+    assert_eq!(
+        warned(&spots, &AnalysisParams::default()),
+        Vec::<String>::new()
+    );
+    let band = warned(
+        &spots,
+        &AnalysisParams {
+            zeta2: Some(1000.0),
+            ..AnalysisParams::default()
+        },
+    );
+    assert!(
+        band.len() == 1
+            && band[0].contains("zeta2 = 1000 reaches beyond")
+            && band[0].contains("zeta2 = 32.0"),
+        "{band:?}"
+    );
+    let window = warned(
+        &spots,
+        &AnalysisParams {
+            chi_window_cells: Some(1000.0),
+            ..AnalysisParams::default()
+        },
+    );
+    assert!(
+        window.len() == 1 && window[0].contains("radius 1000 cells is beyond"),
+        "{window:?}"
+    );
+    let mut full = vec![1.0; n * n];
+    full[5 * n + 7] = 0.0;
+    let covered = warned(&full, &AnalysisParams::default());
+    assert!(
+        covered
+            .iter()
+            .any(|w| w.contains("the contact covers 100.0 %")),
+        "{covered:?}"
+    );
+}
