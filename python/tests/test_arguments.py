@@ -212,6 +212,11 @@ def test_surfaces_and_materials_refuse_bad_arguments(small, call, kind, needles)
     refused(lambda: call(small), kind, *needles)
 
 
+def test_a_layer_base_without_a_layer_is_refused(small, rubber):
+    refused(lambda: vs.solve(small, rubber, xi=1.17e-2, mean_pressure=3000.0, layer_base="frictionless"),
+            ValueError, "layer_base='frictionless' needs thickness=")
+
+
 def test_solve_config_refuses_bad_arguments(repo):
     cfg = repo / "configs" / "default.toml"
     refused(lambda: vs.solve_config(3), TypeError, "path", "3")

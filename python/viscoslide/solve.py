@@ -220,6 +220,8 @@ def _layer(thickness: Optional[float], layer_base: str) -> Optional[str]:
     if base not in ("bonded", "frictionless"):
         raise ValueError(f"layer_base must be 'bonded' or 'frictionless', got {base!r}")
     if thickness is None:
+        if base != "bonded":
+            raise ValueError(f"layer_base={base!r} needs thickness= (m): without one the solid is a half-space, which has no base")
         return None
     return json.dumps({"thickness": _checks.positive("thickness", thickness, "m"), "base": base})
 
