@@ -359,19 +359,7 @@ def persson(
         "contact_area_fraction": area,
         "g_q1": g,
     }
-    if as_frame:
-        frame = _frame(columns, True)
-        frame.attrs.update(
-            psd=kind,
-            nominal_pressure=sigma0,
-            map_psd=map_psd,
-            temperature=temperature_c,
-            shift_factor=a_t,
-            warnings=warned,
-            notes=notes,
-        )
-        return frame
-    columns.update(
+    scalars = dict(
         psd=kind,
         nominal_pressure=sigma0,
         map_psd=map_psd,
@@ -380,6 +368,11 @@ def persson(
         warnings=warned,
         notes=notes,
     )
+    if as_frame:
+        frame = _frame(columns, True)
+        frame.attrs.update(scalars)
+        return frame
+    columns.update(scalars)
     return columns
 
 

@@ -147,6 +147,31 @@ fn bad_inputs_fail_with_one_line_and_write_nothing() {
     }
 }
 
+/// The rough 32 x 32 map (8 scales, rms slope 0.02, seed 3) the file
+/// tests write as `h.npy`.
+fn rough_map() -> viscoslide::surface::HeightMap {
+    use viscoslide::surface::{generate, GenerateParams, Normalisation, UpperCutoff};
+    generate(&GenerateParams {
+        nx: 32,
+        ny: 32,
+        length: 0.01,
+        hurst: 0.8,
+        upper: UpperCutoff::Scales(8.0),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 3,
+        ..GenerateParams::default()
+    })
+    .unwrap()
+}
+
+/// [`CONFIG`] on the map `h.npy` (1 cm) with the `[surface]` line `extra`.
+fn on_file(extra: &str) -> String {
+    CONFIG.replace(
+        "[surface.generate]\nn = 48\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\nseed = 3\n",
+        &format!("[surface]\nfile = \"h.npy\"\nlength = 0.01\n{extra}\n"),
+    )
+}
+
 #[test]
 fn nan_heights_in_a_surface_file_are_rejected() {
     let tmp = tempfile::tempdir().unwrap();
@@ -157,10 +182,7 @@ fn nan_heights_in_a_surface_file_are_rejected() {
         viscoslide::io::npy::encode_f64(&[16, 16], &z),
     )
     .unwrap();
-    let config = CONFIG.replace(
-        "[surface.generate]\nn = 48\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\nseed = 3\n",
-        "[surface]\nfile = \"h.npy\"\nlength = 0.01\n",
-    );
+    let config = on_file("");
     let (ok, _, stderr) = run(tmp.path(), &config, &[]);
     assert!(!ok);
     assert!(
@@ -179,22 +201,8 @@ fn nan_heights_in_a_surface_file_are_rejected() {
 /// a smooth pad without a word).
 #[test]
 fn filled_points_are_counted_and_many_are_warned_about() {
-    use viscoslide::surface::{generate, GenerateParams, Normalisation, UpperCutoff};
-    let rough = generate(&GenerateParams {
-        nx: 32,
-        ny: 32,
-        length: 0.01,
-        hurst: 0.8,
-        upper: UpperCutoff::Scales(8.0),
-        normalisation: Normalisation::RmsSlope(0.02),
-        seed: 3,
-        ..GenerateParams::default()
-    })
-    .unwrap();
-    let config = CONFIG.replace(
-        "[surface.generate]\nn = 48\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\nseed = 3\n",
-        "[surface]\nfile = \"h.npy\"\nlength = 0.01\nfill_missing = true\n",
-    );
+    let rough = rough_map();
+    let config = on_file("fill_missing = true");
     // Two points (0.2 %), then a 12 x 12 hole (14 %).
     let holes: [Vec<usize>; 2] = [
         vec![37, 500],
@@ -548,22 +556,8 @@ fn a_contact_of_a_few_cells_is_warned() {
 /// solves it periodic; the two differ); a formulation given is a choice.
 #[test]
 fn a_periodic_map_solved_as_a_pad_by_default_is_warned() {
-    use viscoslide::surface::{generate, GenerateParams, Normalisation, UpperCutoff};
-    let map = generate(&GenerateParams {
-        nx: 32,
-        ny: 32,
-        length: 0.01,
-        hurst: 0.8,
-        upper: UpperCutoff::Scales(8.0),
-        normalisation: Normalisation::RmsSlope(0.02),
-        seed: 3,
-        ..GenerateParams::default()
-    })
-    .unwrap();
-    let config = CONFIG.replace(
-        "[surface.generate]\nn = 48\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\nseed = 3\n",
-        "[surface]\nfile = \"h.npy\"\nlength = 0.01\nperiodic = true\n",
-    );
+    let map = rough_map();
+    let config = on_file("periodic = true");
     for (extra, warned) in [
         (None, true),
         (Some("solver.formulation=\"non_periodic\""), false),
