@@ -304,6 +304,22 @@ fn anisotropic_surface_and_missing_pressure_are_refused() {
 
 const ROUGH: &str = "[surface.generate]\nn = 32\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\nseed = 1\n";
 
+/// `viscoslide solve CFG --backend cpu --out OUT`, which must succeed: its
+/// `summary.json` and stdout.
+fn solved(cfg: &Path, out: &Path) -> (serde_json::Value, String) {
+    let o = viscoslide(&[
+        "solve",
+        cfg.to_str().unwrap(),
+        "--backend",
+        "cpu",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s = serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    (s, String::from_utf8_lossy(&o.stdout).into_owned())
+}
+
 #[test]
 fn solve_records_persson_beside_the_simulation() {
     use viscoslide::persson::{Persson, PerssonParams};
@@ -314,19 +330,8 @@ fn solve_records_persson_beside_the_simulation() {
             "{SLS}{ROUGH}[loading]\nnormal_load = 0.3\nspeed = 0.01\n[analysis]\nenabled = false\n"
         ),
     );
-    let out = tmp.path().join("s");
-    let o = viscoslide(&[
-        "solve",
-        cfg.to_str().unwrap(),
-        "--backend",
-        "cpu",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(String::from_utf8_lossy(&o.stdout).contains("Persson's theory at this speed"));
-    let s: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let (s, stdout) = solved(&cfg, &tmp.path().join("s"));
+    assert!(stdout.contains("Persson's theory at this speed"));
     let mu = s["persson_friction_coefficient"].as_f64().unwrap();
     let area = s["persson_contact_area_fraction"].as_f64().unwrap();
     // The same theory from the library: continuum PSD, 0.3 N on 1 cm^2.
@@ -366,19 +371,7 @@ fn solve_notes_what_persson_leaves_out() {
     let solve = |name: &str, config: &str| -> (serde_json::Value, String) {
         let dir = tmp.path().join(name);
         std::fs::create_dir_all(&dir).unwrap();
-        let cfg = write_config(&dir, config);
-        let out = tmp.path().join(name).join("out");
-        let o = viscoslide(&[
-            "solve",
-            cfg.to_str().unwrap(),
-            "--backend",
-            "cpu",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let s = serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
-        (s, String::from_utf8_lossy(&o.stdout).into_owned())
+        solved(&write_config(&dir, config), &dir.join("out"))
     };
     let loading = "[loading]\nnormal_load = 0.3\nspeed = 0.01\n[analysis]\nenabled = false\n";
     let notes = |s: &serde_json::Value| s["persson"]["notes"].as_array().unwrap().clone();

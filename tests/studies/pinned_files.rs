@@ -4,6 +4,7 @@
 //! solved, and leaves the directory as it was; a merge after the change
 //! draws Persson's theory from the points' own values, saying why.
 
+use crate::refusals::snapshot;
 use std::path::Path;
 
 use super::support::{run, s, text};
@@ -45,26 +46,6 @@ fn height_map(phase: f64) -> String {
         out.push_str(&row.join(" "));
         out.push('\n');
     }
-    out
-}
-
-/// Every entry under `dir` with its contents (files) or `/` (folders).
-fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            let name = p.strip_prefix(dir).unwrap().display().to_string();
-            if p.is_dir() {
-                out.push((format!("{name}/"), Vec::new()));
-                stack.push(p);
-            } else {
-                out.push((name, std::fs::read(&p).unwrap()));
-            }
-        }
-    }
-    out.sort();
     out
 }
 

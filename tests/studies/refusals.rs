@@ -57,7 +57,7 @@ fn write_config(dir: &Path, extra: &str) -> String {
 }
 
 /// Every entry under `dir` with its contents (files) or `/` (folders).
-fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
+pub(crate) fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
     let mut out = Vec::new();
     let mut stack = vec![dir.to_path_buf()];
     while let Some(d) = stack.pop() {
