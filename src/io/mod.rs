@@ -2,6 +2,7 @@
 //! for its tests) and what memory the machine has.
 
 pub mod atomic;
+pub(crate) mod digest;
 pub mod dirlock;
 pub(crate) mod fault;
 pub(crate) mod memory;

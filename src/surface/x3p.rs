@@ -26,7 +26,7 @@ use std::collections::HashMap;
 use std::io::{Cursor, Read, Write};
 use std::path::Path;
 
-use md5::{Digest, Md5};
+use crate::io::digest::md5_hex;
 use quick_xml::events::Event;
 use serde::{Deserialize, Serialize};
 
@@ -51,13 +51,6 @@ fn fail(name: &str, why: impl std::fmt::Display) -> SurfaceError {
         path: name.to_string(),
         why: why.to_string(),
     }
-}
-
-fn md5_hex(bytes: &[u8]) -> String {
-    Md5::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
 }
 
 /// Leaves of an XML document: `(path, text)` with the path of element

@@ -11,13 +11,11 @@
 //! written (relative paths are the configuration's), with the MD5 of its
 //! bytes.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
-
-use md5::{Digest, Md5};
 
 use crate::config::{Config, MaterialModel};
 use crate::error::{Error, Result};
+use crate::io::digest::md5_file_hex;
 
 /// Key of the pin's array of files.
 pub(crate) const FILES_KEY: &str = "pinned_files";
@@ -52,25 +50,6 @@ fn referenced(config: &Config) -> Vec<(&'static str, PathBuf)> {
     out
 }
 
-/// The MD5 of the file at `path`, in hex, read in blocks.
-fn md5_file(path: &Path) -> std::io::Result<String> {
-    let mut file = std::fs::File::open(path)?;
-    let mut hasher = Md5::new();
-    let mut buf = vec![0u8; 1 << 20];
-    loop {
-        let n = file.read(&mut buf)?;
-        if n == 0 {
-            break;
-        }
-        hasher.update(&buf[..n]);
-    }
-    Ok(hasher
-        .finalize()
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect())
-}
-
 /// The files every configuration of `configs` reads (each once, in order
 /// of first appearance), their content hashed; relative paths resolve
 /// against `base_dir`.
@@ -85,7 +64,7 @@ pub(crate) fn pinned_files<'a>(
                 continue;
             }
             let path = base_dir.join(&file);
-            let md5 = md5_file(&path).map_err(|e| Error::io(&path, e))?;
+            let md5 = md5_file_hex(&path).map_err(|e| Error::io(&path, e))?;
             out.push(PinnedFile { key, file, md5 });
         }
     }
@@ -172,7 +151,7 @@ pub(crate) fn check_unchanged(
 ) -> std::result::Result<(), String> {
     for (key, file, md5) in entries(pin.get(FILES_KEY)) {
         let path = base_dir.join(&file);
-        match md5_file(&path) {
+        match md5_file_hex(&path) {
             Ok(now) if now == md5 => {}
             Ok(_) => {
                 return Err(format!(

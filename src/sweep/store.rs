@@ -11,7 +11,6 @@
 
 use std::path::{Path, PathBuf};
 
-use md5::{Digest, Md5};
 use serde_json::Value;
 
 use crate::error::{Error, Result};
@@ -30,10 +29,7 @@ pub struct PointStore {
 /// The identity of the study pinned by `pin_text`: the MD5 of the text,
 /// in hex.
 pub(crate) fn study_id(pin_text: &str) -> String {
-    Md5::digest(pin_text.as_bytes())
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
+    crate::io::digest::md5_hex(pin_text.as_bytes())
 }
 
 impl PointStore {
