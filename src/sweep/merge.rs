@@ -12,7 +12,7 @@
 //! row go into `sweep.csv` (`persson_friction`, `persson_area_fraction`,
 //! `persson_area_ratio`).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 use serde::Deserialize;
@@ -204,11 +204,12 @@ fn read_points(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<Point
 
 /// Aggregate the points of `dir` into rows, ordered by `[sweep.vary]`
 /// combination (plan order), planned load, then speed (the group keys are
-/// bit patterns of non-negative floats, whose order is the numeric order).
+/// bit patterns of non-negative floats, whose order is the numeric order),
+/// with the ids of the points merged.
 pub(crate) fn aggregate(
     dir: &Path,
     observer: &mut dyn SweepObserver,
-) -> Result<(Vec<MergedRow>, Vec<String>)> {
+) -> Result<(Vec<MergedRow>, BTreeSet<String>)> {
     let mut points = read_points(dir, observer)?;
     let ids = points.iter().map(|p| p.id.clone()).collect();
     let key = |p: &PointResult| (p.key_combo, p.key_load.to_bits(), p.key_speed.to_bits());
@@ -344,7 +345,11 @@ pub(super) fn merge_locked(
     let (mut rows, ids) = aggregate(dir, observer)?;
     let (planned, missing) = match planned_points(dir) {
         Ok(plan) => {
-            let missing: Vec<Point> = plan.iter().filter(|p| !ids.contains(&p.id)).cloned().collect();
+            let missing: Vec<Point> = plan
+                .iter()
+                .filter(|p| !ids.contains(&p.id))
+                .cloned()
+                .collect();
             (Some(plan.len()), missing)
         }
         Err(why) if partial => {
