@@ -376,7 +376,20 @@ pub(crate) fn lattice_slope_ratio(params: &GenerateParams) -> Result<Option<f64>
 /// them; above `s = q1 / q_L` only the modes across it, a ridged surface
 /// whatever the ratio).
 pub fn anisotropy_warning(params: &GenerateParams) -> Result<Option<String>, SurfaceError> {
-    let (Some(a), Some(got)) = (params.anisotropy, lattice_slope_ratio(params)?) else {
+    match lattice_slope_ratio(params)? {
+        Some(got) => slope_ratio_warning(params, got),
+        None => Ok(None),
+    }
+}
+
+/// [`anisotropy_warning`] for the ratio `got` the grid's modes give
+/// ([`lattice_slope_ratio`], summed once by a caller that reports it
+/// too).
+pub(crate) fn slope_ratio_warning(
+    params: &GenerateParams,
+    got: f64,
+) -> Result<Option<String>, SurfaceError> {
+    let Some(a) = params.anisotropy else {
         return Ok(None);
     };
     let want = 1.0 / a.ratio;

@@ -27,11 +27,11 @@ pub use crate::config::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceC
 pub use format::{
     encode_topography, read_topography, write_topography, ReadOptions, SurfaceFormat, WriteOptions,
 };
-pub(crate) use generate::lattice_slope_ratio;
 pub use generate::{
     anisotropy_warning, generate, generate_with_target, lattice_moments, Anisotropy,
     GenerateParams, Normalisation, SelfAffinePsd, UpperCutoff,
 };
+pub(crate) use generate::{lattice_slope_ratio, slope_ratio_warning};
 pub use gwy::{decode_gwy, read_gwy};
 pub(crate) use io::npy_bytes_of;
 pub(crate) use io::validate_heights;

@@ -167,7 +167,15 @@ pub(super) fn run(args: GenerateArgs) -> Result<()> {
     let radial = surface::radial_average(&psd);
     // Fit over the self-affine band, away from the cut-offs.
     let fit = surface::fit_hurst(&radial, 2.0 * target.q0, 0.5 * target.q1).ok();
-    let warnings: Vec<String> = surface::anisotropy_warning(&params)?.into_iter().collect();
+    // The stretch's realised slope ratio, summed once for the record and
+    // its warning.
+    let slope_ratio = surface::lattice_slope_ratio(&params)?;
+    let warnings: Vec<String> = match slope_ratio {
+        Some(got) => surface::slope_ratio_warning(&params, got)?,
+        None => None,
+    }
+    .into_iter()
+    .collect();
 
     let json = serde_json::json!({
         "version": crate::version::VERSION,
@@ -176,7 +184,7 @@ pub(super) fn run(args: GenerateArgs) -> Result<()> {
         "target_psd": target,
         "stats": stats,
         "hurst_fit": fit,
-        "slope_ratio": surface::lattice_slope_ratio(&params)?,
+        "slope_ratio": slope_ratio,
         "warnings": warnings,
         "config": config_json(config.as_ref()),
         "files": ["heights.npy", "psd.csv", "psd.png", "surface.json"],
