@@ -63,18 +63,25 @@ fn refused(args: &[&str], dir: &Path, needle: &str) {
     assert_eq!(snapshot(dir), before, "a refused run writes nothing");
 }
 
-#[test]
-fn a_surface_file_replaced_between_shards_is_refused() {
-    let tmp = tempfile::tempdir().unwrap();
-    let map = tmp.path().join("surf.txt");
+/// A sweep config in `dir` reading the height map `surf.txt` (written
+/// there, `height_map(0.0)`): the map's path, the config's and the
+/// output directory's.
+fn surface_file_case(dir: &Path) -> (std::path::PathBuf, String, std::path::PathBuf) {
+    let map = dir.join("surf.txt");
     std::fs::write(&map, height_map(0.0)).unwrap();
-    let cfg = tmp.path().join("case.toml");
+    let cfg = dir.join("case.toml");
     std::fs::write(
         &cfg,
         format!("{MATERIAL}\n[surface]\nfile = \"surf.txt\"\nlength = 0.01\n{REST}"),
     )
     .unwrap();
-    let (cfg, out) = (s(&cfg), tmp.path().join("out"));
+    (map, s(&cfg), dir.join("out"))
+}
+
+#[test]
+fn a_surface_file_replaced_between_shards_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (map, cfg, out) = surface_file_case(tmp.path());
     let o = s(&out);
     let first = run(&["sweep", &cfg, "--out", &o, "--shard", "0/2"]);
     assert!(first.status.success(), "{}", text(&first.stderr));
@@ -191,14 +198,7 @@ fn a_psd_table_changed_between_magnification_shards_is_refused() {
 #[test]
 fn a_pin_without_the_files_content_is_refused() {
     let tmp = tempfile::tempdir().unwrap();
-    std::fs::write(tmp.path().join("surf.txt"), height_map(0.0)).unwrap();
-    let cfg = tmp.path().join("case.toml");
-    std::fs::write(
-        &cfg,
-        format!("{MATERIAL}\n[surface]\nfile = \"surf.txt\"\nlength = 0.01\n{REST}"),
-    )
-    .unwrap();
-    let (cfg, out) = (s(&cfg), tmp.path().join("out"));
+    let (_, cfg, out) = surface_file_case(tmp.path());
     let o = s(&out);
     let first = run(&["sweep", &cfg, "--out", &o, "--limit", "1"]);
     assert!(first.status.success(), "{}", text(&first.stderr));
