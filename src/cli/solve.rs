@@ -6,7 +6,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::backend::BackendChoice;
 use crate::error::{Error, Result};
-use crate::heating::{solve_heated, HeatingParams};
+use crate::heating::{scale_extremes, scale_text, solve_heated, HeatingParams};
 use crate::io::check_output_dir;
 use crate::problem::{Executor, Problem};
 use crate::solver::Observer;
@@ -131,6 +131,13 @@ pub fn run(args: SolveArgs) -> Result<()> {
             h.solve_time_s,
             h.heat_time_s
         );
+        if let Some((cold, hot)) = scale_extremes(&h.scales) {
+            println!(
+                "heated scales: the octaves of surface modes that carry the power dissipate at rises from {} to {} (summary.json heating.scales)",
+                scale_text(cold),
+                scale_text(hot)
+            );
+        }
     }
     println!(
         "friction coefficient {:.6e} (dissipation: {:.6e}), contact area fraction {:.5}, {} iterations, {} matvecs, residual {:.2e}, {:.2} s",

@@ -45,4 +45,5 @@ pub(crate) use setup::AT_REST_NOTE;
 pub use setup::{Conduction, HeatDomain, HeatSetup};
 pub(crate) use solve::DepthExtremes;
 pub use solve::{surface_temperature, HeatSolver, Temperature};
-pub use source::{DepthRule, HeatSource, SourceKind};
+pub(crate) use source::scale_rises;
+pub use source::{DepthRule, HeatSource, ScaleBand, SourceKind};

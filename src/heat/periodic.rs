@@ -199,7 +199,8 @@ impl PeriodicPlan {
 
     /// The surface rise about the mean \[K\] under the volume source
     /// `source` \[W/m^3\] (layers as [`PeriodicPlan::volume`]) and the sum
-    /// `sum_l h_l sum_cells theta(z_l) Q_l` \[K W/m^2 per cell\], `z_l`
+    /// `sum_l h_l sum_cells theta(z_l) Q_l` \[K W/m^2 per cell\] term by
+    /// term (one per layer), `z_l`
     /// layer `l`'s middle: the weighted rise that `Theta` needs, mode by
     /// mode without a depth map (module docs; discrete Parseval,
     /// `sum_x a b = (1 / N) sum_k conj(A) B` over the full spectrum).
@@ -241,7 +242,8 @@ impl PeriodicPlan {
                 rows[j].push(row);
             }
         }
-        let column_sums: Vec<f64> = rows
+        let layer_count = bounds.len();
+        let column_sums: Vec<Vec<f64>> = rows
             .par_iter_mut()
             .zip(surface.par_chunks_mut(nx))
             .enumerate()
@@ -253,7 +255,7 @@ impl PeriodicPlan {
                     } else {
                         2.0
                     };
-                    let mut sum = 0.0;
+                    let mut sums = vec![0.0; layer_count];
                     for (i, out) in top.iter_mut().enumerate() {
                         scan.q
                             .iter_mut()
@@ -276,27 +278,28 @@ impl PeriodicPlan {
                             continue;
                         };
                         *out = t;
-                        sum += weight
-                            * scan
-                                .rise
-                                .iter()
-                                .zip(&scan.q)
-                                .zip(&bounds)
-                                .map(|((r, q), (a, b))| (b - a) * (q.conj() * r).re)
-                                .sum::<f64>()
-                            / variants;
+                        let share = weight / variants;
+                        for (((s, r), q), (a, b)) in
+                            sums.iter_mut().zip(&scan.rise).zip(&scan.q).zip(&bounds)
+                        {
+                            *s += share * (b - a) * (q.conj() * r).re;
+                        }
                         if extremes {
                             for (r, rise) in layer_rows.iter_mut().zip(&scan.rise) {
                                 r[i] = rise / variants;
                             }
                         }
                     }
-                    sum
+                    sums
                 },
             )
             .collect();
         drop(rows);
-        let weighted = column_sums.iter().sum::<f64>() / n as f64;
+        let mut by_layer = vec![0.0; layer_count];
+        for sums in &column_sums {
+            by_layer.iter_mut().zip(sums).for_each(|(t, s)| *t += s);
+        }
+        by_layer.iter_mut().for_each(|t| *t /= n as f64);
         let extremes = if extremes {
             let scale = 1.0 / n as f64;
             let mut inverse = ReducedInverse::new(nx, ny);
@@ -320,7 +323,7 @@ impl PeriodicPlan {
         drop(specs);
         Ok(VolumeScan {
             surface: self.inverse(surface)?,
-            weighted,
+            by_layer,
             extremes,
         })
     }
@@ -418,12 +421,12 @@ fn half_spectrum(modes: &Modes, f: impl Fn(Complex64) -> Complex64 + Sync) -> Ve
 }
 
 /// What [`PeriodicPlan::volume_scan`] gives: the surface rise about the
-/// mean \[K\], the weighted sum `sum_l h_l sum_cells theta(z_l) Q_l`, and
-/// (when asked) the mean and highest rise about the mean at the surface
-/// and at each layer's middle.
+/// mean \[K\], each layer's term `h_l sum_cells theta(z_l) Q_l` of the
+/// weighted sum, and (when asked) the mean and highest rise about the mean
+/// at the surface and at each layer's middle.
 pub(crate) struct VolumeScan {
     pub surface: Vec<f64>,
-    pub weighted: f64,
+    pub by_layer: Vec<f64>,
     pub extremes: Option<Vec<(f64, f64)>>,
 }
 

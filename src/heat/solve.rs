@@ -259,24 +259,30 @@ impl HeatSolver {
     /// the same sum as from [`HeatSolver::volume`]'s maps at the layers'
     /// middles, to round-off.
     pub fn under(&mut self, source: &HeatSource) -> Result<(Temperature, f64), HeatError> {
-        let (temperature, weighted, _) = self.under_with(source, false)?;
-        Ok((temperature, weighted))
+        let under = self.under_with(source, false)?;
+        Ok((under.temperature, under.weighted))
     }
 
-    /// [`HeatSolver::under`] and, for a volume source when `profile`, the
-    /// rows of [`HeatSolver::volume_extremes`] from the same sweep over the
+    /// [`HeatSolver::under`] and, for a volume source, each layer's share
+    /// of the weighted rise and of the power, and when `profile` the rows
+    /// of [`HeatSolver::volume_extremes`] from the same sweep over the
     /// modes (a surface flux's profile is [`HeatSolver::surface_extremes`]).
     pub(crate) fn under_with(
         &mut self,
         source: &HeatSource,
         profile: bool,
-    ) -> Result<(Temperature, f64, Option<DepthExtremes>), HeatError> {
+    ) -> Result<Under, HeatError> {
         match source {
             HeatSource::Surface { flux } => {
                 let t = self.surface(flux)?;
                 let total: f64 = flux.iter().sum();
                 let weighted: f64 = t.rise.iter().zip(flux).map(|(r, q)| r * q).sum();
-                Ok((t, weighted / positive_total(total)?, None))
+                Ok(Under {
+                    temperature: t,
+                    weighted: weighted / positive_total(total)?,
+                    profile: None,
+                    layers: None,
+                })
             }
             HeatSource::Volume { layers, density } => {
                 self.volume_checks(layers, density)?;
@@ -289,23 +295,27 @@ impl HeatSolver {
                 // The background at each layer's middle, weighted by the
                 // layer's source.
                 let n = self.setup.grid.cells();
-                let mut weighted = scan.weighted;
-                let mut total = 0.0;
-                for ((a, b), mean) in layers.iter().zip(&background.means) {
-                    let q = (b - a) * mean * n as f64;
-                    total += q;
-                    if let Some(t) = background.at(0.5 * (a + b)) {
-                        weighted += q * t;
-                    }
-                }
-                Ok((
-                    Temperature {
+                let by_layer: Vec<(f64, f64)> = layers
+                    .iter()
+                    .zip(&background.means)
+                    .zip(&scan.by_layer)
+                    .map(|(((a, b), mean), swept)| {
+                        let q = (b - a) * mean * n as f64;
+                        let t = background.at(0.5 * (a + b)).unwrap_or(0.0);
+                        (swept + q * t, q)
+                    })
+                    .collect();
+                let weighted: f64 = by_layer.iter().map(|l| l.0).sum();
+                let total: f64 = by_layer.iter().map(|l| l.1).sum();
+                Ok(Under {
+                    temperature: Temperature {
                         rise,
                         background: surface,
                     },
-                    weighted / positive_total(total)?,
-                    rows,
-                ))
+                    weighted: weighted / positive_total(total)?,
+                    profile: rows,
+                    layers: Some(by_layer),
+                })
             }
         }
     }
@@ -313,6 +323,20 @@ impl HeatSolver {
     fn shape(&self) -> (usize, usize) {
         (self.setup.grid.nx(), self.setup.grid.ny())
     }
+}
+
+/// What [`HeatSolver::under_with`] gives.
+pub(crate) struct Under {
+    /// The surface rise.
+    pub temperature: Temperature,
+    /// `Theta` \[K\]: the rise weighted by the source.
+    pub weighted: f64,
+    /// A volume source's depth profile, when asked.
+    pub profile: Option<DepthExtremes>,
+    /// A volume source's layers: each one's `h_l sum_cells theta(z_l) Q_l`
+    /// (the background included) and `h_l sum_cells Q_l`, whose sums'
+    /// ratio is `weighted`.
+    pub layers: Option<Vec<(f64, f64)>>,
 }
 
 /// The block's background heating of a volume source on a periodic cell

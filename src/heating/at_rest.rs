@@ -64,6 +64,7 @@ pub(super) fn solve_at_rest(
         persson_friction_coefficient: persson_friction(&solution),
         source: params.source.name(),
         closure: "effective",
+        scales: Vec::new(),
         conductivity: params.conduction.conductivity,
         diffusivity: params.conduction.diffusivity,
         block_length: params.block_length,

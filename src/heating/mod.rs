@@ -22,5 +22,6 @@ mod two_level;
 
 pub use branches::{Branch, Evaluation};
 pub use params::{BranchChoice, HeatingParams};
+pub(crate) use report::{scale_extremes, scale_text};
 pub use report::{DepthRow, HeatedSolution, HeatingReport, Rises};
 pub use solve::solve_heated;

@@ -10,6 +10,7 @@ use crate::error::Result;
 use crate::problem::{ExtraMap, Solution, SolveExtras};
 
 use super::branches::{Branch, Evaluation};
+use crate::heat::ScaleBand;
 
 /// The temperature rises of the answer \[K\].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -71,6 +72,12 @@ pub struct HeatingReport {
     pub source: &'static str,
     /// `"effective"`.
     pub closure: &'static str,
+    /// The volume source's octaves of surface modes: each one's share of
+    /// the power and the rise at which it dissipates (its own dissipation
+    /// over depth weighting the rise where the dissipation is,
+    /// [`crate::heat::ScaleBand`]); the shares weight the rises to the
+    /// effective rise. Empty for the surface source, which has no depth.
+    pub scales: Vec<ScaleBand>,
     /// `lam` \[W/(m K)\].
     pub conductivity: f64,
     /// `kappa` \[m^2/s\].
@@ -88,6 +95,35 @@ pub struct HeatingReport {
     /// Of which the heat sources and rises (the depth profile's included)
     /// \[s\].
     pub heat_time_s: f64,
+}
+
+/// A scale's share of the power below which its temperature is not
+/// counted among the scales' extremes ([`scale_extremes`]).
+const SCALE_SHARE_COUNTED: f64 = 0.01;
+
+/// The coldest and the hottest of the octaves `scales` that carry at least
+/// [`SCALE_SHARE_COUNTED`] of the power; none without such octaves (the
+/// surface source).
+pub(crate) fn scale_extremes(scales: &[ScaleBand]) -> Option<(&ScaleBand, &ScaleBand)> {
+    let counted = || {
+        scales
+            .iter()
+            .filter(|s| s.power_share >= SCALE_SHARE_COUNTED)
+    };
+    let cold = counted().min_by(|a, b| a.rise.total_cmp(&b.rise))?;
+    let hot = counted().max_by(|a, b| a.rise.total_cmp(&b.rise))?;
+    Some((cold, hot))
+}
+
+/// `scale`'s rise, octave and share of the power, in words.
+pub(crate) fn scale_text(scale: &ScaleBand) -> String {
+    format!(
+        "{:.4e} K (|q| {:.3e} to {:.3e} 1/m, {:.1} % of the power)",
+        scale.rise,
+        scale.wavenumber_min,
+        scale.wavenumber_max,
+        100.0 * scale.power_share
+    )
 }
 
 /// Persson's friction coefficient beside `solution`, when his theory

@@ -147,6 +147,8 @@ fn a_pad_is_heated_by_the_surface_work_of_its_pressure() {
     assert_eq!(r.source, "surface");
     assert!(r.temperature_rise.background.is_none());
     assert!(r.temperature_rise.effective > 0.0, "{r:?}");
+    // A surface flux has no depth to take apart by scale.
+    assert!(r.scales.is_empty(), "{r:?}");
     assert!(
         (r.heat_total_w / r.friction_power_w - 1.0).abs() <= 1e-10,
         "{r:?}"
@@ -286,9 +288,28 @@ fn solve_with_heating_writes_the_heating_object_and_the_temperature_map() {
     assert!(out.join("temperature.png").exists());
     let csv = std::fs::read_to_string(out.join("temperature_depth.csv")).unwrap();
     assert!(csv.starts_with("depth_m,mean_rise_k"), "{csv}");
-    // The printed line names the effective temperature.
+    // The scales: octaves of the volume source's modes whose rises,
+    // weighted by their shares of the power, are the effective rise.
+    let scales = h["scales"].as_array().expect("heating.scales");
+    assert!(scales.len() >= 3, "{h}");
+    let (mut shares, mut mean) = (0.0, 0.0);
+    for band in scales {
+        let (low, high) = (
+            band["wavenumber_min"].as_f64().unwrap(),
+            band["wavenumber_max"].as_f64().unwrap(),
+        );
+        assert!((high / low - 2.0).abs() < 1e-12, "{band}");
+        let share = band["power_share"].as_f64().unwrap();
+        shares += share;
+        mean += share * band["rise"].as_f64().unwrap();
+    }
+    let effective = h["temperature_rise"]["effective"].as_f64().unwrap();
+    assert!((shares - 1.0).abs() < 1e-12, "{shares}");
+    assert!((mean / effective - 1.0).abs() < 1e-12, "{mean} {effective}");
+    // The printed lines name the effective temperature and the scales'.
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("effective temperature"), "{stdout}");
+    assert!(stdout.contains("heated scales:"), "{stdout}");
     // A later isothermal solve into the same place leaves no stale map.
     std::fs::write(
         &cfg,

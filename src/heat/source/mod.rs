@@ -6,8 +6,9 @@
 //!   `rank.rs`, the deep nodes on coarser grids in `band.rs`, sliding along
 //!   x in `separable.rs`, the Nyquist modes in `nyquist.rs`; its
 //!   transforms `surface/height_fft.rs`'s planned ones, the stresses of
-//!   each surface mode in `stress.rs`, the layers in `depth.rs`); a periodic
-//!   cell on a half-space. `D` is the dashpots' power where they are, in
+//!   each surface mode in `stress.rs`, the layers in `depth.rs`, the
+//!   temperature each octave of modes dissipates at in `scales.rs`); a
+//!   periodic cell on a half-space. `D` is the dashpots' power where they are, in
 //!   the depth `~1/|q|` where each scale dissipates.
 //! - [`SourceKind::Surface`]: the work of the contact pressure,
 //!   `q_s = -v p (e_v . grad w)` (`work.rs`): the same total at the
@@ -24,6 +25,7 @@
 
 mod depth;
 mod dissipation;
+mod scales;
 mod stress;
 mod work;
 
@@ -34,6 +36,8 @@ use super::layers::DepthLayers;
 use crate::response::{Grid, SlidingResponse};
 
 pub(crate) use dissipation::Dissipation;
+pub(crate) use scales::scale_rises;
+pub use scales::ScaleBand;
 
 /// Which heat source a solved contact gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
