@@ -225,7 +225,7 @@ fn report(
         "block_length_m": args.block_length,
         "contact_time_s": setup.contact_time(),
         "peclet_number": setup.peclet(),
-        "peclet_definition": "v a / kappa, a the cell size along x",
+        "peclet_definition": "v a / kappa, a a cell's length along the sliding direction (its chord through the centre along e_v)",
         "max_rise_k": t.max(),
         "mean_rise_k": t.mean(),
         "min_rise_k": t.rise.iter().copied().fold(f64::INFINITY, f64::min),

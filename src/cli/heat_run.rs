@@ -196,8 +196,10 @@ pub(super) fn run(args: &HeatArgs, dir: &Path) -> Result<()> {
         "formulation": if periodic { "periodic" } else { "non-periodic" },
         "block_length_m": args.block_length,
         "contact_time_s": setup.contact_time(),
+        "total_power_w": heat.heat_power_w,
+        "mean_flux_w_per_m2": heat.heat_power_w / (run.grid.cells() as f64 * run.grid.cell_area()),
         "peclet_number": setup.peclet(),
-        "peclet_definition": "v a / kappa, a the cell size along x",
+        "peclet_definition": "v a / kappa, a a cell's length along the sliding direction (its chord through the centre along e_v)",
         "friction_route": match kind {
             SourceKind::Volume => "dissipation (Appendix A3-A4)",
             SourceKind::Surface => "stencil (paper Eq. 9)",

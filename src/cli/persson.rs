@@ -107,6 +107,11 @@ const BYTES_PER_SPEED: u64 = 1024;
 
 pub fn run(args: PerssonArgs) -> Result<()> {
     let cfg = args.config.load()?;
+    if cfg.heated() {
+        eprintln!(
+            "note: Persson's theory here is isothermal, at the config's temperature; [heating] is not applied (a heated solve reports Persson's friction at its effective temperature)"
+        );
+    }
     let window = args.window.or(args.hann.then_some(Window::Hann));
     let inputs = theory_inputs(&cfg, args.psd.as_deref(), window)?;
     let theory = Persson::new(

@@ -104,6 +104,7 @@ pub fn run(args: RefineArgs) -> Result<()> {
     let levels = refine::parse_levels(&args.levels)?;
     refine::check_levels(&levels)?;
     let cfg = args.config.load()?;
+    cfg.refuse_heating("a refinement study")?;
     let problem = Problem::from_config(&cfg)?;
     refine::check_level_memory(&problem, &levels)?;
     let choice = BackendChoice::resolve(args.backend).map_err(Error::Invalid)?;

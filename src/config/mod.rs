@@ -75,6 +75,29 @@ pub struct LoadedConfig {
 }
 
 impl LoadedConfig {
+    /// Whether `[heating]` is present and not switched off.
+    pub fn heated(&self) -> bool {
+        self.config
+            .heating
+            .as_ref()
+            .is_some_and(|h| h.enabled != Some(false))
+    }
+
+    /// Refuse an enabled `[heating]` for `study`, which solves
+    /// isothermally (a heated contact would be reported as if it were
+    /// not): one line naming the file, the study and the fix.
+    pub fn refuse_heating(&self, study: &str) -> Result<(), ConfigError> {
+        if !self.heated() {
+            return Ok(());
+        }
+        Err(ConfigError::Parse {
+            path: self.path.display().to_string(),
+            message: format!(
+                "{study} solves isothermally and does not take [heating]; give --set heating.enabled=false (or remove the section) for the solves at the ambient temperature"
+            ),
+        })
+    }
+
     /// The `[material]` section, or an error saying it is needed.
     pub fn material(&self) -> Result<&MaterialConfig, ConfigError> {
         self.config

@@ -49,6 +49,10 @@ pub enum HeatError {
     /// conductivity near zero).
     #[error("the temperature rise overflows at cell ({i}, {j}) ({value} K): the flux over the conductivity is beyond the range of f64")]
     Overflow { value: f64, i: usize, j: usize },
+    /// Values each valid but together beyond what the heat problem's
+    /// arithmetic or its verified rules hold (the message names them).
+    #[error("{0}")]
+    OutOfRange(String),
     /// A combination the heat room does not solve.
     #[error("{0}")]
     Unsupported(&'static str),

@@ -6,6 +6,25 @@
 use super::error::{positive, HeatError};
 use crate::response::Grid;
 
+/// The cell Peclet number above which a pad is refused: measured, the
+/// trailing row of a uniform square patch of 33 x 33 cells meets the
+/// one-dimensional high-Peclet limit `(2 q / lam) sqrt(kappa x / (pi v))`
+/// (averaged over the cell) to 0.1 % at 1e7, and falls to 68 % of it at
+/// 4e7 and 35 % at 1e8: the wake is then narrower than the cell
+/// integrals (`cell.rs`) resolve.
+pub(crate) const PAD_PECLET_LIMIT: f64 = 1e7;
+
+/// The cell sides the heat problem's arithmetic holds for: their squares
+/// (and the squared distances and wavenumbers it forms) normal f64
+/// numbers, `sqrt(f64::MIN_POSITIVE)` to `sqrt(f64::MAX)` (1.5e-154 m to
+/// 1.3e154 m, as the elastic kernel's). Measured below: cells of 1e-200 m
+/// gave a rise 2.5 times too low.
+const CELL_RANGE: (f64, f64) = (1.4916681462400413e-154, 1.3407807929942596e154);
+
+/// The relative round-off within which a block as long as the periodic
+/// cell is taken as equal to it (the cell's length is a sum of cells).
+const BLOCK_ROUND_OFF: f64 = 1e-12;
+
 /// Heat conduction of the solid (rubber: `lam` 0.2-0.3 W/(m K), `kappa`
 /// about 1e-7 m^2/s).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -59,7 +78,21 @@ impl HeatSetup {
     /// along the sliding direction ([`HeatSetup::cell_length_along_sliding`]).
     pub fn check(&self) -> Result<(), HeatError> {
         positive("the speed", self.speed, "m/s")?;
-        self.check_at_rest()
+        self.check_at_rest()?;
+        let rate = self.speed / self.conduction.diffusivity;
+        if !rate.is_finite() {
+            return Err(HeatError::OutOfRange(format!(
+                "the speed over the diffusivity, {:e} m/s over {:e} m^2/s, is beyond the range of f64",
+                self.speed, self.conduction.diffusivity
+            )));
+        }
+        let peclet = self.peclet();
+        if self.domain == HeatDomain::Pad && peclet > PAD_PECLET_LIMIT {
+            return Err(HeatError::OutOfRange(format!(
+                "the cell Peclet number v a / kappa = {peclet:.3e} is above {PAD_PECLET_LIMIT:e}, where a pad's cell integrals hold: the heat's wake behind a source is then narrower than a cell resolves; give smaller cells, or a periodic cell"
+            )));
+        }
+        Ok(())
     }
 
     /// [`HeatSetup::check`] but for the speed, which may be zero: a
@@ -69,6 +102,13 @@ impl HeatSetup {
         self.conduction.check()?;
         if !self.direction_rad.is_finite() {
             return Err(HeatError::Direction(self.direction_rad));
+        }
+        let (lo, hi) = CELL_RANGE;
+        let (ax, ay) = self.grid.cell();
+        if ![ax, ay].iter().all(|a| (lo..=hi).contains(a)) {
+            return Err(HeatError::OutOfRange(format!(
+                "the cell {ax:e} x {ay:e} m is beyond the range of the heat problem's arithmetic (cells of {lo:.3e} m to {hi:.3e} m, whose squares f64 holds); give cells nearer the contact's scales"
+            )));
         }
         self.check_block()
     }
@@ -84,7 +124,9 @@ impl HeatSetup {
         {
             positive("the block length", l, "m")?;
             let cell = self.cell_length_along_sliding();
-            if l < cell {
+            // A block as long as the cell, up to the round-off of the
+            // cell's length (its cells' sum), is the cell itself.
+            if l < cell * (1.0 - BLOCK_ROUND_OFF) {
                 return Err(HeatError::BlockShorterThanCell { block: l, cell });
             }
         }
@@ -108,9 +150,15 @@ impl HeatSetup {
         crate::response::unit_direction(self.direction_rad)
     }
 
-    /// The cell Peclet number `v dx / kappa` (`dx` the side along x).
+    /// The cell Peclet number `v a / kappa`, `a` a cell's length along
+    /// the sliding direction (its chord through the centre along `e_v`,
+    /// `min(a_x / |e_x|, a_y / |e_y|)`, as [`HeatSetup::cell_length_along_sliding`]
+    /// measures the periodic cell).
     pub fn peclet(&self) -> f64 {
-        self.speed * self.grid.cell().0 / self.conduction.diffusivity
+        let (ax, ay) = self.grid.cell();
+        let (ex, ey) = self.direction();
+        let along = |l: f64, e: f64| if e == 0.0 { f64::INFINITY } else { l / e.abs() };
+        self.speed * along(ax, ex).min(along(ay, ey)) / self.conduction.diffusivity
     }
 
     /// The time `t_c = L_b / v` \[s\] a rubber element spends in the
@@ -220,3 +268,91 @@ pub(crate) const NO_BLOCK_NOTE: &str = "periodic cell without a block length: th
 /// period `L` is below this share of the diffusion length `sqrt(kappa
 /// t_c)` of one passage ([`HeatSetup::notes`]).
 pub(crate) const PASSAGE_DEPTH_SHARE: f64 = 0.3;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn setup(cell: (f64, f64), speed: f64, direction_rad: f64, domain: HeatDomain) -> HeatSetup {
+        HeatSetup {
+            grid: Grid::new(12, 7, cell).unwrap(),
+            conduction: Conduction {
+                conductivity: 0.25,
+                diffusivity: 1e-7,
+            },
+            speed,
+            direction_rad,
+            domain,
+        }
+    }
+
+    #[test]
+    fn the_cell_range_is_where_squares_are_normal() {
+        assert_eq!(CELL_RANGE.0, f64::MIN_POSITIVE.sqrt());
+        assert_eq!(CELL_RANGE.1, f64::MAX.sqrt());
+        for a in [1e-155, 1e-200, 1e155] {
+            let e = setup((a, a), 0.1, 0.0, HeatDomain::Pad)
+                .check()
+                .unwrap_err();
+            assert!(
+                e.to_string()
+                    .contains("beyond the range of the heat problem's arithmetic"),
+                "{e}"
+            );
+        }
+        assert!(setup((1e-100, 1e-100), 0.1, 0.0, HeatDomain::Pad)
+            .check()
+            .is_ok());
+    }
+
+    /// Inputs each valid whose ratio or Peclet number is not: refused in
+    /// one line naming them (they hung the cell integrals, or lost the
+    /// wake).
+    #[test]
+    fn speeds_beyond_the_rules_are_refused() {
+        let s = |speed: f64, domain| setup((1e-5, 1e-5), speed, 0.0, domain);
+        let e = s(1e303, HeatDomain::Periodic { block_length: None })
+            .check()
+            .unwrap_err();
+        assert!(e.to_string().contains("beyond the range of f64"), "{e}");
+        let e = s(1e6, HeatDomain::Pad).check().unwrap_err();
+        assert!(e.to_string().contains("v a / kappa = 1.000e8"), "{e}");
+        assert!(s(1e5, HeatDomain::Pad).check().is_ok());
+        assert!(s(1e6, HeatDomain::Periodic { block_length: None })
+            .check()
+            .is_ok());
+    }
+
+    /// The cell Peclet number takes the cell's chord along the sliding
+    /// direction: a cell of 1e-5 x 3e-5 m sliding along y is one of 3e-5
+    /// m along its way.
+    #[test]
+    fn the_peclet_number_measures_the_cell_along_the_sliding() {
+        let p = |dir: f64| setup((1e-5, 3e-5), 0.1, dir, HeatDomain::Pad).peclet();
+        assert!((p(0.0) - 10.0).abs() < 1e-12);
+        assert!((p(std::f64::consts::FRAC_PI_2) - 30.0).abs() < 1e-12);
+        // At 45 degrees the chord leaves through the nearer side, x.
+        assert!((p(std::f64::consts::FRAC_PI_4) - 10.0 * 2f64.sqrt()).abs() < 1e-9);
+    }
+
+    /// A block as long as the cell, which its cells' sum misses by
+    /// round-off, is the cell.
+    #[test]
+    fn a_block_as_long_as_the_cell_is_taken() {
+        let block = |l: f64| {
+            setup(
+                (1e-5, 1e-5),
+                0.1,
+                0.0,
+                HeatDomain::Periodic {
+                    block_length: Some(l),
+                },
+            )
+            .check()
+        };
+        let cell = setup((1e-5, 1e-5), 0.1, 0.0, HeatDomain::Pad).cell_length_along_sliding();
+        assert!(cell > 1.2e-4, "{cell}");
+        assert!(block(1.2e-4).is_ok());
+        assert!(block(1.19e-4).is_err());
+    }
+}

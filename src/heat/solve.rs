@@ -253,8 +253,18 @@ impl HeatSolver {
     /// `Int theta Q dV / Int Q dV` \[K\] (physics.md section 14's
     /// `Theta`, the rise where the heat is released): for a volume source
     /// the rise at each layer's middle weighted by the layer's source, for
-    /// a surface flux the surface rise weighted by the flux. The total
-    /// source must be positive. A volume source's weighted rise is summed
+    /// a surface flux the surface rise weighted by the flux's magnitude
+    /// `|q_s|`. The total source must be positive.
+    ///
+    /// A surface work flux is negative where the surface rises back behind
+    /// the contact (the elastic energy it returns): weighted by the signed
+    /// flux, the mean is a ratio of two small differences of large parts
+    /// as the sliding becomes elastic, and grows without bound while the
+    /// heat vanishes (1e6 times the highest surface rise, measured). Its
+    /// magnitude weights the rise where the pressure works on the surface,
+    /// a mean that lies between the map's lowest and highest rise and
+    /// vanishes with the heat; where the flux is one-signed it is the
+    /// flux-weighted mean. A volume source's weighted rise is summed
     /// mode by mode without depth maps (`PeriodicPlan::volume_scan`):
     /// the same sum as from [`HeatSolver::volume`]'s maps at the layers'
     /// middles, to round-off.
@@ -275,11 +285,12 @@ impl HeatSolver {
         match source {
             HeatSource::Surface { flux } => {
                 let t = self.surface(flux)?;
-                let total: f64 = flux.iter().sum();
-                let weighted: f64 = t.rise.iter().zip(flux).map(|(r, q)| r * q).sum();
+                positive_total(flux.iter().sum())?;
+                let magnitude: f64 = flux.iter().map(|q| q.abs()).sum();
+                let weighted: f64 = t.rise.iter().zip(flux).map(|(r, q)| r * q.abs()).sum();
                 Ok(Under {
                     temperature: t,
-                    weighted: weighted / positive_total(total)?,
+                    weighted: weighted / magnitude,
                     profile: None,
                     layers: None,
                 })

@@ -20,7 +20,7 @@ use crate::heat::{
     scale_rises, DepthExtremes, DepthLadder, DepthRule, HeatSolver, HeatSource, ScaleBand,
     SourceKind,
 };
-use crate::problem::{Discretisation, Executor, Observer, Problem, Solution};
+use crate::problem::{balance_warning, Discretisation, Executor, Observer, Problem, Solution};
 
 use super::at_rest::solve_at_rest;
 use super::branches::{Branch, SearchFailure};
@@ -30,10 +30,6 @@ use super::report::{
     persson_friction, scale_extremes, scale_text, DepthRow, HeatedSolution, HeatingReport, Rises,
 };
 use super::two_level::{Level, DISCREPANCY_WARNING};
-
-/// Heat balance `|Int Q dV / (mu F_N v) - 1|` above which a warning is
-/// given: the default depth layers hold it to 1e-3 (physics.md section 14).
-const BALANCE_WARNING: f64 = 1e-2;
 
 /// One evaluation kept for the answer.
 struct Solved {
@@ -305,13 +301,7 @@ pub fn solve_heated(
             ));
         }
     }
-    let balance = answer.heat / friction_power - 1.0;
-    if friction_power > 0.0 && balance.abs() > BALANCE_WARNING {
-        warnings.push(format!(
-            "the heat source carries {:.6e} W against the friction's power mu F_N v = {friction_power:.6e} W ({:+.2e} relative): the depth layers or the grid do not resolve the dissipation",
-            answer.heat, balance
-        ));
-    }
+    warnings.extend(balance_warning(answer.heat, friction_power));
     let isothermal = isothermal.expect("T0 is evaluated first");
     warnings.extend(scales_warning(
         &scales,
@@ -328,7 +318,7 @@ pub fn solve_heated(
             .as_ref()
             .and_then(|l| heat.setup().layer_note(l.thickness)),
     );
-    warnings.extend(answer.source.returned_share_warning(answer.rise, peak));
+    warnings.extend(answer.source.returned_share_warning());
     let report = HeatingReport {
         ambient_temperature: params.ambient,
         effective_temperature: answer.temperature,

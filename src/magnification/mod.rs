@@ -127,19 +127,7 @@ impl Study {
     /// loading, solver), a nominal pressure for the theory, Persson's theory
     /// planned for every level. Writes nothing.
     pub fn new(cfg: &LoadedConfig, params: MagnificationParams) -> Result<Self> {
-        // The levels are isothermal solves: a heated contact would be
-        // reported as if it were not.
-        if cfg
-            .config
-            .heating
-            .as_ref()
-            .is_some_and(|h| h.enabled != Some(false))
-        {
-            return Err(Error::Invalid(format!(
-                "{}: a magnification study solves its levels isothermally and does not take [heating]; give --set heating.enabled=false (or remove the section) for the levels at the ambient temperature",
-                cfg.path.display()
-            )));
-        }
+        cfg.refuse_heating("a magnification study")?;
         let (psd, levels) = plan::plan_levels(cfg, &params.levels, params.cells_per_wavelength)?;
         let loading = cfg.config.loading.clone().unwrap_or_default();
         if loading.approach.is_some() {

@@ -2,9 +2,11 @@
 //! ([`crate::heat::HeatSource`], the creep elements' dissipation or the
 //! surface work of the pressure), the temperature rise it causes
 //! ([`crate::heat::HeatSolver`]) and the energy balance, the source's
-//! total against the friction power `mu F_N v`. The coupled solve (the
-//! effective-temperature fixed point) calls [`ContactHeating::new`] once
-//! per isothermal solve.
+//! total against the friction power `mu F_N v`: `viscoslide heat
+//! --from-run`, Python's `Result.heat` and [`Problem::contact_heating`].
+//! The coupled solve (the effective-temperature fixed point,
+//! `crate::heating`) evaluates the same source and rise at each
+//! isothermal solve.
 
 use serde_json::{json, Value};
 
@@ -16,6 +18,21 @@ use crate::heat::{
 use crate::response::{Grid, SlidingResponse};
 
 use super::{invalid, Problem, Solution};
+
+/// Heat balance `|Int Q dV / (mu F_N v) - 1|` above which a warning is
+/// given: the default depth layers hold it to 1e-3 (physics.md section 14).
+const BALANCE_WARNING: f64 = 1e-2;
+
+/// A warning where a heat source's total `heat_w` \[W\] and the friction's
+/// power `friction_power_w` \[W\] differ by more than [`BALANCE_WARNING`].
+pub(crate) fn balance_warning(heat_w: f64, friction_power_w: f64) -> Option<String> {
+    let balance = heat_w / friction_power_w - 1.0;
+    (friction_power_w > 0.0 && balance.abs() > BALANCE_WARNING).then(|| {
+        format!(
+            "the heat source carries {heat_w:.6e} W against the friction's power mu F_N v = {friction_power_w:.6e} W ({balance:+.2e} relative): the depth layers or the grid do not resolve the dissipation"
+        )
+    })
+}
 
 /// The heat source of a solved contact, its temperature rise and its
 /// energy balance.
@@ -104,10 +121,14 @@ impl ContactHeating {
         let mut solver = HeatSolver::new(setup)?;
         let (temperature, effective_rise) = solver.under(&source)?;
         let mut notes = setup.notes();
-        notes.extend(source.returned_share_warning(effective_rise, temperature.max()));
+        let heat_power_w = source.power(grid.cell_area());
+        notes.extend(balance_warning(heat_power_w, friction_power_w).map(|w| {
+            format!("{w}, or the fields and the friction given do not belong together (a run's summary.json edited, or the fields of another solve)")
+        }));
+        notes.extend(source.returned_share_warning());
         notes.extend(response.layer().and_then(|l| setup.layer_note(l.thickness)));
         Ok(Self {
-            heat_power_w: source.power(grid.cell_area()),
+            heat_power_w,
             source,
             temperature,
             effective_rise,
@@ -137,6 +158,7 @@ impl ContactHeating {
             "layer_bounds_m": bounds,
             "max_rise_k": self.temperature.max(),
             "mean_rise_k": self.temperature.mean(),
+            "min_rise_k": self.temperature.rise.iter().copied().fold(f64::INFINITY, f64::min),
             "background_rise_k": self.temperature.background,
             "effective_rise_k": self.effective_rise,
             "heat_total_w": self.heat_power_w,

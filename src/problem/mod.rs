@@ -43,6 +43,7 @@ use std::path::PathBuf;
 
 pub use adaptive::{AdaptiveParams, AdaptiveSolution, MeshReport};
 pub use executor::Executor;
+pub(crate) use heating::balance_warning;
 pub use heating::ContactHeating;
 pub use resolution::ShortestWavelength;
 pub(crate) use resolution::MIN_CELLS_PER_WAVELENGTH;

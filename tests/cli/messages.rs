@@ -450,3 +450,53 @@ fn a_tolerance_below_the_floor_is_warned() {
         assert_eq!(warning, warned, "{}", s["warnings"]);
     }
 }
+
+/// Refinement solves every level isothermally: an enabled `[heating]`
+/// would be reported as if it were not (the finest level's friction was the
+/// isothermal one at T0), so it is refused naming the fix, before anything
+/// is written; Persson's theory of such a config says it is isothermal.
+#[test]
+fn isothermal_studies_of_a_heated_config_say_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = config(
+        dir.path(),
+        "temperature = 20.0\n[heating]\nconductivity = 0.25\ndiffusivity = 1e-7\n",
+    );
+    let text = std::fs::read_to_string(&cfg).unwrap().replace(
+        "poisson = 0.5\n",
+        "poisson = 0.5\nwlf = [8.86, 101.6, 20.0]\n",
+    );
+    std::fs::write(&cfg, text).unwrap();
+    let out = dir.path().join("refined");
+    let o = viscoslide(&[
+        "refine",
+        cfg.to_str().unwrap(),
+        "--levels",
+        "16,32",
+        "--backend",
+        "cpu",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_refused(
+        &o,
+        &[
+            "a refinement study",
+            "[heating]",
+            "--set heating.enabled=false",
+        ],
+    );
+    assert!(!out.exists());
+    let theory = dir.path().join("theory");
+    let o = viscoslide(&[
+        "persson",
+        cfg.to_str().unwrap(),
+        "--speeds",
+        "1e-3,1e-1,3",
+        "--out",
+        theory.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("[heating] is not applied"), "{err}");
+}

@@ -157,6 +157,40 @@ fn a_pad_is_heated_by_the_surface_work_of_its_pressure() {
 }
 
 #[test]
+fn a_pad_sliding_ever_slower_is_heated_ever_less() {
+    // The surface work flux of a nearly elastic pad is mostly returned
+    // elastic work: its net, the heat, vanishes with the speed, and so
+    // must the effective rise, which stays within the surface's rises and
+    // leaves the isothermal friction (weighted by the signed flux it stayed
+    // near a kelvin at 1e-9 m/s and moved the friction by 14 %).
+    let pad = heated_pad();
+    let mut last = f64::INFINITY;
+    for speed in ["1e-3", "1e-6", "1e-9"] {
+        let (_, _, h) = heated(
+            &pad,
+            &[
+                "solver.formulation=\"non_periodic\"",
+                &format!("loading.speed={speed}"),
+            ],
+        );
+        let r = &h.report;
+        let rise = r.temperature_rise.effective;
+        assert!(
+            rise.abs() <= r.temperature_rise.peak_surface,
+            "{speed}: {r:?}"
+        );
+        assert!(rise.abs() < last, "{speed}: {rise} after {last}");
+        last = rise.abs();
+        if speed == "1e-9" {
+            assert!(rise.abs() < 1e-5, "{r:?}");
+            let mu = h.solution.friction_coefficient;
+            let mu0 = r.isothermal_friction_coefficient;
+            assert!((mu / mu0 - 1.0).abs() < 1e-4, "{mu} {mu0}");
+        }
+    }
+}
+
+#[test]
 fn heating_is_refused_without_what_it_needs() {
     let cases: &[(&[&str], &str)] = &[
         (
@@ -707,14 +741,15 @@ fn a_surface_flux_that_takes_back_most_of_its_heat_is_warned_of() {
     };
     let elastic = case("loading.speed=1e-3");
     let r = &elastic.report;
-    assert!(r.temperature_rise.effective > 10.0 * r.temperature_rise.peak_surface);
-    let w = taken_back(&elastic);
+    // Weighted by the flux's magnitude, the effective rise lies within the
+    // map's rises (weighted by the signed flux it was 10 times the peak).
     assert!(
-        w.len() == 1
-            && w[0].contains("takes back 99 %")
-            && w[0].contains("exceeds the highest surface rise"),
-        "{w:?}"
+        r.temperature_rise.effective > 0.0
+            && r.temperature_rise.effective <= r.temperature_rise.peak_surface,
+        "{r:?}"
     );
+    let w = taken_back(&elastic);
+    assert!(w.len() == 1 && w[0].contains("takes back 99 %"), "{w:?}");
     let dissipative = case("loading.speed=0.1");
     assert!(
         taken_back(&dissipative).is_empty(),

@@ -103,11 +103,10 @@ impl std::str::FromStr for SourceKind {
     }
 }
 
-/// The share of its heat that a surface work flux takes back above which
-/// the effective temperature it weights is warned of
-/// ([`HeatSource::returned_share_warning`]): beyond one half, the weighted
-/// mean amplifies the rise's errors more than threefold (`(1 + s) / (1 -
-/// s)`).
+/// The share of its work that a surface work flux takes back above which
+/// the heat it locates is warned of ([`HeatSource::returned_share_warning`]):
+/// beyond one half, the net (the heat) is less than a third of the flux's
+/// magnitude (`(1 - s) / (1 + s)`).
 pub(crate) const RETURNED_SHARE_WARNING: f64 = 0.5;
 
 /// A heat source on a grid, as [`super::HeatSolver`] takes it.
@@ -191,9 +190,9 @@ impl HeatSource {
     /// negative flux over the positive, `sum max(-q_s, 0) / sum max(q_s,
     /// 0)`, for a surface work flux (which is negative where the surface
     /// rises back as it leaves the contact, `work.rs`); 0 for the volume
-    /// source, a dissipation (`D >= 0`). Near 1 the net power is a small
-    /// difference of large parts, and a mean weighted by the flux (the
-    /// effective temperature) is ill-conditioned.
+    /// source, a dissipation (`D >= 0`). Near 1 the flux is mostly elastic
+    /// work stored ahead of the contact and returned behind it, and the
+    /// heat, its net, a small difference of large parts.
     pub fn returned_share(&self) -> f64 {
         match self {
             Self::Surface { flux } => {
@@ -220,24 +219,17 @@ impl HeatSource {
         }
     }
 
-    /// A warning where the source takes back more than
-    /// one half of its heat ([`HeatSource::returned_share`]),
-    /// naming the symptom where the weighted rise `effective` \[K\] exceeds
-    /// the highest surface rise `peak` \[K\].
-    pub fn returned_share_warning(&self, effective: f64, peak: f64) -> Option<String> {
+    /// A warning where the source takes back more than one half of the
+    /// work it puts in ([`HeatSource::returned_share`]): the heat is then
+    /// located only roughly by the work flux, whose magnitude weights the
+    /// effective temperature ([`super::HeatSolver::under`]).
+    pub fn returned_share_warning(&self) -> Option<String> {
         let returned = self.returned_share();
         if returned <= RETURNED_SHARE_WARNING {
             return None;
         }
-        let symptom = if effective > peak {
-            format!(
-                " (here Theta = {effective:.4e} K exceeds the highest surface rise, {peak:.4e} K)"
-            )
-        } else {
-            String::new()
-        };
         Some(format!(
-            "the surface work flux takes back {:.0} % of the heat it puts in (it is negative where the surface rises back behind the contact): the net power is a small difference of large parts, and the effective temperature, a mean weighted by this flux, is ill-conditioned{symptom}; the volume source (source = \"volume\", periodic cells on a half-space) weights by the dissipation itself",
+            "the surface work flux takes back {:.0} % of the work it puts in (it is negative where the surface rises back behind the contact, returning elastic energy): the heat, its net, is a small difference of large parts, located only roughly where the pressure works, whose magnitude weights the effective temperature; the volume source (source = \"volume\", periodic cells on a half-space) puts the heat where the rubber dissipates it",
             100.0 * returned
         ))
     }

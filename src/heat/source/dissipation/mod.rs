@@ -117,11 +117,21 @@ struct Regular {
 pub(crate) struct RateFn(pub Vec<(f64, f64)>);
 
 impl RateFn {
+    /// The multiplier at `w` \[rad/s\]: each term `(a / tau) i x / (1 + i
+    /// x)`, `x = w tau`, taken as `(a / tau) / (1 - i / x)` where `|x| > 1`
+    /// so that no square overflows.
     fn at(&self, w: f64) -> Complex64 {
-        let iw = Complex64::new(0.0, w);
         self.0
             .iter()
-            .map(|&(a, tau)| a * iw / (1.0 + iw * tau))
+            .map(|&(a, tau)| {
+                let x = w * tau;
+                let r = if x.abs() > 1.0 {
+                    Complex64::new(1.0, 0.0) / Complex64::new(1.0, -1.0 / x)
+                } else {
+                    Complex64::new(0.0, x) / Complex64::new(1.0, x)
+                };
+                a / tau * r
+            })
             .sum()
     }
 }
@@ -164,7 +174,7 @@ impl Dissipation {
             .map(|t| (t.compliance, t.time))
             .collect();
         let (e, speed) = (response.direction(), response.speed());
-        let rates = rank::combined_rates(&elements, &frequencies(grid, e, speed));
+        let rates = rank::combined_rates(&elements, &frequencies(grid, e, speed))?;
         Ok(Self::planned(
             (nx, ny),
             grid.lengths(),

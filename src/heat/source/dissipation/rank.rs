@@ -21,6 +21,7 @@
 
 use faer::Mat;
 
+use super::super::super::error::HeatError;
 use super::RateFn;
 
 /// Singular values whose square lies below this are dropped (rows of unit
@@ -30,21 +31,34 @@ pub(super) const RANK_CUT: f64 = 1e-15;
 /// Rows per block of the running QR (bounds its memory on large grids).
 const BLOCK_ROWS: usize = 4096;
 
-/// `sqrt(tau C) i w / (1 + i w tau)`: real and imaginary parts.
+/// `sqrt(tau C) i w / (1 + i w tau)`: real and imaginary parts, as
+/// `sqrt(C / tau) (x^2, x) / (1 + x^2)` with `x = w tau`, divided through
+/// by `x^2` where `|x| > 1` so that no square overflows (frequencies up to
+/// f64's range: `v |q|` of a very fast slide).
 fn element_rate(c: f64, tau: f64, w: f64) -> (f64, f64) {
-    let d = 1.0 + w * w * tau * tau;
-    let s = (tau * c).sqrt();
-    (s * w * w * tau / d, s * w / d)
+    let g = (c / tau).sqrt();
+    let x = w * tau;
+    if x.abs() > 1.0 {
+        let y = 1.0 / x;
+        let d = 1.0 + y * y;
+        (g / d, g * y / d)
+    } else {
+        let d = 1.0 + x * x;
+        (g * x * x / d, g * x / d)
+    }
 }
 
 /// The combined multipliers of the elements `(C_k, tau_k)` over the
 /// frequencies `|w|` of `freqs` \[rad/s\] (module docs), in decreasing
 /// singular value; none where no frequency is positive.
-pub(super) fn combined_rates(elements: &[(f64, f64)], freqs: &[f64]) -> Vec<RateFn> {
+pub(super) fn combined_rates(
+    elements: &[(f64, f64)],
+    freqs: &[f64],
+) -> Result<Vec<RateFn>, HeatError> {
     let n = elements.len();
     let freqs: Vec<f64> = freqs.iter().copied().filter(|w| *w > 0.0).collect();
     if n == 0 || freqs.is_empty() {
-        return Vec::new();
+        return Ok(Vec::new());
     }
     // A running QR: `R` of the rows seen so far stacked over each block.
     let mut r = Mat::<f64>::zeros(0, n);
@@ -69,11 +83,16 @@ pub(super) fn combined_rates(elements: &[(f64, f64)], freqs: &[f64]) -> Vec<Rate
         }
         r = m.qr().thin_R().to_owned();
     }
-    let svd = r.thin_svd().expect("the SVD of a small matrix converges");
+    let svd = r.thin_svd().map_err(|e| {
+        HeatError::OutOfRange(format!(
+            "the creep elements' rates over the grid's frequencies (up to {:e} rad/s) could not be combined ({e:?}): a frequency or an element beyond the range of f64's arithmetic",
+            freqs.iter().copied().fold(0.0, f64::max)
+        ))
+    })?;
     let (s, v) = (svd.S().column_vector(), svd.V());
     let mut order: Vec<usize> = (0..s.nrows()).collect();
     order.sort_by(|&a, &b| s[b].total_cmp(&s[a]));
-    order
+    Ok(order
         .into_iter()
         .filter(|&j| s[j] * s[j] > RANK_CUT)
         .map(|j| {
@@ -85,7 +104,7 @@ pub(super) fn combined_rates(elements: &[(f64, f64)], freqs: &[f64]) -> Vec<Rate
                     .collect(),
             )
         })
-        .collect()
+        .collect())
 }
 
 #[cfg(test)]
@@ -109,7 +128,7 @@ mod tests {
             })
             .collect();
         let freqs: Vec<f64> = (1..=512).map(|k| 2.5 * k as f64).collect();
-        let combined = combined_rates(&elements, &freqs);
+        let combined = combined_rates(&elements, &freqs).unwrap();
         assert!(combined.len() < elements.len(), "{}", combined.len());
         let singles: Vec<RateFn> = elements
             .iter()
@@ -129,9 +148,27 @@ mod tests {
         let r = &combined[0];
         assert!((r.at(-3.0) - r.at(3.0).conj()).norm() <= 1e-15 * r.at(3.0).norm());
         assert_eq!(
-            combined_rates(&elements, &[0.0]).len(),
+            combined_rates(&elements, &[0.0]).unwrap().len(),
             0,
             "no frequency, no rate"
         );
+    }
+
+    /// Frequencies whose squares leave f64 (`v |q|` of a slide at 1e150
+    /// m/s, which panicked the SVD): every rate finite, the elements'
+    /// glassy limit `sqrt(C / tau)` on the real axis.
+    #[test]
+    fn rates_hold_at_frequencies_beyond_their_squares() {
+        let elements = [(1e-8, 1e-3), (2e-8, 1e-1)];
+        for (c, tau) in elements {
+            let (re, im) = element_rate(c, tau, 1e160);
+            assert!((re / (c / tau).sqrt() - 1.0).abs() < 1e-15 && im > 0.0 && im.is_finite());
+        }
+        let combined = combined_rates(&elements, &[1e3, 1e157, 1e160]).unwrap();
+        assert!(!combined.is_empty());
+        for rate in &combined {
+            let m = rate.at(1e160);
+            assert!(m.re.is_finite() && m.im.is_finite(), "{m}");
+        }
     }
 }
