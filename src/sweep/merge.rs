@@ -124,6 +124,18 @@ fn missing_text(missing: &[Point]) -> String {
 
 fn read_points(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<PointResult>> {
     let points_dir = dir.join("points");
+    if !dir.exists() {
+        return Err(Error::Invalid(format!(
+            "{}: no such directory (`viscoslide sweep CONFIG --out DIR` makes a sweep directory)",
+            dir.display()
+        )));
+    }
+    if !dir.is_dir() {
+        return Err(Error::Invalid(format!(
+            "{}: not a directory (a sweep directory is the --out of `viscoslide sweep`)",
+            dir.display()
+        )));
+    }
     if !points_dir.is_dir() {
         return Err(Error::Invalid(format!(
             "{}: not a sweep directory (it has no points/ folder; `viscoslide sweep CONFIG --out DIR` makes one)",

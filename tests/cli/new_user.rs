@@ -1,7 +1,8 @@
 //! What a new user runs into: unwritable outputs, bad `--set` values,
-//! directories that are not sweeps, unphysical loads, surfaces too large for
-//! memory, stale outputs from an earlier solve, empty sweep axes, and
-//! friction routes that disagree. Each is refused or reported in one line.
+//! directories that are not sweeps (or do not exist), unphysical loads,
+//! surfaces too large for memory, stale outputs from an earlier solve, empty
+//! sweep axes, and friction routes that disagree. Each is refused or
+//! reported in one line.
 
 use std::path::Path;
 use std::process::Command;
@@ -132,6 +133,25 @@ fn merging_a_directory_that_is_not_a_sweep_says_so() {
     assert!(!ok);
     assert!(err.contains("not a sweep directory"), "{err}");
     assert!(!err.contains("No such file"), "{err}");
+}
+
+/// `merge` of a directory that does not exist says that, and makes nothing.
+#[test]
+fn merging_a_directory_that_does_not_exist_says_so() {
+    let tmp = tempfile::tempdir().unwrap();
+    let missing = tmp.path().join("no_such_dir");
+    let d = missing.display().to_string();
+    let (ok, _, err) = viscoslide(&["merge", &d]);
+    assert!(!ok);
+    assert!(err.contains("no such directory"), "{err}");
+    assert!(!err.contains("not a sweep directory"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(!missing.exists(), "a refused merge made {d}");
+    // A file where the directory should be is named as such.
+    std::fs::write(&missing, "").unwrap();
+    let (ok, _, err) = viscoslide(&["merge", &d]);
+    assert!(!ok);
+    assert!(err.contains("not a directory"), "{err}");
 }
 
 /// A mean pressure above the material's modulus is solved, with a warning
