@@ -33,10 +33,6 @@ const SECTIONS: [&str; 6] = [
     "material", "surface", "loading", "solver", "layer", "heating",
 ];
 
-/// `[surface.generate]` keys that exclude each other: a varied key
-/// replaces the surface's own value of the other.
-const EXCLUSIVE: [(&str, &str); 2] = [("q1", "scales"), ("rms_slope", "rms_height")];
-
 /// Name of the configuration in messages.
 const NAME: &str = "sweep";
 
@@ -221,15 +217,10 @@ impl NativeSweepPlan {
             "material".into(),
             toml::Value::Table(section_table(&material.get().section)),
         );
+        // A varied key replaces the surface's own alternative (`q1` its
+        // `scales`), as `point_config` sets every value.
         if let Some(s) = &surface.get().section {
-            let mut table = toml::Table::try_from(s).map_err(value_error)?;
-            if let Some(toml::Value::Table(generate)) = table.get_mut("generate") {
-                for (a, b) in EXCLUSIVE.iter().flat_map(|&(a, b)| [(a, b), (b, a)]) {
-                    if keys.iter().any(|k| *k == format!("surface.generate.{a}")) {
-                        generate.remove(b);
-                    }
-                }
-            }
+            let table = toml::Table::try_from(s).map_err(value_error)?;
             document.insert("surface".into(), toml::Value::Table(table));
         }
         let this = Self {

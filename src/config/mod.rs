@@ -136,8 +136,7 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedConfig, ConfigErr
     })?;
     let mut given = Vec::new();
     for arg in overrides {
-        apply_override(&mut document, arg)?;
-        drop_alternatives(&mut document, arg, &mut given);
+        apply_override(&mut document, arg, &mut given)?;
     }
     // Without overrides, type-check the file's own text so that line numbers
     // in errors are the user's.
@@ -182,10 +181,9 @@ fn blame_override(text: &str, name: &str, overrides: &[String], err: ConfigError
     let mut incomplete: Option<ConfigError> = None;
     let mut given = Vec::new();
     for arg in overrides {
-        if apply_override(&mut document, arg).is_err() {
+        if apply_override(&mut document, arg, &mut given).is_err() {
             return err;
         }
-        drop_alternatives(&mut document, arg, &mut given);
         if let Err(ConfigError::Parse { message, .. }) = parse_document(&document, name) {
             // "line N, key `k`: ..." names a line of the merged document.
             let missing = message.contains("missing field `");
@@ -233,15 +231,19 @@ const ALTERNATIVES: [&[&str]; 4] = [
     &["surface.generate.rms_height", "surface.generate.rms_slope"],
 ];
 
-/// After the override `arg`, remove the alternatives of its key that the
-/// file gave (`--set loading.speed=0.01` on a config with `xi` replaces
-/// it, as a flag of `surface generate` replaces its config's exclusive
-/// key); alternatives given by earlier overrides (`given`, which gains
-/// this key) stay, so two of them are refused as in a file.
-fn drop_alternatives(document: &mut toml::Table, arg: &str, given: &mut Vec<String>) {
-    let Some((key, _)) = arg.split_once('=') else {
-        return;
-    };
+/// Set the dotted `key` to `value` as `--set` sets it ([`set_value`]),
+/// then remove the alternatives of the key that the document gave
+/// (`--set loading.speed=0.01` on a config with `xi` replaces it, as a flag
+/// of `surface generate` replaces its config's exclusive key, and so does
+/// a `[sweep.vary]` value); alternatives set before through `given`
+/// (which gains this key) stay, so two of them are refused as in a file.
+pub(crate) fn set_replacing(
+    document: &mut toml::Table,
+    key: &str,
+    value: toml::Value,
+    given: &mut Vec<String>,
+) -> Result<(), String> {
+    set_value(document, key, value)?;
     let key: String = key.split('.').map(str::trim).collect::<Vec<_>>().join(".");
     if let Some(group) = ALTERNATIVES.iter().find(|g| g.contains(&key.as_str())) {
         for other in group
@@ -261,10 +263,16 @@ fn drop_alternatives(document: &mut toml::Table, arg: &str, given: &mut Vec<Stri
         }
     }
     given.push(key);
+    Ok(())
 }
 
-/// Apply one `section.key=value` override to a TOML document.
-pub(crate) fn apply_override(document: &mut toml::Table, arg: &str) -> Result<(), ConfigError> {
+/// Apply one `section.key=value` override to a TOML document
+/// ([`set_replacing`], `given` the keys of the overrides before it).
+pub(crate) fn apply_override(
+    document: &mut toml::Table,
+    arg: &str,
+    given: &mut Vec<String>,
+) -> Result<(), ConfigError> {
     let err = |message: String| ConfigError::Override {
         arg: arg.into(),
         message,
@@ -272,12 +280,13 @@ pub(crate) fn apply_override(document: &mut toml::Table, arg: &str) -> Result<()
     let (key, value) = arg
         .split_once('=')
         .ok_or_else(|| err("expected section.key=value".into()))?;
-    set_value(document, key, parse_value(value.trim())).map_err(err)
+    set_replacing(document, key, parse_value(value.trim()), given).map_err(err)
 }
 
 /// Set the dotted `key` (`section.key`, `surface.generate.q1`) of a TOML
 /// document to `value`, creating the sections on the way: the one path of
-/// `--set` and of a sweep's `[sweep.vary]` values. `Err` says why not.
+/// `--set` and of a sweep's `[sweep.vary]` values (both through
+/// [`set_replacing`]). `Err` says why not.
 pub(crate) fn set_value(
     document: &mut toml::Table,
     key: &str,

@@ -275,9 +275,12 @@ fn point_problem(cfg: &LoadedConfig, point: &Point) -> Result<(Problem, Option<H
 
 /// The configuration of `point` before its speed, load and seed: the
 /// base document with every `[sweep.vary]` value set as `--set` sets it
-/// (`config::set_value`, which makes the sections a key needs) and
-/// typed again. A key the configuration does not have, or a value of the
-/// wrong type, is refused in one line naming the key and the value.
+/// (`config::set_replacing`, which makes the sections a key needs and
+/// replaces the configuration's own alternative of the key: a varied `q1`
+/// replaces `scales`, `rms_slope` `rms_height`, `mean_pressure`
+/// `normal_load`) and typed again. A key the configuration does not have,
+/// a value of the wrong type, or two keys of which a configuration gives
+/// one, are refused in one line naming the key and the value.
 pub fn point_config(cfg: &LoadedConfig, point: &Point) -> Result<Config> {
     if point.vary.is_empty() {
         return Ok(cfg.config.clone());
@@ -285,8 +288,9 @@ pub fn point_config(cfg: &LoadedConfig, point: &Point) -> Result<Config> {
     let name = cfg.path.display().to_string();
     let what = |key: &str, value: &toml::Value| format!("{name}: [sweep.vary] \"{key}\" = {value}");
     let mut document = cfg.document.clone();
+    let mut given = Vec::new();
     for (key, value) in &point.vary {
-        config::set_value(&mut document, key, value.clone())
+        config::set_replacing(&mut document, key, value.clone(), &mut given)
             .map_err(|e| Error::Invalid(format!("{}: {e}", what(key, value))))?;
     }
     // Typed once all keys are set: keys that together make a section
@@ -299,8 +303,9 @@ pub fn point_config(cfg: &LoadedConfig, point: &Point) -> Result<Config> {
     // The key to name: the first whose value, set after those before it,
     // gives this same error.
     let mut partial = cfg.document.clone();
+    let mut given = Vec::new();
     for (key, value) in &point.vary {
-        config::set_value(&mut partial, key, value.clone()).expect("set above");
+        config::set_replacing(&mut partial, key, value.clone(), &mut given).expect("set above");
         if let Err(e) = config::parse_document(&partial, &name) {
             if parse_message(e) == message {
                 return Err(Error::Invalid(format!("{}: {message}", what(key, value))));

@@ -31,8 +31,9 @@ pub(super) fn theory_for(
     super::files::check_unchanged(&document, &base_dir)?;
     document.remove(super::files::FILES_KEY);
     // The combination's `[sweep.vary]` values, set as the sweep set them.
+    let mut given = Vec::new();
     for (key, value) in vary {
-        config::set_value(&mut document, key, value.clone())?;
+        config::set_replacing(&mut document, key, value.clone(), &mut given)?;
     }
     let name = path.display().to_string();
     let config = config::parse_document(&document, &name).map_err(|e| e.to_string())?;

@@ -1,7 +1,8 @@
 //! `[sweep.vary]` keys read as config paths: whitespace and a key given
 //! twice (after trimming, as `--set` trims) refused, a value listed twice
-//! refused, keys that make a missing section together accepted, and the
-//! number of combinations checked against its limit before anything runs.
+//! refused, keys that make a missing section together accepted, a key
+//! replacing its alternative as `--set` does, and the number of
+//! combinations checked against its limit before anything runs.
 
 use std::path::Path;
 use std::process::Command;
@@ -166,4 +167,62 @@ fn too_many_combinations_are_refused_before_anything_runs() {
     );
     let took = refused(&vary, &["100 x 101", "10100", "limit of 10000"]);
     assert!(took < Duration::from_secs(10), "{took:?}");
+}
+
+/// A key of a pair of which a configuration gives one (`q1` or `scales`,
+/// `rms_height` or `rms_slope`, `normal_load` or `mean_pressure`) replaces
+/// the configuration's own, as `--set key=value` does; two keys of one
+/// pair varied together are refused, as two `--set` of them are.
+#[test]
+fn a_varied_key_replaces_its_alternative_as_set_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(
+        dir.path(),
+        "\"surface.generate.q1\" = [1000.0, 1600.0]\n\"surface.generate.rms_height\" = [2e-6]\n\"loading.normal_load\" = [0.3]",
+    );
+    let out = dir.path().join("run");
+    let (ok, stdout, err) = viscoslide(&["sweep", &cfg, "--out", out.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(stdout.contains("2 points"), "{stdout}");
+    // The merge reads the pinned configuration back the same way.
+    assert!(!err.contains("points' own values"), "{err}");
+    let point: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("points").join("p0001.json")).unwrap(),
+    )
+    .unwrap();
+    let one = dir.path().join("one");
+    let (ok, _, err) = viscoslide(&[
+        "solve",
+        &cfg,
+        "--set",
+        "surface.generate.q1=1600.0",
+        "--set",
+        "surface.generate.rms_height=2e-6",
+        "--set",
+        "loading.normal_load=0.3",
+        "--set",
+        "loading.speed=0.05",
+        "--out",
+        one.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let solved: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(one.join("summary.json")).unwrap()).unwrap();
+    // The same problem: only the order of sums in threaded code may differ.
+    for key in [
+        "friction_coefficient",
+        "contact_area_fraction",
+        "normal_load",
+    ] {
+        let (a, b) = (point[key].as_f64().unwrap(), solved[key].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-9 * b.abs(), "{key}: {a} vs {b}");
+    }
+    refused(
+        "\"surface.generate.q1\" = [1000.0]\n\"surface.generate.scales\" = [4]",
+        &["exactly one of `scales`"],
+    );
+    refused(
+        "\"loading.normal_load\" = [0.3]\n\"loading.mean_pressure\" = [3000.0]",
+        &["normal_load"],
+    );
 }
