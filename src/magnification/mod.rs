@@ -179,7 +179,7 @@ impl Study {
                 let index = points.len();
                 points.push(StudyPoint {
                     index,
-                    id: format!("p{index:04}"),
+                    id: crate::sweep::store::point_id(index),
                     level,
                     speed,
                 });

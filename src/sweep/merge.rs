@@ -156,13 +156,28 @@ fn read_points(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<Point
         .map(|t| super::store::study_id(&t))
         .map_err(|e| Error::io(&pin, e))?;
     let mut foreign = 0;
+    // Files holding another point than their name says (copied or renamed
+    // by hand): a rerun solves the named point again, so they are no result
+    // of it here either.
+    let mut misplaced = Vec::new();
     let mut out = Vec::new();
     for path in names {
         let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-        let v: PointFile = serde_json::from_str(&text)
-            .map_err(|e| Error::Invalid(format!("{}: not a point result: {e}", path.display())))?;
+        let not_a_point = |e: serde_json::Error| {
+            Error::Invalid(format!("{}: not a point result: {e}", path.display()))
+        };
+        let value: serde_json::Value = serde_json::from_str(&text).map_err(not_a_point)?;
+        let v = PointFile::deserialize(&value).map_err(not_a_point)?;
         if v.study.as_deref() != Some(study.as_str()) {
             foreign += 1;
+            continue;
+        }
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        if let Err(held) = super::store::records(&value, &stem) {
+            misplaced.push(format!("{stem}.json holds {held}"));
             continue;
         }
         out.push(PointResult {
@@ -191,6 +206,19 @@ fn read_points(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<Point
             "{foreign} point files in {} belong to another study than {} pins; left out",
             points_dir.display(),
             pin.display()
+        ));
+    }
+    if !misplaced.is_empty() {
+        const SHOWN: usize = 5;
+        let mut named: Vec<String> = misplaced.iter().take(SHOWN).cloned().collect();
+        if misplaced.len() > SHOWN {
+            named.push(format!("and {} more", misplaced.len() - SHOWN));
+        }
+        observer.note(&format!(
+            "{} point files in {} hold another point than their name says ({}); left out (a rerun of the sweep solves the points they are named for)",
+            misplaced.len(),
+            points_dir.display(),
+            named.join(", ")
         ));
     }
     if out.is_empty() {

@@ -11,7 +11,7 @@ mod master;
 mod merge;
 mod plan;
 mod row;
-mod store;
+pub(crate) mod store;
 mod theory;
 
 pub use crate::config::SweepConfig;

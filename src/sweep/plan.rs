@@ -182,7 +182,7 @@ impl SweepPlan {
                         let index = points.len();
                         points.push(Point {
                             index,
-                            id: format!("p{index:04}"),
+                            id: super::store::point_id(index),
                             speed: if xi {
                                 Sliding::Xi(v)
                             } else {

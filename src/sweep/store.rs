@@ -7,7 +7,9 @@
 //! The pin is written once (the first writer's stays; a writer that finds
 //! another one is refused), and every point file records the study it
 //! belongs to (`"study"`, a hash of the pin): a point counts as done only
-//! for the study it was solved for.
+//! for the study it was solved for, and only in its own file (the point it
+//! records, `"point"`, is the one its file name says: a file copied or
+//! renamed onto another point's name is no result of that point).
 
 use std::path::{Path, PathBuf};
 
@@ -18,6 +20,43 @@ use crate::io::atomic::{write_atomic, write_new};
 
 /// Key of a point file naming its study.
 pub const STUDY_KEY: &str = "study";
+
+/// Key of a point file recording the point it holds (its `index` in the
+/// plan, and its `id` where the study records one).
+pub const POINT_KEY: &str = "point";
+
+/// The file stem of the point at plan position `index`: `p0000`, `p0001`,
+/// ... (more digits past 9999).
+pub fn point_id(index: usize) -> String {
+    format!("p{index:04}")
+}
+
+/// The plan position of the point whose file stem is `id`; `None` for a
+/// name [`point_id`] does not make.
+pub fn point_index(id: &str) -> Option<usize> {
+    let index = id.strip_prefix('p')?.parse().ok()?;
+    (point_id(index) == id).then_some(index)
+}
+
+/// Whether the point file `value`, found under the name `id`, records
+/// that point: its `point.index` is the one `id` names, and so is its
+/// `point.id` where it records one. `Err` says which point it records
+/// instead (for a message).
+pub fn records(value: &Value, id: &str) -> std::result::Result<(), String> {
+    let point = value.get(POINT_KEY);
+    let index = point
+        .and_then(|p| p.get("index"))
+        .and_then(Value::as_u64)
+        .and_then(|i| usize::try_from(i).ok());
+    let recorded = point.and_then(|p| p.get("id")).and_then(Value::as_str);
+    match (index, recorded) {
+        (None, _) => Err("no point".into()),
+        (Some(i), Some(r)) if r != point_id(i) => Err(format!("{r} at index {i}")),
+        (_, Some(r)) if r != id => Err(r.to_string()),
+        (Some(i), _) if Some(i) != point_index(id) => Err(point_id(i)),
+        _ => Ok(()),
+    }
+}
 
 /// The `points/` folder of a study directory, its pin checked.
 #[derive(Debug, Clone)]
@@ -77,12 +116,13 @@ impl PointStore {
 
     /// The finished point `id` of this study: its file parses, has `key`
     /// (a point cut off mid-write never has a file at all; the key guards
-    /// against files of another kind) and names this study.
+    /// against files of another kind), names this study and records point
+    /// `id` ([`records`]). Any other file is solved again, and replaced.
     pub fn read(&self, id: &str, key: &str) -> Option<Value> {
         std::fs::read_to_string(self.path(id))
             .ok()
             .and_then(|t| serde_json::from_str::<Value>(&t).ok())
-            .filter(|v| v.get(key).is_some() && self.owns(v))
+            .filter(|v| v.get(key).is_some() && self.owns(v) && records(v, id).is_ok())
     }
 
     /// Whether point `id` is finished (see [`PointStore::read`]).
@@ -109,5 +149,37 @@ impl PointStore {
                 .as_bytes(),
         )?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn ids_and_indices_are_one_naming() {
+        assert_eq!(point_id(5), "p0005");
+        assert_eq!(point_id(12345), "p12345");
+        assert_eq!(point_index("p0005"), Some(5));
+        assert_eq!(point_index("p12345"), Some(12345));
+        for bad in ["p5", "p00005", "q0005", "p", "p-001", "p0005.json"] {
+            assert_eq!(point_index(bad), None, "{bad}");
+        }
+    }
+
+    #[test]
+    fn a_file_records_the_point_its_name_says_or_not() {
+        let sweep = json!({ "point": { "index": 5, "id": "p0005" } });
+        assert_eq!(records(&sweep, "p0005"), Ok(()));
+        assert_eq!(records(&sweep, "p0004"), Err("p0005".into()));
+        // A study that records the index alone (magnification).
+        let level = json!({ "point": { "index": 4, "level": 1 } });
+        assert_eq!(records(&level, "p0004"), Ok(()));
+        assert_eq!(records(&level, "p0005"), Err("p0004".into()));
+        // An id that disagrees with its own index.
+        let odd = json!({ "point": { "index": 4, "id": "p0005" } });
+        assert_eq!(records(&odd, "p0005"), Err("p0005 at index 4".into()));
+        assert!(records(&json!({}), "p0000").is_err());
     }
 }

@@ -2,7 +2,8 @@
 //! into a directory another run is writing fails at once, naming the
 //! directory and the process that holds it, and the first run's output is
 //! that of a run alone; the shards of one sweep share the directory; a
-//! point file counts as done only for the study it was solved for.
+//! point file counts as done only for the study it was solved for, and
+//! only under the name of the point it holds.
 //!
 //! `VISCOSLIDE_TEST_FAULT=slow-point` slows every point's write by half a
 //! second (a slow file system), so the second writer starts while the
@@ -181,6 +182,49 @@ fn a_point_of_another_study_is_not_counted_as_done() {
         "{}",
         text(&again.stdout)
     );
+    assert_eq!(std::fs::read_to_string(out.join("sweep.csv")).unwrap(), csv);
+}
+
+/// A point file copied onto another point's name is no result of that
+/// point: a merge leaves it out and names it (never counting the point it
+/// holds twice), and a rerun solves the named point again, replacing it.
+#[test]
+fn a_point_file_under_another_points_name_is_solved_again() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), SWEEP);
+    let out = tmp.path().join("out");
+    let first = run(&["sweep", &cfg, "--out", &s(&out)]);
+    assert!(first.status.success(), "{}", text(&first.stderr));
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    // p0004 and p0005 are xi = 0.01 with seeds 1 and 2.
+    let points = out.join("points");
+    std::fs::copy(points.join("p0004.json"), points.join("p0005.json")).unwrap();
+    let refused = run(&["merge", &s(&out)]);
+    assert!(!refused.status.success());
+    let err = text(&refused.stderr);
+    assert!(
+        err.contains("1 of the sweep's 6 points are missing: p0005"),
+        "{err}"
+    );
+    assert!(err.contains("p0005.json holds p0004"), "{err}");
+    let merged = run(&["merge", &s(&out), "--partial"]);
+    assert!(merged.status.success(), "{}", text(&merged.stderr));
+    let partial = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let last: Vec<&str> = partial.lines().last().unwrap().split(',').collect();
+    assert_eq!(last[3], "1", "one realisation of xi = 0.01: {partial}");
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("merge.json")).unwrap()).unwrap();
+    assert_eq!(record["points_merged"], 5, "{record}");
+    let again = run(&["sweep", &cfg, "--out", &s(&out)]);
+    assert!(again.status.success(), "{}", text(&again.stderr));
+    assert!(
+        text(&again.stdout).contains("5 already done, 1 solved now"),
+        "{}",
+        text(&again.stdout)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(points.join("p0005.json")).unwrap()).unwrap();
+    assert_eq!(v["point"]["id"], "p0005", "{v}");
     assert_eq!(std::fs::read_to_string(out.join("sweep.csv")).unwrap(), csv);
 }
 
