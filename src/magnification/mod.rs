@@ -388,6 +388,7 @@ pub fn run(
             PIN_FILE,
             &study.pin_text(),
             "magnification study",
+            mode,
         )?),
         None => None,
     };

@@ -164,7 +164,7 @@ pub fn run_and_merge(
         LockMode::Shared
     };
     let _lock = StudyLock::acquire(dir, mode)?;
-    let store = pin_config(cfg, &files, dir)?;
+    let store = pin_config(cfg, &files, dir, mode)?;
     let mine: Vec<&Point> = plan
         .points
         .iter()
@@ -338,12 +338,18 @@ fn parse_message(e: config::ConfigError) -> String {
 
 /// Record the configuration and the content of the `files` it reads in
 /// `dir`, or check that they match those recorded there: a sweep
-/// directory holds the points of one configuration.
-/// The caller holds the directory's lock.
-fn pin_config(cfg: &LoadedConfig, files: &[files::PinnedFile], dir: &Path) -> Result<PointStore> {
+/// directory holds the points of one configuration (a run holding it
+/// alone replaces a pin without points: [`PointStore::open`]).
+/// The caller holds the directory's lock in `mode`.
+fn pin_config(
+    cfg: &LoadedConfig,
+    files: &[files::PinnedFile],
+    dir: &Path,
+    mode: LockMode,
+) -> Result<PointStore> {
     let pinned = files::with_files(cfg.document.clone(), files);
     let text = toml::to_string(&pinned).expect("a parsed document serialises");
-    let store = PointStore::open(dir, CONFIG_FILE, &text, "sweep")?;
+    let store = PointStore::open(dir, CONFIG_FILE, &text, "sweep", mode)?;
     // Where the pinned configuration's relative paths point (for `merge`,
     // which rebuilds Persson's theory from it); not part of the pin.
     let base = std::fs::canonicalize(&cfg.base_dir).unwrap_or_else(|_| cfg.base_dir.clone());

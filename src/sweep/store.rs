@@ -5,7 +5,10 @@
 //! sharding work the same way for every study made of independent points.
 //!
 //! The pin is written once (the first writer's stays; a writer that finds
-//! another one is refused), and every point file records the study it
+//! another one is refused, unless it holds the directory alone and the
+//! pinned study has no finished point: a run that failed or was stopped
+//! before its first point does not keep the directory from a corrected
+//! one), and every point file records the study it
 //! belongs to (`"study"`, a hash of the pin): a point counts as done only
 //! for the study it was solved for, and only in its own file (the point it
 //! records, `"point"`, is the one its file name says: a file copied or
@@ -17,6 +20,7 @@ use serde_json::Value;
 
 use crate::error::{Error, Result};
 use crate::io::atomic::{write_atomic, write_new};
+use crate::io::LockMode;
 
 /// Key of a point file naming its study.
 pub const STUDY_KEY: &str = "study";
@@ -36,6 +40,24 @@ pub fn point_id(index: usize) -> String {
 pub fn point_index(id: &str) -> Option<usize> {
     let index = id.strip_prefix('p')?.parse().ok()?;
     (point_id(index) == id).then_some(index)
+}
+
+/// Whether the `points/` folder `points` holds a point file (of any study:
+/// only a folder without one leaves nothing to mix); a missing folder holds
+/// none.
+fn has_point_files(points: &Path) -> Result<bool> {
+    let entries = match std::fs::read_dir(points) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(false),
+        Err(e) => return Err(Error::io(points, e)),
+    };
+    for entry in entries {
+        let path = entry.map_err(|e| Error::io(points, e))?.path();
+        if path.extension().is_some_and(|x| x == "json") {
+            return Ok(true);
+        }
+    }
+    Ok(false)
 }
 
 /// Whether the point file `value`, found under the name `id`, records
@@ -77,11 +99,18 @@ impl PointStore {
     /// (once: of two writers racing, one pin stays) or checks that the one
     /// recorded is the same (a directory holds the points of one study;
     /// `what` names the study in the error), and creates `dir/points/`.
-    /// The caller holds the directory's lock
-    /// ([`crate::io::StudyLock`]).
-    pub fn open(dir: &Path, pin_file: &str, pin_text: &str, what: &str) -> Result<Self> {
+    /// The caller holds the directory's lock ([`crate::io::StudyLock`]) in
+    /// `mode`: holding it alone, it replaces the pin of another study that
+    /// has no point file (no other writer can be at work on that study).
+    pub fn open(
+        dir: &Path,
+        pin_file: &str,
+        pin_text: &str,
+        what: &str,
+        mode: LockMode,
+    ) -> Result<Self> {
         let pinned = dir.join(pin_file);
-        let ours = match std::fs::read_to_string(&pinned) {
+        let mut ours = match std::fs::read_to_string(&pinned) {
             Ok(old) => old == pin_text,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
                 write_new(&pinned, pin_text.as_bytes())?
@@ -89,6 +118,20 @@ impl PointStore {
             }
             Err(e) => return Err(Error::io(&pinned, e)),
         };
+        let points = dir.join("points");
+        if !ours && !has_point_files(&points)? {
+            if mode == LockMode::Exclusive {
+                write_atomic(&pinned, pin_text.as_bytes())?;
+                ours = true;
+            } else {
+                // Sharing the directory, this writer cannot tell whether a
+                // shard of the pinned study is at work on its first point.
+                return Err(Error::Invalid(format!(
+                    "{} holds a {what} made with a different configuration and no finished point yet (a shard of it may be at work); a run without --shard replaces it, or use another --out directory",
+                    dir.display()
+                )));
+            }
+        }
         if !ours {
             // A file the configuration reads, changed, is named.
             let changed = std::fs::read_to_string(&pinned)
@@ -101,7 +144,6 @@ impl PointStore {
                 )
             })));
         }
-        let points = dir.join("points");
         std::fs::create_dir_all(&points).map_err(|e| Error::io(&points, e))?;
         Ok(Self {
             points,

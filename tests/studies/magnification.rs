@@ -433,6 +433,39 @@ fn shards_resume_and_the_report_match_one_run() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A study whose first point fails keeps its directory from no corrected
+/// study: with no finished point, a run holding the directory alone
+/// replaces its pin.
+#[test]
+fn a_study_that_finished_no_point_does_not_keep_its_directory() {
+    let dir = tmp("no-point");
+    let path = write_config(&dir, CONFIG);
+    let cfg = path.to_str().unwrap();
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let study = [
+        "magnification",
+        cfg,
+        "--scales=3,5",
+        "--backend",
+        "cpu",
+        "--out",
+        o,
+    ];
+    let failing = [&study[..], &["--set", "solver.max_matvecs=1"]].concat();
+    let (ok, _, err) = viscoslide(&failing);
+    assert!(!ok, "{err}");
+    assert!(out.join("magnification.toml").is_file());
+    assert!(points(&out).is_empty());
+    let (ok, stdout, err) = viscoslide(&study);
+    assert!(ok, "{err}");
+    assert!(stdout.contains("0 already done, 2 solved now"), "{stdout}");
+    assert!(out.join("magnification.json").is_file());
+    let (ok, _, err) = viscoslide(&failing);
+    assert!(!ok && err.contains("different configuration"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn refused_studies_write_nothing() {
     let dir = tmp("refusals");

@@ -1,5 +1,6 @@
 //! Sweeps: resume after interruption without recomputation, exact shards,
-//! deterministic order-independent merge, refusal of a changed config.
+//! deterministic order-independent merge, refusal of a changed config (but
+//! not of a directory whose sweep finished no point).
 
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -202,6 +203,39 @@ fn changed_config_in_an_existing_directory_is_refused() {
     assert!(!ok);
     assert!(err.contains("different configuration"), "{err}");
     assert_eq!(point_times(&tmp.path().join("run")).len(), 1);
+}
+
+/// A sweep whose first point fails leaves a pin and no finished point:
+/// the corrected sweep takes the directory over (its pin replaced) when it
+/// holds it alone; a shard, which cannot tell whether another shard of the
+/// pinned sweep is at work, is refused; once a point exists another
+/// configuration is refused again.
+#[test]
+fn a_sweep_that_finished_no_point_does_not_keep_its_directory() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), CONFIG);
+    let out = tmp.path().join("run");
+    let o = out.display().to_string();
+    let failing = ["sweep", &cfg, "--out", &o, "--set", "solver.max_matvecs=1"];
+    let (ok, err) = viscoslide(&failing);
+    assert!(!ok, "{err}");
+    assert!(out.join("sweep.toml").is_file());
+    assert!(point_times(&out).is_empty());
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o, "--shard", "0/2"]);
+    assert!(!ok);
+    assert!(err.contains("no finished point yet"), "{err}");
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o, "--limit", "1"]);
+    assert!(ok, "{err}");
+    assert_eq!(point_times(&out).len(), 1);
+    let (ok, err) = viscoslide(&failing);
+    assert!(!ok);
+    assert!(err.contains("different configuration"), "{err}");
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o, "--shard", "1/2"]);
+    assert!(ok, "{err}");
+    let (ok, err) = viscoslide(&["sweep", &cfg, "--out", &o]);
+    assert!(ok, "{err}");
+    assert_eq!(point_times(&out).len(), 6);
+    assert!(out.join("sweep.csv").is_file());
 }
 
 #[test]
