@@ -121,6 +121,36 @@ def test_surface_topography_x3p_with_a_wrong_checksum_is_refused(cli, tmp_path):
     assert not (tmp_path / "x.npy").exists()
 
 
+def test_a_text_matrix_written_by_surface_topography_is_read_with_its_header(cli, tmp_path):
+    """``Topography.to_matrix`` writes one row per y under a header of the
+    sides and the unit: read with axis 0 = x, in metres, with the header's
+    sides, equal element by element, by the command line and by
+    ``Surface.from_file``; a side given must agree with the header."""
+    h = np.random.default_rng(1).standard_normal((32, 24))
+    path = tmp_path / "st_um.txt"
+    Topography(h, (320.0, 240.0), unit="um").to_matrix(str(path))
+    truth = h * 1e-6
+    for extra in [(), ("--length", "320e-6")]:
+        cli("surface", "convert", str(path), str(tmp_path / "read.npy"), *extra)
+        ours = np.load(tmp_path / "read.npy")
+        assert ours.shape == (32, 24)
+        assert np.array_equal(ours, truth)
+    s = stats_json(cli, path)["stats"]
+    assert s["length_x"] == pytest.approx(320e-6, rel=1e-12)
+    assert s["length_y"] == pytest.approx(240e-6, rel=1e-12)
+    raw = vs.Surface.from_file(path, detrend="none")
+    assert raw.shape == (32, 24)
+    assert np.array_equal(raw.heights, truth)
+    assert raw.physical_sizes == pytest.approx((320e-6, 240e-6), rel=1e-12)
+    same = vs.Surface.from_file(path, length=320e-6, length_y=240e-6, detrend="none")
+    assert np.array_equal(same.heights, truth)
+    with pytest.raises(ValueError, match="length_y"):
+        vs.Surface.from_file(path, length_y=1e-3)
+    # SurfaceTopography reads the file back as the same map.
+    back = SurfaceTopography.open_topography(str(path)).topography().to_unit("m")
+    np.testing.assert_allclose(back.heights(), truth, rtol=1e-15, atol=0.0)
+
+
 # --- The one preprocessing rule ------------------------------------------
 
 

@@ -162,7 +162,10 @@ class Surface:
         periodic: bool = False,
     ) -> "Surface":
         """A surface read from ``path``: ``.x3p``, ``.gwy`` (sizes from the
-        file), ``.npy`` or a text matrix (``length`` [m] along x needed).
+        file), ``.npy`` or a text matrix (``length`` [m] along x needed),
+        or a text matrix with a size header as SurfaceTopography's
+        ``to_matrix`` writes it (rows along y; sides and height unit from
+        the header, which ``length``/``length_y`` must agree with).
 
         ``format`` (``"x3p"``, ``"gwy"``, ``"npy"``, ``"text"``) overrides the
         extension; ``fill_missing`` fills missing points by harmonic

@@ -9,7 +9,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use super::{npy_bytes_of, MissingData, NpyPrecision, SurfaceError, Topography, X3pType};
+use super::{npy_bytes_of, Axis, MissingData, NpyPrecision, SurfaceError, Topography, X3pType};
 use crate::io::npy;
 
 /// A surface file format.
@@ -113,6 +113,11 @@ fn not_text(path: &Path, name: &str) -> String {
 
 pub fn read_topography(path: &Path, opts: &ReadOptions) -> Result<Topography, SurfaceError> {
     let name = path.display().to_string();
+    if opts.format.is_none() && has_extension(path, "xyz") {
+        return Err(SurfaceError::Invalid(super::text::point_list_refusal(
+            &name,
+        )));
+    }
     let format = opts
         .format
         .unwrap_or_else(|| SurfaceFormat::from_path(path));
@@ -120,9 +125,9 @@ pub fn read_topography(path: &Path, opts: &ReadOptions) -> Result<Topography, Su
         SurfaceFormat::X3p => super::x3p::read_x3p(path)?,
         SurfaceFormat::Gwy => super::gwy::read_gwy(path)?,
         SurfaceFormat::Npy | SurfaceFormat::Text => {
-            let (shape, data) = if format == SurfaceFormat::Npy {
+            let (shape, data, sides) = if format == SurfaceFormat::Npy {
                 let a = npy::read(path)?;
-                (a.shape, a.data)
+                (a.shape, a.data, (None, None))
             } else {
                 let text = std::fs::read_to_string(path).map_err(|source| {
                     if source.kind() == std::io::ErrorKind::InvalidData {
@@ -134,17 +139,24 @@ pub fn read_topography(path: &Path, opts: &ReadOptions) -> Result<Topography, Su
                         }
                     }
                 })?;
-                super::io::text_matrix(&text, &name)?
+                let m = super::text::text_matrix(&text, &name)?;
+                (vec![m.nx, m.ny], m.heights, (m.length_x, m.length_y))
             };
             if shape.len() != 2 || shape[0] < 2 || shape[1] < 2 {
                 return Err(SurfaceError::Shape { path: name, shape });
             }
-            let lx = opts.length.ok_or_else(|| {
-                SurfaceError::Invalid(format!(
-                    "{name}: a {format:?} file carries no physical size; give the side along x \
-                     (--length, or `length` in [surface]), in m"
-                ))
-            })?;
+            let lx = match sides.0 {
+                Some(file) => {
+                    check_side(&name, opts.length, file, Axis::X)?;
+                    file
+                }
+                None => opts.length.ok_or_else(|| {
+                    SurfaceError::Invalid(format!(
+                        "{name}: a {format:?} file carries no physical size; give the side along x \
+                         (--length, or `length` in [surface]), in m"
+                    ))
+                })?,
+            };
             if !(lx.is_finite() && lx > 0.0) {
                 return Err(SurfaceError::param(
                     "length",
@@ -154,10 +166,14 @@ pub fn read_topography(path: &Path, opts: &ReadOptions) -> Result<Topography, Su
             }
             let (nx, ny) = (shape[0], shape[1]);
             let dx = lx / nx as f64;
-            let dy = match opts.length_y {
-                None => dx,
-                Some(ly) if ly.is_finite() && ly > 0.0 => ly / ny as f64,
-                Some(ly) => {
+            let dy = match (sides.1, opts.length_y) {
+                (Some(file), given) => {
+                    check_side(&name, given, file, Axis::Y)?;
+                    file / ny as f64
+                }
+                (None, None) => dx,
+                (None, Some(ly)) if ly.is_finite() && ly > 0.0 => ly / ny as f64,
+                (None, Some(ly)) => {
                     return Err(SurfaceError::param(
                         "length_y",
                         ly,
@@ -168,18 +184,36 @@ pub fn read_topography(path: &Path, opts: &ReadOptions) -> Result<Topography, Su
             return finish(Topography::new(nx, ny, dx, dy, data, &name)?, opts, &name);
         }
     };
-    let check = |given: Option<f64>, file: f64, what: &str| {
-        match given {
-        Some(g) if ((g - file) / file).abs() > 1e-6 => Err(SurfaceError::Invalid(format!(
-            "{name}: the file gives a side of {file:.6e} m along {what}, but {g:.6e} m was given; drop the length"
+    check_side(&name, opts.length, topo.length_x(), Axis::X)?;
+    check_side(&name, opts.length_y, topo.length_y(), Axis::Y)?;
+    topo.filled = 0;
+    finish(topo, opts, &name)
+}
+
+fn has_extension(path: &Path, ext: &str) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+}
+
+/// A side given (`--length`/`length` along x, `--length-y`/`length_y`
+/// along y) must agree with the side the file states, to 1e-6; the error
+/// names both and the option to drop.
+pub(super) fn check_side(
+    name: &str,
+    given: Option<f64>,
+    file: f64,
+    axis: Axis,
+) -> Result<(), SurfaceError> {
+    let (what, option) = match axis {
+        Axis::X => ("x", "`--length` (`length` in [surface])"),
+        Axis::Y => ("y", "`--length-y` (`length_y` in [surface])"),
+    };
+    match given {
+        Some(g) if ((g - file) / file).abs() > 1e-6 || g.is_nan() => Err(SurfaceError::Invalid(format!(
+            "{name}: the file gives a side of {file:.6e} m along {what}, but {g:.6e} m was given; drop {option}"
         ))),
         _ => Ok(()),
     }
-    };
-    check(opts.length, topo.length_x(), "x")?;
-    check(opts.length_y, topo.length_y(), "y")?;
-    topo.filled = 0;
-    finish(topo, opts, &name)
 }
 
 fn finish(

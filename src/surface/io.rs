@@ -1,6 +1,7 @@
 //! Height-map files: NumPy `.npy` (float64 or float32, C or Fortran order;
-//! axis 0 = x) and plain-text matrices (one row per x index, numbers separated
-//! by whitespace or commas, `#` starts a comment). Every loaded map is
+//! axis 0 = x) and plain-text matrices ([`super::text`]: one row per x
+//! index, or per y index under a size header; numbers separated by
+//! whitespace or commas, `#` starts a comment). Every loaded map is
 //! validated: 2-D, at least 2 x 2 cells, finite heights, side `length > 0`.
 
 use std::path::Path;
@@ -69,52 +70,23 @@ pub fn load_npy(path: &Path, length: f64) -> Result<HeightMap, SurfaceError> {
     build(&path.display().to_string(), a.shape, a.data, length)
 }
 
-/// Parse a plain-text matrix: rows of numbers separated by whitespace and/or
-/// commas; `#` starts a comment; blank lines are skipped. Row `i` is the x
-/// index. `name` is used in error messages.
+/// Parse a plain-text matrix (see [`super::text`]): rows of numbers
+/// separated by whitespace and/or commas, `#` starts a comment, blank lines
+/// are skipped; row `i` is the x index, or, under a `# Width:`/`# Height:`
+/// header (SurfaceTopography's `to_matrix`), row `j` the y index with the
+/// sides and the height unit of the header. `length` \[m\] is the side
+/// along x and must agree with the header's. `name` is used in error
+/// messages.
 pub fn parse_text(text: &str, name: &str, length: f64) -> Result<HeightMap, SurfaceError> {
-    let (shape, heights) = text_matrix(text, name)?;
-    build(name, shape, heights, length)
-}
-
-/// The rows of numbers of a plain-text matrix (see [`parse_text`]): its
-/// shape `[rows, columns]` and the values in row order, not yet validated.
-pub(super) fn text_matrix(text: &str, name: &str) -> Result<(Vec<usize>, Vec<f64>), SurfaceError> {
-    let mut heights = Vec::new();
-    let mut ncols: Option<usize> = None;
-    let mut nrows = 0;
-    for (lineno, raw) in text.lines().enumerate() {
-        let line = raw.split('#').next().unwrap_or("");
-        let tokens: Vec<&str> = line
-            .split(|c: char| c == ',' || c.is_whitespace())
-            .filter(|t| !t.is_empty())
-            .collect();
-        if tokens.is_empty() {
-            continue;
-        }
-        match ncols {
-            None => ncols = Some(tokens.len()),
-            Some(n) if n != tokens.len() => {
-                return Err(SurfaceError::Ragged {
-                    path: name.to_string(),
-                    line: lineno + 1,
-                    expected: n,
-                    found: tokens.len(),
-                })
-            }
-            _ => {}
-        }
-        for t in tokens {
-            let v: f64 = t.parse().map_err(|_| SurfaceError::TextNumber {
-                path: name.to_string(),
-                line: lineno + 1,
-                token: t.to_string(),
-            })?;
-            heights.push(v);
-        }
-        nrows += 1;
+    let m = super::text::text_matrix(text, name)?;
+    if let Some(lx) = m.length_x {
+        super::format::check_side(name, Some(length), lx, super::Axis::X)?;
     }
-    Ok((vec![nrows, ncols.unwrap_or(0)], heights))
+    let mut map = build(name, vec![m.nx, m.ny], m.heights, length)?;
+    if let Some(ly) = m.length_y {
+        map.cell_size_y = ly / m.ny as f64;
+    }
+    Ok(map)
 }
 
 /// Read a plain-text height map (see [`parse_text`]).

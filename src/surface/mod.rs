@@ -20,6 +20,7 @@ mod psd_table;
 mod resample;
 mod stitch;
 mod synth;
+mod text;
 mod topography;
 mod x3p;
 

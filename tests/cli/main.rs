@@ -12,3 +12,4 @@ mod new_user;
 mod output_faults;
 mod size_guards;
 mod solve;
+mod surface_files;

@@ -78,6 +78,28 @@ fn text_matrix_reads_rows_as_x() {
     assert_eq!(m.at(2, 2), 9.0);
 }
 
+/// Under a size header (SurfaceTopography's `to_matrix`) rows are y, and
+/// the sides and heights are in the header's units.
+#[test]
+fn text_matrix_under_a_size_header_reads_rows_as_y() {
+    let text = "# Width: 3 mm\n# Height: 4 mm\n# Value units: nm\n1 2 3\n4 5 6\n";
+    let m = parse_text(text, "st.txt", 3e-3).unwrap();
+    assert_eq!((m.nx, m.ny), (3, 2));
+    assert!((m.cell_size / 1e-3 - 1.0).abs() < 1e-12, "{}", m.cell_size);
+    assert!(
+        (m.cell_size_y / 2e-3 - 1.0).abs() < 1e-12,
+        "{}",
+        m.cell_size_y
+    );
+    assert_eq!(m.at(2, 0), 3.0 * 1e-9);
+    assert_eq!(m.at(0, 1), 4.0 * 1e-9);
+    let e = parse_text(text, "st.txt", 1e-3).unwrap_err().to_string();
+    assert!(
+        e.contains("3.000000e-3") && e.contains("1.000000e-3"),
+        "{e}"
+    );
+}
+
 fn write(dir: &Path, name: &str, bytes: &[u8]) -> std::path::PathBuf {
     let p = dir.join(name);
     std::fs::write(&p, bytes).unwrap();
