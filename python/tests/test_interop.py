@@ -121,6 +121,34 @@ def test_surface_topography_x3p_with_a_wrong_checksum_is_refused(cli, tmp_path):
     assert not (tmp_path / "x.npy").exists()
 
 
+@pytest.mark.parametrize("how", ["truncated", "garbage", "absent"])
+def test_surface_topography_x3p_without_a_readable_checksum_file_is_refused(cli, tmp_path, how):
+    """A ``md5checksum.hex`` that holds no checksum, or that main.xml names
+    (Record4) but the archive lacks, is a corrupted file: one line naming
+    the file, nothing written. SurfaceTopography's own file reads."""
+    import zipfile
+
+    path = tmp_path / "st.x3p"
+    Topography(asymmetric(), physical_sizes=(6.0, 3.5), unit="um").to_x3p(str(path))
+    cli("surface", "convert", str(path), str(tmp_path / "ok.npy"))
+    bad = tmp_path / "bad.x3p"
+    with zipfile.ZipFile(path) as zin, zipfile.ZipFile(bad, "w") as zout:
+        for item in zin.infolist():
+            data = zin.read(item.filename)
+            if item.filename == "md5checksum.hex":
+                if how == "absent":
+                    continue
+                data = data[:20] if how == "truncated" else b"not a checksum\n"
+            zout.writestr(item, data)
+    with pytest.raises(AssertionError) as err:
+        cli("surface", "convert", str(bad), str(tmp_path / "x.npy"))
+    lines = [line for line in str(err.value).splitlines() if line.startswith("error:") and "corrupted" in line]
+    assert len(lines) == 1 and "md5checksum.hex" in lines[0], str(err.value)
+    assert not (tmp_path / "x.npy").exists()
+    with pytest.raises(ValueError, match="corrupted"):
+        vs.Surface.from_file(bad)
+
+
 def test_a_text_matrix_written_by_surface_topography_is_read_with_its_header(cli, tmp_path):
     """``Topography.to_matrix`` writes one row per y under a header of the
     sides and the unit: read with axis 0 = x, in metres, with the header's

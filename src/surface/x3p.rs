@@ -236,11 +236,12 @@ fn check_md5(
 }
 
 /// Verify the checksum file `sum_file` (text `text`, `md5sum` format:
-/// `<hex> *<member>` or `<hex>  <member>`, or a bare `<hex>`) against the
-/// member it names: `main.xml` per ISO 25178-72 (also when no member is
-/// named), or another member of the archive (SurfaceTopography names
-/// `bindata/data.bin`). A checksum that does not match its member, or that
-/// names a member the archive lacks, is an error naming both.
+/// `<hex> *<member>` or `<hex>  <member>`, or a bare `<hex>`, hex digits in
+/// either case) against the member it names: `main.xml` per ISO 25178-72
+/// (also when no member is named), or another member of the archive
+/// (SurfaceTopography names `bindata/data.bin`). A checksum file that
+/// holds no 32-digit checksum, a checksum that does not match its member,
+/// or one that names a member the archive lacks, is an error naming them.
 fn verify_checksum_file<R: Read + std::io::Seek>(
     zip: &mut zip::ZipArchive<R>,
     sum_file: &str,
@@ -250,6 +251,7 @@ fn verify_checksum_file<R: Read + std::io::Seek>(
 ) -> Result<(), SurfaceError> {
     let text = String::from_utf8_lossy(text);
     let line = text
+        .trim_start_matches('\u{feff}')
         .lines()
         .map(str::trim)
         .find(|l| !l.is_empty())
@@ -258,10 +260,14 @@ fn verify_checksum_file<R: Read + std::io::Seek>(
         Some((hex, rest)) => (hex, rest.trim().trim_start_matches('*').trim()),
         None => (line, ""),
     };
-    let expected = expected.to_ascii_lowercase();
     if expected.len() != 32 || !expected.bytes().all(|b| b.is_ascii_hexdigit()) {
-        return Ok(());
+        let shown: String = expected.chars().take(40).collect();
+        return Err(fail(
+            name,
+            format!("{sum_file} holds '{shown}', not an MD5 checksum (32 hex digits): the file is corrupted"),
+        ));
     }
+    let expected = expected.to_ascii_lowercase();
     let member = if member.is_empty() {
         "main.xml"
     } else {
@@ -306,12 +312,19 @@ pub fn decode_x3p(bytes: &[u8], name: &str) -> Result<Topography, SurfaceError> 
     let leaves = xml_leaves(xml).map_err(|e| fail(name, e))?;
     let doc = Doc::new(name, &leaves);
 
-    // md5checksum.hex (Record4) against the member it names.
+    // md5checksum.hex (Record4) against the member it names. The writers
+    // that name it (the openGPS reference library, SurfaceTopography, R's
+    // x3ptools, viscoslide) all put it into the archive: named but absent,
+    // the archive is damaged.
     if let Some(sum_file) = doc.get("Record4/ChecksumFile") {
-        if zip.index_for_name(sum_file).is_some() {
-            let text = read_entry(&mut zip, sum_file, name)?;
-            verify_checksum_file(&mut zip, sum_file, &text, &xml_bytes, name)?;
+        if zip.index_for_name(sum_file).is_none() {
+            return Err(fail(
+                name,
+                format!("main.xml names the checksum file '{sum_file}' (Record4), which the archive does not have: the file is corrupted"),
+            ));
         }
+        let text = read_entry(&mut zip, sum_file, name)?;
+        verify_checksum_file(&mut zip, sum_file, &text, &xml_bytes, name)?;
     }
 
     if let Some(ft) = doc.get("Record1/FeatureType") {

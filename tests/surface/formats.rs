@@ -243,6 +243,65 @@ fn x3p_checksum_file_is_verified_against_the_member_it_names() {
     assert!(!e.contains('\n'), "{e}");
 }
 
+/// A checksum file that holds no 32-digit checksum (truncated, garbage,
+/// empty) is a corrupted file, as is a checksum file main.xml names
+/// (Record4) that the archive lacks; the forms writers use (upper-case hex
+/// as SurfaceTopography writes, a BOM, CRLF) still verify.
+#[test]
+fn x3p_checksum_files_that_hold_no_checksum_or_are_missing_are_refused() {
+    for (what, text) in [
+        ("truncated", "0123456789abcdef0123 *main.xml\n".to_string()),
+        ("garbage", "hello world\n".to_string()),
+        ("empty", String::new()),
+        ("33 digits", format!("{}0 *main.xml\n", "a".repeat(32))),
+    ] {
+        let bytes = handmade_summed(None, true, |_, _| text.clone());
+        let e = decode_x3p(&bytes, "c.x3p").expect_err(what).to_string();
+        assert!(e.starts_with("c.x3p: "), "{what}: {e}");
+        assert!(
+            e.contains("md5checksum.hex") && e.contains("not an MD5 checksum"),
+            "{what}: {e}"
+        );
+        assert!(e.contains("corrupted") && !e.contains('\n'), "{what}: {e}");
+    }
+    let upper = handmade_summed(None, true, |_, data| {
+        format!("{} *bindata/data.bin\n", hex(data).to_uppercase())
+    });
+    assert!(decode_x3p(&upper, "u.x3p").is_ok());
+    let bom_crlf = handmade_summed(None, true, |xml, _| {
+        format!("\u{feff}{} *main.xml\r\n", hex(xml))
+    });
+    assert!(decode_x3p(&bom_crlf, "b.x3p").is_ok());
+    // Without Record4 the checksum file is not looked at.
+    let unnamed = handmade_summed(None, false, |_, _| "garbage".into());
+    assert!(decode_x3p(&unnamed, "n.x3p").is_ok());
+
+    // Our own writer names md5checksum.hex: without it the archive is damaged.
+    let ours = encode_x3p(&topo(), X3pType::F64, None).unwrap();
+    let mut zin = zip::ZipArchive::new(Cursor::new(&ours)).unwrap();
+    let mut kept: Vec<(String, Vec<u8>)> = Vec::new();
+    for k in 0..zin.len() {
+        let mut f = zin.by_index(k).unwrap();
+        let mut b = Vec::new();
+        std::io::Read::read_to_end(&mut f, &mut b).unwrap();
+        if f.name() != "md5checksum.hex" {
+            kept.push((f.name().to_string(), b));
+        }
+    }
+    let entries: Vec<(&str, &[u8])> = kept
+        .iter()
+        .map(|(n, b)| (n.as_str(), b.as_slice()))
+        .collect();
+    let e = decode_x3p(&zip_of(&entries), "m.x3p")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("m.x3p: ") && e.contains("'md5checksum.hex'") && e.contains("Record4"),
+        "{e}"
+    );
+    assert!(!e.contains('\n'), "{e}");
+}
+
 /// A minimal Gwyddion file: one data field, xy in micrometres, z in nm.
 fn gwy_bytes(xres: usize, yres: usize, data: &[f64]) -> Vec<u8> {
     fn obj(name: &str, body: &[u8]) -> Vec<u8> {
