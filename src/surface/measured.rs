@@ -356,29 +356,43 @@ pub fn analyse(
             fit_hurst(&radial, q_lo, hi).ok()
         }
     };
+    let stats = MeasuredStats {
+        nx,
+        ny,
+        dx,
+        dy,
+        length_x: t.length_x(),
+        length_y: t.length_y(),
+        detrend: trend,
+        window,
+        filled_points: topo.filled,
+        rms_height_real: var.sqrt(),
+        rms_height_psd: m0.sqrt(),
+        rms_slope_real: super::rms_slope_real(nx, ny, dx, dy, &t.heights),
+        rms_slope_psd: (m2[0][0] + m2[1][1]).sqrt(),
+        rms_slope_fd_psd: psd.slope_check_value(window),
+        rms_slope_x_psd: m2[0][0].sqrt(),
+        rms_slope_y_psd: m2[1][1].sqrt(),
+        rms_curvature_real: (c2 / cnt).sqrt(),
+        rms_curvature_psd: m4.sqrt(),
+        trusted_q_min: q_lo,
+        trusted_q_max: q_hi,
+    };
+    for (what, v) in [
+        ("rms height", stats.rms_height_real),
+        ("rms height (PSD)", stats.rms_height_psd),
+        ("rms slope", stats.rms_slope_real),
+        ("rms slope (PSD)", stats.rms_slope_psd),
+        ("rms slope of the PSD's differences", stats.rms_slope_fd_psd),
+        ("rms curvature", stats.rms_curvature_real),
+        ("rms curvature (PSD)", stats.rms_curvature_psd),
+    ] {
+        if !v.is_finite() {
+            return Err(super::psd::overflow(what, v, &t.heights));
+        }
+    }
     Ok(Analysis {
-        stats: MeasuredStats {
-            nx,
-            ny,
-            dx,
-            dy,
-            length_x: t.length_x(),
-            length_y: t.length_y(),
-            detrend: trend,
-            window,
-            filled_points: topo.filled,
-            rms_height_real: var.sqrt(),
-            rms_height_psd: m0.sqrt(),
-            rms_slope_real: super::rms_slope_real(nx, ny, dx, dy, &t.heights),
-            rms_slope_psd: (m2[0][0] + m2[1][1]).sqrt(),
-            rms_slope_fd_psd: psd.slope_check_value(window),
-            rms_slope_x_psd: m2[0][0].sqrt(),
-            rms_slope_y_psd: m2[1][1].sqrt(),
-            rms_curvature_real: (c2 / cnt).sqrt(),
-            rms_curvature_psd: m4.sqrt(),
-            trusted_q_min: q_lo,
-            trusted_q_max: q_hi,
-        },
+        stats,
         line_x: line_psd(&t, Axis::X, window),
         line_y: line_psd(&t, Axis::Y, window),
         radial,

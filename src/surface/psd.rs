@@ -207,6 +207,9 @@ pub(crate) fn psd_grid(
             };
         }
     });
+    if let Some(c) = values.iter().find(|c| !c.is_finite()) {
+        return Err(overflow("PSD", *c, heights));
+    }
     Ok(Psd2d {
         nx,
         ny,
@@ -214,6 +217,19 @@ pub(crate) fn psd_grid(
         dqy: 2.0 * PI / ly,
         values,
     })
+}
+
+/// The error for a statistic (`what` = `value`) that overflowed: the
+/// squares of heights beyond about 1e154 (and sums of squares of smaller
+/// ones) exceed f64. Names the largest height, usually a unit read wrong.
+pub(crate) fn overflow(what: &str, value: f64, heights: &[f64]) -> SurfaceError {
+    let scale = heights
+        .iter()
+        .filter(|h| h.is_finite())
+        .fold(0.0f64, |m, h| m.max(h.abs()));
+    SurfaceError::Invalid(format!(
+        "the {what} of this map is {value} (floating-point overflow): its heights reach {scale:.3e} m, too large for sums of their squares; check the heights' unit and scale"
+    ))
 }
 
 /// Radially averaged PSD `C(|q|)`.

@@ -1,8 +1,8 @@
 //! Surface files read as what they state: a text matrix's
 //! size header (orientation, sides, height unit), point lists and decimal
-//! commas refused, and the side a file fixes named by the option that gave
-//! it. Each refusal is one line on stderr with exit status 1 and nothing
-//! written.
+//! commas refused, statistics that overflow, and the side a file fixes
+//! named by the option that gave it. Each refusal is one line on stderr
+//! with exit status 1 and nothing written.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -137,6 +137,29 @@ fn point_lists_and_decimal_commas_are_refused_and_csv_still_reads() {
             "{name}"
         );
     }
+}
+
+#[test]
+fn statistics_that_overflow_are_refused_naming_the_height_scale() {
+    let tmp = tempfile::tempdir().unwrap();
+    let h: Vec<f64> = (0..32 * 32)
+        .map(|k| ((k * 37 % 101) as f64 - 50.0) * 1e158)
+        .collect();
+    let f = tmp.path().join("huge.npy");
+    std::fs::write(&f, npy::encode_f64(&[32, 32], &h)).unwrap();
+    let out = tmp.path().join("stats");
+    let o = viscoslide(&[
+        "surface",
+        "stats",
+        s(&f),
+        "--length",
+        "0.01",
+        "--json",
+        "--out",
+        s(&out),
+    ]);
+    assert_refused(&o, &["huge.npy", "overflow", "e159 m"]);
+    assert!(o.stdout.is_empty() && !out.exists());
 }
 
 #[test]

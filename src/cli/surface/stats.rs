@@ -49,7 +49,8 @@ pub(super) fn run(args: StatsArgs) -> Result<()> {
     let (topo, format) = read_input(&args.file, &args.input)?;
     let window = args.window.or(args.hann.then_some(Window::Hann));
     let pre = Preprocessing::resolve(args.periodic, args.detrend, window);
-    let an = surface::analyse(&topo, pre.detrend, pre.window, args.fit)?;
+    let an = surface::analyse(&topo, pre.detrend, pre.window, args.fit)
+        .map_err(|e| surface::SurfaceError::Invalid(format!("{}: {e}", args.file.display())))?;
     let warnings: Vec<String> = surface::slope_warning(
         an.stats.rms_slope_fd_psd,
         an.stats.rms_slope_real,
