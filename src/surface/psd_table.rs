@@ -95,9 +95,11 @@ impl TabulatedPsd {
     }
 
     /// Read a CSV whose first two columns are `q` \[1/m\] and `C` \[m^4\]
-    /// (further columns are ignored). Blank lines and lines starting with
-    /// `#` are skipped; a first line that does not start with a number is a
-    /// header.
+    /// (further columns are ignored). Blank lines, lines starting with `#`
+    /// and a leading UTF-8 BOM are skipped; a first line that does not start
+    /// with a number is a header, whose first two names must not state
+    /// other units ([`check_header`]: viscoslide's `q_per_m,c_m4` and
+    /// `q_per_m,c_radial_m4`, or names without units).
     pub fn from_csv(path: &Path) -> Result<Self, SurfaceError> {
         let text = std::fs::read_to_string(path).map_err(|source| SurfaceError::Io {
             path: path.display().to_string(),
@@ -111,6 +113,7 @@ impl TabulatedPsd {
         let mut q = Vec::new();
         let mut c = Vec::new();
         let mut first = true;
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         for (n, line) in text.lines().enumerate() {
             let line = line.trim();
             if line.is_empty() || line.starts_with('#') {
@@ -120,7 +123,15 @@ impl TabulatedPsd {
             let (a, b) = (cols.next().unwrap_or(""), cols.next());
             if first && a.parse::<f64>().is_err() {
                 first = false;
-                continue; // header
+                // Names may hold spaces (`q [1/m]`) where a separator is.
+                let mut names: Vec<&str> = if line.contains([',', ';', '\t']) {
+                    line.split([',', ';', '\t']).collect()
+                } else {
+                    line.split_whitespace().collect()
+                };
+                names.resize(2, "");
+                check_header(names[0], names[1], name)?;
+                continue;
             }
             first = false;
             let number = |s: &str| {
@@ -301,6 +312,72 @@ impl TabulatedPsd {
     }
 }
 
+/// The powers of length a column name states, as (unit, power): `per_um`,
+/// `1/nm`, `m^-1` (power -1), `um4`, `m^4` (power 4), `m3` (a line PSD's
+/// m^3); `None` when the name states no unit of length.
+fn stated_unit(column: &str) -> Option<(String, i32)> {
+    const LENGTHS: &[&str] = &[
+        "km", "m", "cm", "mm", "um", "µm", "μm", "nm", "pm", "a", "å",
+    ];
+    let lower = column.trim().trim_matches('"').to_lowercase();
+    let tokens: Vec<&str> = lower
+        .split(['_', ' ', '[', ']', '(', ')', '{', '}'])
+        .filter(|t| !t.is_empty())
+        .collect();
+    for (k, t) in tokens.iter().enumerate() {
+        // `per_X`, `1_per_X`.
+        if *t == "per" {
+            if let Some(u) = tokens.get(k + 1).filter(|u| LENGTHS.contains(u)) {
+                return Some((u.to_string(), -1));
+            }
+        }
+        // `1/X`, `/X`.
+        if let Some(u) = t.strip_prefix("1/").or_else(|| t.strip_prefix('/')) {
+            if LENGTHS.contains(&u) {
+                return Some((u.to_string(), -1));
+            }
+        }
+        // `X^p`, `X**p`, `Xp` with p an integer (`m^-1`, `um4`, `m3`).
+        let unit_end = t
+            .find(|c: char| c == '^' || c == '*' || c == '-' || c.is_ascii_digit())
+            .unwrap_or(t.len());
+        let (unit, rest) = t.split_at(unit_end);
+        let power = rest.trim_start_matches(['^', '*']);
+        if LENGTHS.contains(&unit) && (k > 0 || !rest.is_empty()) {
+            match power.parse::<i32>() {
+                Ok(p) => return Some((unit.to_string(), p)),
+                Err(_) if power.is_empty() => return Some((unit.to_string(), 1)),
+                Err(_) => {}
+            }
+        }
+    }
+    None
+}
+
+/// Check the first two names of a PSD table's header: a unit stated must
+/// be 1/m for `q` and m^4 for `C` (a line PSD's m^3 or another length unit
+/// is refused, naming the column), so that a table in other units is not
+/// read as SI. Names without a unit are taken as `q` \[1/m\], `C` \[m^4\].
+fn check_header(q: &str, c: &str, name: &str) -> Result<(), SurfaceError> {
+    for (column, power, want, which) in [(q, -1, "1/m", "first (q)"), (c, 4, "m^4", "second (C)")] {
+        let Some((unit, p)) = stated_unit(column) else {
+            continue;
+        };
+        if unit != "m" || p != power {
+            let stated = match p {
+                -1 => format!("1/{unit}"),
+                1 => unit.clone(),
+                _ => format!("{unit}^{p}"),
+            };
+            return Err(SurfaceError::Invalid(format!(
+                "{name}: the header's {which} column '{}' is in {stated}, not {want}: a PSD table holds q in 1/m and the radial C(q) in m^4 (header `q_per_m,c_m4`); convert the columns",
+                column.trim()
+            )));
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -374,6 +451,43 @@ mod tests {
             BelowTable::parse("first_bin").unwrap(),
             BelowTable::FirstBin
         );
+    }
+
+    #[test]
+    fn header_units_other_than_si_are_refused() {
+        let rows = "1e3,2e-20\n2e3,1e-21\n";
+        for header in [
+            "q_per_m,c_radial_m4",
+            "q_per_m,c_m4,modes,scans",
+            "q_per_m,c_radial_m4,c_target_m4",
+            "q,C",
+            "wavenumber,psd",
+            "q [1/m],C [m^4]",
+            "q (m^-1);C (m4)",
+            "\u{feff}q_per_m,c_m4",
+        ] {
+            let t = TabulatedPsd::parse_csv(&format!("{header}\n{rows}"), "psd.csv");
+            assert_eq!(t.unwrap().q(), &[1e3, 2e3], "{header}");
+        }
+        for (header, want) in [
+            ("q_1_per_um,C_um4", "'q_1_per_um' is in 1/um"),
+            ("q [1/nm],C [nm^4]", "'q [1/nm]' is in 1/nm"),
+            ("q_per_m,C_um4", "'C_um4' is in um^4"),
+            ("q_per_m,c1_m3", "'c1_m3' is in m^3"),
+            ("q (m^-1),C (m^2)", "'C (m^2)' is in m^2"),
+        ] {
+            let e = TabulatedPsd::parse_csv(&format!("{header}\n{rows}"), "psd.csv")
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.starts_with("psd.csv: ") && e.contains(want),
+                "{header}: {e}"
+            );
+            assert!(!e.contains('\n'), "{e}");
+        }
+        // A BOM before a headerless table is not part of the first number.
+        let t = TabulatedPsd::parse_csv(&format!("\u{feff}{rows}"), "psd.csv").unwrap();
+        assert_eq!(t.c(), &[2e-20, 1e-21]);
     }
 
     #[test]

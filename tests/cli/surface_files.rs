@@ -1,8 +1,8 @@
-//! Surface files read as what they state: a text matrix's
+//! Surface files and PSD tables read as what they state: a text matrix's
 //! size header (orientation, sides, height unit), point lists and decimal
-//! commas refused, statistics that overflow, and the side a file fixes
-//! named by the option that gave it. Each refusal is one line on stderr
-//! with exit status 1 and nothing written.
+//! commas refused, a PSD table's header units, statistics that overflow, and
+//! the side a file fixes named by the option that gave it. Each refusal is
+//! one line on stderr with exit status 1 and nothing written.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -160,6 +160,48 @@ fn statistics_that_overflow_are_refused_naming_the_height_scale() {
     ]);
     assert_refused(&o, &["huge.npy", "overflow", "e159 m"]);
     assert!(o.stdout.is_empty() && !out.exists());
+}
+
+#[test]
+fn a_psd_table_in_other_units_is_refused_naming_the_column() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let rows = "1e5,1e-30\n2e5,1e-31\n4e5,1e-32\n8e5,1e-33\n";
+    let out = d.join("gen");
+    let generate = |table: &Path| {
+        viscoslide(&[
+            "surface",
+            "generate",
+            "--psd",
+            s(table),
+            "--n",
+            "32",
+            "--length",
+            "1e-4",
+            "--seed",
+            "1",
+            "--out",
+            s(&out),
+        ])
+    };
+    let um = write(d, "um.csv", &format!("q_1_per_um,C_um4\n{rows}"));
+    assert_refused(&generate(&um), &["um.csv", "'q_1_per_um'", "1/um", "1/m"]);
+    let line = write(d, "line.csv", &format!("q_per_m,c1_m3\n{rows}"));
+    assert_refused(&generate(&line), &["'c1_m3'", "m^3", "m^4"]);
+    assert!(!out.exists());
+    for (name, text) in [
+        ("ours.csv", format!("q_per_m,c_radial_m4,modes\n{rows}")),
+        ("bare.csv", rows.to_string()),
+    ] {
+        let f = write(d, name, &text);
+        let o = generate(&f);
+        assert!(
+            o.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        std::fs::remove_dir_all(&out).unwrap();
+    }
 }
 
 #[test]
