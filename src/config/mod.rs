@@ -329,7 +329,7 @@ const UNITS: &[(&str, &str)] = &[
     ("length", "side of the map along x, m"),
     ("rms_height", "m"),
     ("rms_slope", "dimensionless"),
-    ("hurst", "Hurst exponent H, 0 < H < 1"),
+    ("hurst", "Hurst exponent H, 0 < H <= 1"),
     ("normal_load", "N"),
     ("mean_pressure", "Pa"),
     ("speed", "m/s"),
@@ -427,6 +427,11 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("Pa"), "{e}");
+        // The range the generator's check accepts, H = 1 included.
+        let e = load(&p, &["surface.generate.hurst=\"rough\"".into()])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("(hurst: Hurst exponent H, 0 < H <= 1)"), "{e}");
     }
 
     #[test]
