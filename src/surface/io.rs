@@ -70,7 +70,7 @@ pub fn load_npy(path: &Path, length: f64) -> Result<HeightMap, SurfaceError> {
     build(&path.display().to_string(), a.shape, a.data, length)
 }
 
-/// Parse a plain-text matrix (see [`super::text`]): rows of numbers
+/// Parse a plain-text matrix (see `surface/text.rs`): rows of numbers
 /// separated by whitespace and/or commas, `#` starts a comment, blank lines
 /// are skipped; row `i` is the x index, or, under a `# Width:`/`# Height:`
 /// header (SurfaceTopography's `to_matrix`), row `j` the y index with the

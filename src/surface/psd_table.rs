@@ -98,7 +98,7 @@ impl TabulatedPsd {
     /// (further columns are ignored). Blank lines, lines starting with `#`
     /// and a leading UTF-8 BOM are skipped; a first line that does not start
     /// with a number is a header, whose first two names must not state
-    /// other units ([`check_header`]: viscoslide's `q_per_m,c_m4` and
+    /// other units (`check_header`: viscoslide's `q_per_m,c_m4` and
     /// `q_per_m,c_radial_m4`, or names without units).
     pub fn from_csv(path: &Path) -> Result<Self, SurfaceError> {
         let text = std::fs::read_to_string(path).map_err(|source| SurfaceError::Io {

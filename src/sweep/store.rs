@@ -159,7 +159,7 @@ impl PointStore {
     /// The finished point `id` of this study: its file parses, has `key`
     /// (a point cut off mid-write never has a file at all; the key guards
     /// against files of another kind), names this study and records point
-    /// `id` ([`records`]). Any other file is solved again, and replaced.
+    /// `id` (`records`). Any other file is solved again, and replaced.
     pub fn read(&self, id: &str, key: &str) -> Option<Value> {
         std::fs::read_to_string(self.path(id))
             .ok()
