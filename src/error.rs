@@ -49,6 +49,15 @@ pub enum Error {
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 impl Error {
+    /// This error prefixed with `context` (`"{context}: ..."`), an invalid
+    /// argument staying one without its prefix said twice.
+    pub fn within(self, context: &str) -> Self {
+        match self {
+            Error::Invalid(m) => Error::Invalid(format!("{context}: {m}")),
+            other => Error::Invalid(format!("{context}: {other}")),
+        }
+    }
+
     /// An I/O error with the path that caused it.
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Error::Io {
@@ -70,5 +79,19 @@ impl From<crate::analysis::AnalysisError> for Error {
             A::Output(e) => Error::Output(e),
             other => Error::Analysis(other),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A level's error says "invalid argument" once.
+    #[test]
+    fn context_keeps_one_prefix() {
+        let e = Error::Invalid("no scales".into()).within("level 1");
+        assert_eq!(e.to_string(), "invalid argument: level 1: no scales");
+        let io = Error::io("a.npy", std::io::Error::other("gone")).within("level 2");
+        assert_eq!(io.to_string(), "invalid argument: level 2: a.npy: gone");
     }
 }

@@ -210,6 +210,18 @@ pub fn decode(bytes: &[u8], name: &str) -> Result<NpyArray, NpyError> {
             ),
         });
     };
+    if body.len() > need {
+        // More data than the shape holds: the shape edited, or another
+        // array appended; reading the first `need` bytes would take a
+        // part of the file for the whole without a word.
+        return Err(NpyError::BadHeader {
+            path,
+            what: format!(
+                "shape {shape:?} holds {need} data bytes, the file has {} after its header (another array appended, or the shape not the data's)",
+                body.len()
+            ),
+        });
+    }
     let mut data: Vec<f64> = body[..need]
         .chunks_exact(width)
         .map(|c| match (width, little) {
@@ -359,6 +371,18 @@ mod tests {
             decode(&good[..9], "t"),
             Err(NpyError::Truncated { .. })
         ));
+        // A shape smaller than the data (edited, or an array appended).
+        let mut small = good.clone();
+        patch_header(&mut small, b"(2, 2)", b"(2, 1)");
+        let e = decode(&small, "t").unwrap_err();
+        assert!(
+            matches!(e, NpyError::BadHeader { .. })
+                && e.to_string().contains("another array appended"),
+            "{e}"
+        );
+        let mut two = good.clone();
+        two.extend_from_slice(&good);
+        assert!(matches!(decode(&two, "t"), Err(NpyError::BadHeader { .. })));
         let mut int = good.clone();
         patch_header(&mut int, b"<f8", b"<i8");
         assert!(matches!(

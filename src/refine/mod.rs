@@ -246,7 +246,7 @@ fn run(
         if !params.warm_start {
             previous = None;
         }
-        let problem = make(k).map_err(|e| invalid(format!("level {}: {e}", k + 1)))?;
+        let problem = make(k).map_err(|e| e.within(&format!("level {}", k + 1)))?;
         let warm = params.warm_start && problem.discretisation() != Discretisation::Adaptive;
         // The coarser level goes once its solution is prolonged, the start
         // once the iteration holds it: on the finest grid neither stays.
