@@ -17,8 +17,7 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::heat::{
-    scale_rises, DepthExtremes, DepthLadder, DepthRule, HeatSolver, HeatSource, ScaleBand,
-    SourceKind,
+    scale_rises, DepthExtremes, DepthLadder, DepthRule, HeatSolver, HeatSource, SourceKind,
 };
 use crate::problem::{balance_warning, Discretisation, Executor, Observer, Problem, Solution};
 
@@ -27,7 +26,7 @@ use super::branches::{Branch, SearchFailure};
 use super::coarse::coarse_problem;
 use super::params::{BranchChoice, HeatingParams};
 use super::report::{
-    persson_friction, scale_extremes, scale_text, DepthRow, HeatedSolution, HeatingReport, Rises,
+    persson_friction, scales_warning, DepthRow, HeatedSolution, HeatingReport, Rises,
 };
 use super::two_level::{Level, DISCREPANCY_WARNING};
 
@@ -380,43 +379,6 @@ pub fn solve_heated(
     })
 }
 
-/// The change of the friction across the scales' temperatures above which
-/// the single effective temperature is warned of.
-const SCALE_SPREAD_WARNING: f64 = 0.1;
-
-/// A warning where the coldest and the hottest of the octaves of modes
-/// that carry the power ([`scale_extremes`]) dissipate at rises so far
-/// apart that the friction, changing between `mu_ambient` at `T0` and
-/// `mu_effective` at `T0 + rise`, would differ by more than
-/// [`SCALE_SPREAD_WARNING`] between them. The effective closure is exact
-/// to first order where every scale's friction responds alike to
-/// temperature (the scales' rises, weighted by their power, average to
-/// the effective rise); their spread times the friction's slope measures
-/// how much rests on that.
-fn scales_warning(
-    scales: &[ScaleBand],
-    rise: f64,
-    mu_ambient: f64,
-    mu_effective: f64,
-) -> Option<String> {
-    let (cold, hot) = scale_extremes(scales)?;
-    if ![rise, mu_ambient, mu_effective].iter().all(|&x| x > 0.0) {
-        return None;
-    }
-    let slope = (mu_effective / mu_ambient).ln() / rise;
-    let change = slope.abs() * (hot.rise - cold.rise);
-    if change.is_nan() || change <= SCALE_SPREAD_WARNING {
-        return None;
-    }
-    Some(format!(
-        "the scales that carry the power dissipate at rises from {} to {} (heating.scales), and the friction changes by {:.2} % per K between T0 and T_eff: about {:.0} % across that spread; the effective closure gives every scale T_eff, exact only to first order where all scales' friction responds alike to temperature",
-        scale_text(cold),
-        scale_text(hot),
-        100.0 * slope,
-        100.0 * change
-    ))
-}
-
 /// Depths of the surface source's profile: 8 per octave (27 per decade,
 /// [`DepthLadder::octaves`]) from a tenth of the smaller cell side to the
 /// map's side.
@@ -565,45 +527,4 @@ fn solve_at(
         profile: swept,
         layers,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn band(low: f64, share: f64, rise: f64) -> ScaleBand {
-        ScaleBand {
-            wavenumber_min: low,
-            wavenumber_max: 2.0 * low,
-            power_share: share,
-            rise,
-        }
-    }
-
-    /// The friction's slope between T0 and T_eff times the counted
-    /// octaves' spread: warned above 10 %, an octave under 1 % of the
-    /// power not counted.
-    #[test]
-    fn the_scales_spread_is_warned_where_the_friction_follows_it() {
-        // mu rises by e^0.2 over a 2 K rise: 10 % per K.
-        let (mu0, mu1) = (0.1, 0.1 * 0.2f64.exp());
-        let scales = [
-            band(1e4, 0.005, 0.1),
-            band(2e4, 0.3, 1.5),
-            band(4e4, 0.695, 2.7),
-        ];
-        let w = scales_warning(&scales, 2.0, mu0, mu1).expect("12 % across 1.2 K");
-        assert!(w.contains("1.5000e0 K") && w.contains("2.7000e0 K"), "{w}");
-        assert!(
-            w.contains("10.00 % per K") && w.contains("about 12 %"),
-            "{w}"
-        );
-        // 0.9 K apart: 9 %, not warned; the 0.5 % octave would make it 26 %.
-        let close = [scales[0], band(2e4, 0.3, 1.8), scales[2]];
-        assert!(scales_warning(&close, 2.0, mu0, mu1).is_none());
-        // No slope, no rise, no scales: nothing to say.
-        assert!(scales_warning(&scales, 2.0, mu0, mu0).is_none());
-        assert!(scales_warning(&scales, 0.0, mu0, mu1).is_none());
-        assert!(scales_warning(&[], 2.0, mu0, mu1).is_none());
-    }
 }

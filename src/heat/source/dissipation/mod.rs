@@ -62,6 +62,7 @@ use rayon::prelude::*;
 use rustfft::{Fft, FftPlanner};
 
 use super::super::error::HeatError;
+pub(crate) use rank::RateFn;
 use separable::SeparableWork;
 
 use super::stress::{unit_component, ModeStress};
@@ -108,32 +109,6 @@ struct Regular {
     k: f64,
     w: f64,
     p: Complex64,
-}
-
-/// A stress-rate multiplier `sum_k a_k i w / (1 + i w tau_k)` \[1/s\]
-/// (`(a_k, tau_k)`): one element's rate times `sqrt(tau_k C_k)`, whose
-/// dissipation form is the element's share of `D`.
-#[derive(Clone, Debug)]
-pub(crate) struct RateFn(pub Vec<(f64, f64)>);
-
-impl RateFn {
-    /// The multiplier at `w` \[rad/s\]: each term `(a / tau) i x / (1 + i
-    /// x)`, `x = w tau`, taken as `(a / tau) / (1 - i / x)` where `|x| > 1`
-    /// so that no square overflows.
-    fn at(&self, w: f64) -> Complex64 {
-        self.0
-            .iter()
-            .map(|&(a, tau)| {
-                let x = w * tau;
-                let r = if x.abs() > 1.0 {
-                    Complex64::new(1.0, 0.0) / Complex64::new(1.0, -1.0 / x)
-                } else {
-                    Complex64::new(0.0, x) / Complex64::new(1.0, x)
-                };
-                a / tau * r
-            })
-            .sum()
-    }
 }
 
 /// One thread's work space.

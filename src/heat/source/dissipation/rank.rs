@@ -22,7 +22,7 @@
 use faer::Mat;
 
 use super::super::super::error::HeatError;
-use super::RateFn;
+use num_complex::Complex64;
 
 /// Singular values whose square lies below this are dropped (rows of unit
 /// norm): each mode's power changes by at most twice this, relative.
@@ -30,6 +30,32 @@ pub(super) const RANK_CUT: f64 = 1e-15;
 
 /// Rows per block of the running QR (bounds its memory on large grids).
 const BLOCK_ROWS: usize = 4096;
+
+/// A stress-rate multiplier `sum_k a_k i w / (1 + i w tau_k)` \[1/s\]
+/// (`(a_k, tau_k)`): one element's rate times `sqrt(tau_k C_k)`, whose
+/// dissipation form is the element's share of `D`.
+#[derive(Clone, Debug)]
+pub(crate) struct RateFn(pub Vec<(f64, f64)>);
+
+impl RateFn {
+    /// The multiplier at `w` \[rad/s\]: each term `(a / tau) i x / (1 + i
+    /// x)`, `x = w tau`, taken as `(a / tau) / (1 - i / x)` where `|x| > 1`
+    /// so that no square overflows.
+    pub(super) fn at(&self, w: f64) -> Complex64 {
+        self.0
+            .iter()
+            .map(|&(a, tau)| {
+                let x = w * tau;
+                let r = if x.abs() > 1.0 {
+                    Complex64::new(1.0, 0.0) / Complex64::new(1.0, -1.0 / x)
+                } else {
+                    Complex64::new(0.0, x) / Complex64::new(1.0, x)
+                };
+                a / tau * r
+            })
+            .sum()
+    }
+}
 
 /// `sqrt(tau C) i w / (1 + i w tau)`: real and imaginary parts, as
 /// `sqrt(C / tau) (x^2, x) / (1 + x^2)` with `x = w tau`, divided through
