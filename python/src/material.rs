@@ -103,6 +103,11 @@ impl NativeMaterial {
                     section.wlf = Some([w.c1, w.c2, w.reference_temperature]);
                     section.wlf_range = w.data_range;
                 }
+            } else {
+                // The temperature the fitted spectrum describes, as
+                // `model = "file"` keeps it for constants given later.
+                material.temperature = viscoslide::material::file::fit_temperature(doc.get("fit"))
+                    .map_err(|e| value_error(format!("{}: {e}", path.display())))?;
             }
         }
         Self::finish(material, section, &base_dir)

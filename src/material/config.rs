@@ -39,6 +39,25 @@ fn unit(key: &str) -> &'static str {
 /// range the solver's double precision carries.
 pub const MODULUS_RANGE: (f64, f64) = (1e-3, 1e15);
 
+/// The relaxed and glassy moduli a spectrum implies within
+/// [`MODULUS_RANGE`], as the keys that give them directly are: a creep
+/// spectrum's compliances or a Prony series' moduli can put them anywhere
+/// (a compliance of 1e20 1/Pa made `E0` 1e-20 Pa and a friction of 1e23).
+fn check_implied_moduli(spectrum: &CreepSpectrum, model: &str) -> Result<(), MaterialError> {
+    let (lo, hi) = MODULUS_RANGE;
+    for (name, e) in [
+        ("relaxed modulus E0", spectrum.relaxed_modulus()),
+        ("glassy modulus E_inf", 1.0 / spectrum.glassy_compliance()),
+    ] {
+        if !(lo..=hi).contains(&e) {
+            return Err(MaterialError::Invalid(format!(
+                "[material] model = \"{model}\" implies a {name} of {e:e} Pa, outside [{lo:e}, {hi:e}] Pa, the moduli of solids (gels to diamond) with room on both sides; check its terms"
+            )));
+        }
+    }
+    Ok(())
+}
+
 impl MaterialConfig {
     /// Build the material; `base_dir` resolves relative file paths.
     ///
@@ -210,6 +229,7 @@ impl MaterialConfig {
                 })?;
                 let path = base_dir.join(rel);
                 let material = load_material_file(&path, self.poisson.map(|_| nu))?;
+                check_implied_moduli(&material.spectrum, model)?;
                 let material = match wlf {
                     Some(w) => {
                         let t = material.temperature;
@@ -222,6 +242,7 @@ impl MaterialConfig {
                 return self.with_data_ranges(material);
             }
         };
+        check_implied_moduli(&spectrum, model)?;
         let material = Material::new(spectrum, nu)?;
         let material = match wlf {
             Some(w) => material.with_wlf(w, None)?,

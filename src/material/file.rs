@@ -156,15 +156,22 @@ pub fn load_material_file(path: &Path, poisson: Option<f64>) -> Result<Material,
         // The file's own `[material] wlf` wins over its provenance.
         return Ok(material);
     }
-    match fit_wlf(doc.fit.as_ref()).map_err(|message| MaterialError::Data {
+    let data = |message| MaterialError::Data {
         source_name: name.clone(),
         message,
-    })? {
+    };
+    match fit_wlf(doc.fit.as_ref()).map_err(data)? {
         Some((wlf, t)) => material.with_wlf(wlf, t).map_err(|e| MaterialError::Data {
             source_name: name,
             message: format!("[fit] {e}"),
         }),
-        None => Ok(material),
+        None => {
+            // Without constants the fit still says which temperature its
+            // spectrum describes: constants given later (a config's `wlf`)
+            // shift from there, not from their reference temperature.
+            material.temperature = fit_temperature(doc.fit.as_ref()).map_err(data)?;
+            Ok(material)
+        }
     }
 }
 
@@ -209,6 +216,20 @@ pub fn fit_wlf(fit: Option<&toml::Value>) -> Result<Option<(Wlf, Option<f64>)>, 
             .map_err(|e| format!("[fit] temperature = {t}: {e}"))?;
     }
     Ok(Some((wlf, t)))
+}
+
+/// The temperature \[C\] a `[fit]` table says its spectrum describes
+/// (`temperature`, written by `material fit` from data at one
+/// temperature or shifted to one), if recorded.
+pub fn fit_temperature(fit: Option<&toml::Value>) -> Result<Option<f64>, String> {
+    match fit.and_then(|f| f.get("temperature")) {
+        None => Ok(None),
+        Some(toml::Value::Float(x)) if x.is_finite() => Ok(Some(*x)),
+        Some(toml::Value::Integer(i)) => Ok(Some(*i as f64)),
+        Some(v) => Err(format!(
+            "[fit] temperature = {v} is not a finite number (C)"
+        )),
+    }
 }
 
 /// The data's angular frequencies a `[fit]` table records

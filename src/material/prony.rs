@@ -84,6 +84,11 @@ impl PronySeries {
         let mut e = Complex64::new(self.relaxed_modulus, 0.0);
         for t in &self.terms {
             let wt = omega * t.time;
+            if wt.abs() > super::spectrum::SQUARE_SAFE {
+                let (_, loss, stored) = super::spectrum::far_debye(wt);
+                e += Complex64::new(t.modulus * stored, t.modulus * loss);
+                continue;
+            }
             let d = 1.0 + wt * wt;
             e += Complex64::new(t.modulus * wt * wt / d, t.modulus * wt / d);
         }

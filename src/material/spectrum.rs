@@ -100,11 +100,18 @@ impl CreepSpectrum {
                 .sum::<f64>()
     }
 
-    /// Complex compliance `J*(w) = 1/E_inf + sum_k C_k / (1 + i w tau_k)`.
+    /// Complex compliance `J*(w) = 1/E_inf + sum_k C_k / (1 + i w tau_k)`;
+    /// a term whose `(w tau_k)^2` would overflow is taken as `C_k (y^2, -y)
+    /// / (1 + y^2)`, `y = 1 / (w tau_k)` ([`far_debye`]).
     pub fn compliance(&self, omega: f64) -> Complex64 {
         let mut j = Complex64::new(self.glassy_compliance(), 0.0);
         for k in &self.terms {
             let wt = omega * k.time;
+            if wt.abs() > SQUARE_SAFE {
+                let (re, im, _) = far_debye(wt);
+                j += Complex64::new(k.compliance * re, -k.compliance * im);
+                continue;
+            }
             let d = 1.0 + wt * wt;
             j += Complex64::new(k.compliance / d, -k.compliance * wt / d);
         }
@@ -117,9 +124,51 @@ impl CreepSpectrum {
     }
 }
 
+/// Beyond this `|x|`, `x^2` is within a few decades of f64's largest value.
+pub(crate) const SQUARE_SAFE: f64 = 1e150;
+
+/// `(1, x, x^2) / (1 + x^2)`, the parts of a Debye term with `x = w tau`
+/// (`1 / (1 - i x)` is the first two), for `|x| >` [`SQUARE_SAFE`], where
+/// `x^2` would overflow (a creep time of 1e300 s met at 1e100 rad/s gave
+/// NaN): as `(y^2, y, 1) / (1 + y^2)`, `y = 1 / x`.
+pub(crate) fn far_debye(x: f64) -> (f64, f64, f64) {
+    let y = 1.0 / x;
+    let d = 1.0 + y * y;
+    (y * y / d, y / d, 1.0 / d)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Creep times and frequencies whose product squared leaves f64: the
+    /// glassy limit, not NaN.
+    #[test]
+    fn long_creep_times_meet_high_frequencies_without_overflow() {
+        let s = CreepSpectrum::new(
+            1e7,
+            vec![
+                CreepTerm {
+                    compliance: 1e-7,
+                    time: 1e-2,
+                },
+                CreepTerm {
+                    compliance: 1e-7,
+                    time: 1e300,
+                },
+            ],
+        )
+        .unwrap();
+        for w in [1e100, 1e160, 1e200] {
+            let e = s.modulus(w);
+            assert!(
+                (e.re / 1e7 - 1.0).abs() < 1e-12 && e.im >= 0.0 && e.im < 1e-3,
+                "{w}: {e}"
+            );
+        }
+        let (re, im, glassy) = far_debye(-1e200);
+        assert!(re < 1e-300 && (im + 1e-200).abs() < 1e-215 && glassy == 1.0);
+    }
 
     #[test]
     fn sls_limits_and_loss_sign() {

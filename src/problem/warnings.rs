@@ -160,7 +160,7 @@ impl Problem {
             let cells = layer.thickness / a;
             if cells < 1.0 {
                 causes.push(format!(
-                    "the layer (h = {:.3e} m) is thinner than a cell (h / a = {cells:.2e}): its response reaches wavenumbers of about 1/h, beyond the 3 alias images of each mode that the dissipation route sums, so that route reads low (Eq. 9's coefficients are the exact cell integrals); for agreement use at least {CELLS_PER_THICKNESS} cells per thickness (more cells)",
+                    "the layer (h = {:.3e} m) is thinner than a cell (h / a = {cells:.2e}): its response reaches wavenumbers of about 1/h, beyond the 3 alias images of each mode that the dissipation route sums, so that route misses part of it, high or low (Eq. 9's coefficients are the exact cell integrals); for agreement use at least {CELLS_PER_THICKNESS} cells per thickness (more cells)",
                     layer.thickness
                 ));
             } else if cells < CELLS_PER_THICKNESS {

@@ -295,6 +295,33 @@ fn sphere_config_at_rest_is_hertz() {
     assert!(s["friction_coefficient"].as_f64().unwrap().abs() < 1e-12);
 }
 
+/// A sliding sphere is an indenter inside its map, not a rough pad: no flat
+/// pad's rim is subtracted from its friction nor warned of (it was: "25 %
+/// of the friction is the finite pad's own", for a contact 20 cells from
+/// every edge).
+#[test]
+fn a_sliding_sphere_has_no_pad_rim() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/configs/sphere_sliding.toml"
+    ))
+    .unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let (ok, _, stderr) = run(tmp.path(), &text, &["--set", "surface.sphere.n=64"]);
+    assert!(ok, "{stderr}");
+    assert!(!stderr.contains("finite pad's own"), "{stderr}");
+    let s: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(tmp.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert!(s["friction_coefficient"].as_f64().unwrap() > 0.0);
+    assert!(
+        s["roughness_friction_coefficient"].is_null(),
+        "{}",
+        s["roughness_friction_coefficient"]
+    );
+}
+
 /// A finite pad reports its own part of the friction: the same pad without
 /// roughness at the same load and speed (`smooth_pad_friction_coefficient`),
 /// equal to a separate solve of that pad with the roughness scaled to

@@ -198,3 +198,55 @@ fn bad_input_gives_clear_one_line_errors() {
         );
     }
 }
+
+/// Moduli a creep spectrum or a Prony series implies are held to the range
+/// the keys that give them directly are (a compliance of 1e20 1/Pa made
+/// `E0` 1e-20 Pa and a friction of 1e23).
+#[test]
+fn implied_moduli_are_held_to_the_range_of_solids() {
+    error(
+        "[material]\nmodel = \"creep_spectrum\"\nglassy_modulus = 1e7\ncreep_spectrum = [[1e20, 0.01]]\n",
+        &["implies a relaxed modulus E0 of 1e-20 Pa", "[1e-3, 1e15]"],
+    );
+    error(
+        "[material]\nmodel = \"prony\"\nrelaxed_modulus = 1e6\nprony = [[1e30, 1e-3]]\n",
+        &["implies a glassy modulus E_inf", "model = \"prony\""],
+    );
+    assert!(build(
+        "[material]\nmodel = \"creep_spectrum\"\nglassy_modulus = 1e7\ncreep_spectrum = [[2e-7, 0.01]]\n"
+    )
+    .is_ok());
+}
+
+/// A fit of data at one temperature records that temperature without WLF
+/// constants; constants given beside it in a config shift from there, so
+/// the material at that temperature is the fitted spectrum itself (it was
+/// taken as describing T_ref: a friction 100 times off at 60 C).
+#[test]
+fn a_fit_at_one_temperature_keeps_it_for_constants_given_later() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("fit60.toml"),
+        format!("{SLS}creep_time = 0.01\n\n[fit]\ntemperature = 60.0\n"),
+    )
+    .unwrap();
+    let plain = build_in(
+        dir.path(),
+        "[material]\nmodel = \"file\"\nfile = \"fit60.toml\"\n",
+    )
+    .unwrap();
+    assert_eq!(plain.temperature, Some(60.0));
+    let shifted = build_in(
+        dir.path(),
+        "[material]\nmodel = \"file\"\nfile = \"fit60.toml\"\nwlf = [8.86, 101.6, 17.0]\n",
+    )
+    .unwrap();
+    assert_eq!(shifted.temperature, Some(60.0));
+    let at60 = shifted.at_temperature(60.0).unwrap();
+    assert_eq!(at60.spectrum, plain.spectrum);
+    // At T_ref the creep times are a_T(17) / a_T(60) longer.
+    let at17 = shifted.at_temperature(17.0).unwrap();
+    let ratio = at17.spectrum.terms[0].time / plain.spectrum.terms[0].time;
+    let want = 10f64.powf(8.86 * 43.0 / (101.6 + 43.0));
+    assert!((ratio / want - 1.0).abs() < 1e-12, "{ratio} {want}");
+}

@@ -10,7 +10,7 @@ use crate::error::Result;
 use super::super::executor::Executes;
 use super::super::smooth_pad::SMOOTH_PAD_SHARE_LIMIT;
 use super::super::warnings::FRICTION_ROUND_OFF;
-use super::super::{Problem, Solution, Timings};
+use super::super::{Problem, Solution, SurfaceSource, Timings};
 use super::Raw;
 
 impl Problem {
@@ -31,18 +31,24 @@ impl Problem {
             .map_or(self.surface.nx * self.surface.ny, |m| m.unknowns);
         // A finite pad's own part of the friction (the same pad, flat): on
         // the uniform grid of the non-periodic formulation, solved before
-        // the friction so that both take Eq. 9 from the same operators.
+        // the friction so that both take Eq. 9 from the same operators. A
+        // sphere is an indenter, not a rough pad: a flat pad's rim says
+        // nothing of its friction.
         let stats = self.contact_stats(&raw.solution);
         let load = stats.normal_load;
         let mut pad_error = None;
-        let pad =
-            if self.formulation == Formulation::NonPeriodic && raw.mesh.is_none() && load > 0.0 {
-                self.smooth_pad(executor, load, raw.info.matvecs)
-                    .map_err(|e| pad_error = Some(e))
-                    .ok()
-            } else {
-                None
-            };
+        let sphere = matches!(self.source, SurfaceSource::Sphere(_));
+        let pad = if self.formulation == Formulation::NonPeriodic
+            && raw.mesh.is_none()
+            && load > 0.0
+            && !sphere
+        {
+            self.smooth_pad(executor, load, raw.info.matvecs)
+                .map_err(|e| pad_error = Some(e))
+                .ok()
+        } else {
+            None
+        };
         let (mu, mu_d, pad_force) = self.friction_with(
             &raw.solution,
             &stats,
