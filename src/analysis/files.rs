@@ -9,8 +9,10 @@ use serde_json::Value;
 use super::fields::{analyze, check_inputs};
 use super::figures;
 use super::report::{AnalysisError, AnalysisInputs, AnalysisParams, AnalysisReport};
+use crate::config::Formulation;
 use crate::io::npy;
 use crate::io::StagedOutput;
+use crate::surface::Window;
 
 /// Add `analysis.json` and the figures ([`super::ANALYSIS_FILES`]) to `staged`.
 pub fn write_analysis(
@@ -70,11 +72,28 @@ pub struct SolveSummary {
     /// `q1 / q0` of a generated surface, if the config says.
     pub scales: Option<f64>,
     pub xi: Option<f64>,
+    /// The solve's formulation: `formulation` of the summary, else
+    /// `config.solver.formulation`; `None` where neither says.
+    pub formulation: Option<Formulation>,
+}
+
+impl SolveSummary {
+    /// The taper the solve's own analysis used: none for a periodic solve,
+    /// whose fields are one period; Hann otherwise (and where the summary
+    /// does not name its formulation, as the solve's default is
+    /// non-periodic).
+    pub fn default_window(&self) -> Window {
+        match self.formulation {
+            Some(Formulation::Periodic) => Window::None,
+            _ => AnalysisParams::default().window,
+        }
+    }
 }
 
 /// Read the grid, cell size and number of scales from a solve's
-/// `summary.json`: `grid`, `cell_size`, `xi` and, for generated surfaces,
-/// `config.surface.generate` (`scales` with `ql`, or `q1`; `q0 = 2 pi / L`).
+/// `summary.json`: `grid`, `cell_size`, `xi`, `formulation` and, for
+/// generated surfaces, `config.surface.generate` (`scales` with `ql`, or
+/// `q1`; `q0 = 2 pi / L`).
 pub fn read_summary(path: &Path) -> Result<SolveSummary, AnalysisError> {
     let p = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| {
@@ -117,6 +136,13 @@ pub fn read_summary(path: &Path) -> Result<SolveSummary, AnalysisError> {
     let lx = grid[0] as f64 * cell_size;
     let q0 = 2.0 * std::f64::consts::PI / lx;
     let scales = scales_from_config(&doc["config"], q0);
+    let formulation = match (&doc["formulation"], &doc["config"]["solver"]["formulation"]) {
+        (Value::Null, Value::Null) => None,
+        (Value::Null, v) | (v, _) => Some(
+            serde_json::from_value::<Formulation>(v.clone())
+                .map_err(|_| bad("`formulation` must be \"periodic\" or \"non_periodic\""))?,
+        ),
+    };
     Ok(SolveSummary {
         nx: grid[0],
         ny: grid[1],
@@ -124,7 +150,31 @@ pub fn read_summary(path: &Path) -> Result<SolveSummary, AnalysisError> {
         cell_size_y,
         scales,
         xi: doc["xi"].as_f64(),
+        formulation,
     })
+}
+
+/// The warning for a taper `window` asked for against the run's
+/// formulation, `None` where they agree (or the formulation is unknown).
+fn window_warning(window: Window, formulation: Option<Formulation>) -> Option<String> {
+    match (formulation?, window) {
+        (Formulation::Periodic, Window::None) | (Formulation::NonPeriodic, Window::Hann | Window::BlackmanHarris) => None,
+        (Formulation::Periodic, w) => Some(format!(
+            "the solve is periodic (summary.json formulation), its fields are one period and need no taper: the {} window asked for reweights the map, so gamma and theta_P differ from the solve's own analysis (window none)",
+            window_name(w)
+        )),
+        (Formulation::NonPeriodic, _) => Some(
+            "the solve is non-periodic (summary.json formulation) and no taper was asked for: the displacement's edge jumps leak power along the q_x and q_y axes and bias gamma and theta_P towards the axes (the solve's own analysis uses the Hann window)".into(),
+        ),
+    }
+}
+
+fn window_name(w: Window) -> &'static str {
+    match w {
+        Window::None => "none",
+        Window::Hann => "hann",
+        Window::BlackmanHarris => "blackman-harris",
+    }
 }
 
 fn read_field(dir: &Path, name: &str, nx: usize, ny: usize) -> Result<Vec<f64>, AnalysisError> {
@@ -149,7 +199,17 @@ fn read_field(dir: &Path, name: &str, nx: usize, ny: usize) -> Result<Vec<f64>, 
 /// Analyse the solve written in `dir` and write `analysis.json` and the
 /// figures ([`super::ANALYSIS_FILES`]) there, all or nothing. Every input is read
 /// and checked before anything is written.
-pub fn analyze_dir(dir: &Path, params: &AnalysisParams) -> Result<AnalysisReport, AnalysisError> {
+///
+/// `window` is the taper asked for, which replaces `params.window`; `None`
+/// takes the one the solve's own analysis used
+/// ([`SolveSummary::default_window`]), so that the same settings reproduce
+/// its `analysis.json`. A taper asked for against the run's formulation is
+/// used and named in the report's warnings.
+pub fn analyze_dir(
+    dir: &Path,
+    params: &AnalysisParams,
+    window: Option<Window>,
+) -> Result<AnalysisReport, AnalysisError> {
     if !dir.is_dir() {
         return Err(AnalysisError::Missing {
             path: dir.display().to_string(),
@@ -172,7 +232,14 @@ pub fn analyze_dir(dir: &Path, params: &AnalysisParams) -> Result<AnalysisReport
         scales: summary.scales,
         xi: summary.xi,
     };
-    let report = analyze(&inputs, params)?;
+    let params = AnalysisParams {
+        window: window.unwrap_or_else(|| summary.default_window()),
+        ..params.clone()
+    };
+    let mut report = analyze(&inputs, &params)?;
+    if let Some(w) = window.and_then(|w| window_warning(w, summary.formulation)) {
+        report.warnings.push(w);
+    }
     let mut staged = StagedOutput::new(dir)?;
     write_analysis(&mut staged, &inputs, &report)?;
     staged.commit()?;

@@ -1,12 +1,14 @@
 //! `viscoslide analyze DIR`: anisotropy of the deformed surface (Eq. 11-13),
 //! `C_chi` contours and contact spots of a finished solve; writes
-//! `analysis.json` and the figures into DIR, all or nothing.
+//! `analysis.json` and the figures into DIR, all or nothing. Its defaults
+//! are the solve's own: the same settings reproduce the `analysis.json`
+//! the solve wrote.
 
 use std::path::PathBuf;
 
 use crate::analysis::{analyze_dir, AnalysisParams, ANALYSIS_FILES};
 use crate::error::Result;
-use crate::surface::Window;
+use crate::surface::{parse_window, Window};
 
 #[derive(Debug, clap::Args)]
 pub struct AnalyzeArgs {
@@ -27,7 +29,12 @@ pub struct AnalyzeArgs {
     /// area-weighted spot size).
     #[arg(long)]
     pub chi_window: Option<f64>,
-    /// Do not taper the displacement before its PSD (periodic solves).
+    /// Taper of the displacement before its PSD: none, hann,
+    /// blackman-harris (default: the solve's own, none for a periodic
+    /// solve and hann otherwise, from summary.json `formulation`).
+    #[arg(long, value_parser = parse_window, conflicts_with = "periodic")]
+    pub window: Option<Window>,
+    /// Same as --window none.
     #[arg(long)]
     pub periodic: bool,
 }
@@ -42,10 +49,8 @@ pub fn run(args: AnalyzeArgs) -> Result<()> {
         params.chi_levels = l;
     }
     params.chi_window_cells = args.chi_window;
-    if args.periodic {
-        params.window = Window::None;
-    }
-    let r = analyze_dir(&args.dir, &params)?;
+    let window = args.window.or(args.periodic.then_some(Window::None));
+    let r = analyze_dir(&args.dir, &params, window)?;
     for w in &r.warnings {
         eprintln!("warning: {w}");
     }

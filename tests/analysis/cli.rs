@@ -222,3 +222,71 @@ fn band_defaults_from_summary_config() {
     let e = read_summary(&p).unwrap_err().to_string();
     assert!(e.contains("grid"), "{e}");
 }
+
+/// `summary.json` of `dir` with `key` set to `value`.
+fn set_summary(dir: &Path, key: &str, value: serde_json::Value) {
+    let p = dir.join("summary.json");
+    let mut doc: serde_json::Value = serde_json::from_slice(&std::fs::read(&p).unwrap()).unwrap();
+    doc[key] = value;
+    std::fs::write(&p, doc.to_string()).unwrap();
+}
+
+fn analysis_json(dir: &Path) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(dir.join("analysis.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn the_taper_defaults_to_the_runs_formulation() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("run");
+    let taper_warning = |j: &serde_json::Value| {
+        j["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|w| w.as_str().unwrap().contains("taper"))
+            .count()
+    };
+    // A periodic run: no taper, as the solve's own analysis; the same
+    // numbers as --periodic, and no warning.
+    solve_dir(&dir);
+    set_summary(&dir, "formulation", "periodic".into());
+    let o = viscoslide(&["analyze", dir.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let default = analysis_json(&dir);
+    assert_eq!(default["window"], "none");
+    assert_eq!(taper_warning(&default), 0, "{default}");
+    let o = viscoslide(&["analyze", dir.to_str().unwrap(), "--periodic"]);
+    assert!(o.status.success());
+    assert_eq!(analysis_json(&dir)["gamma"], default["gamma"]);
+    assert_eq!(analysis_json(&dir)["theta_p_deg"], default["theta_p_deg"]);
+    // An explicit Hann window overrides it, and says so.
+    let o = viscoslide(&["analyze", dir.to_str().unwrap(), "--window", "hann"]);
+    assert!(o.status.success());
+    let hann = analysis_json(&dir);
+    assert_eq!(hann["window"], "hann");
+    assert_ne!(hann["gamma"], default["gamma"]);
+    assert_eq!(taper_warning(&hann), 1, "{hann}");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("warning: the solve is periodic"));
+
+    // A non-periodic run (or one whose summary does not say): Hann; no
+    // taper asked for is warned about.
+    for formulation in [serde_json::json!("non_periodic"), serde_json::Value::Null] {
+        solve_dir(&dir);
+        set_summary(&dir, "formulation", formulation.clone());
+        let o = viscoslide(&["analyze", dir.to_str().unwrap()]);
+        assert!(o.status.success());
+        let j = analysis_json(&dir);
+        assert_eq!(j["window"], "hann");
+        assert_eq!(taper_warning(&j), 0, "{j}");
+        let o = viscoslide(&["analyze", dir.to_str().unwrap(), "--periodic"]);
+        assert!(o.status.success());
+        let want = usize::from(!formulation.is_null());
+        assert_eq!(taper_warning(&analysis_json(&dir)), want, "{formulation}");
+    }
+
+    // An unknown formulation is refused in one line, writing nothing.
+    solve_dir(&dir);
+    set_summary(&dir, "formulation", "spectral".into());
+    assert_fails_cleanly(&dir, &[], "`formulation` must be");
+}
