@@ -18,6 +18,14 @@ use crate::surface::Psd2d;
 /// Relative tolerance of the band edges (modes on a band edge are kept).
 const EDGE_TOL: f64 = 1e-9;
 
+/// Hurst exponent of the reference field of [`ZetaBand::grid_gamma`]: the
+/// roughness of the paper's surfaces and of the shipped configurations.
+pub const REFERENCE_HURST: f64 = 0.8;
+
+/// [`ZetaBand::grid_gamma`] below which the band is warned to sample
+/// directions too unevenly for `gamma` and `theta_P` (see [`ZetaBand`]).
+pub const MIN_GRID_GAMMA: f64 = 0.9;
+
 /// The wavevector band `zeta1 q0 <= |q| <= zeta2 q0` of Eq. 11.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ZetaBand {
@@ -29,6 +37,26 @@ pub struct ZetaBand {
     pub q0: f64,
     /// Fourier modes of the grid inside the band (both halves of the plane).
     pub modes: usize,
+    /// `gamma` of Eq. 11 that an isotropic self-affine field
+    /// (`C ~ |q|^-2(1+H)`, `H` = [`REFERENCE_HURST`]) has on this grid and
+    /// band: 1 where the band's modes sample every direction evenly.
+    ///
+    /// The grid's modes lie on a lattice of spacings `2 pi / Lx` and
+    /// `2 pi / Ly`; the band's edges are in units of `q0 = 2 pi / Lx`. On a
+    /// map much shorter along y than x the y spacing is several `q0`, and
+    /// the band holds mostly (or only) modes along `q_x`: `gamma` and
+    /// `theta_P` then describe the map's shape, not the surface. The
+    /// expected Eq. 11 tensor of an isotropic field is the sum of
+    /// `q_i q_j C(|q|)` over the band's modes, so its `gamma` measures that
+    /// bias directly, with the weight the analysis gives each mode (the
+    /// low-`q` modes, where the lattice is coarsest, weigh most for a
+    /// self-affine spectrum). It is exactly 1 on a square map (a tensor
+    /// unchanged by quarter turns is isotropic), whatever the band, and
+    /// below [`MIN_GRID_GAMMA`] the analysis warns: the map's shape alone
+    /// would then bias `gamma` by more than 10 %. Counting modes per
+    /// direction sector would instead flag narrow bands on square maps,
+    /// whose few modes still give an isotropic tensor.
+    pub grid_gamma: f64,
 }
 
 impl ZetaBand {
@@ -131,13 +159,14 @@ pub fn deformed_anisotropy(psd: &Psd2d, zeta1: f64, zeta2: f64) -> DeformedAniso
         zeta2,
         q0,
         modes: 0,
+        grid_gamma: 1.0,
     };
     let dq2 = psd.dqx * psd.dqy;
     // Accumulate per row and add rows in order (deterministic).
-    let mut acc = [0.0f64; 7];
+    let mut acc = [0.0f64; 10];
     let mut modes = 0usize;
     for kx in 0..psd.nx {
-        let mut row = [0.0f64; 7];
+        let mut row = [0.0f64; 10];
         for ky in 0..psd.ny {
             let (qx, qy) = psd.q(kx, ky);
             let q2 = qx * qx + qy * qy;
@@ -153,12 +182,18 @@ pub fn deformed_anisotropy(psd: &Psd2d, zeta1: f64, zeta2: f64) -> DeformedAniso
             row[4] += qy * qy / q2 * c;
             row[5] += qx * qy / q2 * c;
             row[6] += c;
+            // The reference field: q_i q_j |q|^-2(1+H).
+            let w = q2.powf(-(1.0 + REFERENCE_HURST));
+            row[7] += qx * qx * w;
+            row[8] += qy * qy * w;
+            row[9] += qx * qy * w;
         }
         for (a, r) in acc.iter_mut().zip(row) {
             *a += r;
         }
     }
     band.modes = modes;
+    band.grid_gamma = AnisotropyTensor::from_components(acc[7], acc[8], acc[9]).gamma;
     let m: Vec<f64> = acc.iter().map(|v| v * dq2).collect();
     DeformedAnisotropy {
         band,

@@ -2,7 +2,7 @@
 //! (Eq. 11-13), contact-area anisotropy from `C_chi` (Fig. 10) and
 //! contact-spot statistics (physics.md section 5).
 
-use super::anisotropy::deformed_anisotropy;
+use super::anisotropy::{deformed_anisotropy, MIN_GRID_GAMMA, REFERENCE_HURST};
 use super::chi::{chi_spectrum, contour_level, ChiLevel};
 use super::report::{
     param, AnalysisError, AnalysisInputs, AnalysisParams, AnalysisReport, ChiReport,
@@ -149,6 +149,15 @@ pub fn analyze(
     if zeta2 > nyquist * (1.0 + 1e-9) {
         warnings.push(format!(
             "zeta2 = {zeta2} reaches beyond the grid's Nyquist wavenumber pi / a (zeta2 = {nyquist:.1}): the band holds there only the corners of the spectrum, so gamma and theta_P are the grid's, not the surface's; give zeta2 <= {nyquist:.1}"
+        ));
+    }
+    if def.band.grid_gamma < MIN_GRID_GAMMA {
+        warnings.push(format!(
+            "the band {} <= |q|/q0 <= {zeta2} of this {nx} x {ny} map samples directions unevenly (mode spacing {:.3} q0 along x, {:.3} q0 along y): an isotropic surface would give gamma = {:.3} here (H = {REFERENCE_HURST}), so gamma and theta_P describe the map's shape; use a map closer to square or a band well above the coarser spacing",
+            params.zeta1,
+            psd.dqx / def.band.q0,
+            psd.dqy / def.band.q0,
+            def.band.grid_gamma
         ));
     }
     if let (Some(c), Some(asked)) = (&chi, params.chi_window_cells) {

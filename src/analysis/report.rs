@@ -173,9 +173,11 @@ pub struct AnalysisReport {
     /// The parameters used.
     pub params: AnalysisParams,
     /// Settings or fields under which a number above may mislead, one line
-    /// each: a band reaching beyond the grid's Nyquist wavenumber, a
-    /// `C_chi` window asked beyond the largest the map allows, a contact
-    /// that covers most of the map.
+    /// each: a band reaching beyond the grid's Nyquist wavenumber, a band
+    /// that samples directions unevenly on an elongated map
+    /// ([`ZetaBand::grid_gamma`]), a taper asked for against the solve's
+    /// formulation, a `C_chi` window asked beyond the largest the map
+    /// allows, a contact that covers most of the map.
     pub warnings: Vec<String>,
     pub version: &'static str,
 }

@@ -235,3 +235,69 @@ fn m20_is_the_mean_square_x_slope() {
     assert!((r.m02 / syy - 1.0).abs() < 0.01);
     assert!((r.m11 - sxy).abs() < 0.01 * sxx.max(syy));
 }
+
+/// `analyze` on an `nx x ny` isotropic surface with square cells and the
+/// band `1 <= |q|/q0 <= 8`.
+fn analyse_rectangle(nx: usize, ny: usize, seed: u64) -> AnalysisReport {
+    let u = generate(&GenerateParams {
+        nx,
+        ny,
+        length: L,
+        upper: UpperCutoff::Scales(8.0),
+        seed,
+        ..GenerateParams::default()
+    })
+    .unwrap()
+    .heights;
+    let zeros = vec![0.0; nx * ny];
+    let a = L / nx as f64;
+    analyze(
+        &AnalysisInputs {
+            nx,
+            ny,
+            cell_size: a,
+            cell_size_y: a,
+            displacement: &u,
+            contact: &zeros,
+            pressure: &zeros,
+            scales: Some(8.0),
+            xi: None,
+        },
+        &periodic(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn an_elongated_map_warns_that_its_band_samples_directions_unevenly() {
+    // 64 x 8: along y the mode spacing is 8 q0, so the band holds modes
+    // along q_x only (and q_y = +-8 q0 on its edge): gamma is the map's.
+    for seed in 1..=3 {
+        let r = analyse_rectangle(64, 8, seed);
+        assert!(r.band.grid_gamma < 0.1, "{}", r.band.grid_gamma);
+        let w: Vec<&String> = r
+            .warnings
+            .iter()
+            .filter(|w| w.contains("samples directions unevenly"))
+            .collect();
+        assert_eq!(w.len(), 1, "seed {seed}: {:?}", r.warnings);
+        assert!(
+            w[0].contains("64 x 8") && w[0].contains("8.000 q0 along y"),
+            "{}",
+            w[0]
+        );
+    }
+    // Square maps: the band's tensor is isotropic whatever the band, and
+    // nothing is said; a mildly rectangular map stays above the threshold.
+    for (nx, ny) in [(64, 64), (16, 16), (64, 56)] {
+        let r = analyse_rectangle(nx, ny, 1);
+        if nx == ny {
+            assert!(
+                (r.band.grid_gamma - 1.0).abs() < 1e-12,
+                "{}",
+                r.band.grid_gamma
+            );
+        }
+        assert!(r.warnings.is_empty(), "{nx} x {ny}: {:?}", r.warnings);
+    }
+}
