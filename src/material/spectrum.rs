@@ -102,7 +102,7 @@ impl CreepSpectrum {
 
     /// Complex compliance `J*(w) = 1/E_inf + sum_k C_k / (1 + i w tau_k)`;
     /// a term whose `(w tau_k)^2` would overflow is taken as `C_k (y^2, -y)
-    /// / (1 + y^2)`, `y = 1 / (w tau_k)` ([`far_debye`]).
+    /// / (1 + y^2)`, `y = 1 / (w tau_k)` (`far_debye`).
     pub fn compliance(&self, omega: f64) -> Complex64 {
         let mut j = Complex64::new(self.glassy_compliance(), 0.0);
         for k in &self.terms {

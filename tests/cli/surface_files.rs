@@ -5,26 +5,11 @@
 //! one line on stderr with exit status 1 and nothing written.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use viscoslide::io::npy;
 
-fn viscoslide(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_viscoslide"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-/// Exit status 1, one line on stderr containing every one of `words`.
-fn assert_refused(o: &Output, words: &[&str]) {
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "status {:?}: {err}", o.status);
-    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
-    for w in words {
-        assert!(err.contains(w), "'{w}' missing from: {err}");
-    }
-}
+use super::messages::{assert_refused, viscoslide};
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);

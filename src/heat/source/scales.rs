@@ -33,6 +33,7 @@ use rayon::prelude::*;
 
 use super::super::error::HeatError;
 use super::depth::DepthRule;
+use super::dissipation::creep_elements;
 use super::stress::{dissipation_form, unit_component};
 use crate::operator::{nyquist_signs, signed_index};
 use crate::response::{Grid, SlidingResponse};
@@ -111,14 +112,7 @@ fn band_sums(
     let fundamental = tau2 / lx.max(ly);
     let spectrum =
         height_fft::forward(pressure, nx, ny).map_err(|e| HeatError::Transform(e.to_string()))?;
-    let elements: Vec<(f64, f64)> = response
-        .material()
-        .spectrum
-        .terms
-        .iter()
-        .filter(|t| t.compliance > 0.0)
-        .map(|t| (t.compliance, t.time))
-        .collect();
+    let elements = creep_elements(response);
     let (e, speed) = (response.direction(), response.speed());
     let power_at = |w: f64| -> f64 {
         elements

@@ -111,6 +111,19 @@ struct Regular {
     p: Complex64,
 }
 
+/// `(C_k, tau_k)` of every creep element of `response`'s material with
+/// `C_k > 0` (those that dissipate).
+pub(crate) fn creep_elements(response: &SlidingResponse) -> Vec<(f64, f64)> {
+    response
+        .material()
+        .spectrum
+        .terms
+        .iter()
+        .filter(|t| t.compliance > 0.0)
+        .map(|t| (t.compliance, t.time))
+        .collect()
+}
+
 /// One thread's work space.
 struct Work {
     spec: Vec<Complex64>,
@@ -140,14 +153,7 @@ impl Dissipation {
         let mut spectrum = height_fft::forward(pressure, nx, ny).map_err(transform_error)?;
         let scale = 1.0 / (nx * ny) as f64;
         spectrum.iter_mut().for_each(|c| *c *= scale);
-        let elements: Vec<(f64, f64)> = response
-            .material()
-            .spectrum
-            .terms
-            .iter()
-            .filter(|t| t.compliance > 0.0)
-            .map(|t| (t.compliance, t.time))
-            .collect();
+        let elements = creep_elements(response);
         let (e, speed) = (response.direction(), response.speed());
         let rates = rank::combined_rates(&elements, &frequencies(grid, e, speed))?;
         Ok(Self::planned(
