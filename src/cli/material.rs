@@ -10,8 +10,8 @@ use crate::error::{Error, Result};
 use crate::io::StagedOutput;
 use crate::material::eval::log_space;
 use crate::material::{
-    fit_spectrum, material_toml, DmaData, DynamicModuli, FitParams, FitRecord, Material, Wlf,
-    LOG10_SHIFT_MAX,
+    fit_spectrum, fit_warnings, material_toml, DmaData, DynamicModuli, FitParams, FitRecord,
+    Material, Wlf, LOG10_SHIFT_MAX,
 };
 use crate::plot::{xy_chart, Series, XyChart};
 
@@ -269,6 +269,7 @@ fn fit(args: &FitArgs) -> Result<()> {
     let fit = fit_spectrum(&omega, &measured, &params)?;
     let material = Material::new(fit.creep.clone(), args.poisson)?;
     let info = &fit.info;
+    let warnings = fit_warnings(&data, &fit);
     let record = FitRecord {
         data: args.data.display().to_string(),
         points: info.points,
@@ -289,6 +290,7 @@ fn fit(args: &FitArgs) -> Result<()> {
         max_relative_error_e1: info.max_relative_storage,
         max_relative_error_e2: info.max_relative_loss,
         relaxed_modulus: fit.creep.relaxed_modulus(),
+        warnings: warnings.clone(),
         version: crate::version::VERSION.into(),
     };
     let toml_text = material_toml(&material, Some(&record))?;
@@ -392,11 +394,8 @@ fn fit(args: &FitArgs) -> Result<()> {
             "  note: the time grid reaches less than half a decade beyond the data at one end; consider more --terms or a larger --ratio"
         );
     }
-    if info.tan_delta_at_lowest_frequency > 0.05 {
-        println!(
-            "  note: tan delta = {:.3} at the lowest data frequency: the data do not reach the rubbery plateau, so E0 is extrapolated",
-            info.tan_delta_at_lowest_frequency
-        );
+    for w in &warnings {
+        eprintln!("warning: {w}");
     }
     // The fit's temperature beyond the data's: every modulus of the file
     // is the WLF shift's extrapolation (a solve with it warns again).

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use super::MaterialError;
+use super::{columns, MaterialError};
 
 /// The largest `|log10 a_T|` accepted: 50 decades (physics.md section 12).
 ///
@@ -187,6 +187,9 @@ pub struct DmaData {
     /// Where it came from (for messages and provenance).
     pub source: String,
     pub points: Vec<DmaPoint>,
+    /// What reading them left out that may change the fit: each column
+    /// the reader does not take (`material fit` warns of each).
+    pub warnings: Vec<String>,
 }
 
 /// Accepted column names (lower case) and their meaning.
@@ -231,6 +234,7 @@ impl DmaData {
         Ok(Self {
             source: source.to_string(),
             points,
+            warnings: Vec::new(),
         })
     }
 
@@ -246,8 +250,10 @@ impl DmaData {
     /// Parse CSV text. Lines starting with `#` and blank lines are skipped; the
     /// first other line is the header. Columns (case-insensitive): frequency as
     /// `frequency_hz` \[Hz\] or `omega_rad_s` [rad/s] (exactly one), `e1_pa` and
-    /// `e2_pa` \[Pa\], optional `temperature_c` \[C\]; other columns are ignored.
-    /// Every frequency, `E1` and `E2` must be positive and finite.
+    /// `e2_pa` \[Pa\], optional `temperature_c` \[C\]; other columns are ignored,
+    /// each named in [`DmaData::warnings`], but a temperature in kelvin or
+    /// Fahrenheit (`temperature_k`, `temp_f`, ...) without `temperature_c`
+    /// is refused. Every frequency, `E1` and `E2` must be positive and finite.
     pub fn parse(text: &str, source: &str) -> Result<Self, MaterialError> {
         let err = |line: usize, message: String| MaterialError::Data {
             source_name: if line > 0 {
@@ -315,6 +321,14 @@ impl DmaData {
         let e2col = find(LOSS)?
             .ok_or_else(|| err(hline, "missing column e2_pa (loss modulus E2, Pa)".into()))?;
         let tcol = find(TEMP)?;
+        let mut warnings = Vec::new();
+        for (c, name) in names.iter().enumerate() {
+            if name.is_empty() || [Some(fcol), Some(e1col), Some(e2col), tcol].contains(&Some(c)) {
+                continue;
+            }
+            let note = columns::unread_column(name, tcol.is_some()).map_err(|m| err(hline, m))?;
+            warnings.push(note);
+        }
         let mut points = Vec::new();
         for (ln, line) in lines {
             let cells: Vec<&str> = line.split(',').map(str::trim).collect();
@@ -364,6 +378,7 @@ impl DmaData {
         Ok(Self {
             source: source.to_string(),
             points,
+            warnings,
         })
     }
 
@@ -467,6 +482,47 @@ mod tests {
         assert_eq!(d.points[1].omega, 10.0);
         let hz = DmaData::parse("frequency_hz,e1_pa,e2_pa\n1,2,3\n2,2,3\n3,2,3\n", "t").unwrap();
         assert!((hz.points[0].omega - 2.0 * std::f64::consts::PI).abs() < 1e-15);
+    }
+
+    /// A temperature column the reader does not take is refused in kelvin
+    /// (it was ignored, and the temperatures merged) and named in a
+    /// warning otherwise; so is any other unread column.
+    #[test]
+    fn unread_columns_are_refused_or_named() {
+        let rows = "1,2e6,1e5,250\n10,3e6,2e5,250\n100,4e6,3e5,300\n";
+        let e = DmaData::parse(
+            &format!("omega_rad_s,e1_pa,e2_pa,temperature_k\n{rows}"),
+            "t",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.starts_with("t line 1: column temperature_k") && e.contains("temperature_c"),
+            "{e}"
+        );
+        let d = DmaData::parse(&format!("omega_rad_s,e1_pa,e2_pa,temp\n{rows}"), "t").unwrap();
+        assert_eq!(d.warnings.len(), 1);
+        assert!(
+            d.warnings[0].contains("column temp is ignored"),
+            "{:?}",
+            d.warnings
+        );
+        let d = DmaData::parse(
+            &format!(
+                "omega_rad_s,e1_pa,e2_pa,temperature_c,tan_d\n{}",
+                rows.replace('\n', ",0.1\n")
+            ),
+            "t",
+        )
+        .unwrap();
+        assert_eq!(d.warnings.len(), 1, "{:?}", d.warnings);
+        assert!(d.warnings[0].contains("tan_d"));
+        let clean = DmaData::parse(
+            &format!("omega_rad_s,e1_pa,e2_pa,temperature_c\n{rows}"),
+            "t",
+        )
+        .unwrap();
+        assert!(clean.warnings.is_empty());
     }
 
     #[test]

@@ -49,6 +49,11 @@ pub struct FitRecord {
     pub max_relative_error_e2: f64,
     /// `E0` \[Pa\] of the fit (also implied by the spectrum).
     pub relaxed_modulus: f64,
+    /// What may make the fit mislead (`material::fit_warnings`): unread
+    /// columns, merged temperatures, a large error, a plateau the data do
+    /// not reach. Absent when there is none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// viscoslide version that wrote the file.
     pub version: String,
 }

@@ -69,6 +69,13 @@ pub struct FitInfo {
     /// small the data do not reach the rubbery plateau and the relaxed modulus
     /// `E0` is an extrapolation (the fit may place relaxation below the data).
     pub tan_delta_at_lowest_frequency: f64,
+    /// Loss tangent of the fit at the highest data frequency. When it is
+    /// not small the data do not reach the glassy plateau and the glassy
+    /// modulus `E_inf` is an extrapolation.
+    pub tan_delta_at_highest_frequency: f64,
+    /// The fit's storage modulus `E1` at the highest data frequency \[Pa\]:
+    /// how far `E_inf` lies beyond the data.
+    pub storage_at_highest_frequency: f64,
     /// Relaxation terms with a positive weight.
     pub nonzero_terms: usize,
     /// NNLS outer iterations.
@@ -227,6 +234,11 @@ pub fn fit_spectrum(
             let e = creep.modulus(wmin);
             e.im / e.re
         },
+        tan_delta_at_highest_frequency: {
+            let e = creep.modulus(wmax);
+            e.im / e.re
+        },
+        storage_at_highest_frequency: creep.modulus(wmax).re,
         nonzero_terms,
         nnls_iterations: nn.iterations,
     };

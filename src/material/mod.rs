@@ -18,11 +18,13 @@
 //! * `temperature`: the WLF shift of every creep time to a temperature
 //!   ([`Material::at_temperature`], physics.md section 12).
 
+mod columns;
 mod config;
 mod dma;
 pub(crate) mod eval;
 pub mod file;
 pub mod fit;
+mod fit_checks;
 pub(crate) mod nnls;
 mod prony;
 mod spectrum;
@@ -33,6 +35,9 @@ pub use dma::{DmaData, DmaPoint, Wlf, LOG10_SHIFT_MAX};
 pub use eval::{ComplexModulus, DynamicModuli};
 pub use file::{load_material_file, material_toml, FitRecord};
 pub use fit::{fit_spectrum, FitInfo, FitParams, SpectrumFit};
+pub use fit_checks::{
+    fit_warnings, GLASSY_RATIO_WARN, PLATEAU_TAN_DELTA, REPEAT_FACTOR_WARN, RMS_ERROR_WARN,
+};
 pub use prony::{PronySeries, PronyTerm};
 pub use spectrum::{CreepSpectrum, CreepTerm};
 pub use temperature::TemperatureShift;
