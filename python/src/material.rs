@@ -10,7 +10,8 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use viscoslide::material::{
-    fit_spectrum, DmaData, DmaPoint, FitParams, Material, MaterialConfig, MaterialModel, Wlf,
+    fit_spectrum, fit_warnings, DmaData, DmaPoint, FitParams, Material, MaterialConfig,
+    MaterialModel, Wlf,
 };
 
 use crate::errors::value_error;
@@ -225,6 +226,7 @@ impl NativeMaterial {
         info.set_item("max_relative_error_e1", i.max_relative_storage)?;
         info.set_item("max_relative_error_e2", i.max_relative_loss)?;
         info.set_item("temperature", at)?;
+        info.set_item("warnings", fit_warnings(&data, &fit))?;
         let mut section = creep_section(&material);
         section.frequency_range = frequency_range;
         if let Some(w) = wlf.filter(|w| at.is_none_or(|t| t == w.reference_temperature)) {

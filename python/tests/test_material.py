@@ -72,3 +72,28 @@ def test_fit_dma_matches_material_fit(cli, repo, tmp_path):
     w = np.logspace(-2, 8, 21)
     np.testing.assert_allclose(m.complex_modulus(w), fitted.complex_modulus(w), rtol=1e-9)
     assert m.fit_info["rms_relative_error_e1"] < 0.05
+    assert m.fit_info["warnings"] == []
+
+
+def test_fit_dma_warns_as_material_fit(cli, repo, tmp_path):
+    """Data at 60 C stop below the glassy plateau, and the same points
+    without their temperatures merge ten of them: each is warned, with the
+    numbers material fit records."""
+    lines = [l for l in (repo / "configs" / "data" / "sbr_like_dma.csv").read_text().splitlines() if not l.startswith("#")]
+    values = np.array([[float(x) for x in l.split(",")] for l in lines[1:]])
+    hot = values[values[:, 0] == 60.0]
+    with pytest.warns(UserWarning, match="do not reach the glassy plateau") as caught:
+        m = vs.Material.fit_dma(hot[:, 1], hot[:, 2], hot[:, 3], temperatures=hot[:, 0])
+    assert len(caught) == 1
+    (warned,) = m.fit_info["warnings"]
+    assert "E_inf = 1.084e12 Pa" in warned
+    path = tmp_path / "hot.csv"
+    path.write_text("\n".join([lines[0]] + [l for l in lines[1:] if l.startswith("60,")]) + "\n")
+    cli("material", "fit", str(path), "--out", str(tmp_path / "fit"))
+    assert warned in (tmp_path / "fit" / "material.toml").read_text()
+    with pytest.warns(UserWarning) as caught:
+        merged = vs.Material.fit_dma(values[:, 1], values[:, 2], values[:, 3])
+    notes = merged.fit_info["warnings"]
+    assert [str(c.message) for c in caught] == notes
+    assert any("several temperatures merged" in n for n in notes), notes
+    assert any("the fit misses its data" in n for n in notes), notes

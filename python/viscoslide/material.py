@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import warnings
 from typing import Any, Dict, Optional, Sequence, Tuple
 
 import numpy as np
@@ -225,7 +226,12 @@ class Material:
             Poisson ratio (default 0.5).
 
         The fit's quality (relative rms and maximum errors of E1 and E2) is
-        in the returned material's ``fit_info``. With ``wlf`` and data at
+        in the returned material's ``fit_info``; so are its ``warnings``,
+        each also raised (``warnings.warn``) as ``viscoslide material fit``
+        prints them: data of several temperatures merged at one frequency,
+        a fit whose rms relative error exceeds 10 %, and data that do not
+        reach the rubbery or the glassy plateau (``E0`` or ``E_inf``
+        extrapolated). With ``wlf`` and data at
         several ``temperatures``, their lowest and highest are the
         material's :attr:`wlf_range`, and the data's frequencies (shifted to
         ``temperature``) its :attr:`frequency_range`: solves beyond them
@@ -247,6 +253,8 @@ class Material:
             _checks.number("ratio", ratio),
             _checks.number("poisson", poisson),
         )
+        for note in info["warnings"]:
+            warnings.warn(note, stacklevel=2)
         return cls(native, dict(info))
 
     def complex_modulus(self, omega: Any) -> np.ndarray:
