@@ -13,25 +13,25 @@ use super::{DmaData, DmaPoint, SpectrumFit};
 /// default 34 times, and DMA instruments report moduli to a few percent;
 /// ten times that is a spectrum that does not describe the data (too few
 /// terms, or data that are not one material at one temperature).
-pub const RMS_ERROR_WARN: f64 = 0.10;
+pub(crate) const RMS_ERROR_WARN: f64 = 0.10;
 
 /// The factor between moduli of one frequency at one temperature above
 /// which the data are said to merge several temperatures: 2. Repeats of
 /// one measurement scatter by percents; the shipped data's `E1` at 1 Hz
 /// spans 5 MPa to 1 GPa over -20 to 100 C, so merged temperatures differ
 /// by far more.
-pub const REPEAT_FACTOR_WARN: f64 = 2.0;
+pub(crate) const REPEAT_FACTOR_WARN: f64 = 2.0;
 
 /// The loss tangent of the fit at the data's lowest or highest frequency
 /// above which the data are said not to reach the rubbery or the glassy
 /// plateau: 0.05. The shipped master curve at 17 C has 0.024 at its
 /// highest frequency (7.5e7 rad/s) and less at its lowest.
-pub const PLATEAU_TAN_DELTA: f64 = 0.05;
+pub(crate) const PLATEAU_TAN_DELTA: f64 = 0.05;
 
 /// The ratio of the fit's `E_inf` to its `E1` at the highest data
 /// frequency above which `E_inf` is said to lie beyond the data: 2 (the
 /// shipped master curve: 1.01).
-pub const GLASSY_RATIO_WARN: f64 = 2.0;
+pub(crate) const GLASSY_RATIO_WARN: f64 = 2.0;
 
 /// Every warning on the fit `fit` of `data`, in the order: the data's own
 /// ([`DmaData::warnings`]), merged temperatures, the fit's error, the

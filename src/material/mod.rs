@@ -35,9 +35,7 @@ pub use dma::{DmaData, DmaPoint, Wlf, LOG10_SHIFT_MAX};
 pub use eval::{ComplexModulus, DynamicModuli};
 pub use file::{load_material_file, material_toml, FitRecord};
 pub use fit::{fit_spectrum, FitInfo, FitParams, SpectrumFit};
-pub use fit_checks::{
-    fit_warnings, GLASSY_RATIO_WARN, PLATEAU_TAN_DELTA, REPEAT_FACTOR_WARN, RMS_ERROR_WARN,
-};
+pub use fit_checks::fit_warnings;
 pub use prony::{PronySeries, PronyTerm};
 pub use spectrum::{CreepSpectrum, CreepTerm};
 pub use temperature::TemperatureShift;
