@@ -297,6 +297,19 @@ impl GenerateParams {
         let a = p.length / p.nx as f64;
         let nyquist = PI / a;
         if q1 * reach > nyquist * (1.0 + 1e-12) {
+            // Within the grid unstretched: the stretch carries the band
+            // beyond it, and is what to change.
+            if reach > 1.0 && q1 <= nyquist * (1.0 + 1e-12) {
+                return Err(SurfaceError::param(
+                    "anisotropy.ratio",
+                    format!("{:e}", 1.0 / reach),
+                    format!(
+                        "stretching the band by 1 / ratio = {reach:.3e} carries q1 = {q1:.6e} 1/m to {:.6e} 1/m, beyond the grid's Nyquist wavenumber pi/a = {nyquist:.6e} 1/m; use a ratio of at least {:.3e}, or more cells",
+                        q1 * reach,
+                        q1 / nyquist
+                    ),
+                ));
+            }
             return Err(SurfaceError::param(
                 "q1",
                 format!("{:.6e}", q1),

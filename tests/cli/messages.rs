@@ -287,7 +287,8 @@ fn sub_cell_layers_are_refused_or_solved_fast() {
     assert!(o.status.success(), "{err}");
     assert!(t.elapsed().as_secs_f64() < 8.0, "{:?}", t.elapsed());
     assert!(
-        err.contains("thinner than a cell (h / a = 3.20e-2)") && err.contains("misses part of it, high or low"),
+        err.contains("thinner than a cell (h / a = 3.20e-2)")
+            && err.contains("misses part of it, high or low"),
         "{err}"
     );
     assert!(!err.contains("0.0 cells"), "{err}");
@@ -499,4 +500,25 @@ fn isothermal_studies_of_a_heated_config_say_so() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("[heating] is not applied"), "{err}");
+}
+
+/// A stretch that carries the band beyond the grid is named as the cause:
+/// the error blamed `q1`, which was within the grid.
+#[test]
+fn a_stretch_beyond_the_grid_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = config(dir.path(), "");
+    let out = dir.path().join("out");
+    let o = viscoslide(&[
+        "solve",
+        cfg.to_str().unwrap(),
+        "--set",
+        "surface.generate.anisotropy={ratio=1e-6, angle_deg=0.0}",
+        "--backend",
+        "cpu",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_refused(&o, &["anisotropy.ratio", "use a ratio of at least"]);
+    assert!(!out.exists());
 }
