@@ -340,6 +340,10 @@ const UNITS: &[(&str, &str)] = &[
     ),
     ("wlf", "[C1, C2 in K, T_ref in C]"),
     ("thickness", "m"),
+    (
+        "base",
+        "[layer] base = \"bonded\" or \"frictionless\", how the layer rests on its rigid base",
+    ),
     ("cell_size", "m"),
 ];
 

@@ -522,3 +522,16 @@ fn a_stretch_beyond_the_grid_is_named() {
     assert_refused(&o, &["anisotropy.ratio", "use a ratio of at least"]);
     assert!(!out.exists());
 }
+
+/// A layer without its base names the key's two values (serde said only
+/// "missing field `base`").
+#[test]
+fn a_layer_without_its_base_names_the_choices() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = config(dir.path(), "");
+    let o = solve(dir.path(), &cfg, &["layer.thickness=5e-4"]);
+    assert_refused(
+        &o,
+        &["missing field `base`", "\"bonded\" or \"frictionless\""],
+    );
+}
