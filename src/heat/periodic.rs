@@ -19,7 +19,7 @@ use super::error::HeatError;
 use super::layers::{DepthLadder, DepthLayers};
 use super::modes::{exp_phi1, layer_integral, Modes};
 use super::setup::HeatSetup;
-use crate::operator::SpectralEngine;
+use crate::operator::{column_weight, SpectralEngine};
 use crate::surface::height_fft::{self, ReducedInverse};
 
 /// The periodic cell's transforms and modes, planned once.
@@ -250,11 +250,7 @@ impl PeriodicPlan {
             .map_init(
                 || Scan::new(bounds.len()),
                 |scan, (j, (layer_rows, top))| {
-                    let weight = if j == 0 || (ny % 2 == 0 && j == ny / 2) {
-                        1.0
-                    } else {
-                        2.0
-                    };
+                    let weight = column_weight(j, ny);
                     let mut sums = vec![0.0; layer_count];
                     for (i, out) in top.iter_mut().enumerate() {
                         scan.q

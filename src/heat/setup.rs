@@ -14,13 +14,6 @@ use crate::response::Grid;
 /// integrals (`cell.rs`) resolve.
 pub(crate) const PAD_PECLET_LIMIT: f64 = 1e7;
 
-/// The cell sides the heat problem's arithmetic holds for: their squares
-/// (and the squared distances and wavenumbers it forms) normal f64
-/// numbers, `sqrt(f64::MIN_POSITIVE)` to `sqrt(f64::MAX)` (1.5e-154 m to
-/// 1.3e154 m, as the elastic kernel's). Measured below: cells of 1e-200 m
-/// gave a rise 2.5 times too low.
-const CELL_RANGE: (f64, f64) = (1.4916681462400413e-154, 1.3407807929942596e154);
-
 /// The relative round-off within which a block as long as the periodic
 /// cell is taken as equal to it (the cell's length is a sum of cells).
 const BLOCK_ROUND_OFF: f64 = 1e-12;
@@ -103,7 +96,7 @@ impl HeatSetup {
         if !self.direction_rad.is_finite() {
             return Err(HeatError::Direction(self.direction_rad));
         }
-        let (lo, hi) = CELL_RANGE;
+        let (lo, hi) = crate::response::CELL_SIDE_RANGE;
         let (ax, ay) = self.grid.cell();
         if ![ax, ay].iter().all(|a| (lo..=hi).contains(a)) {
             return Err(HeatError::OutOfRange(format!(
@@ -137,7 +130,12 @@ impl HeatSetup {
     /// through its centre along `e_v`, `min(L_x / |e_x|, L_y / |e_y|)`
     /// (`L_x` sliding along x).
     pub fn cell_length_along_sliding(&self) -> f64 {
-        let (lx, ly) = self.grid.lengths();
+        self.chord(self.grid.lengths())
+    }
+
+    /// The chord along `e_v` through the centre of a rectangle of sides
+    /// `(l_x, l_y)` \[m\]: `min(l_x / |e_x|, l_y / |e_y|)`.
+    fn chord(&self, (lx, ly): (f64, f64)) -> f64 {
         let (ex, ey) = self.direction();
         let along = |l: f64, e: f64| if e == 0.0 { f64::INFINITY } else { l / e.abs() };
         along(lx, ex).min(along(ly, ey))
@@ -155,10 +153,7 @@ impl HeatSetup {
     /// `min(a_x / |e_x|, a_y / |e_y|)`, as [`HeatSetup::cell_length_along_sliding`]
     /// measures the periodic cell).
     pub fn peclet(&self) -> f64 {
-        let (ax, ay) = self.grid.cell();
-        let (ex, ey) = self.direction();
-        let along = |l: f64, e: f64| if e == 0.0 { f64::INFINITY } else { l / e.abs() };
-        self.speed * along(ax, ex).min(along(ay, ey)) / self.conduction.diffusivity
+        self.speed * self.chord(self.grid.cell()) / self.conduction.diffusivity
     }
 
     /// The time `t_c = L_b / v` \[s\] a rubber element spends in the
@@ -287,9 +282,7 @@ mod tests {
     }
 
     #[test]
-    fn the_cell_range_is_where_squares_are_normal() {
-        assert_eq!(CELL_RANGE.0, f64::MIN_POSITIVE.sqrt());
-        assert_eq!(CELL_RANGE.1, f64::MAX.sqrt());
+    fn cells_beyond_the_arithmetic_are_refused() {
         for a in [1e-155, 1e-200, 1e155] {
             let e = setup((a, a), 0.1, 0.0, HeatDomain::Pad)
                 .check()

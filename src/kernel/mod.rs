@@ -456,12 +456,10 @@ fn cells_named((ax, ay): (f64, f64)) -> String {
     }
 }
 
-/// The cell sides the kernel's arithmetic holds for: their squares (and
-/// the distances' squares it forms) normal f64 numbers, `sqrt(f64::
-/// MIN_POSITIVE)` (1.5e-154 m) to `sqrt(f64::MAX)` (1.3e154 m). Outside,
-/// coefficients come out NaN, or zero where they are not.
+/// The cell sides the kernel's arithmetic holds for
+/// ([`crate::response::CELL_SIDE_RANGE`]).
 pub(crate) fn check_cell_range((ax, ay): (f64, f64)) -> Result<(), KernelError> {
-    let (lo, hi) = (f64::MIN_POSITIVE.sqrt(), f64::MAX.sqrt());
+    let (lo, hi) = crate::response::CELL_SIDE_RANGE;
     if [ax, ay].iter().all(|a| (lo..=hi).contains(a)) {
         return Ok(());
     }

@@ -215,7 +215,7 @@ pub fn fit_wlf(fit: Option<&toml::Value>) -> Result<Option<(Wlf, Option<f64>)>, 
             .with_data_range(pair)
             .map_err(|e| format!("[fit] wlf_range: {e}"))?;
     }
-    let t = number("temperature")?;
+    let t = fit_temperature(Some(fit))?;
     if let Some(t) = t {
         wlf.log10_shift(t)
             .map_err(|e| format!("[fit] temperature = {t}: {e}"))?;

@@ -33,9 +33,8 @@ use rayon::prelude::*;
 
 use super::super::error::HeatError;
 use super::depth::DepthRule;
-use super::dissipation::creep_elements;
 use super::stress::{dissipation_form, unit_component};
-use crate::operator::{nyquist_signs, signed_index};
+use crate::operator::{column_weight, nyquist_signs, signed_index};
 use crate::response::{Grid, SlidingResponse};
 use crate::surface::height_fft;
 
@@ -112,25 +111,17 @@ fn band_sums(
     let fundamental = tau2 / lx.max(ly);
     let spectrum =
         height_fft::forward(pressure, nx, ny).map_err(|e| HeatError::Transform(e.to_string()))?;
-    let elements = creep_elements(response);
     let (e, speed) = (response.direction(), response.speed());
-    let power_at = |w: f64| -> f64 {
-        elements
-            .iter()
-            .map(|&(c, tau)| tau * c * w * w / (1.0 + w * w * tau * tau))
-            .sum()
-    };
+    // `R(w) = sum_k tau_k C_k w^2 / (1 + w^2 tau_k^2) = -w J''(w)`.
+    let spectrum_j = &response.material().spectrum;
+    let power_at = |w: f64| -> f64 { -w * spectrum_j.compliance(w).im };
     let form = unit_form(response.poisson());
     let nh = ny / 2 + 1;
     let bands = (0..nh)
         .into_par_iter()
         .fold(Vec::<(f64, f64)>::new, |mut bands, j| {
             let (ky, nyq_y) = signed_index(j, ny);
-            let weight = if j == 0 || (ny % 2 == 0 && j == ny / 2) {
-                1.0
-            } else {
-                2.0
-            };
+            let weight = column_weight(j, ny);
             for i in 0..nx {
                 let (kx, nyq_x) = signed_index(i, nx);
                 if i == 0 && j == 0 {

@@ -113,7 +113,7 @@ struct Regular {
 
 /// `(C_k, tau_k)` of every creep element of `response`'s material with
 /// `C_k > 0` (those that dissipate).
-pub(crate) fn creep_elements(response: &SlidingResponse) -> Vec<(f64, f64)> {
+fn creep_elements(response: &SlidingResponse) -> Vec<(f64, f64)> {
     response
         .material()
         .spectrum
@@ -498,11 +498,7 @@ impl Dissipation {
                         w_sum += 2.0 * (1.0 - self.nu * self.nu) / q.0.hypot(q.1) * creep;
                     }
                 }
-                let weight = if j == 0 || (ny % 2 == 0 && j == ny / 2) {
-                    1.0
-                } else {
-                    2.0
-                };
+                let weight = crate::operator::column_weight(j, ny);
                 weight * self.spectrum[k].norm_sqr() * w_sum / (sx.len() * sy.len()) as f64
             })
             .sum::<f64>()

@@ -38,31 +38,24 @@ const BLOCK_ROWS: usize = 4096;
 pub(crate) struct RateFn(pub Vec<(f64, f64)>);
 
 impl RateFn {
-    /// The multiplier at `w` \[rad/s\]: each term `(a / tau) i x / (1 + i
-    /// x)`, `x = w tau`, taken as `(a / tau) / (1 - i / x)` where `|x| > 1`
-    /// so that no square overflows.
+    /// The multiplier at `w` \[rad/s\], term by term ([`rate_term`]).
     pub(super) fn at(&self, w: f64) -> Complex64 {
         self.0
             .iter()
             .map(|&(a, tau)| {
-                let x = w * tau;
-                let r = if x.abs() > 1.0 {
-                    Complex64::new(1.0, 0.0) / Complex64::new(1.0, -1.0 / x)
-                } else {
-                    Complex64::new(0.0, x) / Complex64::new(1.0, x)
-                };
-                a / tau * r
+                let (re, im) = rate_term(a, tau, w);
+                Complex64::new(re, im)
             })
             .sum()
     }
 }
 
-/// `sqrt(tau C) i w / (1 + i w tau)`: real and imaginary parts, as
-/// `sqrt(C / tau) (x^2, x) / (1 + x^2)` with `x = w tau`, divided through
-/// by `x^2` where `|x| > 1` so that no square overflows (frequencies up to
-/// f64's range: `v |q|` of a very fast slide).
-fn element_rate(c: f64, tau: f64, w: f64) -> (f64, f64) {
-    let g = (c / tau).sqrt();
+/// `a i w / (1 + i w tau)`: real and imaginary parts, as `(a / tau) (x^2,
+/// x) / (1 + x^2)` with `x = w tau`, divided through by `x^2` where `|x| >
+/// 1` so that no square overflows (frequencies up to f64's range: `v |q|`
+/// of a very fast slide).
+fn rate_term(a: f64, tau: f64, w: f64) -> (f64, f64) {
+    let g = a / tau;
     let x = w * tau;
     if x.abs() > 1.0 {
         let y = 1.0 / x;
@@ -72,6 +65,12 @@ fn element_rate(c: f64, tau: f64, w: f64) -> (f64, f64) {
         let d = 1.0 + x * x;
         (g * x * x / d, g * x / d)
     }
+}
+
+/// One element's multiplier `sqrt(tau C) i w / (1 + i w tau)`: real and
+/// imaginary parts ([`rate_term`]).
+fn element_rate(c: f64, tau: f64, w: f64) -> (f64, f64) {
+    rate_term((tau * c).sqrt(), tau, w)
 }
 
 /// The combined multipliers of the elements `(C_k, tau_k)` over the
