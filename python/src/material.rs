@@ -70,48 +70,28 @@ impl NativeMaterial {
             .filter(|p| !p.as_os_str().is_empty())
             .map(Path::to_path_buf)
             .unwrap_or_else(|| PathBuf::from("."));
-        let mut section: MaterialConfig = match doc.get("material") {
-            Some(toml::Value::Table(t)) => t
-                .clone()
-                .try_into()
-                .map_err(|e| value_error(format!("{}: [material] {e}", path.display())))?,
-            _ => {
-                return Err(value_error(format!(
-                    "{}: no [material] section (a configuration or a material.toml from `viscoslide material fit`)",
-                    path.display()
-                )))
-            }
-        };
-        let mut material = section.build(&base_dir).map_err(value_error)?;
-        if material.frequency_range.is_none() {
-            let recorded = viscoslide::material::file::fit_frequency_range(doc.get("fit"))
-                .map_err(|e| value_error(format!("{}: {e}", path.display())))?;
-            if let Some(range) = recorded {
-                material = material.with_frequency_range(range).map_err(|e| {
-                    value_error(format!("{}: [fit] frequency_range: {e}", path.display()))
-                })?;
-                section.frequency_range = Some(range);
-            }
+        if !matches!(doc.get("material"), Some(toml::Value::Table(_))) {
+            return Err(value_error(format!(
+                "{}: no [material] section (a configuration or a material.toml from `viscoslide material fit`)",
+                path.display()
+            )));
         }
-        // A material.toml fitted with `--wlf` keeps its WLF constants in
-        // `[fit]` (as `model = "file"` reads them).
-        if material.wlf.is_none() {
-            let fit = viscoslide::material::file::fit_wlf(doc.get("fit"))
-                .map_err(|e| value_error(format!("{}: {e}", path.display())))?;
-            if let Some((w, t)) = fit {
-                material = material.with_wlf(w, t).map_err(value_error)?;
-                if t.is_none_or(|t| t == w.reference_temperature) {
-                    section.wlf = Some([w.c1, w.c2, w.reference_temperature]);
-                    section.wlf_range = w.data_range;
-                }
-            } else {
-                // The temperature the fitted spectrum describes, as
-                // `model = "file"` keeps it for constants given later.
-                material.temperature = viscoslide::material::file::fit_temperature(doc.get("fit"))
-                    .map_err(|e| value_error(format!("{}: {e}", path.display())))?;
-            }
+        // A material.toml written by `material fit` (its `[fit]` table
+        // records the data's frequencies, WLF constants and temperature)
+        // is read as `model = "file"` reads it, and that is the section
+        // that rebuilds it.
+        if doc.contains_key("fit") {
+            let section = MaterialConfig {
+                file: Some(path.clone()),
+                ..bare_section(MaterialModel::File)
+            };
+            return Self::build(section, Path::new(""));
         }
-        Self::finish(material, section, &base_dir)
+        let section: MaterialConfig = doc["material"]
+            .clone()
+            .try_into()
+            .map_err(|e| value_error(format!("{}: [material] {e}", path.display())))?;
+        Self::build(section, &base_dir)
     }
 
     /// WLF constants `(C1, C2 [K], T_ref [C])` of the material, if any.
@@ -229,7 +209,15 @@ impl NativeMaterial {
         info.set_item("warnings", fit_warnings(&data, &fit))?;
         let mut section = creep_section(&material);
         section.frequency_range = frequency_range;
-        if let Some(w) = wlf.filter(|w| at.is_none_or(|t| t == w.reference_temperature)) {
+        if let Some(w) = wlf {
+            // The spectrum describes `at`: the constants referred to it
+            // rebuild the same material at every temperature.
+            let w = match at {
+                Some(t) => w
+                    .referenced_to(t)
+                    .map_err(|e| value_error(format!("temperature: {e}")))?,
+                None => w,
+            };
             section.wlf = Some([w.c1, w.c2, w.reference_temperature]);
             section.wlf_range = w.data_range;
         }
@@ -285,11 +273,7 @@ impl NativeMaterial {
 /// The exact `creep_spectrum` section of a material.
 fn creep_section(m: &Material) -> MaterialConfig {
     MaterialConfig {
-        model: MaterialModel::CreepSpectrum,
-        relaxed_modulus: None,
         glassy_modulus: Some(m.spectrum.glassy_modulus),
-        creep_time: None,
-        relaxation_time: None,
         creep_spectrum: Some(
             m.spectrum
                 .terms
@@ -297,8 +281,22 @@ fn creep_section(m: &Material) -> MaterialConfig {
                 .map(|t| [t.compliance, t.time])
                 .collect(),
         ),
-        prony: None,
         poisson: Some(m.poisson),
+        ..bare_section(MaterialModel::CreepSpectrum)
+    }
+}
+
+/// A `[material]` section of `model` with no keys yet.
+fn bare_section(model: MaterialModel) -> MaterialConfig {
+    MaterialConfig {
+        model,
+        relaxed_modulus: None,
+        glassy_modulus: None,
+        creep_time: None,
+        relaxation_time: None,
+        creep_spectrum: None,
+        prony: None,
+        poisson: None,
         file: None,
         wlf: None,
         wlf_range: None,

@@ -224,3 +224,44 @@ def test_absurd_wlf_constants_are_refused_in_rust(repo):
     with pytest.raises(ValueError) as e:
         vs.Material.fit_dma(w, 1e6 + 0 * w, 1e5 + 0 * w, wlf=WLF, temperatures=[17.0, 17.0, 17.0, -80.0])
     assert "temperature -80 C" in str(e.value) and "T >= -69.3 C" in str(e.value), str(e.value)
+
+
+def test_a_section_rebuilds_a_material_fitted_off_its_reference(small, repo, cli, tmp_path):
+    # A spectrum fitted at 30 C with constants referred to 17 C: its
+    # section (recorded in every solve's configuration) lost the constants,
+    # so the written configuration refused any temperature. Now the
+    # section rebuilds the same material at its own temperature and at
+    # others, to rounding (1e-12: the creep times pass through two shift
+    # factors instead of one).
+    freq = np.array([1.0, 10.0, 100.0] * 2)
+    e1 = 2e6 * (1.0 + 0.05 * np.log10(freq))
+    m = vs.Material.fit_dma(freq, e1, 0.1 * e1, wlf=WLF, temperature=30.0,
+                            temperatures=[5.0] * 3 + [30.0] * 3, terms=8)
+    section = m.section
+    c1, c2, t_ref = section["wlf"]
+    assert t_ref == 30.0 and c2 == pytest.approx(101.6 + 13.0, rel=1e-15)
+    assert c1 == pytest.approx(8.86 * 101.6 / (101.6 + 13.0), rel=1e-15)
+    assert section["wlf_range"] == [5.0, 30.0]
+    rebuilt = vs.Material._from_section(section)
+    w = np.logspace(-2, 4, 7)
+    assert np.allclose(rebuilt.complex_modulus(w), m.complex_modulus(w), rtol=1e-14, atol=0)
+    for t in (None, 12.0, 40.0):
+        kw = {} if t is None else {"temperature": t}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            a, b = (vs.solve(small, x, speed=0.05, mean_pressure=3000.0, formulation="periodic",
+                             backend="cpu", **kw) for x in (m, rebuilt))
+        assert rel(a.friction_coefficient, b.friction_coefficient) < 1e-12, t
+    # A material.toml fitted at 30 C by the command line: read as
+    # `model = "file"` reads it, with that as its section.
+    csv = tmp_path / "dma.csv"
+    csv.write_text("frequency_hz,e1_pa,e2_pa,temperature_c\n"
+                   + "".join(f"{f},{a},{0.1 * a},{t}\n" for f, a, t in zip(freq, e1, [5.0] * 3 + [30.0] * 3)))
+    cli("material", "fit", str(csv), "--wlf", "8.86,101.6,17.0", "--temperature", "30", "--terms", "8",
+        "--out", str(tmp_path / "fit"))
+    out = tmp_path / "fit" / "material.toml"
+    read = vs.Material.from_toml(out)
+    assert read.section["model"] == "file" and read.section["file"] == str(out)
+    assert read.wlf == WLF
+    again = vs.Material._from_section(read.section)
+    assert np.array_equal(again.complex_modulus(w), read.complex_modulus(w))

@@ -183,7 +183,8 @@ class Material:
     def from_toml(cls, path: "os.PathLike[str] | str") -> "Material":
         """The material of a TOML file: a configuration with a ``[material]``
         section (its relative paths resolved against the file's directory),
-        or a ``material.toml`` written by ``viscoslide material fit``."""
+        or a ``material.toml`` written by ``viscoslide material fit``, read
+        as ``model = "file"`` reads it (its ``section`` is that)."""
         path = _checks.path("path", path)
         if not os.path.exists(path):
             raise FileNotFoundError(f"{path}: no such file")
@@ -304,7 +305,11 @@ class Material:
 
     @property
     def section(self) -> Dict[str, Any]:
-        """The ``[material]`` configuration section that builds this material."""
+        """The ``[material]`` configuration section that builds this material
+        at every temperature. A fit at a ``temperature`` other than its WLF
+        constants' ``T_ref`` gives the constants referred to that
+        temperature (``C2' = C2 + T - T_ref``, ``C1' = C1 C2 / C2'``: the
+        same shift factors), since the fitted spectrum describes it."""
         return json.loads(self._native.section_json())
 
     def __repr__(self) -> str:

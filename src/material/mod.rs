@@ -29,9 +29,10 @@ pub(crate) mod nnls;
 mod prony;
 mod spectrum;
 mod temperature;
+mod wlf;
 
 pub use crate::config::{MaterialConfig, MaterialModel};
-pub use dma::{DmaData, DmaPoint, Wlf, LOG10_SHIFT_MAX};
+pub use dma::{DmaData, DmaPoint};
 pub use eval::{ComplexModulus, DynamicModuli};
 pub use file::{load_material_file, material_toml, FitRecord};
 pub use fit::{fit_spectrum, FitInfo, FitParams, SpectrumFit};
@@ -39,6 +40,7 @@ pub use fit_checks::fit_warnings;
 pub use prony::{PronySeries, PronyTerm};
 pub use spectrum::{CreepSpectrum, CreepTerm};
 pub use temperature::TemperatureShift;
+pub use wlf::{Wlf, LOG10_SHIFT_MAX};
 
 /// Errors building or fitting a material; each names the offending value.
 #[derive(Debug, thiserror::Error)]
