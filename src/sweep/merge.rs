@@ -15,85 +15,15 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-use serde::Deserialize;
-
-use super::row::MergedRow;
+use super::points::{read_points, PointResult};
+use super::row::{mean_std, MergedRow};
 use super::theory::{recorded_curves, theory_curves, theory_for};
-use super::{master, Point, SweepObserver, SweepPlan};
+use super::{heated, master, Point, SweepObserver, SweepPlan};
 
 use crate::config;
 use crate::error::{Error, Result};
 use crate::io::{LockMode, StagedOutput, StudyLock};
 use crate::plot::{xy_chart, Series, XyChart};
-
-struct PointResult {
-    /// The point's file stem in the plan.
-    id: String,
-    /// Grouping keys: the plan position of the point's `[sweep.vary]`
-    /// combination, its planned load (NaN when the config's) and speed.
-    key_combo: usize,
-    vary: BTreeMap<String, toml::Value>,
-    temperature: Option<f64>,
-    shift_factor: Option<f64>,
-    key_load: f64,
-    key_speed: f64,
-    load: f64,
-    speed: f64,
-    xi: Option<f64>,
-    seed: i64,
-    mu: f64,
-    mu_d: f64,
-    area: f64,
-    gamma: Option<f64>,
-    lambda: Option<f64>,
-    persson_mu: Option<f64>,
-    persson_area: Option<f64>,
-}
-
-fn mean_std(v: &[f64]) -> (f64, f64) {
-    let n = v.len() as f64;
-    let mean = v.iter().sum::<f64>() / n;
-    let var = if v.len() > 1 {
-        v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
-    } else {
-        0.0
-    };
-    (mean, var.sqrt())
-}
-
-/// A point file as `sweep` writes it (the keys of `summary.json` it keeps).
-#[derive(Deserialize)]
-struct PointFile {
-    normal_load: f64,
-    speed: f64,
-    xi: Option<f64>,
-    seed: Option<i64>,
-    friction_coefficient: f64,
-    friction_coefficient_dissipation: f64,
-    contact_area_fraction: f64,
-    analysis: Option<Headline>,
-    point: Point,
-    /// The study the point was solved for ([`super::store::study_id`]).
-    #[serde(default)]
-    study: Option<String>,
-    /// Persson's theory at the point (absent in points of older versions).
-    #[serde(default)]
-    persson_friction_coefficient: Option<f64>,
-    #[serde(default)]
-    persson_contact_area_fraction: Option<f64>,
-    /// Temperature and WLF shift of the point (absent in older versions).
-    #[serde(default)]
-    temperature: Option<f64>,
-    #[serde(default)]
-    shift_factor: Option<f64>,
-}
-
-/// The analysis numbers a merge aggregates.
-#[derive(Deserialize)]
-struct Headline {
-    gamma: Option<f64>,
-    lambda: Option<f64>,
-}
 
 /// The points the sweep pinned in `dir` plans (all shards), from its
 /// pinned configuration; `Err` says why they cannot be told.
@@ -120,126 +50,6 @@ fn missing_text(missing: &[Point]) -> String {
         parts.push(format!("and {} more", missing.len() - SHOWN));
     }
     parts.join(", ")
-}
-
-fn read_points(dir: &Path, observer: &mut dyn SweepObserver) -> Result<Vec<PointResult>> {
-    let points_dir = dir.join("points");
-    if !dir.exists() {
-        return Err(Error::Invalid(format!(
-            "{}: no such directory (`viscoslide sweep CONFIG --out DIR` makes a sweep directory)",
-            dir.display()
-        )));
-    }
-    if !dir.is_dir() {
-        return Err(Error::Invalid(format!(
-            "{}: not a directory (a sweep directory is the --out of `viscoslide sweep`)",
-            dir.display()
-        )));
-    }
-    if !points_dir.is_dir() {
-        return Err(Error::Invalid(format!(
-            "{}: not a sweep directory (it has no points/ folder; `viscoslide sweep CONFIG --out DIR` makes one)",
-            dir.display()
-        )));
-    }
-    let entries = std::fs::read_dir(&points_dir).map_err(|e| Error::io(&points_dir, e))?;
-    let mut names: Vec<_> = entries
-        .filter_map(|e| e.ok())
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    names.sort();
-    // Only the points of the pinned study: a file of another (an earlier
-    // version's, or copied in) is left out, and said so.
-    let pin = dir.join(super::CONFIG_FILE);
-    let study = std::fs::read_to_string(&pin)
-        .map(|t| super::store::study_id(&t))
-        .map_err(|e| Error::io(&pin, e))?;
-    let mut foreign = 0;
-    // Files holding another point than their name says (copied or renamed
-    // by hand): a rerun solves the named point again, so they are no result
-    // of it here either.
-    let mut misplaced = Vec::new();
-    let mut out = Vec::new();
-    for path in names {
-        let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-        let not_a_point = |e: serde_json::Error| {
-            Error::Invalid(format!("{}: not a point result: {e}", path.display()))
-        };
-        let value: serde_json::Value = serde_json::from_str(&text).map_err(not_a_point)?;
-        let v = PointFile::deserialize(&value).map_err(not_a_point)?;
-        if v.study.as_deref() != Some(study.as_str()) {
-            foreign += 1;
-            continue;
-        }
-        let stem = path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        if let Err(held) = super::store::records(&value, &stem) {
-            misplaced.push(format!("{stem}.json holds {held}"));
-            continue;
-        }
-        out.push(PointResult {
-            id: v.point.id.clone(),
-            key_combo: v.point.index,
-            vary: v.point.vary.clone(),
-            temperature: v.temperature,
-            shift_factor: v.shift_factor,
-            key_load: v.point.normal_load.unwrap_or(f64::NAN),
-            key_speed: v.point.speed.value(),
-            load: v.normal_load,
-            speed: v.speed,
-            xi: v.xi,
-            seed: v.seed.unwrap_or(-1),
-            mu: v.friction_coefficient,
-            mu_d: v.friction_coefficient_dissipation,
-            area: v.contact_area_fraction,
-            gamma: v.analysis.as_ref().and_then(|a| a.gamma),
-            lambda: v.analysis.as_ref().and_then(|a| a.lambda),
-            persson_mu: v.persson_friction_coefficient,
-            persson_area: v.persson_contact_area_fraction,
-        });
-    }
-    if foreign > 0 {
-        observer.note(&format!(
-            "{foreign} point files in {} belong to another study than {} pins; left out",
-            points_dir.display(),
-            pin.display()
-        ));
-    }
-    if !misplaced.is_empty() {
-        const SHOWN: usize = 5;
-        let mut named: Vec<String> = misplaced.iter().take(SHOWN).cloned().collect();
-        if misplaced.len() > SHOWN {
-            named.push(format!("and {} more", misplaced.len() - SHOWN));
-        }
-        observer.note(&format!(
-            "{} point files in {} hold another point than their name says ({}); left out (a rerun of the sweep solves the points they are named for)",
-            misplaced.len(),
-            points_dir.display(),
-            named.join(", ")
-        ));
-    }
-    if out.is_empty() {
-        return Err(Error::Invalid(format!(
-            "{}: no finished points",
-            points_dir.display()
-        )));
-    }
-    // A combination's key: the smallest plan index among its points (the
-    // `[sweep.vary]` values are the outermost axis, so this is plan order).
-    let mut first: Vec<(BTreeMap<String, toml::Value>, usize)> = Vec::new();
-    for p in &out {
-        match first.iter_mut().find(|(v, _)| *v == p.vary) {
-            Some((_, i)) => *i = (*i).min(p.key_combo),
-            None => first.push((p.vary.clone(), p.key_combo)),
-        }
-    }
-    for p in &mut out {
-        p.key_combo = first.iter().find(|(v, _)| *v == p.vary).expect("seen").1;
-    }
-    Ok(out)
 }
 
 /// Aggregate the points of `dir` into rows, ordered by `[sweep.vary]`
@@ -294,6 +104,9 @@ pub(crate) fn aggregate(
                 persson_friction: opt(&|p| p.persson_mu).map(|m| m.0),
                 persson_area_fraction: opt(&|p| p.persson_area).map(|m| m.0),
                 persson_area_ratio: None,
+                heating: heated::aggregate(
+                    &g.iter().map(|p| p.heating.as_ref()).collect::<Vec<_>>(),
+                ),
             }
         })
         .collect();
@@ -312,6 +125,7 @@ pub fn csv(rows: &[MergedRow]) -> String {
         "normal_load_n,speed_m_s,xi,realisations,friction_mean,friction_std,friction_dissipation_mean,friction_dissipation_std,area_fraction_mean,area_fraction_std,area_ratio_mean,area_ratio_std,gamma_mean,gamma_std,lambda_mean,lambda_std,persson_friction,persson_area_fraction,persson_area_ratio",
     );
     out.push_str(&master::extra_header(rows));
+    out.push_str(&heated::extra_header(rows));
     out.push('\n');
     let one = |v: Option<f64>| v.map(|x| format!("{x:.8e}")).unwrap_or_default();
     for r in rows {
@@ -334,7 +148,8 @@ pub fn csv(rows: &[MergedRow]) -> String {
             one(r.persson_area_fraction),
             one(r.persson_area_ratio),
         ));
-        out.insert_str(out.len() - 1, &master::extra_fields(rows, r));
+        let extra = master::extra_fields(rows, r) + &heated::extra_fields(rows, r);
+        out.insert_str(out.len() - 1, &extra);
     }
     out
 }

@@ -7,19 +7,22 @@
 
 mod compare;
 pub(crate) mod files;
+mod heated;
 mod master;
 mod merge;
 mod plan;
+mod points;
 mod row;
 pub(crate) mod store;
 mod theory;
 
 pub use crate::config::SweepConfig;
 pub use compare::{compare, Measured};
+
 pub(crate) use merge::MERGE_FILE;
 pub use merge::{merge, Merged};
 pub use plan::{Point, Shard, SweepPlan};
-pub use row::MergedRow;
+pub use row::{HeatedRow, MergedRow};
 pub use store::PointStore;
 
 use std::path::Path;

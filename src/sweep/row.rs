@@ -30,4 +30,37 @@ pub struct MergedRow {
     pub persson_area_fraction: Option<f64>,
     /// Persson's `A(v) / A(0)` at this load.
     pub persson_area_ratio: Option<f64>,
+    /// The heated solve's numbers, when every realisation was heated.
+    pub heating: Option<HeatedRow>,
+}
+
+/// A merged row's heating: `(mean, standard deviation)` over its
+/// realisations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeatedRow {
+    /// `T_eff` \[C\].
+    pub effective_temperature: (f64, f64),
+    /// The effective rise `Theta(T_eff)` \[K\].
+    pub temperature_rise: (f64, f64),
+    /// The highest surface rise \[K\].
+    pub peak_surface_rise: (f64, f64),
+    /// The isothermal friction at `T0` beside.
+    pub isothermal_friction: (f64, f64),
+    /// The most self-consistent temperatures any realisation found.
+    pub branches_max: usize,
+    /// Full-grid isothermal solves per realisation, on average.
+    pub fixed_point_evaluations_mean: f64,
+}
+
+/// `(mean, standard deviation)` of `v` (the sample deviation; 0 for one
+/// value).
+pub(super) fn mean_std(v: &[f64]) -> (f64, f64) {
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let var = if v.len() > 1 {
+        v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
+    (mean, var.sqrt())
 }

@@ -394,9 +394,11 @@ fn a_sweep_over_heating_enabled_gives_both_curves() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let mut heated = 0;
+    let mut points = Vec::new();
     for e in std::fs::read_dir(out.join("points")).unwrap() {
         let p: serde_json::Value =
             serde_json::from_slice(&std::fs::read(e.unwrap().path()).unwrap()).unwrap();
+        points.push(p.clone());
         let on = p["point"]["vary"]["heating.enabled"].as_bool().unwrap();
         assert_eq!(!p["heating"].is_null(), on, "{}", p["point"]);
         if on {
@@ -416,6 +418,69 @@ fn a_sweep_over_heating_enabled_gives_both_curves() {
         "{csv}"
     );
     assert_eq!(csv.lines().count(), 5, "{csv}");
+    assert_heating_columns(&csv, &points);
+}
+
+/// `sweep.csv` carries each heated row's heating report (one realisation
+/// per row: the means are the point's numbers to the 9 digits written, the
+/// deviations 0); an isothermal row leaves those fields empty.
+fn assert_heating_columns(csv: &str, points: &[serde_json::Value]) {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|c| *c == name)
+            .unwrap_or_else(|| panic!("{name} in {header:?}"))
+    };
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        let on = f[col("heating.enabled")] == "true";
+        let speed: f64 = f[col("speed_m_s")].parse().unwrap();
+        let p = points
+            .iter()
+            .find(|p| {
+                p["point"]["vary"]["heating.enabled"].as_bool() == Some(on)
+                    && (p["speed"].as_f64().unwrap() / speed - 1.0).abs() < 1e-8
+            })
+            .unwrap_or_else(|| panic!("a point for {line}"));
+        let h = &p["heating"];
+        let number = |name: &str| f[col(name)].parse::<f64>().ok();
+        let expected = [
+            ("effective_temperature_c", &h["effective_temperature"]),
+            ("temperature_rise_k", &h["temperature_rise"]["effective"]),
+            (
+                "peak_surface_rise_k",
+                &h["temperature_rise"]["peak_surface"],
+            ),
+            ("isothermal_friction", &h["isothermal_friction_coefficient"]),
+        ];
+        for (name, value) in expected {
+            let (mean, std) = (
+                number(&format!("{name}_mean")),
+                number(&format!("{name}_std")),
+            );
+            match value.as_f64().filter(|_| on) {
+                Some(v) => {
+                    let m = mean.unwrap();
+                    assert!((m - v).abs() <= 1e-8 * v.abs(), "{name}: {m} against {v}");
+                    assert_eq!(std, Some(0.0), "{name}");
+                }
+                None => assert!(mean.is_none() && std.is_none(), "{name} in {line}"),
+            }
+        }
+        let counts = (
+            number("branches_max"),
+            number("fixed_point_evaluations_mean"),
+        );
+        if on {
+            let branches = h["branches"].as_array().unwrap().len() as f64;
+            let evaluations = h["fixed_point_evaluations"].as_f64().unwrap();
+            assert_eq!(counts, (Some(branches), Some(evaluations)), "{line}");
+        } else {
+            assert_eq!(counts, (None, None), "{line}");
+        }
+    }
 }
 
 #[test]
