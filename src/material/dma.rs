@@ -112,6 +112,18 @@ impl DmaData {
                 "no header line (expected e.g. frequency_hz,e1_pa,e2_pa)".into(),
             )
         })?;
+        // A spreadsheet's export with another separator is one column here.
+        if !header.contains(',') {
+            if let Some((_, name)) = [(';', "semicolons"), ('\t', "tabs")]
+                .into_iter()
+                .find(|(c, _)| header.contains(*c))
+            {
+                return Err(err(
+                    hline,
+                    format!("the columns are separated by {name}; the reader takes commas (export as CSV with ',' between columns and '.' as the decimal mark)"),
+                ));
+            }
+        }
         let names: Vec<String> = header
             .split(',')
             .map(|s| s.trim().trim_matches('"').to_ascii_lowercase())
@@ -311,6 +323,19 @@ impl DmaData {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A header separated by semicolons or tabs is named as such, not as a
+    /// missing frequency column.
+    #[test]
+    fn other_separators_are_named() {
+        for (text, needle) in [
+            ("frequency_hz;e1_pa;e2_pa\n1;2e6;1e5\n", "semicolons"),
+            ("frequency_hz\te1_pa\te2_pa\n1\t2e6\t1e5\n", "tabs"),
+        ] {
+            let e = DmaData::parse(text, "t").unwrap_err().to_string();
+            assert!(e.starts_with("t line 1: ") && e.contains(needle), "{e}");
+        }
+    }
 
     #[test]
     fn csv_units_and_comments() {
