@@ -9,7 +9,7 @@ use serde_json::Value;
 use super::fields::{analyze, check_inputs};
 use super::figures;
 use super::report::{AnalysisError, AnalysisInputs, AnalysisParams, AnalysisReport};
-use crate::config::Formulation;
+use crate::config::{AnalysisConfig, Formulation};
 use crate::io::npy;
 use crate::io::StagedOutput;
 use crate::surface::Window;
@@ -75,6 +75,24 @@ pub struct SolveSummary {
     /// The solve's formulation: `formulation` of the summary, else
     /// `config.solver.formulation`; `None` where neither says.
     pub formulation: Option<Formulation>,
+    /// The solve's `[analysis]` section (`config.analysis`; empty where
+    /// absent).
+    pub analysis: AnalysisConfig,
+}
+
+/// What `analyze DIR` asks for beyond the solve's own analysis: each
+/// `None` takes the solve's setting ([`SolveSummary::analysis_params`]),
+/// so that no setting reproduces its `analysis.json`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct AnalysisOverrides {
+    pub zeta1: Option<f64>,
+    pub zeta2: Option<f64>,
+    pub chi_levels: Option<Vec<f64>>,
+    /// Radius of the `C_chi` estimator window \[cells\] (the solve's is
+    /// always from the spot sizes).
+    pub chi_window_cells: Option<f64>,
+    /// The taper; one against the run's formulation is warned of.
+    pub window: Option<Window>,
 }
 
 impl SolveSummary {
@@ -83,10 +101,16 @@ impl SolveSummary {
     /// does not name its formulation, as the solve's default is
     /// non-periodic).
     pub fn default_window(&self) -> Window {
-        match self.formulation {
-            Some(Formulation::Periodic) => Window::None,
-            _ => AnalysisParams::default().window,
-        }
+        self.analysis_params().window
+    }
+
+    /// The settings of the solve's own analysis: its `[analysis]` band and
+    /// levels, and the taper of its formulation ([`SolveSummary::default_window`]).
+    pub fn analysis_params(&self) -> AnalysisParams {
+        AnalysisParams::configured(
+            &self.analysis,
+            self.formulation == Some(Formulation::Periodic),
+        )
     }
 }
 
@@ -143,7 +167,16 @@ pub fn read_summary(path: &Path) -> Result<SolveSummary, AnalysisError> {
                 .map_err(|_| bad("`formulation` must be \"periodic\" or \"non_periodic\""))?,
         ),
     };
+    let analysis = match &doc["config"]["analysis"] {
+        Value::Null => AnalysisConfig::default(),
+        v => serde_json::from_value(v.clone()).map_err(|e| {
+            bad(&format!(
+                "`config.analysis` is not an [analysis] section: {e}"
+            ))
+        })?,
+    };
     Ok(SolveSummary {
+        analysis,
         nx: grid[0],
         ny: grid[1],
         cell_size,
@@ -200,15 +233,14 @@ fn read_field(dir: &Path, name: &str, nx: usize, ny: usize) -> Result<Vec<f64>, 
 /// figures ([`super::ANALYSIS_FILES`]) there, all or nothing. Every input is read
 /// and checked before anything is written.
 ///
-/// `window` is the taper asked for, which replaces `params.window`; `None`
-/// takes the one the solve's own analysis used
-/// ([`SolveSummary::default_window`]), so that the same settings reproduce
-/// its `analysis.json`. A taper asked for against the run's formulation is
-/// used and named in the report's warnings.
+/// The settings are the solve's own analysis ([`SolveSummary::analysis_params`]:
+/// its `[analysis]` band and levels, the taper of its formulation) with
+/// `overrides` in their place, so that none reproduces its `analysis.json`.
+/// A taper asked for against the run's formulation is used and named in
+/// the report's warnings.
 pub fn analyze_dir(
     dir: &Path,
-    params: &AnalysisParams,
-    window: Option<Window>,
+    overrides: &AnalysisOverrides,
 ) -> Result<AnalysisReport, AnalysisError> {
     if !dir.is_dir() {
         return Err(AnalysisError::Missing {
@@ -232,12 +264,21 @@ pub fn analyze_dir(
         scales: summary.scales,
         xi: summary.xi,
     };
+    let own = summary.analysis_params();
+    let o = overrides.clone();
     let params = AnalysisParams {
-        window: window.unwrap_or_else(|| summary.default_window()),
-        ..params.clone()
+        zeta1: o.zeta1.unwrap_or(own.zeta1),
+        zeta2: o.zeta2.or(own.zeta2),
+        chi_levels: o.chi_levels.unwrap_or(own.chi_levels),
+        chi_window_cells: o.chi_window_cells.or(own.chi_window_cells),
+        window: o.window.unwrap_or(own.window),
+        ..own
     };
     let mut report = analyze(&inputs, &params)?;
-    if let Some(w) = window.and_then(|w| window_warning(w, summary.formulation)) {
+    if let Some(w) = o
+        .window
+        .and_then(|w| window_warning(w, summary.formulation))
+    {
         report.warnings.push(w);
     }
     let mut staged = StagedOutput::new(dir)?;

@@ -20,7 +20,9 @@ pub use chi::{chi_spectrum, contour_level, ChiLevel, ChiSpectrum};
 pub use contact::{contact_statistics, ContactStatistics};
 pub use ellipse::{fit_centred_ellipse, EllipseFit};
 pub use fields::analyze;
-pub use files::{analyze_dir, read_summary, scales_from_config, write_analysis, SolveSummary};
+pub use files::{
+    analyze_dir, read_summary, scales_from_config, write_analysis, AnalysisOverrides, SolveSummary,
+};
 pub use friction::{
     friction_force_dissipation, friction_force_periodic, friction_force_stencil,
     full_contact_friction_stress,

@@ -8,6 +8,7 @@ use serde::Serialize;
 use super::anisotropy::{AnisotropyTensor, ZetaBand};
 use super::chi::ChiLevel;
 use super::spots::SpotStatistics;
+use crate::config::AnalysisConfig;
 use crate::io::npy::NpyError;
 use crate::io::OutputError;
 use crate::plot::PlotError;
@@ -91,6 +92,30 @@ impl Default for AnalysisParams {
             window: Window::Hann,
             chi_window_cells: None,
             rays: 180,
+        }
+    }
+}
+
+impl AnalysisParams {
+    /// The analysis a solve's `[analysis]` section asks for (its band and
+    /// levels, the defaults where it is silent), with the taper of its
+    /// formulation: none for a `periodic` solve, whose fields are one
+    /// period, Hann otherwise. `enabled` is not read here.
+    pub fn configured(cfg: &AnalysisConfig, periodic: bool) -> Self {
+        let defaults = Self::default();
+        Self {
+            zeta1: cfg.zeta1.unwrap_or(defaults.zeta1),
+            zeta2: cfg.zeta2,
+            chi_levels: cfg
+                .chi_levels
+                .clone()
+                .unwrap_or(defaults.chi_levels.clone()),
+            window: if periodic {
+                Window::None
+            } else {
+                defaults.window
+            },
+            ..defaults
         }
     }
 }

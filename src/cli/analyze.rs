@@ -6,7 +6,7 @@
 
 use std::path::PathBuf;
 
-use crate::analysis::{analyze_dir, AnalysisParams, ANALYSIS_FILES};
+use crate::analysis::{analyze_dir, AnalysisOverrides, ANALYSIS_FILES};
 use crate::error::Result;
 use crate::surface::{parse_window, Window};
 
@@ -15,14 +15,16 @@ pub struct AnalyzeArgs {
     /// Output directory of a solve (summary.json, displacement.npy,
     /// contact.npy, pressure.npy).
     pub dir: PathBuf,
-    /// Lower band factor: |q| >= zeta1 q0, q0 = 2 pi / L (default 1).
+    /// Lower band factor: |q| >= zeta1 q0, q0 = 2 pi / L (default: the
+    /// solve's `[analysis] zeta1`, else 1).
     #[arg(long)]
     pub zeta1: Option<f64>,
-    /// Upper band factor: |q| <= zeta2 q0 (default: the surface's number of
-    /// scales, else n/2).
+    /// Upper band factor: |q| <= zeta2 q0 (default: the solve's `[analysis]
+    /// zeta2`, else the surface's number of scales, else n/2).
     #[arg(long)]
     pub zeta2: Option<f64>,
-    /// Levels of C_chi(q)/C_chi(0) for the contour ellipses (default 0.5,0.3).
+    /// Levels of C_chi(q)/C_chi(0) for the contour ellipses (default: the
+    /// solve's `[analysis] chi_levels`, else 0.5,0.3).
     #[arg(long, value_delimiter = ',')]
     pub levels: Option<Vec<f64>>,
     /// Radius of the C_chi estimator window in cells (default: from the
@@ -40,17 +42,14 @@ pub struct AnalyzeArgs {
 }
 
 pub fn run(args: AnalyzeArgs) -> Result<()> {
-    let mut params = AnalysisParams::default();
-    if let Some(z) = args.zeta1 {
-        params.zeta1 = z;
-    }
-    params.zeta2 = args.zeta2;
-    if let Some(l) = args.levels {
-        params.chi_levels = l;
-    }
-    params.chi_window_cells = args.chi_window;
-    let window = args.window.or(args.periodic.then_some(Window::None));
-    let r = analyze_dir(&args.dir, &params, window)?;
+    let overrides = AnalysisOverrides {
+        zeta1: args.zeta1,
+        zeta2: args.zeta2,
+        chi_levels: args.levels,
+        chi_window_cells: args.chi_window,
+        window: args.window.or(args.periodic.then_some(Window::None)),
+    };
+    let r = analyze_dir(&args.dir, &overrides)?;
     for w in &r.warnings {
         eprintln!("warning: {w}");
     }

@@ -18,7 +18,7 @@ use crate::io::{npy, StagedOutput};
 use crate::material::Material;
 use crate::plot;
 use crate::solver::{ContactSolution, SolveInfo, WarmStart};
-use crate::surface::{Preprocessing, Window};
+use crate::surface::Preprocessing;
 
 use super::persson::PerssonEstimate;
 use super::smooth_pad::SmoothPad;
@@ -223,18 +223,10 @@ impl Solution {
         if !cfg.enabled.unwrap_or(true) {
             return None;
         }
-        let defaults = AnalysisParams::default();
-        Some(AnalysisParams {
-            zeta1: cfg.zeta1.unwrap_or(defaults.zeta1),
-            zeta2: cfg.zeta2,
-            chi_levels: cfg.chi_levels.unwrap_or(defaults.chi_levels),
-            window: if self.record.formulation == Formulation::Periodic {
-                Window::None
-            } else {
-                defaults.window
-            },
-            ..defaults
-        })
+        Some(AnalysisParams::configured(
+            &cfg,
+            self.record.formulation == Formulation::Periodic,
+        ))
     }
 
     /// The contact analysis (paper Eq. 11-13, Fig. 8-10) of this solution.

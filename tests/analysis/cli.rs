@@ -290,3 +290,64 @@ fn the_taper_defaults_to_the_runs_formulation() {
     set_summary(&dir, "formulation", "spectral".into());
     assert_fails_cleanly(&dir, &[], "`formulation` must be");
 }
+
+/// `analyze DIR` takes the band and levels of the run's own `[analysis]`
+/// section (it took the defaults, and rewrote `analysis.json` with
+/// another band); a flag replaces only its own setting.
+#[test]
+fn the_runs_analysis_section_is_the_default() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = tmp.path().join("run");
+    let config = concat!(env!("CARGO_MANIFEST_DIR"), "/configs/default.toml");
+    let o = viscoslide(&[
+        "solve",
+        config,
+        "--set",
+        "surface.generate.n=64",
+        "--set",
+        "surface.generate.scales=8",
+        "--set",
+        "analysis.zeta1=2.0",
+        "--set",
+        "analysis.zeta2=6.0",
+        "--set",
+        "analysis.chi_levels=[0.6]",
+        "--backend",
+        "cpu",
+        "--out",
+        run.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let own = analysis_json(&run);
+    assert_eq!(own["band"]["zeta1"], 2.0);
+    assert_eq!(own["band"]["zeta2"], 6.0);
+    let o = viscoslide(&["analyze", run.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let again = analysis_json(&run);
+    for key in [
+        "gamma",
+        "theta_p_deg",
+        "band",
+        "lambda",
+        "lambda_level",
+        "window",
+    ] {
+        assert_eq!(again[key], own[key], "{key}");
+    }
+    let o = viscoslide(&["analyze", run.to_str().unwrap(), "--zeta2", "4"]);
+    assert!(o.status.success());
+    let narrower = analysis_json(&run);
+    assert_eq!(narrower["band"]["zeta1"], 2.0);
+    assert_eq!(narrower["band"]["zeta2"], 4.0);
+    assert_eq!(narrower["lambda_level"], own["lambda_level"]);
+
+    // A summary whose [analysis] cannot be read is refused by name.
+    let dir = tmp.path().join("synthetic");
+    solve_dir(&dir);
+    set_summary(
+        &dir,
+        "config",
+        serde_json::json!({"analysis": {"zeta1": "two"}}),
+    );
+    assert_fails_cleanly(&dir, &[], "config.analysis");
+}
