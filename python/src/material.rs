@@ -81,8 +81,10 @@ impl NativeMaterial {
         // is read as `model = "file"` reads it, and that is the section
         // that rebuilds it.
         if doc.contains_key("fit") {
+            // Absolute, so that the section rebuilds it from any directory.
+            let file = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
             let section = MaterialConfig {
-                file: Some(path.clone()),
+                file: Some(file),
                 ..bare_section(MaterialModel::File)
             };
             return Self::build(section, Path::new(""));

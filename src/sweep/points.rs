@@ -63,9 +63,9 @@ struct PointFile {
     temperature: Option<f64>,
     #[serde(default)]
     shift_factor: Option<f64>,
-    /// The heated solve's report (a point with `[heating]`).
+    /// The heated solve's report (a point with `[heating]`), as written.
     #[serde(default)]
-    heating: Option<HeatedPoint>,
+    heating: Option<serde_json::Value>,
 }
 
 /// The analysis numbers a merge aggregates.
@@ -155,7 +155,11 @@ pub(super) fn read_points(
             lambda: v.analysis.as_ref().and_then(|a| a.lambda),
             persson_mu: v.persson_friction_coefficient,
             persson_area: v.persson_contact_area_fraction,
-            heating: v.heating,
+            // A report without the numbers merged (an older version's)
+            // leaves the row's heating columns empty.
+            heating: v
+                .heating
+                .and_then(|h| serde_json::from_value::<HeatedPoint>(h).ok()),
         });
     }
     if foreign > 0 {
