@@ -5,8 +5,6 @@
 //! every temperature collapse exactly in the isothermal model
 //! (`mu(v, T) = mu(a_T v, T_ref)`).
 
-use std::collections::BTreeMap;
-
 use super::row::MergedRow;
 use crate::error::Result;
 use crate::io::StagedOutput;
@@ -14,14 +12,6 @@ use crate::plot::{xy_chart, Mark, Series, XyChart};
 
 /// File name of the master curve.
 pub const MASTER_CURVE_FILE: &str = "master_curve.png";
-
-/// `key = value, ...` of a row's `[sweep.vary]` values (empty without them).
-pub fn vary_text(vary: &BTreeMap<String, toml::Value>) -> String {
-    vary.iter()
-        .map(|(k, v)| format!("{k} = {v}"))
-        .collect::<Vec<_>>()
-        .join(", ")
-}
 
 /// Whether the rows come from materials at known temperatures.
 fn has_temperature(rows: &[MergedRow]) -> bool {

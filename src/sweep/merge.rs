@@ -233,17 +233,7 @@ pub(super) fn merge_locked(
     let use_xi = rows.iter().all(|r| r.xi.is_some());
     let x_of = |r: &MergedRow| if use_xi { r.xi.unwrap_or(0.0) } else { r.speed };
     let x_label = if use_xi { "xi = v tau / L" } else { "v [m/s]" };
-    // Loads as planned, to the precision a user types them, after the
-    // `[sweep.vary]` values of the row.
-    let label = |r: &MergedRow| {
-        let vary = master::vary_text(&r.vary);
-        let load = format!("F_N = {:.4e} N", r.normal_load);
-        if vary.is_empty() {
-            load
-        } else {
-            format!("{vary}, {load}")
-        }
-    };
+    let label = |r: &MergedRow| r.curve_label();
     let mut loads: Vec<String> = rows.iter().map(label).collect();
     loads.dedup();
     // Persson's theory per `[sweep.vary]` combination (the rows of one are

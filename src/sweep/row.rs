@@ -64,3 +64,25 @@ pub(super) fn mean_std(v: &[f64]) -> (f64, f64) {
     };
     (mean, var.sqrt())
 }
+
+impl MergedRow {
+    /// The label of the curve the row lies on: its `[sweep.vary]` values
+    /// and its load as planned (to the precision a user types it).
+    pub fn curve_label(&self) -> String {
+        let vary = vary_text(&self.vary);
+        let load = format!("F_N = {:.4e} N", self.normal_load);
+        if vary.is_empty() {
+            load
+        } else {
+            format!("{vary}, {load}")
+        }
+    }
+}
+
+/// `key = value, ...` of a row's `[sweep.vary]` values (empty without them).
+fn vary_text(vary: &BTreeMap<String, toml::Value>) -> String {
+    vary.iter()
+        .map(|(k, v)| format!("{k} = {v}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}

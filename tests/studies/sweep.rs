@@ -268,6 +268,69 @@ fn compare_plots_measured_minus_coulomb_against_the_sweep() {
         "{csv}"
     );
     assert!(out.join("compare.png").is_file());
+    // One curve: the computed friction at the measured speeds (here the
+    // computed speeds themselves, v = xi L / tau with L = tau = 0.01), and
+    // an empty field, with a note, for a measured speed beyond them.
+    let merged = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let header: Vec<&str> = merged.lines().next().unwrap().split(',').collect();
+    let at = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let computed: Vec<(f64, f64)> = merged
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<f64> = l
+                .split(',')
+                .map(|c| c.parse().unwrap_or(f64::NAN))
+                .collect();
+            (
+                f[at("speed_m_s")],
+                f[at("friction_mean")],
+                f[at("friction_std")],
+            )
+        })
+        .filter(|r| r.0 > 0.0)
+        .map(|r| (r.1, r.2))
+        .collect();
+    assert_eq!(computed.len(), 2, "{merged}");
+    std::fs::write(
+        &measured,
+        "speed_m_s,mu,mu_std\n1e-3,0.51,0.01\n1e-2,0.52,0.02\n0.1,0.53,0.0\n",
+    )
+    .unwrap();
+    let (ok, err) = viscoslide(&["compare", &o, &m, "--coulomb", "0.5"]);
+    assert!(ok, "{err}");
+    assert!(err.contains("1 of 3 measured speeds lie outside"), "{err}");
+    let csv = std::fs::read_to_string(out.join("compare.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert!(lines[0].ends_with(",mu_computed,mu_computed_std"), "{csv}");
+    for (line, (mu, std)) in lines[1..3].iter().zip(&computed) {
+        let f: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+        assert!(
+            (f[3] / mu - 1.0).abs() < 1e-8 && (f[4] - std).abs() <= 1e-8 * std,
+            "{line}: {mu} {std}"
+        );
+    }
+    assert!(lines[3].ends_with(",,"), "{csv}");
+    // Between two computed speeds: linear in log v.
+    std::fs::write(&measured, "speed_m_s,mu\n3.1622776601683795e-3,0.5\n").unwrap();
+    let (ok, err) = viscoslide(&["compare", &o, &m, "--coulomb", "0.5"]);
+    assert!(ok, "{err}");
+    let csv = std::fs::read_to_string(out.join("compare.csv")).unwrap();
+    let mid: f64 = csv
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .nth(3)
+        .unwrap()
+        .parse()
+        .unwrap();
+    let half = 0.5 * (computed[0].0 + computed[1].0);
+    assert!((mid / half - 1.0).abs() < 1e-8, "{mid} against {half}");
+    // A negative standard deviation is refused.
+    std::fs::write(&measured, "speed_m_s,mu,mu_std\n1e-3,0.51,-0.01\n").unwrap();
+    let (ok, err) = viscoslide(&["compare", &o, &m, "--coulomb", "0.5"]);
+    assert!(!ok && err.contains("negative"), "{err}");
     // A measured file without the speed column: one-line error, nothing new written.
     std::fs::remove_file(out.join("compare.csv")).unwrap();
     std::fs::write(&measured, "v,mu\n1e-3,0.5\n").unwrap();
