@@ -175,6 +175,15 @@ pub struct PerssonPoint {
     pub g_q1: f64,
 }
 
+impl PerssonPoint {
+    /// Whether `mu`, `A/A0` and `G(q1)` are all finite numbers.
+    pub fn is_finite(&self) -> bool {
+        self.friction_coefficient.is_finite()
+            && self.contact_area_fraction.is_finite()
+            && self.g_q1.is_finite()
+    }
+}
+
 /// Persson's theory for one material, one PSD and one nominal pressure
 /// (plan once, then evaluate at any speeds).
 #[derive(Debug, Clone)]
@@ -315,10 +324,29 @@ impl Persson {
                 _ => at_rest,
             }
         };
-        Ok(speeds
+        let points: Vec<PerssonPoint> = speeds
             .par_iter()
             .map(|&v| self.point_with(v, &kernel))
-            .collect())
+            .collect();
+        match points.iter().find(|p| !p.is_finite()) {
+            Some(p) => Err(self.beyond_f64(p)),
+            None => Ok(points),
+        }
+    }
+
+    /// The error of a point whose integrals left double precision: a
+    /// nominal pressure so small (or a PSD so large) that `G(q1)`, of order
+    /// `(E*/sigma0)^2` times the mean square slope, overflows.
+    fn beyond_f64(&self, p: &PerssonPoint) -> PerssonError {
+        PerssonError::Invalid(format!(
+            "at sigma0 = {:.4e} Pa and v = {:.4e} m/s the integrals leave double precision (G(q1) = {:e}, mu = {:e}): E*/sigma0 reaches {:.3e} and the PSD's mean square slope is {:.3e}; check the units of the nominal pressure and of the PSD",
+            self.nominal_pressure,
+            p.speed,
+            p.g_q1,
+            p.friction_coefficient,
+            self.spectrum.glassy_modulus / self.sigma_star,
+            self.psd.moment(2),
+        ))
     }
 
     /// One speed, with the angular integrals from `kernel(q v)`.

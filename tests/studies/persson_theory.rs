@@ -377,3 +377,32 @@ fn loss_peak_of_the_sls_is_exact() {
     assert!(rel(w, exact) < 1e-6, "{w} vs {exact}");
     assert!(persson::loss_peak(&elastic(1e6, 0.5).spectrum).is_none());
 }
+
+#[test]
+fn integrals_beyond_double_precision_are_refused() {
+    // A nominal pressure so small, or a PSD so large, that G(q1) ~
+    // (E*/sigma0)^2 <|grad h|^2> / 8 overflows: refused in one line naming
+    // the pressure, never a NaN G(q1) beside A/A0 = 1.
+    let (psd, _) = persson::psd::continuum_self_affine(&fig1_params()).unwrap();
+    for sigma0 in [1e-300, 1e-200] {
+        let theory = Persson::new(&sls(), &psd, sigma0, PerssonParams::default()).unwrap();
+        let err = theory.curve(&[1e-3, 1.0]).unwrap_err().to_string();
+        assert!(err.contains("leave double precision"), "{err}");
+        assert!(err.contains(&format!("sigma0 = {sigma0:.4e} Pa")), "{err}");
+        assert!(!err.contains('\n'), "{err}");
+    }
+    let huge = TabulatedPsd::new(vec![1e3, 2e3], vec![1e300, 1e300], "t").unwrap();
+    let theory = Persson::new(&sls(), &huge, 3e3, PerssonParams::default()).unwrap();
+    let err = theory.point(1.0).unwrap_err().to_string();
+    assert!(err.contains("mean square slope"), "{err}");
+    // Small but representable pressures keep their answer: finite, with
+    // the light-load area falling with sigma0.
+    let theory = Persson::new(&sls(), &psd, 1e-100, PerssonParams::default()).unwrap();
+    for p in theory.curve(&[0.0, 1e-3, 1.0]).unwrap() {
+        assert!(p.is_finite(), "{p:?}");
+        assert!(
+            p.contact_area_fraction > 0.0 && p.contact_area_fraction < 1e-100,
+            "{p:?}"
+        );
+    }
+}
