@@ -8,7 +8,9 @@ use crate::response::SlidingResponse;
 
 #[derive(Debug, clap::Args)]
 pub struct KernelArgs {
-    /// TOML configuration file with `[material]` and optional `[layer]`.
+    /// TOML configuration file with `[material]` and optional `[layer]`
+    /// (and `[loading] temperature`: the material at that temperature, as
+    /// a solve sees it).
     #[arg(long)]
     pub config: std::path::PathBuf,
     /// Override any key, e.g. `--set layer.thickness=0.0075` (repeatable).
@@ -63,7 +65,10 @@ pub fn run(args: KernelArgs) -> Result<()> {
         set: args.set.clone(),
     }
     .load()?;
-    let material = cfg.material()?.build(&cfg.base_dir)?;
+    // The material at `[loading] temperature` (its WLF shift), as the
+    // solve's kernel sees it.
+    let temperature = cfg.config.loading.as_ref().and_then(|l| l.temperature);
+    let material = cfg.material()?.build(&cfg.base_dir)?.at(temperature)?;
     let layer = match &cfg.config.layer {
         Some(l) => Some(l.build()?),
         None => None,

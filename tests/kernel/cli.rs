@@ -172,3 +172,54 @@ fn a_coefficient_that_is_not_finite_is_refused_naming_the_cell_size() {
     assert_eq!(k["K_viscoelastic"].as_f64(), Some(0.0));
     assert!(k["K"].as_f64().unwrap() > 0.0);
 }
+
+#[test]
+fn loading_temperature_shifts_the_kernel_by_its_speed() {
+    // physics.md section 12: E(w, T) = E(a_T w, T_ref), so the kernel of a
+    // config at T and speed v is the kernel at T_ref and speed a_T v.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.toml");
+    std::fs::write(&path, format!("{CONFIG}wlf = [8.86, 101.6, 17.0]\n")).unwrap();
+    let args = |speed: &str, set: &[&str]| -> Vec<String> {
+        let mut a: Vec<String> = ["--cell-size", "1e-3", "--speed", speed, "--offset", "1,0"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        for s in set {
+            a.extend(["--set".to_string(), s.to_string()]);
+        }
+        a
+    };
+    let run = |a: Vec<String>| {
+        let a: Vec<&str> = a.iter().map(String::as_str).collect();
+        kernel_json(&path, &a)[0].clone()
+    };
+    let log10_a = -8.86 * 20.0 / (101.6 + 20.0);
+    let a_t = 10f64.powf(log10_a);
+    let warm = run(args("0.3", &["loading.temperature=37"]));
+    let reference = run(args(&format!("{:e}", 0.3 * a_t), &[]));
+    let unshifted = run(args("0.3", &[]));
+    for key in ["K", "K_viscoelastic", "dK_dx"] {
+        let (w, r) = (
+            warm[key].as_f64().unwrap(),
+            reference[key].as_f64().unwrap(),
+        );
+        assert!((w - r).abs() <= 1e-12 * r.abs(), "{key}: {w} against {r}");
+        let u = unshifted[key].as_f64().unwrap();
+        assert!(
+            (w - u).abs() > 1e-3 * u.abs(),
+            "{key}: the temperature was ignored"
+        );
+    }
+    // A temperature beyond the WLF range is refused as the solve refuses it.
+    let out = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(["kernel", "--config"])
+        .arg(&path)
+        .args(args("0.3", &["loading.temperature=-200"]))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("temperature") && err.contains("-200"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+}
