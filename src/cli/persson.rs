@@ -105,8 +105,54 @@ const DEFAULT_COUNT: usize = 100;
 /// the JSON and its chart data.
 const BYTES_PER_SPEED: u64 = 1024;
 
+/// The `[loading]` keys `persson` reads or could be misread from, checked
+/// as a solve checks them: one of `normal_load`, `mean_pressure` and
+/// `approach`, one of `speed` and `xi`, and finite values. The curve's
+/// speeds are its own, but a config a solve would refuse is not answered.
+fn check_loading(cfg: &LoadedConfig) -> Result<()> {
+    let Some(l) = &cfg.config.loading else {
+        return Ok(());
+    };
+    let loads = [l.normal_load, l.mean_pressure, l.approach];
+    if loads.iter().flatten().count() > 1 {
+        return Err(Error::Invalid(
+            "[loading] give only one of normal_load (N), mean_pressure (Pa) and approach (m)"
+                .into(),
+        ));
+    }
+    if l.speed.is_some() && l.xi.is_some() {
+        return Err(Error::Invalid(
+            "[loading] give only one of speed (m/s) and xi".into(),
+        ));
+    }
+    for (key, value, unit) in [("speed", l.speed, " m/s"), ("xi", l.xi, "")] {
+        if let Some(v) = value.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+            return Err(Error::Invalid(format!(
+                "[loading] {key} = {v}{unit} must be finite and >= 0"
+            )));
+        }
+    }
+    for (key, value, unit) in [
+        ("normal_load", l.normal_load, "N"),
+        ("mean_pressure", l.mean_pressure, "Pa"),
+    ] {
+        if let Some(v) = value.filter(|v| !(v.is_finite() && *v > 0.0)) {
+            return Err(Error::Invalid(format!(
+                "[loading] {key} = {v} {unit} must be positive and finite"
+            )));
+        }
+    }
+    if let Some(d) = l.direction_deg.filter(|d| !d.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "[loading] direction_deg = {d} must be finite"
+        )));
+    }
+    Ok(())
+}
+
 pub fn run(args: PerssonArgs) -> Result<()> {
     let cfg = args.config.load()?;
+    check_loading(&cfg)?;
     if cfg.heated() {
         eprintln!(
             "note: Persson's theory here is isothermal, at the config's temperature; [heating] is not applied (a heated solve reports Persson's friction at its effective temperature)"

@@ -6,6 +6,7 @@
 mod magnification;
 mod one_writer;
 mod persson_cli;
+mod persson_inputs;
 mod persson_theory;
 mod pinned_files;
 mod refusals;
