@@ -15,8 +15,9 @@ use crate::solver::Observer;
 pub struct RefineArgs {
     #[command(flatten)]
     pub config: super::ConfigArgs,
-    /// Grids (cells along x; y keeps the configured aspect ratio), coarse
-    /// to fine, comma-separated, at least two, e.g. 512,1024,2048.
+    /// Grids (cells along x; y keeps the configured side, so N ny / nx
+    /// must be whole), coarse to fine, comma-separated, at least two, e.g.
+    /// 512,1024,2048.
     #[arg(long, value_name = "N1,N2,...")]
     pub levels: String,
     /// Executor: auto (GPU when available), gpu or cpu; default from

@@ -246,15 +246,36 @@ impl Problem {
         self
     }
 
+    /// Cells along y of this problem's map on `n` cells along x with its
+    /// side along y kept exactly: `n ny / nx`, refused where it is not a
+    /// whole number (a rounded count would change the side along y, and
+    /// with it the nominal pressure of a prescribed load).
+    pub fn grid_y(&self, n: usize) -> Result<usize> {
+        let (nx, ny) = (self.surface.nx, self.surface.ny);
+        let cells = ny as u128 * n as u128;
+        if cells % nx as u128 != 0 {
+            let (mut a, mut b) = (nx, ny);
+            while b != 0 {
+                (a, b) = (b, a % b);
+            }
+            return Err(invalid(format!(
+                "{n} cells along x do not keep the side along y of the {nx} x {ny} map: {n} x {ny} / {nx} = {:.3} cells along y is not whole, and a rounded count would change the side (and the nominal pressure); use a multiple of {} cells along x",
+                cells as f64 / nx as f64,
+                nx / a
+            )));
+        }
+        Ok(usize::try_from(cells / nx as u128).unwrap_or(usize::MAX))
+    }
+
     /// The same physical problem on a grid of `n` cells along x (and the
-    /// same aspect ratio along y): a generated surface is generated again
+    /// same side along y, [`Problem::grid_y`]): a generated surface is generated again
     /// from the same parameters and seed, a sphere sampled again. The load,
     /// speed, material and controls are unchanged; the recorded
     /// configuration says the new `n`. A surface read from a file or given
     /// as values has one resolution and is refused.
     pub fn with_grid(&self, n: usize) -> Result<Self> {
         let (nx, ny) = (self.surface.nx, self.surface.ny);
-        let ny_new = ((ny as f64) * n as f64 / nx as f64).round().max(1.0) as usize;
+        let ny_new = self.grid_y(n)?;
         setup::check_memory(
             n,
             ny_new,

@@ -100,9 +100,9 @@ pub(crate) fn check_levels(levels: &[usize]) -> Result<()> {
 /// Check every level of `problem` against the memory estimate
 /// ([`crate::problem::memory_estimate`]) before anything is solved.
 pub(crate) fn check_level_memory(problem: &Problem, levels: &[usize]) -> Result<()> {
-    let (nx, ny) = (problem.surface.nx, problem.surface.ny);
     for &n in levels {
-        let ny_n = ((ny as f64) * n as f64 / nx as f64).round().max(1.0) as usize;
+        let within = |e: crate::error::Error| e.within(&format!("--levels {n}"));
+        let ny_n = problem.grid_y(n).map_err(within)?;
         check_memory(
             n,
             ny_n,
@@ -110,7 +110,7 @@ pub(crate) fn check_level_memory(problem: &Problem, levels: &[usize]) -> Result<
             problem.formulation,
             problem.precision.unwrap_or_default(),
         )
-        .map_err(|e| invalid(format!("--levels {n}: {e}")))?;
+        .map_err(within)?;
     }
     Ok(())
 }

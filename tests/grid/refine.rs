@@ -385,3 +385,50 @@ fn with_grid_keeps_the_indenter_in_place_under_approach_control() {
     println!("load on 64^2 {fc:.4e} N, on 128^2 {ff:.4e} N, summit rise {rise:.3e} m");
     assert!((ff / fc - 1.0).abs() < 0.05, "{fc} vs {ff}");
 }
+
+/// A level keeps the map's side along y exactly: `n ny / nx` cells along y
+/// must be whole, else the level would be another map (and, under a
+/// prescribed load, another nominal pressure). Refused before any solve.
+#[test]
+fn a_level_that_cannot_keep_the_side_along_y_is_refused() {
+    let surface = GenerateParams {
+        nx: 32,
+        ny: 24,
+        upper: UpperCutoff::Scales(4.0),
+        normalisation: Normalisation::RmsSlope(0.02),
+        seed: 5,
+        ..Default::default()
+    };
+    let p = Problem::generated(
+        common::paper_material(),
+        surface,
+        Control::Load(0.3),
+        0.0117,
+    )
+    .unwrap();
+    let ok = p.with_grid(16).unwrap();
+    assert_eq!((ok.surface.nx, ok.surface.ny), (16, 12));
+    assert_eq!(ok.surface.length_y(), p.surface.length_y());
+    let err = p.with_grid(22).unwrap_err().to_string();
+    assert!(
+        err.contains("16.500 cells along y") && err.contains("multiple of 4"),
+        "{err}"
+    );
+
+    let tmp = tempfile::tempdir().unwrap();
+    let (ok, _, stderr) = cli(
+        tmp.path(),
+        &["--set", "surface.generate.ny=192", "--levels", "64,66"],
+    );
+    assert!(!ok, "the 66-cell level was solved on a rounded grid");
+    let lines: Vec<&str> = stderr
+        .lines()
+        .filter(|l| !l.starts_with("backend:"))
+        .collect();
+    assert_eq!(lines.len(), 1, "{stderr}");
+    assert!(
+        lines[0].starts_with("error: invalid argument: --levels 66: 66 cells"),
+        "{stderr}"
+    );
+    assert!(!tmp.path().join("out").exists());
+}
