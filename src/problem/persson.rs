@@ -223,6 +223,7 @@ pub fn theory_inputs(
             ))
         }
     };
+    warnings.extend(slope_warning(&psd));
     Ok(TheoryInputs {
         material,
         psd,
@@ -264,6 +265,19 @@ fn anisotropy_note(map: &MapPsdReport) -> Option<String> {
     })
 }
 
+/// The warning of Persson's theory on `psd` whose rms slope (`sqrt(2 pi
+/// Int q^3 C dq)`) is beyond the small-slope limit the model warns at: the
+/// theory, like the model, is for nearly flat surfaces.
+pub(crate) fn slope_warning(psd: &TabulatedPsd) -> Option<String> {
+    let limit = super::warnings::RMS_SLOPE_LIMIT;
+    let slope = psd.moment(2).sqrt();
+    (slope > limit).then(|| {
+        format!(
+            "the rms slope of the PSD is {slope:.3e}, beyond {limit}: Persson's theory, like the model, is for nearly flat surfaces (small slopes) and does not hold there; lower rms_slope or check the units of the PSD or the heights"
+        )
+    })
+}
+
 /// The warnings of a Persson curve of `material` over the speeds `from`
 /// to `to` \[m/s\] on `psd`: the frequencies `v q` it excites, from the
 /// slowest speed on the PSD's first wavenumber to the fastest on its last,
@@ -292,13 +306,15 @@ impl Problem {
 
     /// The warnings of a Persson curve of this problem on `psd` over
     /// `speeds` \[m/s\], as `viscoslide persson` gives them: the
-    /// material's temperature beyond its WLF data, and the frequencies the
-    /// positive speeds excite beyond its frequency data.
+    /// material's temperature beyond its WLF data, an rms slope beyond the
+    /// small-slope limit, and the frequencies the positive speeds excite
+    /// beyond its frequency data.
     pub fn persson_curve_warnings(&self, psd: &TabulatedPsd, speeds: &[f64]) -> Vec<String> {
         let mut out: Vec<String> = self
             .material
             .extrapolated_shift_warning()
             .into_iter()
+            .chain(slope_warning(psd))
             .collect();
         let positive = speeds.iter().copied().filter(|v| *v > 0.0 && v.is_finite());
         let (from, to) = positive.fold((f64::INFINITY, 0.0_f64), |(lo, hi), v| {

@@ -13,7 +13,7 @@ use super::{Problem, ShortestWavelength};
 pub(crate) const FRICTION_ROUTES_TOLERANCE: f64 = 0.02;
 
 /// The rms slope beyond which the small-slope model is warned about.
-const RMS_SLOPE_LIMIT: f64 = 1.0;
+pub(super) const RMS_SLOPE_LIMIT: f64 = 1.0;
 
 /// Friction coefficients below this are zero to round-off.
 pub(super) const FRICTION_ROUND_OFF: f64 = 1e-14;

@@ -85,3 +85,28 @@ fn a_loading_section_a_solve_refuses_is_refused() {
     let o = persson(&cfg, &out, &["loading.direction_deg=30"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+#[test]
+fn a_psd_beyond_the_small_slope_limit_is_warned_about() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = config(dir.path(), "c.toml", BASE);
+    let out = dir.path().join("p");
+    let o = persson(&cfg, &out, &["surface.generate.rms_slope=3"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let needle = "the rms slope of the PSD is 3.000e0, beyond 1";
+    assert!(err.contains(&format!("warning: {needle}")), "{err}");
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("persson.json")).unwrap()).unwrap();
+    let warnings = doc["warnings"].as_array().unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().contains(needle)),
+        "{warnings:?}"
+    );
+    // A gentle surface: no such warning.
+    std::fs::remove_dir_all(&out).unwrap();
+    let o = persson(&cfg, &out, &[]);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("rms slope of the PSD"));
+}
