@@ -209,6 +209,12 @@ impl SurfaceConfig {
         Ok(())
     }
 
+    /// Check the section as every reader of it does: exactly one source,
+    /// and the keys that describe a surface `file` only beside one.
+    pub fn check(&self) -> Result<(), SurfaceError> {
+        self.check_source()
+    }
+
     /// Generator parameters when the surface is generated, `None` for a file.
     pub fn generate_params(&self) -> Result<Option<GenerateParams>, SurfaceError> {
         self.check_source()?;

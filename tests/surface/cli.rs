@@ -310,3 +310,56 @@ fn a_narrow_strip_and_a_flat_map_are_named() {
     let o = viscoslide(&["surface", "stats", &path("flat.npy"), "--length", "0.005"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// `[surface]` keys that describe a file are refused beside
+/// `[surface.generate]` by `surface generate --config`, as a solve and
+/// `persson` refuse them, instead of being ignored.
+#[test]
+fn generate_from_config_refuses_the_keys_of_a_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let base =
+        "[surface.generate]\nn = 32\nlength = 0.01\nhurst = 0.8\nscales = 8\nrms_slope = 0.02\n";
+    for (key, needle) in [
+        (
+            "length_y = 0.02",
+            "[surface] length_y = 0.02 applies to a surface `file` only",
+        ),
+        (
+            "periodic = true",
+            "[surface] periodic apply to a surface `file`",
+        ),
+        (
+            "detrend = \"none\"",
+            "[surface] detrend apply to a surface `file`",
+        ),
+        (
+            "window = \"hann\"",
+            "[surface] window apply to a surface `file`",
+        ),
+        (
+            "format = \"npy\"",
+            "[surface] format apply to a surface `file`",
+        ),
+        (
+            "fill_missing = true",
+            "[surface] fill_missing apply to a surface `file`",
+        ),
+    ] {
+        let cfg = tmp.path().join("c.toml");
+        std::fs::write(&cfg, format!("[surface]\n{key}\n{base}")).unwrap();
+        let out = tmp.path().join("run");
+        let o = viscoslide(&[
+            "surface",
+            "generate",
+            "--config",
+            cfg.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{key} was ignored");
+        assert!(err.contains(needle), "{key}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(!out.exists(), "{key}: output written");
+    }
+}

@@ -122,6 +122,9 @@ pub(super) fn run(args: GenerateArgs) -> Result<()> {
         None => (flags.clone(), PathBuf::from(".")),
         Some((_, loaded)) => {
             let sc = loaded.surface()?;
+            // The keys of a surface file are refused beside
+            // [surface.generate] here as in a solve.
+            sc.check()?;
             let base = sc.generate.clone().unwrap_or_default();
             let mut m = base.merged(&flags);
             if m.length.is_none() {
