@@ -43,7 +43,7 @@ pub struct HeatArgs {
     /// 2e-3).
     #[arg(long, requires = "from_run")]
     pub refined_layers: bool,
-    /// Side of a cell along x \[m\] (and along y unless --cell-size-y).
+    /// Side of a cell along x in m (and along y unless --cell-size-y).
     #[arg(
         long,
         value_name = "M",
@@ -52,7 +52,7 @@ pub struct HeatArgs {
         conflicts_with = "from_run"
     )]
     pub cell_size: Option<f64>,
-    /// Side of a cell along y \[m\], for rectangular cells; default
+    /// Side of a cell along y in m, for rectangular cells; default
     /// --cell-size.
     #[arg(
         long,
@@ -81,7 +81,7 @@ pub struct HeatArgs {
     /// unbounded half-space).
     #[arg(long, conflicts_with = "from_run")]
     pub periodic: bool,
-    /// Length of the sliding block along the sliding direction \[m\]: the
+    /// Length of the sliding block along the sliding direction in m: the
     /// periodic cell's mean rise is the block's background heating over a
     /// passage (without it the rise is given about its mean). Periodic
     /// cells only (--periodic, or a periodic run).

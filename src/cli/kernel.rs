@@ -16,10 +16,10 @@ pub struct KernelArgs {
     /// Override any key, e.g. `--set layer.thickness=0.0075` (repeatable).
     #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
     pub set: Vec<String>,
-    /// Side of the cell along x \[m\] (and along y unless --cell-size-y).
+    /// Side of the cell along x in m (and along y unless --cell-size-y).
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub cell_size: f64,
-    /// Side of the cell along y \[m\], for rectangular cells (a scan with
+    /// Side of the cell along y in m, for rectangular cells (a scan with
     /// non-square pixels, physics.md section 11); default --cell-size.
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub cell_size_y: Option<f64>,

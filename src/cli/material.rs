@@ -57,7 +57,7 @@ pub struct FitArgs {
     /// temperatures.
     #[arg(long, value_name = "C1,C2,TREF")]
     pub wlf: Option<String>,
-    /// Temperature \[C\] the material should describe (default: TREF with
+    /// Temperature (C) the material should describe (default: TREF with
     /// --wlf, else the data's temperature).
     #[arg(long)]
     pub temperature: Option<f64>,

@@ -309,3 +309,33 @@ fn disagreeing_friction_routes_are_warned_about() {
     let warned = slow.warnings.iter().any(|w| w.contains("friction routes"));
     assert_eq!(warned, d > 0.02, "{d}: {:?}", slow.warnings);
 }
+
+/// Help texts print units as written: no Markdown escapes (`\[m\]`) from
+/// the doc comments clap shows.
+#[test]
+fn help_texts_show_no_markdown_escapes() {
+    for cmd in [
+        &["kernel"][..],
+        &["heat"],
+        &["material", "fit"],
+        &["material", "show"],
+        &["surface", "generate"],
+        &["surface", "stats"],
+        &["surface", "convert"],
+        &["surface", "resample"],
+        &["surface", "psd-stitch"],
+        &["persson"],
+        &["refine"],
+        &["magnification"],
+        &["solve"],
+    ] {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+            .args(cmd)
+            .arg("--help")
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{cmd:?}");
+        let help = String::from_utf8_lossy(&o.stdout);
+        assert!(!help.contains('\\'), "{cmd:?} --help:\n{help}");
+    }
+}

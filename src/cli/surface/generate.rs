@@ -30,7 +30,7 @@ pub struct GenerateArgs {
     /// Cells along y.
     #[arg(long)]
     pub ny: Option<usize>,
-    /// Side along x \[m\].
+    /// Side along x in m.
     #[arg(long)]
     pub length: Option<f64>,
     /// Hurst exponent H (0 < H <= 1).
@@ -48,7 +48,7 @@ pub struct GenerateArgs {
     /// Roll-off wavenumber q0 [1/m] (default q_L: no roll-off).
     #[arg(long)]
     pub rolloff_q0: Option<f64>,
-    /// rms height \[m\].
+    /// rms height in m.
     #[arg(long, conflicts_with = "rms_slope")]
     pub rms_height: Option<f64>,
     /// rms slope.
@@ -60,7 +60,7 @@ pub struct GenerateArgs {
     /// Stretch RATIO along the direction ANGLE_DEG from +x.
     #[arg(long, value_name = "RATIO,ANGLE_DEG", value_parser = parse_anisotropy)]
     pub anisotropy: Option<AnisotropyConfig>,
-    /// Follow a tabulated PSD (CSV: q \[1/m\], C \[m^4\]) instead of the
+    /// Follow a tabulated PSD (CSV: q [1/m], C [m^4]) instead of the
     /// self-affine formula; needs --n, --length, optionally --ny, --seed,
     /// --q1. With --q1 the table is cut at q1 without changing the lower modes.
     #[arg(long, conflicts_with_all = ["hurst", "scales", "ql", "rolloff_q0", "rms_height", "rms_slope", "anisotropy"])]

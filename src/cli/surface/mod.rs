@@ -51,11 +51,11 @@ pub enum SurfaceCommand {
 /// How a surface file is read (shared by stats, convert and psd-stitch).
 #[derive(Debug, Clone, clap::Args)]
 pub struct InputArgs {
-    /// Side along x \[m\] (required for .npy and text; must agree with
+    /// Side along x in m (required for .npy and text; must agree with
     /// .x3p/.gwy files).
     #[arg(long, allow_negative_numbers = true)]
     pub length: Option<f64>,
-    /// Side along y \[m\] (default: square pixels).
+    /// Side along y in m (default: square pixels).
     #[arg(long, allow_negative_numbers = true)]
     pub length_y: Option<f64>,
     /// File format, overriding the extension: x3p, gwy, npy or text.

@@ -20,7 +20,7 @@ pub struct ResampleArgs {
     pub input_file: PathBuf,
     #[command(flatten)]
     pub input: InputArgs,
-    /// New pixel size DX[,DY] \[m\] (DY defaults to DX: square pixels).
+    /// New pixel size DX[,DY] in m (DY defaults to DX: square pixels).
     #[arg(
         long,
         value_name = "DX[,DY]",

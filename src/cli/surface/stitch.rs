@@ -18,7 +18,7 @@ pub struct StitchArgs {
     /// q, C columns).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
-    /// Side along x \[m\] of .npy/text maps (applies to all of them).
+    /// Side along x in m of .npy/text maps (applies to all of them).
     #[arg(long, allow_negative_numbers = true)]
     pub length: Option<f64>,
     /// Fill missing points by harmonic interpolation.
