@@ -73,6 +73,11 @@ pub fn run(args: KernelArgs) -> Result<()> {
         Some(l) => Some(l.build()?),
         None => None,
     };
+    if args.collocation && layer.is_none() {
+        return Err(Error::Invalid(
+            "--collocation is the paper's rule for a [layer] (Eq. 6); the config has no [layer], whose half-space kernel has no such choice: give --set layer.thickness=H --set layer.base=bonded or drop --collocation".into(),
+        ));
+    }
     if !args.direction_deg.is_finite() {
         return Err(Error::Invalid(format!(
             "--direction-deg {} must be finite",

@@ -114,6 +114,8 @@ fn bad_input_is_reported() {
             "--set",
             "layer.base=bonded",
         ],
+        // --collocation is a layer's rule: refused without one, not ignored.
+        vec!["--speed", "1", "--cell-size", "1e-3", "--collocation"],
     ] {
         let out = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
             .args(["kernel", "--config"])
@@ -125,6 +127,12 @@ fn bad_input_is_reported() {
         assert!(!out.status.success(), "{extra:?}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.trim().lines().count() == 1, "{err}");
+        if extra.contains(&"--collocation") {
+            assert!(
+                err.contains("--collocation") && err.contains("[layer]"),
+                "{err}"
+            );
+        }
     }
 }
 
