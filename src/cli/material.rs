@@ -88,8 +88,15 @@ fn show(args: &ShowArgs) -> Result<()> {
         }
         crate::material::load_material_file(&args.config.config, None)?
     } else {
+        // The material at the config's `[loading] temperature`, as a
+        // solve sees it.
         let cfg = args.config.load()?;
-        cfg.material()?.build(&cfg.base_dir)?
+        let temperature = cfg.config.loading.as_ref().and_then(|l| l.temperature);
+        let m = cfg.material()?.build(&cfg.base_dir)?.at(temperature)?;
+        if let Some(w) = m.extrapolated_shift_warning() {
+            eprintln!("warning: {w}");
+        }
+        m
     };
     print!("{}", describe(&m, args.from, args.to, args.points)?);
     Ok(())

@@ -351,3 +351,41 @@ fn a_fit_beyond_the_glassy_plateau_or_missing_its_data_is_warned() {
         "{err}"
     );
 }
+
+/// A config's `[loading] temperature` is the temperature `material show`
+/// describes, as a solve sees the material: every creep time times `a_T`,
+/// the table at that temperature; a temperature beyond the WLF range is
+/// refused as the solve refuses it.
+#[test]
+fn show_takes_the_config_temperature() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("c.toml");
+    std::fs::write(
+        &cfg,
+        "[material]\nmodel = \"sls\"\nrelaxed_modulus = 2e6\nglassy_modulus = 1e7\ncreep_time = 0.01\nwlf = [8.86, 101.6, 17.0]\n",
+    )
+    .unwrap();
+    let show = |set: &[&str]| {
+        let mut c = Command::new(BIN);
+        c.args(["material", "show"])
+            .arg(&cfg)
+            .args(["--points", "3"]);
+        for s in set {
+            c.args(["--set", s]);
+        }
+        c.output().unwrap()
+    };
+    let o = show(&["loading.temperature=37"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let a_t = 10f64.powf(-8.86 * 20.0 / (101.6 + 20.0));
+    assert!(text.contains("spectrum at T = 37 C"), "{text}");
+    assert!(text.contains(&format!("{:>14.6e}", 0.01 * a_t)), "{text}");
+    let o = show(&["loading.temperature=-200"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && o.stdout.is_empty(), "{err}");
+    assert!(
+        err.contains("-200") && err.trim().lines().count() == 1,
+        "{err}"
+    );
+}
