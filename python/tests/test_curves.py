@@ -121,3 +121,11 @@ def test_a_surface_from_a_psd_table_keeps_its_table(tmp_path, rubber):
     theory = vs.persson(surface, rubber, [1e-2], normal_load=0.3)
     given = vs.persson(vs.Surface.from_array(surface.heights, 0.01), rubber, [1e-2], normal_load=0.3)
     assert theory["psd"] != given["psd"] == "radial_average"
+
+
+def test_persson_warns_beyond_the_small_slope_limit(rubber):
+    steep = vs.Surface.self_affine(32, 0.01, 0.8, scales=4, rms_slope=3.0, seed=3)
+    needle = "the rms slope of the PSD is 3.000e0, beyond 1"
+    with pytest.warns(UserWarning, match=needle):
+        theory = vs.persson(steep, rubber, [1e-3, 1.0], normal_load=0.3)
+    assert any(needle in w for w in theory["warnings"])
