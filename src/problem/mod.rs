@@ -443,6 +443,11 @@ fn xi_scale_of(material: &Material, surface: &HeightMap) -> Result<XiScale> {
 pub(super) fn speed_of(sliding: Sliding, material: &Material, surface: &HeightMap) -> Result<f64> {
     Ok(match sliding {
         Sliding::Speed(v) => v,
+        // Named as given: a NaN or negative xi is xi's error, not the
+        // speed's it converts to.
+        Sliding::Xi(xi) if xi.is_nan() || xi < 0.0 => {
+            return Err(invalid(format!("[loading] xi must be >= 0, got {xi}")))
+        }
         Sliding::Xi(xi) => xi_scale_of(material, surface)?.speed(xi),
     })
 }

@@ -147,6 +147,14 @@ fn loads_are_named_as_given() {
         err.contains("normal load 1e-300 N") && !err.contains("approach"),
         "{err}"
     );
+    // So are speeds: a NaN or negative xi is named as xi, not as the
+    // speed it converts to.
+    for xi in ["nan", "-1"] {
+        let set = format!("loading.xi={xi}");
+        let o = solve(tmp.path(), &cfg, &[set.as_str()]);
+        assert_refused(&o, &["[loading] xi must be >= 0"]);
+        assert!(!String::from_utf8_lossy(&o.stderr).contains("speed"));
+    }
 }
 
 #[test]
