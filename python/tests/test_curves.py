@@ -129,3 +129,10 @@ def test_persson_warns_beyond_the_small_slope_limit(rubber):
     with pytest.warns(UserWarning, match=needle):
         theory = vs.persson(steep, rubber, [1e-3, 1.0], normal_load=0.3)
     assert any(needle in w for w in theory["warnings"])
+
+
+def test_persson_refuses_integrals_beyond_double_precision(small, rubber):
+    # As `viscoslide persson`: a nominal pressure so small that G(q1)
+    # overflows is refused, never a NaN G(q1) beside A/A0 = 1.
+    with pytest.raises(ValueError, match="leave double precision"):
+        vs.persson(small, rubber, [1e-3, 1.0], mean_pressure=1e-300)
