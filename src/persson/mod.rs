@@ -300,9 +300,17 @@ impl Persson {
         let positive = speeds.iter().copied().filter(|v| *v > 0.0);
         let v_lo = positive.clone().fold(f64::INFINITY, f64::min);
         let v_hi = positive.fold(0.0, f64::max);
+        let (qv_lo, qv_hi) = (self.q_min() * v_lo, self.q_max() * v_hi);
+        if v_hi > 0.0 && !(qv_lo > 0.0 && qv_hi.is_finite()) {
+            return Err(PerssonError::Invalid(format!(
+                "the frequencies q v of the speeds {v_lo:e} to {v_hi:e} m/s over the PSD's wavenumbers {:e} to {:e} 1/m leave double precision (from {qv_lo:e} to {qv_hi:e} rad/s); give speeds nearer the material's loss peak",
+                self.q_min(),
+                self.q_max()
+            )));
+        }
         let table = (v_hi > 0.0).then(|| {
-            let lo = (self.q_min() * v_lo).ln();
-            let hi = (self.q_max() * v_hi).ln();
+            let lo = qv_lo.ln();
+            let hi = qv_hi.ln();
             // At least one panel around a single point.
             let (lo, hi) = if hi - lo < 1e-3 {
                 (lo - 0.5, hi + 0.5)

@@ -110,3 +110,36 @@ fn a_psd_beyond_the_small_slope_limit_is_warned_about() {
     let o = persson(&cfg, &out, &[]);
     assert!(!String::from_utf8_lossy(&o.stderr).contains("rms slope of the PSD"));
 }
+
+#[test]
+fn speeds_beyond_double_precision_are_refused_or_noted_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = config(dir.path(), "c.toml", BASE);
+    let out = dir.path().join("p");
+    let o = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .arg("persson")
+        .arg(&cfg)
+        .args(["--speeds", "1e300,1e308,2", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("leave double precision"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(!out.exists());
+    // A solve at such a speed (its glassy limit) notes that Persson's
+    // theory was not evaluated instead of panicking.
+    let solved = dir.path().join("s");
+    let o = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .arg("solve")
+        .arg(&cfg)
+        .args(["--backend", "cpu", "--set", "loading.speed=1e308"])
+        .args(["--set", "analysis.enabled=false", "--out"])
+        .arg(&solved)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(text.contains("Persson's theory not evaluated"), "{text}");
+}

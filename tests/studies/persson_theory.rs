@@ -406,3 +406,22 @@ fn integrals_beyond_double_precision_are_refused() {
         );
     }
 }
+
+#[test]
+fn speeds_whose_frequencies_leave_double_precision_are_refused() {
+    // q1 v overflows at v = 1e308 m/s: an error naming the speeds, not a
+    // panic in the angular table (an assertion, or a capacity overflow
+    // for a range reaching it).
+    let (psd, _) = persson::psd::continuum_self_affine(&fig1_params()).unwrap();
+    let theory = Persson::new(&sls(), &psd, 3e3, PerssonParams::default()).unwrap();
+    for speeds in [&[1e308][..], &[1e300, 1e308], &[0.0, 1e308]] {
+        let err = theory.curve(speeds).unwrap_err().to_string();
+        assert!(
+            err.contains("leave double precision") && err.contains("1e308"),
+            "{err}"
+        );
+    }
+    // The largest speeds whose frequencies stay finite keep the glassy limit.
+    let p = theory.point(1e300).unwrap();
+    assert!(p.is_finite() && p.friction_coefficient < 1e-290, "{p:?}");
+}
