@@ -125,7 +125,7 @@ impl Study {
     /// `[heating]` is refused): levels within the PSD's band,
     /// grids within memory, the coarsest level built whole (material,
     /// loading, solver), a nominal pressure for the theory, Persson's theory
-    /// planned for every level. Writes nothing.
+    /// evaluated at every level and speed. Writes nothing.
     pub fn new(cfg: &LoadedConfig, params: MagnificationParams) -> Result<Self> {
         cfg.refuse_heating("a magnification study")?;
         let (psd, levels) = plan::plan_levels(cfg, &params.levels, params.cells_per_wavelength)?;
@@ -165,13 +165,17 @@ impl Study {
             Control::Load(f) => f / (coarse.surface.length_x() * coarse.surface.length_y()),
             Control::Approach(_) => unreachable!("refused above"),
         };
+        // Persson's theory evaluated at every level and speed (milliseconds):
+        // speeds or a pressure beyond its double precision are refused here,
+        // before the study's directory is made, not at the first report.
         for level in &levels {
             Persson::new(
                 &coarse.material,
                 &level.psd,
                 nominal_pressure,
                 PerssonParams::default(),
-            )?;
+            )?
+            .curve(&speeds)?;
         }
         let mut points = Vec::with_capacity(speeds.len() * levels.len());
         for &speed in &speeds {

@@ -194,3 +194,31 @@ fn a_sweep_takes_a_backend_as_solve_does() {
             .unwrap();
     assert_eq!(point["backend"], "cpu", "{point}");
 }
+
+/// A magnification study at a speed whose frequencies `q1 v` leave double
+/// precision is refused by Persson's theory before the pin and `points/`
+/// are made (it made both, then failed at the first point's theory).
+#[test]
+fn a_magnification_beyond_persson_precision_writes_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), "");
+    let out = tmp.path().join("study");
+    let (ok, _, err) = viscoslide(&[
+        "magnification",
+        cfg.as_str(),
+        "--scales",
+        "4,8",
+        "--speed",
+        "1e308",
+        "--set",
+        "solver.mesh=\"uniform\"",
+        "--backend",
+        "cpu",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok, "accepted");
+    assert!(err.contains("leave double precision"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(!out.exists(), "a refused study made {}", out.display());
+}
