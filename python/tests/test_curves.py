@@ -136,3 +136,9 @@ def test_persson_refuses_integrals_beyond_double_precision(small, rubber):
     # overflows is refused, never a NaN G(q1) beside A/A0 = 1.
     with pytest.raises(ValueError, match="leave double precision"):
         vs.persson(small, rubber, [1e-3, 1.0], mean_pressure=1e-300)
+
+
+def test_persson_refuses_speeds_beyond_double_precision(small, rubber):
+    # q1 v overflows at 1e308 m/s: a ValueError, not a PanicException.
+    with pytest.raises(ValueError, match="leave double precision"):
+        vs.persson(small, rubber, [1e308], normal_load=0.3)
