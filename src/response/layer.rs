@@ -92,6 +92,11 @@ pub(crate) fn compliance_ratio_minus_one(base: LayerBase, nu: f64, u: f64) -> f6
         return compliance_ratio(base, nu, u) - 1.0;
     }
     let e = (-2.0 * u).exp();
+    if e == 0.0 {
+        // `u > 372`: the difference is below every f64 relative to 1 (and
+        // `u^2 e` would be `inf * 0` beyond `u ~ 1e154`).
+        return 0.0;
+    }
     match base {
         LayerBase::Bonded => {
             // num - den over den, multiplied through by 2 e^{-2u}.

@@ -110,14 +110,20 @@ fn thick_layer_is_the_half_space_in_the_periodic_cell() {
     let g = common::gap_of(&z);
     let speed = 1e-3;
     let half = SlidingResponse::new(&material, speed, 0.0, None).unwrap();
-    let thick = Some(Layer {
-        thickness: 1e3 * length,
-        base: LayerBase::Bonded,
-    });
-    let thick = SlidingResponse::new(&material, speed, 0.0, thick).unwrap();
+    // Up to thicknesses whose `(|q| h)^2` leaves f64.
+    let thick = |thickness: f64, base| {
+        let layer = Some(Layer { thickness, base });
+        SlidingResponse::new(&material, speed, 0.0, layer).unwrap()
+    };
     let grid = Grid::square(nx, ny, a).unwrap();
     let mut results = vec![];
-    for response in [half, thick] {
+    let responses = [
+        half,
+        thick(1e3 * length, LayerBase::Bonded),
+        thick(1e300, LayerBase::Bonded),
+        thick(1e300, LayerBase::Frictionless),
+    ];
+    for response in responses {
         let op = SpectralPeriodic::new(&grid, &response, PeriodicResponse::Displacement);
         let l00 = op.self_coefficient();
         let mut be = CpuBackend::new(op);
@@ -133,11 +139,13 @@ fn thick_layer_is_the_half_space_in_the_periodic_cell() {
         results.push((sol.pressure, ff));
     }
     let scale = results[0].0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    for (p, q) in results[0].0.iter().zip(&results[1].0) {
-        assert!((p - q).abs() <= 1e-12 * scale, "{p} vs {q}");
+    for thick in &results[1..] {
+        for (p, q) in results[0].0.iter().zip(&thick.0) {
+            assert!((p - q).abs() <= 1e-12 * scale, "{p} vs {q}");
+        }
+        let (f0, f1) = (results[0].1, thick.1);
+        assert!((f0 - f1).abs() <= 1e-12 * f0.abs(), "{f0} vs {f1}");
     }
-    let (f0, f1) = (results[0].1, results[1].1);
-    assert!((f0 - f1).abs() <= 1e-12 * f0.abs(), "{f0} vs {f1}");
 }
 
 /// The response of the non-periodic (Eq. 4-5) table to `p_i = cos(k x_i)`

@@ -30,9 +30,12 @@ fn thin_layer_limits_of_s() {
         let sf = compliance_ratio(LayerBase::Frictionless, nu, u) / u;
         assert!((sf - 0.5).abs() < 1e-9, "{sf}");
     }
-    // Thick limit.
+    // Thick limit, up to layers whose `|q| h` squared leaves f64.
     for base in [LayerBase::Bonded, LayerBase::Frictionless] {
         assert!((compliance_ratio(base, nu, 25.0) - 1.0).abs() < 1e-15);
+        for u in [400.0, 800.0, 1e154, 1e200, f64::MAX] {
+            assert_eq!(compliance_ratio(base, nu, u), 1.0, "{base:?}, u = {u}");
+        }
     }
     // Incompressible bonded layer: no O(u) compliance.
     let s = compliance_ratio(LayerBase::Bonded, 0.5, 1e-3);
