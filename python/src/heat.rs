@@ -42,7 +42,7 @@ pub fn surface_temperature<'py>(
             diffusivity,
         },
         speed,
-        direction_rad: direction_deg.to_radians(),
+        direction_rad: viscoslide::response::direction_rad(direction_deg),
         domain: if periodic {
             HeatDomain::Periodic { block_length }
         } else {

@@ -130,9 +130,13 @@ pub fn kernel_table<'py>(
             "direction_deg must be finite, got {direction_deg}"
         )));
     }
-    let response =
-        SlidingResponse::new(&material.material, speed, direction_deg.to_radians(), layer)
-            .map_err(value_error)?;
+    let response = SlidingResponse::new(
+        &material.material,
+        speed,
+        viscoslide::response::direction_rad(direction_deg),
+        layer,
+    )
+    .map_err(value_error)?;
     let kernel = SlidingKernel::new(&response).map_err(value_error)?;
     let warning = kernel.check_cells(ax, ay).map_err(value_error)?;
     let grid = Grid::new(nx, ny, (ax, ay)).map_err(value_error)?;

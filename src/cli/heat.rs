@@ -125,7 +125,7 @@ pub fn run(args: HeatArgs) -> Result<()> {
             diffusivity: args.diffusivity,
         },
         speed,
-        direction_rad: args.direction_deg.to_radians(),
+        direction_rad: crate::response::direction_rad(args.direction_deg),
         domain: if args.periodic {
             HeatDomain::Periodic {
                 block_length: args.block_length,

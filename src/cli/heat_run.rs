@@ -97,7 +97,7 @@ fn read_run(dir: &Path) -> Result<Run> {
     let response = SlidingResponse::new(
         &material,
         number(&doc, "speed", &path)?,
-        direction_deg.to_radians(),
+        crate::response::direction_rad(direction_deg),
         layer,
     )?;
     Ok(Run {

@@ -87,7 +87,7 @@ pub fn run(args: KernelArgs) -> Result<()> {
     let response = SlidingResponse::new(
         &material,
         args.speed,
-        args.direction_deg.to_radians(),
+        crate::response::direction_rad(args.direction_deg),
         layer,
     )?;
     let kernel = SlidingKernel::new(&response)?.with_theta_rule(if args.collocation {

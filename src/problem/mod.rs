@@ -197,7 +197,7 @@ impl Problem {
 
     /// Sliding direction in degrees from +x.
     pub fn with_direction_deg(mut self, degrees: f64) -> Self {
-        self.direction_rad = degrees.to_radians();
+        self.direction_rad = crate::response::direction_rad(degrees);
         self
     }
 

@@ -89,7 +89,7 @@ impl Problem {
         if let Some(t) = loading.temperature {
             self.check_shifted_speed(t)?;
         }
-        self.direction_rad = loading.direction_deg.unwrap_or(0.0).to_radians();
+        self.direction_rad = crate::response::direction_rad(loading.direction_deg.unwrap_or(0.0));
         Ok(self)
     }
 

@@ -24,6 +24,15 @@ use num_complex::Complex64;
 
 use crate::material::Material;
 
+/// A sliding direction given in degrees from `+x`, in radians: whole turns
+/// are taken off first (exactly, `degrees % 360`), so that `90 + 360 k`
+/// degrees is the direction of 90 degrees for every `k` (multiplying a
+/// large angle by `pi / 180` first rounds away its place in the turn).
+/// Not finite stays not finite.
+pub fn direction_rad(degrees: f64) -> f64 {
+    (degrees % 360.0).to_radians()
+}
+
 /// The unit vector `e_v` of a sliding direction `direction_rad` from `+x`,
 /// components below 1e-15 snapped to zero so that 90 degrees is exactly
 /// `+y` and the tables of a direction along an axis are exactly

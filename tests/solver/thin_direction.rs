@@ -57,3 +57,31 @@ fn friction_is_continuous_in_the_sliding_direction_inside_the_band() {
         }
     }
 }
+
+/// Whole turns of the sliding direction are the same direction, however
+/// many: `90 + 360 k` degrees is the thin layer's grid axis (its local
+/// limit needs one; 3600090 degrees was refused as off the axes), and
+/// `1e300` degrees, a whole number of turns, is `+x` (it was solved at
+/// -131.7 degrees, `1e300 pi / 180` rounded).
+#[test]
+fn whole_turns_of_the_direction_are_the_same_direction() {
+    let a = 0.01 / 32.0;
+    let mu = |h: f64, deg: &str| {
+        let set = vec![
+            format!("loading.direction_deg={deg}"),
+            "surface.generate.scales=8".into(),
+        ];
+        let problem = bonded_pad_with(32, h, 1.17e-2, "non_periodic", &set);
+        problem
+            .solve(&Executor::Cpu, &mut solver::Silent)
+            .unwrap()
+            .friction_coefficient
+    };
+    for h in [5e-3 * a, 1e3] {
+        let axis = mu(h, "90.0");
+        for turns in ["3600090.0", "-3599910.0", "450.0"] {
+            assert_eq!(mu(h, turns), axis, "h = {h}, {turns} deg");
+        }
+        assert_eq!(mu(h, "1e300"), mu(h, "0.0"), "h = {h}");
+    }
+}
