@@ -397,6 +397,11 @@ fn march_row(
     let nm = plan.marched.len();
     let ns = plan.shared.len();
     let mut state = vec![0.0; nm];
+    let tol = if averaged {
+        k.average_tol((a, plan.across))
+    } else {
+        k.tol()
+    };
     let adaptive_panel = |x: f64, lam: f64, len: f64| -> f64 {
         let l = 1.0 / lam;
         let mut br = vec![-hx - x, hx - x, -x];
@@ -417,8 +422,8 @@ fn march_row(
         adaptive(
             |s| lam * (-lam * s).exp() * g(x + s),
             &br,
-            0.1 * k.tol() * scale,
-            0.1 * k.tol(),
+            0.1 * tol * scale,
+            0.1 * tol,
             2000,
         )
     };

@@ -11,5 +11,6 @@ mod periodic_domain_study;
 mod periodic_full_contact;
 mod periodic_layer;
 mod rect_cells;
+mod rect_cells_aspect;
 mod rect_cells_refinement;
 mod refine;
