@@ -323,6 +323,39 @@ pub(crate) fn check_problem(
         Control::Approach(d) if !d.is_finite() => Err(SolverError::Invalid(format!(
             "approach {d} m must be finite"
         ))),
-        _ => Ok(()),
+        _ => check_scale(n, cell_area, self_coefficient, control),
     }
+}
+
+/// Sums of squares (and of products) of pressures and displacements over
+/// the grid stay below this.
+const SCALE_LIMIT: f64 = 1e300;
+
+/// Refuse a load or approach whose pressures and displacements, squared and
+/// summed over the grid, leave double precision: the whole load on one
+/// cell (`f / A`, its displacement `f K_00 / A`) or the whole approach on
+/// one cell (`d`, its pressure `d / K_00`). Beyond it the iteration's norms
+/// overflow: a NaN friction with exit 0, a residual NaN after the whole
+/// matvec budget, or an empty contact set reported for a huge approach.
+fn check_scale(
+    n: usize,
+    cell_area: f64,
+    self_coefficient: f64,
+    control: Control,
+) -> Result<(), SolverError> {
+    let (p, w) = match control {
+        Control::Load(f) => (f / cell_area, f / cell_area * self_coefficient),
+        Control::Approach(d) => (d / self_coefficient, d),
+    };
+    let big = p.abs().max(w.abs());
+    if big * big * n.max(1) as f64 <= SCALE_LIMIT {
+        return Ok(());
+    }
+    let what = match control {
+        Control::Load(f) => format!("the normal load {f:e} N"),
+        Control::Approach(d) => format!("the approach {d:e} m"),
+    };
+    Err(SolverError::Invalid(format!(
+        "{what} is beyond double precision on this grid: one cell would carry {p:.3e} Pa and move {w:.3e} m, whose squares summed over {n} cells overflow; lower it"
+    )))
 }
