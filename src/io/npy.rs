@@ -112,8 +112,17 @@ fn header(descr: &str, shape: &[usize]) -> Vec<u8> {
     out
 }
 
-/// Decode a `.npy` byte buffer; `name` is used in error messages.
-pub fn decode(bytes: &[u8], name: &str) -> Result<NpyArray, NpyError> {
+/// A `.npy` header: the dtype's text, the order, the shape and where the
+/// data start.
+struct Header {
+    descr: String,
+    fortran: bool,
+    shape: Vec<usize>,
+    data_start: usize,
+}
+
+/// The header at the start of `bytes` (which need not hold the data).
+fn parse_header(bytes: &[u8], name: &str) -> Result<Header, NpyError> {
     let path = name.to_string();
     if bytes.len() < 8 || &bytes[..6] != MAGIC {
         if bytes.len() < 6 && MAGIC.starts_with(bytes) {
@@ -187,6 +196,53 @@ pub fn decode(bytes: &[u8], name: &str) -> Result<NpyArray, NpyError> {
         path: path.clone(),
         what: format!("cannot read shape {shape_txt}"),
     })?;
+    Ok(Header {
+        descr,
+        fortran,
+        shape,
+        data_start: hstart + hlen,
+    })
+}
+
+/// The shape a `.npy` file's header announces, read without its data, so
+/// that a grid can be refused before the file is read.
+pub fn read_shape(path: impl AsRef<Path>) -> Result<Vec<usize>, NpyError> {
+    use std::io::Read;
+    let path = path.as_ref();
+    let name = path.display().to_string();
+    let io = |source| NpyError::Io {
+        path: name.clone(),
+        source,
+    };
+    let mut file = std::fs::File::open(path).map_err(io)?;
+    let mut prefix = Vec::new();
+    (&mut file).take(12).read_to_end(&mut prefix).map_err(io)?;
+    let (hlen, hstart) = match prefix.get(6) {
+        Some(1) if prefix.len() >= 10 => (u16::from_le_bytes([prefix[8], prefix[9]]) as usize, 10),
+        Some(2 | 3) if prefix.len() >= 12 => (
+            u32::from_le_bytes([prefix[8], prefix[9], prefix[10], prefix[11]]) as usize,
+            12,
+        ),
+        // Whatever is wrong is said by the header's parser.
+        _ => return parse_header(&prefix, &name).map(|h| h.shape),
+    };
+    let more = (hstart + hlen).saturating_sub(prefix.len()) as u64;
+    (&mut file)
+        .take(more)
+        .read_to_end(&mut prefix)
+        .map_err(io)?;
+    parse_header(&prefix, &name).map(|h| h.shape)
+}
+
+/// Decode a `.npy` byte buffer; `name` is used in error messages.
+pub fn decode(bytes: &[u8], name: &str) -> Result<NpyArray, NpyError> {
+    let path = name.to_string();
+    let Header {
+        descr,
+        fortran,
+        shape,
+        data_start,
+    } = parse_header(bytes, name)?;
     let (dtype, little, width) = match descr.as_str() {
         "<f8" | "=f8" | "f8" | "<d" => (NpyDtype::F64, true, 8),
         ">f8" | ">d" => (NpyDtype::F64, false, 8),
@@ -196,7 +252,7 @@ pub fn decode(bytes: &[u8], name: &str) -> Result<NpyArray, NpyError> {
     };
     // The shape is checked against the bytes present, with checked
     // arithmetic, before anything is allocated for it.
-    let body = &bytes[hstart + hlen..];
+    let body = &bytes[data_start..];
     let need = shape
         .iter()
         .try_fold(width, |acc: usize, &d| acc.checked_mul(d));

@@ -22,9 +22,13 @@ impl Problem {
         let restart = sc.restart.unwrap_or(SolverParams::default().restart);
         let formulation = sc.formulation.unwrap_or_default();
         let precision = sc.precision.unwrap_or_default();
-        // Refuse grids that cannot fit before generating them.
+        // Refuse grids that cannot fit before generating them, or before
+        // reading a file whose header gives its grid.
         if let Some(gp) = surface_cfg.generate_params()? {
             check_memory(gp.nx, gp.ny, restart, formulation, precision)?;
+        }
+        if let Some((nx, ny)) = surface_cfg.file_grid(&cfg.base_dir) {
+            check_memory(nx, ny, restart, formulation, precision)?;
         }
         // The periodic formulation takes a measured map as one period.
         let periodic_solve = formulation == Formulation::Periodic;

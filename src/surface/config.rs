@@ -288,6 +288,25 @@ impl SurfaceConfig {
     /// [`SurfaceConfig::load_for`] with the number of a file's missing
     /// points filled by harmonic interpolation (`fill_missing`; 0 for a
     /// generated surface or a sphere).
+    /// The grid `(nx, ny)` of the `[surface] file` when its header tells
+    /// it without reading the heights (`.npy`), so that a grid too large
+    /// for memory is refused before the file is read; `None` otherwise
+    /// (other formats, or a header the full read will report on).
+    pub fn file_grid(&self, base_dir: &Path) -> Option<(usize, usize)> {
+        let file = base_dir.join(self.file.as_ref()?);
+        let format = match self.format.as_deref() {
+            Some(f) => f.parse::<SurfaceFormat>().ok()?,
+            None => SurfaceFormat::from_path(&file),
+        };
+        if format != SurfaceFormat::Npy {
+            return None;
+        }
+        match crate::io::npy::read_shape(&file).ok()?.as_slice() {
+            [nx, ny] => Some((*nx, *ny)),
+            _ => None,
+        }
+    }
+
     pub fn load_counting(
         &self,
         base_dir: &Path,

@@ -294,3 +294,45 @@ fn kernel_tables_beyond_memory_are_refused() {
         .to_string();
     assert!(e.contains("more than 2^64 bytes"), "{e}");
 }
+
+/// A `.npy` map whose grid cannot fit is refused from its header, before
+/// its heights are read (it was read whole first: a 1.6 GB map peaked at
+/// 9.4 GB before the refusal). The file here is sparse: 28.8 GB announced,
+/// nothing stored.
+#[test]
+fn a_npy_grid_too_large_for_memory_is_refused_before_it_is_read() {
+    let tmp = tempfile::tempdir().unwrap();
+    let map = tmp.path().join("huge.npy");
+    let n: u64 = 60_000;
+    let header = lying_npy(&format!("({n}, {n})"));
+    let header_len = (header.len() - 16) as u64;
+    let f = std::fs::File::create(&map).unwrap();
+    f.set_len(header_len + n * n * 8).unwrap();
+    drop(f);
+    let mut f = std::fs::OpenOptions::new().write(true).open(&map).unwrap();
+    f.write_all(&header[..header_len as usize]).unwrap();
+    drop(f);
+    let cfg = tmp.path().join("c.toml");
+    std::fs::write(
+        &cfg,
+        "[material]\nmodel = \"sls\"\nrelaxed_modulus = 3.3e6\nglassy_modulus = 1e7\ncreep_time = 0.01\n\n[surface]\nfile = \"huge.npy\"\nlength = 1.0\n\n[loading]\nmean_pressure = 3000.0\nspeed = 0.01\n",
+    )
+    .unwrap();
+    let out = tmp.path().join("out");
+    let clock = std::time::Instant::now();
+    let o = viscoslide(&[
+        "solve",
+        cfg.to_str().unwrap(),
+        "--backend",
+        "cpu",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_refused(&o, &["60000 x 60000 grid", "needs", "available"]);
+    assert!(
+        clock.elapsed().as_secs_f64() < 10.0,
+        "{:?}",
+        clock.elapsed()
+    );
+    assert!(!out.exists());
+}
