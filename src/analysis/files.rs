@@ -96,16 +96,11 @@ pub struct AnalysisOverrides {
 }
 
 impl SolveSummary {
-    /// The taper the solve's own analysis used: none for a periodic solve,
+    /// The settings of the solve's own analysis: its `[analysis]` band and
+    /// levels, and the taper of its formulation: none for a periodic solve,
     /// whose fields are one period; Hann otherwise (and where the summary
     /// does not name its formulation, as the solve's default is
     /// non-periodic).
-    pub fn default_window(&self) -> Window {
-        self.analysis_params().window
-    }
-
-    /// The settings of the solve's own analysis: its `[analysis]` band and
-    /// levels, and the taper of its formulation ([`SolveSummary::default_window`]).
     pub fn analysis_params(&self) -> AnalysisParams {
         AnalysisParams::configured(
             &self.analysis,
@@ -194,19 +189,11 @@ fn window_warning(window: Window, formulation: Option<Formulation>) -> Option<St
         (Formulation::Periodic, Window::None) | (Formulation::NonPeriodic, Window::Hann | Window::BlackmanHarris) => None,
         (Formulation::Periodic, w) => Some(format!(
             "the solve is periodic (summary.json formulation), its fields are one period and need no taper: the {} window asked for reweights the map, so gamma and theta_P differ from the solve's own analysis (window none)",
-            window_name(w)
+            w.name()
         )),
         (Formulation::NonPeriodic, _) => Some(
             "the solve is non-periodic (summary.json formulation) and no taper was asked for: the displacement's edge jumps leak power along the q_x and q_y axes and bias gamma and theta_P towards the axes (the solve's own analysis uses the Hann window)".into(),
         ),
-    }
-}
-
-fn window_name(w: Window) -> &'static str {
-    match w {
-        Window::None => "none",
-        Window::Hann => "hann",
-        Window::BlackmanHarris => "blackman-harris",
     }
 }
 
@@ -265,11 +252,11 @@ pub fn analyze_dir(
         xi: summary.xi,
     };
     let own = summary.analysis_params();
-    let o = overrides.clone();
+    let o = overrides;
     let params = AnalysisParams {
         zeta1: o.zeta1.unwrap_or(own.zeta1),
         zeta2: o.zeta2.or(own.zeta2),
-        chi_levels: o.chi_levels.unwrap_or(own.chi_levels),
+        chi_levels: o.chi_levels.clone().unwrap_or(own.chi_levels),
         chi_window_cells: o.chi_window_cells.or(own.chi_window_cells),
         window: o.window.unwrap_or(own.window),
         ..own

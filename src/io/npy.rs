@@ -121,8 +121,10 @@ struct Header {
     data_start: usize,
 }
 
-/// The header at the start of `bytes` (which need not hold the data).
-fn parse_header(bytes: &[u8], name: &str) -> Result<Header, NpyError> {
+/// Where the header text of the `.npy` bytes starting `bytes` lies:
+/// `(start, length)`, from the magic string, the version and the length
+/// field (the first 10 or 12 bytes).
+fn header_span(bytes: &[u8], name: &str) -> Result<(usize, usize), NpyError> {
     let path = name.to_string();
     if bytes.len() < 8 || &bytes[..6] != MAGIC {
         if bytes.len() < 6 && MAGIC.starts_with(bytes) {
@@ -163,6 +165,13 @@ fn parse_header(bytes: &[u8], name: &str) -> Result<Header, NpyError> {
             })
         }
     };
+    Ok((hstart, hlen))
+}
+
+/// The header at the start of `bytes` (which need not hold the data).
+fn parse_header(bytes: &[u8], name: &str) -> Result<Header, NpyError> {
+    let path = name.to_string();
+    let (hstart, hlen) = header_span(bytes, name)?;
     if bytes.len() < hstart + hlen {
         return Err(NpyError::Truncated {
             path,
@@ -217,15 +226,7 @@ pub fn read_shape(path: impl AsRef<Path>) -> Result<Vec<usize>, NpyError> {
     let mut file = std::fs::File::open(path).map_err(io)?;
     let mut prefix = Vec::new();
     (&mut file).take(12).read_to_end(&mut prefix).map_err(io)?;
-    let (hlen, hstart) = match prefix.get(6) {
-        Some(1) if prefix.len() >= 10 => (u16::from_le_bytes([prefix[8], prefix[9]]) as usize, 10),
-        Some(2 | 3) if prefix.len() >= 12 => (
-            u32::from_le_bytes([prefix[8], prefix[9], prefix[10], prefix[11]]) as usize,
-            12,
-        ),
-        // Whatever is wrong is said by the header's parser.
-        _ => return parse_header(&prefix, &name).map(|h| h.shape),
-    };
+    let (hstart, hlen) = header_span(&prefix, &name)?;
     let more = (hstart + hlen).saturating_sub(prefix.len()) as u64;
     (&mut file)
         .take(more)

@@ -151,8 +151,9 @@ impl GenerateConfig {
 }
 
 impl SurfaceConfig {
-    /// Check that exactly one source is given.
-    fn check_source(&self) -> Result<(), SurfaceError> {
+    /// Check the section as every reader of it does: exactly one source,
+    /// and the keys that describe a surface `file` only beside one.
+    pub fn check(&self) -> Result<(), SurfaceError> {
         let given: Vec<&str> = [
             (self.file.is_some(), "`file`"),
             (self.generate.is_some(), "[surface.generate]"),
@@ -209,15 +210,9 @@ impl SurfaceConfig {
         Ok(())
     }
 
-    /// Check the section as every reader of it does: exactly one source,
-    /// and the keys that describe a surface `file` only beside one.
-    pub fn check(&self) -> Result<(), SurfaceError> {
-        self.check_source()
-    }
-
     /// Generator parameters when the surface is generated, `None` for a file.
     pub fn generate_params(&self) -> Result<Option<GenerateParams>, SurfaceError> {
-        self.check_source()?;
+        self.check()?;
         self.generate
             .as_ref()
             .filter(|g| g.psd.is_none())
@@ -285,19 +280,28 @@ impl SurfaceConfig {
             .map(|(map, _)| map)
     }
 
-    /// [`SurfaceConfig::load_for`] with the number of a file's missing
-    /// points filled by harmonic interpolation (`fill_missing`; 0 for a
-    /// generated surface or a sphere).
+    /// The `format` the section states, checked; `None`: by the file's
+    /// extension.
+    fn stated_format(&self) -> Result<Option<SurfaceFormat>, SurfaceError> {
+        self.format
+            .as_deref()
+            .map(|f| {
+                f.parse::<SurfaceFormat>()
+                    .map_err(|e| SurfaceError::Invalid(format!("[surface] format: {e}")))
+            })
+            .transpose()
+    }
+
     /// The grid `(nx, ny)` of the `[surface] file` when its header tells
     /// it without reading the heights (`.npy`), so that a grid too large
     /// for memory is refused before the file is read; `None` otherwise
     /// (other formats, or a header the full read will report on).
     pub fn file_grid(&self, base_dir: &Path) -> Option<(usize, usize)> {
         let file = base_dir.join(self.file.as_ref()?);
-        let format = match self.format.as_deref() {
-            Some(f) => f.parse::<SurfaceFormat>().ok()?,
-            None => SurfaceFormat::from_path(&file),
-        };
+        let format = self
+            .stated_format()
+            .ok()?
+            .unwrap_or_else(|| SurfaceFormat::from_path(&file));
         if format != SurfaceFormat::Npy {
             return None;
         }
@@ -307,6 +311,9 @@ impl SurfaceConfig {
         }
     }
 
+    /// [`SurfaceConfig::load_for`] with the number of a file's missing
+    /// points filled by harmonic interpolation (`fill_missing`; 0 for a
+    /// generated surface or a sphere).
     pub fn load_counting(
         &self,
         base_dir: &Path,
@@ -328,14 +335,7 @@ impl SurfaceConfig {
         let file = self.file.as_ref().ok_or_else(|| {
             SurfaceError::Invalid("[surface] needs `file` or [surface.generate]".into())
         })?;
-        let format = self
-            .format
-            .as_deref()
-            .map(|f| {
-                f.parse::<SurfaceFormat>()
-                    .map_err(|e| SurfaceError::Invalid(format!("[surface] format: {e}")))
-            })
-            .transpose()?;
+        let format = self.stated_format()?;
         let path = base_dir.join(file);
         let opts = ReadOptions {
             format,

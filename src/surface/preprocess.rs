@@ -87,6 +87,17 @@ pub fn parse_window(s: &str) -> Result<Window, String> {
     }
 }
 
+impl Window {
+    /// The name [`parse_window`] reads (`none`, `hann`, `blackman-harris`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Window::None => "none",
+            Window::Hann => "hann",
+            Window::BlackmanHarris => "blackman-harris",
+        }
+    }
+}
+
 /// The line that says how many of a map's `total` points were missing
 /// and filled by harmonic interpolation (`None` when none were).
 pub(crate) fn filled_note(filled: usize, total: usize) -> Option<String> {

@@ -18,7 +18,6 @@ mod theory;
 
 pub use crate::config::SweepConfig;
 pub use compare::{compare, Measured};
-
 pub(crate) use merge::MERGE_FILE;
 pub use merge::{merge, Merged};
 pub use plan::{Point, Shard, SweepPlan};
