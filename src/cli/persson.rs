@@ -113,17 +113,10 @@ fn check_loading(cfg: &LoadedConfig) -> Result<()> {
     let Some(l) = &cfg.config.loading else {
         return Ok(());
     };
-    let loads = [l.normal_load, l.mean_pressure, l.approach];
-    if loads.iter().flatten().count() > 1 {
-        return Err(Error::Invalid(
-            "[loading] give only one of normal_load (N), mean_pressure (Pa) and approach (m)"
-                .into(),
-        ));
-    }
-    if l.speed.is_some() && l.xi.is_some() {
-        return Err(Error::Invalid(
-            "[loading] give only one of speed (m/s) and xi".into(),
-        ));
+    let invalid = |m: &str| Error::Invalid(m.into());
+    l.pressing().map_err(invalid)?;
+    if l.speed.is_some() || l.xi.is_some() {
+        l.sliding().map_err(invalid)?;
     }
     for (key, value, unit) in [("speed", l.speed, " m/s"), ("xi", l.xi, "")] {
         if let Some(v) = value.filter(|v| !(v.is_finite() && *v >= 0.0)) {

@@ -37,6 +37,21 @@ impl LoadingConfig {
         }
     }
 
+    /// What presses the bodies together as given: at most one of
+    /// `normal_load`, `mean_pressure` and `approach` (`None` where none
+    /// is).
+    pub(crate) fn pressing(&self) -> Result<Option<Pressing>, &'static str> {
+        match (self.normal_load, self.mean_pressure, self.approach) {
+            (Some(f), None, None) => Ok(Some(Pressing::NormalLoad(f))),
+            (None, Some(p), None) => Ok(Some(Pressing::MeanPressure(p))),
+            (None, None, Some(d)) => Ok(Some(Pressing::Approach(d))),
+            (None, None, None) => Ok(None),
+            _ => Err(
+                "[loading] give only one of normal_load (N), mean_pressure (Pa) and approach (m)",
+            ),
+        }
+    }
+
     /// Set the sliding speed, replacing `speed` and `xi`.
     pub fn set_sliding(&mut self, sliding: Sliding) {
         (self.speed, self.xi) = match sliding {
@@ -51,6 +66,17 @@ impl LoadingConfig {
         self.mean_pressure = None;
         self.approach = None;
     }
+}
+
+/// What presses the bodies together, as a user gives it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Pressing {
+    /// `F_N` \[N\].
+    NormalLoad(f64),
+    /// `p0 = F_N / A0` \[Pa\].
+    MeanPressure(f64),
+    /// The rigid approach \[m\].
+    Approach(f64),
 }
 
 /// A sliding speed as a user gives it: in m/s, or as the dimensionless

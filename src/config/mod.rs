@@ -24,6 +24,7 @@ use serde::{Deserialize, Serialize};
 pub use analysis::AnalysisConfig;
 pub use heating::HeatingConfig;
 pub use layer::{LayerBase, LayerConfig};
+pub(crate) use loading::Pressing;
 pub use loading::{LoadingConfig, Sliding, XiScale};
 pub use material::{MaterialConfig, MaterialModel};
 pub use solver::{AdaptiveConfig, Formulation, MeshKind, Precision, SolverConfig};

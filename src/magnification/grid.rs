@@ -4,6 +4,8 @@
 
 use std::f64::consts::TAU;
 
+use crate::response::gcd;
+
 /// Whether `n` has no prime factor above 5 (a size the FFTs handle with
 /// their fastest radices).
 fn smooth(mut n: usize) -> bool {
@@ -24,14 +26,6 @@ fn cascades_down(mut n: usize) -> bool {
         n /= 2;
     }
     n < 128
-}
-
-fn gcd(a: usize, b: usize) -> usize {
-    if b == 0 {
-        a
-    } else {
-        gcd(b, a % b)
-    }
 }
 
 /// The grid `(nx, ny)` of a level: the smallest FFT-friendly `nx` (no

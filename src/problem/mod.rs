@@ -254,14 +254,10 @@ impl Problem {
         let (nx, ny) = (self.surface.nx, self.surface.ny);
         let cells = ny as u128 * n as u128;
         if cells % nx as u128 != 0 {
-            let (mut a, mut b) = (nx, ny);
-            while b != 0 {
-                (a, b) = (b, a % b);
-            }
             return Err(invalid(format!(
                 "{n} cells along x do not keep the side along y of the {nx} x {ny} map: {n} x {ny} / {nx} = {:.3} cells along y is not whole, and a rounded count would change the side (and the nominal pressure); use a multiple of {} cells along x",
                 cells as f64 / nx as f64,
-                nx / a
+                nx / crate::response::gcd(nx, ny)
             )));
         }
         Ok(usize::try_from(cells / nx as u128).unwrap_or(usize::MAX))

@@ -5,7 +5,8 @@
 use std::path::Path;
 
 use crate::config::{
-    Formulation, LoadedConfig, LoadingConfig, MeshKind, Precision, SolverConfig, SurfaceConfig,
+    Formulation, LoadedConfig, LoadingConfig, MeshKind, Precision, Pressing, SolverConfig,
+    SurfaceConfig,
 };
 use crate::error::Result;
 use crate::solver::{Control, SolverParams};
@@ -65,26 +66,22 @@ impl Problem {
     /// controls and one of the two speeds must be given.
     pub fn with_loading(mut self, loading: &LoadingConfig) -> Result<Self> {
         let area0 = self.surface.length_x() * self.surface.length_y();
-        self.control = match (loading.normal_load, loading.mean_pressure, loading.approach) {
-            (Some(f), None, None) => Control::Load(f),
-            (None, Some(p), None) => {
-                if !(p.is_finite() && p > 0.0) {
-                    return Err(invalid(format!(
-                        "[loading] mean_pressure must be positive and finite, got {p} Pa"
-                    )));
+        self.control =
+            match loading.pressing().map_err(invalid)? {
+                Some(Pressing::NormalLoad(f)) => Control::Load(f),
+                Some(Pressing::MeanPressure(p)) => {
+                    if !(p.is_finite() && p > 0.0) {
+                        return Err(invalid(format!(
+                            "[loading] mean_pressure must be positive and finite, got {p} Pa"
+                        )));
+                    }
+                    Control::Load(p * area0)
                 }
-                Control::Load(p * area0)
-            }
-            (None, None, Some(d)) => Control::Approach(d),
-            (None, None, None) => {
-                return Err(invalid(
+                Some(Pressing::Approach(d)) => Control::Approach(d),
+                None => return Err(invalid(
                     "[loading] needs one of normal_load (N), mean_pressure (Pa) or approach (m)",
-                ))
-            }
-            _ => return Err(invalid(
-                "[loading] give only one of normal_load (N), mean_pressure (Pa) and approach (m)",
-            )),
-        };
+                )),
+            };
         // The material at the temperature asked for, before `xi` reads its
         // creep time: the one shift every consumer of the spectrum sees.
         self.material = self.material.at(loading.temperature)?;

@@ -11,6 +11,15 @@ use super::ResponseError;
 /// and a heat rise on cells of 1e-200 m came out 2.5 times too low.
 pub(crate) const CELL_SIDE_RANGE: (f64, f64) = (1.4916681462400413e-154, 1.3407807929942596e154);
 
+/// The greatest common divisor of two cell counts (`a` where `b` is 0).
+pub(crate) fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
 /// `nx x ny` cells of sides `dx` along x and `dy` along y \[m\], on a
 /// periodic cell (the spectral formulation, physics.md section 6) or a
 /// finite pad (the Toeplitz formulation). Checked once, in [`Grid::new`]:

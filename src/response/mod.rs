@@ -17,7 +17,7 @@ mod grid;
 pub mod layer;
 
 pub use grid::Grid;
-pub(crate) use grid::CELL_SIDE_RANGE;
+pub(crate) use grid::{gcd, CELL_SIDE_RANGE};
 pub use layer::{Layer, LayerBase, LayerConfig};
 
 use num_complex::Complex64;
