@@ -25,12 +25,15 @@
 //! - `source/`: the heat source of a solved contact ([`HeatSource`]): the
 //!   creep elements' dissipation density on depth layers, or the surface
 //!   work of the contact pressure.
+//! - `memory.rs`: what a heat problem holds at once, for refusals before
+//!   work starts.
 //! - `error.rs`: [`HeatError`].
 
 mod background;
 mod cell;
 mod error;
 mod layers;
+pub(crate) mod memory;
 mod modes;
 mod pad;
 mod periodic;

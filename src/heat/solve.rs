@@ -53,15 +53,10 @@ impl HeatSolver {
     pub fn new(setup: HeatSetup) -> Result<Self, HeatError> {
         setup.check()?;
         let g = setup.grid;
-        // The pad: the offset table, its wrapped copy and spectrum (four
-        // times the grid each) and the block's spectrum; the periodic cell:
-        // its multiplier, spectrum and a depth map's transforms.
-        // (Measured peak at 1024^2: about 190 and 50 bytes per cell.)
-        let per_cell = if setup.is_periodic() { 64 } else { 192 };
         crate::io::memory::check_count(
             || format!("{} x {} heat problem", g.nx(), g.ny()),
             (g.nx() as u64).saturating_mul(g.ny() as u64),
-            per_cell,
+            super::memory::plan_bytes_per_cell(setup.is_periodic()),
         )
         .map_err(|e| HeatError::Memory(e.to_string()))?;
         let plan = match setup.domain {
@@ -197,7 +192,10 @@ impl HeatSolver {
     /// The depth \[m\], mean and highest rise \[K\] at the surface and at
     /// each layer's middle under the volume source `source` (as
     /// [`HeatSolver::volume`] at those depths, without holding the maps);
-    /// on a periodic cell only.
+    /// on a periodic cell only. (The heated solve takes the same rows from
+    /// the sweep that gives its rise, [`HeatSolver::under_with`]; this
+    /// entry checks them against the depth maps.)
+    #[cfg(test)]
     pub(crate) fn volume_extremes(
         &mut self,
         layers: &DepthLayers,

@@ -9,12 +9,14 @@
 //!   closed on the full grid; `coarse.rs`: that coarse grid.
 //! - `solve.rs`: the fixed point over isothermal solves ([`solve_heated`]);
 //!   `at_rest.rs`: its answer at `v = 0`, where nothing is dissipated.
+//! - `memory.rs`: its memory, checked before the first solve.
 //! - `report.rs`: what it reports ([`HeatingReport`]) and writes
 //!   ([`HeatedSolution`]).
 
 mod at_rest;
 mod branches;
 mod coarse;
+mod memory;
 mod params;
 mod report;
 mod solve;

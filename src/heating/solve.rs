@@ -24,6 +24,7 @@ use crate::problem::{balance_warning, Discretisation, Executor, Observer, Proble
 use super::at_rest::solve_at_rest;
 use super::branches::{Branch, SearchFailure};
 use super::coarse::coarse_problem;
+use super::memory::check_heated_memory;
 use super::params::{BranchChoice, HeatingParams};
 use super::report::{
     persson_friction, scales_warning, DepthRow, HeatedSolution, HeatingReport, Rises,
@@ -40,14 +41,27 @@ struct Solved {
     heat: f64,
     /// Wall time of its heat source and rise \[s\].
     heat_time_s: f64,
-    /// Its heat source (the answer's depth profile takes it; dropped with
-    /// the evaluations not kept).
-    source: HeatSource,
-    /// The volume source's depth profile rows (depth, mean and highest
-    /// rise), from the sweep that gave `rise` (full-grid evaluations).
-    profile: Option<DepthExtremes>,
+    /// What the answer's depth profile and warnings take of its heat
+    /// source.
+    source: KeptSource,
     /// The volume source's layers: `(h_l sum theta Q, h_l sum Q)`.
     layers: Option<Vec<(f64, f64)>>,
+}
+
+/// What an evaluation keeps of its heat source: the volume source's
+/// density maps (one per depth layer, together the largest arrays of the
+/// heated solve) are reduced at once, so that the roots kept while the
+/// search goes on hold no more than their fields.
+enum KeptSource {
+    /// The volume source: each layer's mean density \[W/m^3\], and the
+    /// depth profile's rows (depth, mean and highest rise) from the sweep
+    /// that gave the evaluation's rise (full-grid evaluations).
+    Volume {
+        means: Vec<f64>,
+        rows: Option<DepthExtremes>,
+    },
+    /// The surface work flux (one map).
+    Surface(HeatSource),
 }
 
 /// The heated solve of `problem` (its material at `T0 =
@@ -67,12 +81,14 @@ pub fn solve_heated(
         return solve_at_rest(problem, params, executor, observer);
     }
     let periodic = problem.grid()?.is_periodic();
-    let mut heat = HeatSolver::new(params.heat_setup(problem)?).map_err(heat_error)?;
     let rule = DepthRule::default();
-    let warm_starts = problem.discretisation() != Discretisation::Adaptive;
     // The coarse grid that scans the bracket (`two_level.rs`), with its
     // own heat problem; none on small grids.
-    let coarse = match coarse_problem(problem).filter(|_| params.coarse_scan) {
+    let coarse = coarse_problem(problem).filter(|_| params.coarse_scan);
+    check_heated_memory(problem, coarse.as_ref(), params.source, &rule)?;
+    let mut heat = HeatSolver::new(params.heat_setup(problem)?).map_err(heat_error)?;
+    let warm_starts = problem.discretisation() != Discretisation::Adaptive;
+    let coarse = match coarse {
         Some(c) => {
             let h = HeatSolver::new(params.heat_setup(&c)?).map_err(heat_error)?;
             Some((c, h))
@@ -317,7 +333,9 @@ pub fn solve_heated(
             .as_ref()
             .and_then(|l| heat.setup().layer_note(l.thickness)),
     );
-    warnings.extend(answer.source.returned_share_warning());
+    if let KeptSource::Surface(flux) = &answer.source {
+        warnings.extend(flux.returned_share_warning());
+    }
     let report = HeatingReport {
         ambient_temperature: params.ambient,
         effective_temperature: answer.temperature,
@@ -357,12 +375,7 @@ pub fn solve_heated(
     };
     let profile_clock = Instant::now();
     let depth_profile = if periodic {
-        Some(depth_profile(
-            problem,
-            &mut heat,
-            &answer.source,
-            answer.profile,
-        )?)
+        Some(depth_profile(problem, &mut heat, &answer.source)?)
     } else {
         None
     };
@@ -385,24 +398,20 @@ pub fn solve_heated(
 const PROFILE_PER_OCTAVE: u64 = 8;
 
 /// The rise against depth of the answer (a periodic cell) under its heat
-/// `source`: at the volume source's layer middles (the rows `swept` with
-/// its rise, if they were), or at depths spaced geometrically below a
-/// surface flux.
+/// `source`: at the volume source's layer middles (the rows swept with
+/// its rise), or at depths spaced geometrically below a surface flux.
 fn depth_profile(
     problem: &Problem,
     heat: &mut HeatSolver,
-    source: &HeatSource,
-    swept: Option<DepthExtremes>,
+    source: &KeptSource,
 ) -> Result<Vec<DepthRow>> {
-    let grid = problem.grid()?;
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
-    let n = grid.cells();
     match source {
-        HeatSource::Volume { layers, density } => {
-            let rows = match swept {
-                Some(rows) => rows,
-                None => heat.volume_extremes(layers, density).map_err(heat_error)?,
-            };
+        KeptSource::Volume { means, rows } => {
+            let rows = rows.as_ref().ok_or_else(|| {
+                Error::Invalid(
+                    "the volume source's depth profile comes from a full-grid evaluation".into(),
+                )
+            })?;
             Ok(rows
                 .iter()
                 .enumerate()
@@ -410,15 +419,11 @@ fn depth_profile(
                     depth: z,
                     mean_rise,
                     max_rise,
-                    mean_source: if i == 0 {
-                        0.0
-                    } else {
-                        mean(&density[(i - 1) * n..i * n])
-                    },
+                    mean_source: if i == 0 { 0.0 } else { means[i - 1] },
                 })
                 .collect())
         }
-        HeatSource::Surface { flux } => {
+        KeptSource::Surface(HeatSource::Surface { flux }) => {
             let s = &problem.surface;
             let shallow = 0.1 * s.cell_size.min(s.cell_size_y);
             let deep = (s.nx as f64 * s.cell_size).max(s.ny as f64 * s.cell_size_y);
@@ -435,6 +440,9 @@ fn depth_profile(
                     mean_source: 0.0,
                 })
                 .collect())
+        }
+        KeptSource::Surface(HeatSource::Volume { .. }) => {
+            unreachable!("a volume source is kept as its layers' means")
         }
     }
 }
@@ -515,6 +523,19 @@ fn solve_at(
             None,
         )
     };
+    let source = match source {
+        HeatSource::Volume { layers: l, density } => {
+            let n = density.len() / l.count().max(1);
+            KeptSource::Volume {
+                means: density
+                    .chunks(n.max(1))
+                    .map(|m| m.iter().sum::<f64>() / n.max(1) as f64)
+                    .collect(),
+                rows: swept,
+            }
+        }
+        flux @ HeatSource::Surface { .. } => KeptSource::Surface(flux),
+    };
     Ok(Solved {
         temperature: t,
         background: temperature.background,
@@ -524,7 +545,6 @@ fn solve_at(
         heat_time_s: clock.elapsed().as_secs_f64(),
         solution,
         source,
-        profile: swept,
         layers,
     })
 }

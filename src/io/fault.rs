@@ -9,7 +9,9 @@
 //! full disk; `VISCOSLIDE_TEST_FAULT=slow-STEP` makes the named step of a
 //! study (`point`: after each point is written) take half a second, as on
 //! a slow file system, so that a test can start a second writer while the
-//! first is at work. Unset (always, outside tests), nothing
+//! first is at work; `VISCOSLIDE_TEST_FAULT=available-BYTES` makes the
+//! memory available to new work read `BYTES`, as on a smaller machine
+//! ([`super::memory::check_fits`]). Unset (always, outside tests), nothing
 //! happens.
 
 /// The environment variable naming the fault.
@@ -44,4 +46,10 @@ pub fn slow_point(step: &str) {
     if fault().is_some_and(|f| f.strip_prefix("slow-") == Some(step)) {
         std::thread::sleep(std::time::Duration::from_millis(500));
     }
+}
+
+/// The memory available \[bytes\], if the fault `available-BYTES` states
+/// it.
+pub fn available_memory() -> Option<u64> {
+    fault()?.strip_prefix("available-")?.parse().ok()
 }

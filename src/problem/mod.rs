@@ -48,6 +48,7 @@ pub use heating::ContactHeating;
 pub use resolution::ShortestWavelength;
 pub(crate) use resolution::MIN_CELLS_PER_WAVELENGTH;
 pub use setup::check_memory;
+pub(crate) use setup::memory_estimate;
 pub(crate) use solution::{ExtraMap, SolveExtras};
 pub use solution::{Solution, Timings};
 pub(crate) use solve::Discretisation;

@@ -12,6 +12,7 @@ mod common;
 mod cli;
 mod closed_form;
 mod heated;
+mod memory;
 mod periodic;
 mod reference;
 mod source;

@@ -156,6 +156,15 @@ impl HeatSource {
                 flux: work::surface_work_flux(pressure, grid, response)?,
             }),
             SourceKind::Volume => {
+                let (bytes, count) = super::memory::volume_bytes(grid, rule)?;
+                crate::io::memory::check_fits(
+                    || {
+                        let (nx, ny) = grid.size();
+                        format!("volume source of {nx} x {ny} cells on {count} depth layers")
+                    },
+                    bytes,
+                )
+                .map_err(|e| HeatError::Memory(e.to_string()))?;
                 let (layers, depths) = rule.source_layers(grid)?;
                 if speed == 0.0 {
                     let density = vec![0.0; layers.count() * pressure.len()];
