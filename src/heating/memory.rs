@@ -10,9 +10,12 @@ use crate::io::memory::{check_fits, size};
 use crate::problem::{memory_estimate, Problem};
 
 /// Bytes per cell the heated solve holds beside one isothermal solve and
-/// its heat problem: the answer's fields, the warm start and the surface
-/// rise kept while the next evaluation runs.
-const KEPT_BYTES_PER_CELL: u64 = 40;
+/// its heat problem while the next evaluation runs: the warm start's four
+/// fields (pressure, displacement, gap, contact: 32) and each root kept,
+/// its fields and surface rise (40), for up to three roots (a cold, an
+/// unstable and a hot branch; measured: 987 MiB at 1024^2 with three,
+/// 867 MiB with one, BENCHMARKS.md "The heated solve's memory").
+const KEPT_BYTES_PER_CELL: u64 = 32 + 3 * 40;
 
 /// The bytes of one grid's part of a heated solve of `problem` with the
 /// heat source `kind`: its isothermal solve, its planned heat problem,
