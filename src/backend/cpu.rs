@@ -85,7 +85,7 @@ impl<Op: GridOperator> Backend for CpuBackend<Op> {
 
     fn reserve(&mut self, count: usize, len: usize) -> Result<(), String> {
         let bytes = (count as u64).saturating_mul(len as u64).saturating_mul(8);
-        crate::io::memory::check_fits(|| format!("{count} vectors of {len} values"), bytes)
+        crate::io::memory::check_fits(|| format!("set of {count} vectors of {len} values"), bytes)
             .map_err(|e| e.to_string())
     }
 

@@ -336,3 +336,50 @@ fn a_npy_grid_too_large_for_memory_is_refused_before_it_is_read() {
     );
     assert!(!out.exists());
 }
+
+/// A finite pad whose flat twin's Krylov basis (its contact set is the
+/// whole pad) does not fit beside the rough solve: the rough answer is
+/// given, and a warning says the pad's own friction was not computed and
+/// what did not fit. The memory is stated with
+/// `VISCOSLIDE_TEST_FAULT=available-BYTES`: exactly the grid's estimate,
+/// which covers a contact set of a twentieth of the grid.
+#[test]
+fn a_pads_own_friction_that_does_not_fit_is_warned_of_and_the_answer_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let cfg = repo("configs/default.toml");
+    let run = |available: &str| {
+        Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+            .args([
+                "solve",
+                &cfg,
+                "--backend",
+                "cpu",
+                "--out",
+                out.to_str().unwrap(),
+            ])
+            .env("VISCOSLIDE_TEST_FAULT", format!("available-{available}"))
+            .output()
+            .unwrap()
+    };
+    let o = run("1");
+    assert_refused(&o, &["256 x 256 grid needs", "bytes of memory"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    let need: String = err[err.find("needs ").unwrap() + 6..]
+        .chars()
+        .take_while(|c| c.is_ascii_digit())
+        .collect();
+    let o = run(&need);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains(
+            "the finite pad's own friction (the same pad without roughness) was not computed"
+        ) && err.contains("the Krylov basis over a contact set of")
+            && err.contains("a set of 35 vectors of"),
+        "{err}"
+    );
+    let s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    assert!(s["friction_coefficient"].as_f64().unwrap() > 0.0);
+}
