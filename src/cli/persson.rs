@@ -107,13 +107,15 @@ const BYTES_PER_SPEED: u64 = 1024;
 
 /// The `[loading]` keys `persson` reads or could be misread from, checked
 /// as a solve checks them: one of `normal_load`, `mean_pressure` and
-/// `approach`, one of `speed` and `xi`, and finite values. The curve's
+/// `approach`, one of `speed` and `xi`, and finite values
+/// ([`crate::config::LoadingConfig::check_finite`]). The curve's
 /// speeds are its own, but a config a solve would refuse is not answered.
 fn check_loading(cfg: &LoadedConfig) -> Result<()> {
     let Some(l) = &cfg.config.loading else {
         return Ok(());
     };
     let invalid = |m: &str| Error::Invalid(m.into());
+    l.check_finite().map_err(Error::Invalid)?;
     l.pressing().map_err(invalid)?;
     if l.speed.is_some() || l.xi.is_some() {
         l.sliding().map_err(invalid)?;
@@ -134,11 +136,6 @@ fn check_loading(cfg: &LoadedConfig) -> Result<()> {
                 "[loading] {key} = {v} {unit} must be positive and finite"
             )));
         }
-    }
-    if let Some(d) = l.direction_deg.filter(|d| !d.is_finite()) {
-        return Err(Error::Invalid(format!(
-            "[loading] direction_deg = {d} must be finite"
-        )));
     }
     Ok(())
 }

@@ -37,6 +37,26 @@ impl LoadingConfig {
         }
     }
 
+    /// Every value given is a finite number: a NaN or an infinity (`inf`
+    /// in a file, `--set loading.speed=inf`) is refused in one line naming
+    /// its key, before anything converts or solves with it.
+    pub fn check_finite(&self) -> Result<(), String> {
+        for (key, value, unit) in [
+            ("normal_load", self.normal_load, " N"),
+            ("mean_pressure", self.mean_pressure, " Pa"),
+            ("approach", self.approach, " m"),
+            ("speed", self.speed, " m/s"),
+            ("xi", self.xi, ""),
+            ("direction_deg", self.direction_deg, ""),
+            ("temperature", self.temperature, " C"),
+        ] {
+            if let Some(v) = value.filter(|v| !v.is_finite()) {
+                return Err(format!("[loading] {key} = {v}{unit} must be finite"));
+            }
+        }
+        Ok(())
+    }
+
     /// What presses the bodies together as given: at most one of
     /// `normal_load`, `mean_pressure` and `approach` (`None` where none
     /// is).

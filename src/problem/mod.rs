@@ -445,7 +445,17 @@ pub(super) fn speed_of(sliding: Sliding, material: &Material, surface: &HeightMa
         Sliding::Xi(xi) if xi.is_nan() || xi < 0.0 => {
             return Err(invalid(format!("[loading] xi must be >= 0, got {xi}")))
         }
-        Sliding::Xi(xi) => xi_scale_of(material, surface)?.speed(xi),
+        Sliding::Xi(xi) => {
+            let scale = xi_scale_of(material, surface)?;
+            let v = scale.speed(xi);
+            if !v.is_finite() {
+                return Err(invalid(format!(
+                    "[loading] xi = {xi:e} is the speed xi L / tau = {v} m/s (L = {:e} m, tau = {:e} s), beyond double precision; give a smaller xi",
+                    scale.length, scale.creep_time
+                )));
+            }
+            v
+        }
     })
 }
 

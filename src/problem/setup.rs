@@ -65,6 +65,7 @@ impl Problem {
     /// its WLF factor ([`crate::material::Material::at_temperature`]). Exactly one of the three
     /// controls and one of the two speeds must be given.
     pub fn with_loading(mut self, loading: &LoadingConfig) -> Result<Self> {
+        loading.check_finite().map_err(invalid)?;
         let area0 = self.surface.length_x() * self.surface.length_y();
         self.control =
             match loading.pressing().map_err(invalid)? {
@@ -201,12 +202,12 @@ impl Problem {
         match self.control {
             Control::Load(f) if !(f.is_finite() && f > 0.0) => {
                 return Err(invalid(format!(
-                    "[loading] the normal load must be positive, got {f} N"
+                    "[loading] the normal load must be positive and finite, got {f} N"
                 )))
             }
             Control::Approach(d) if !(d.is_finite() && d > 0.0) => {
                 return Err(invalid(format!(
-                    "[loading] approach must be positive, got {d} m"
+                    "[loading] approach must be positive and finite, got {d} m"
                 )))
             }
             _ => {}
@@ -214,6 +215,12 @@ impl Problem {
         if self.speed.is_nan() || self.speed < 0.0 {
             return Err(invalid(format!(
                 "[loading] speed must be >= 0, got {} m/s",
+                self.speed
+            )));
+        }
+        if self.speed.is_infinite() {
+            return Err(invalid(format!(
+                "[loading] speed = {} m/s must be finite",
                 self.speed
             )));
         }

@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod input_refusals;
 mod layer;
 mod messages;
 mod new_user;

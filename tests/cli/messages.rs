@@ -149,10 +149,13 @@ fn loads_are_named_as_given() {
     );
     // So are speeds: a NaN or negative xi is named as xi, not as the
     // speed it converts to.
-    for xi in ["nan", "-1"] {
+    for (xi, needle) in [
+        ("nan", "[loading] xi = NaN must be finite"),
+        ("-1", "[loading] xi must be >= 0"),
+    ] {
         let set = format!("loading.xi={xi}");
         let o = solve(tmp.path(), &cfg, &[set.as_str()]);
-        assert_refused(&o, &["[loading] xi must be >= 0"]);
+        assert_refused(&o, &[needle]);
         assert!(!String::from_utf8_lossy(&o.stderr).contains("speed"));
     }
 }

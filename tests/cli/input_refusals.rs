@@ -1,0 +1,82 @@
+//! Inputs a solve used to accept with a misleading answer, or refuse with
+//! a message naming the wrong cause: each is refused before anything is
+//! solved or written, in one line naming the key and the bound.
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+use super::messages::{assert_refused, viscoslide};
+
+/// A 32 x 32 pad of the paper's single-relaxation material (creep time
+/// `tau`), sliding at `xi`; `loading` is the rest of `[loading]`.
+fn config(dir: &Path, tau: f64, loading: &str) -> PathBuf {
+    let p = dir.join("c.toml");
+    std::fs::write(
+        &p,
+        format!(
+            "[material]\nmodel = \"sls\"\nrelaxed_modulus = 3.3333333333333335e6\nglassy_modulus = 1e7\ncreep_time = {tau:e}\npoisson = 0.5\n\
+             [surface.generate]\nn = 32\nlength = 0.01\nhurst = 0.8\nscales = 4\nrms_slope = 0.02\nseed = 1\n\
+             [loading]\n{loading}\n"
+        ),
+    )
+    .unwrap();
+    p
+}
+
+/// `solve CONFIG --set ...` into `dir/out`; a refusal must leave no
+/// output directory.
+fn solve(dir: &Path, cfg: &Path, sets: &[&str]) -> Output {
+    let out = dir.join("out");
+    let mut args = vec![
+        "solve",
+        cfg.to_str().unwrap(),
+        "--backend",
+        "cpu",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    for s in sets {
+        args.extend(["--set", s]);
+    }
+    let o = viscoslide(&args);
+    if !o.status.success() {
+        assert!(!out.exists(), "a refused solve wrote {}", out.display());
+    }
+    o
+}
+
+/// Every `[loading]` value that is not a finite number is refused naming
+/// its key, whether it comes from the file or from `--set` (an infinite
+/// speed or xi used to solve, "v = inf m/s", and write a zero friction).
+#[test]
+fn non_finite_loading_values_are_refused_naming_the_key() {
+    let tmp = tempfile::tempdir().unwrap();
+    let load = "normal_load = 0.3";
+    for (key, others) in [
+        ("speed", load),
+        ("xi", load),
+        ("normal_load", "xi = 1.17e-2"),
+        ("mean_pressure", "xi = 1.17e-2"),
+        ("approach", "xi = 1.17e-2"),
+        ("direction_deg", "xi = 1.17e-2\nnormal_load = 0.3"),
+        ("temperature", "xi = 1.17e-2\nnormal_load = 0.3"),
+    ] {
+        for v in ["inf", "-inf", "nan"] {
+            let needle = format!("[loading] {key} = ");
+            let shown = if v == "nan" { "NaN" } else { v };
+            // In the file.
+            let cfg = config(tmp.path(), 0.01, &format!("{others}\n{key} = {v}"));
+            let o = solve(tmp.path(), &cfg, &[]);
+            assert_refused(&o, &[&needle, shown, "must be finite"]);
+            // On the command line.
+            let cfg = config(tmp.path(), 0.01, others);
+            let set = format!("loading.{key}={v}");
+            let o = solve(tmp.path(), &cfg, &[&set]);
+            assert_refused(&o, &[&needle, shown, "must be finite"]);
+        }
+    }
+    // A finite xi whose speed xi L / tau leaves double precision is xi's.
+    let cfg = config(tmp.path(), 1e-5, load);
+    let o = solve(tmp.path(), &cfg, &["loading.xi=1e307"]);
+    assert_refused(&o, &["[loading] xi = 1e307", "beyond double precision"]);
+}
