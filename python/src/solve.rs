@@ -106,6 +106,7 @@ pub fn solve(
         heating: heating_json,
     };
     let (problem, heating) = problem::build(&surface, &material, sections)?;
+    problem.check_analysis().map_err(value_error)?;
     run(py, &problem, heating.as_ref(), backend, progress)
 }
 
@@ -123,6 +124,7 @@ pub fn solve_config(
 ) -> PyResult<NativeResult> {
     let cfg = config::load(&path, &overrides).map_err(|e| value_error(problem::load_message(e)))?;
     let problem = Problem::from_config(&cfg).map_err(|e| to_py(py, e))?;
+    problem.check_analysis().map_err(value_error)?;
     let ambient = cfg.config.loading.as_ref().and_then(|l| l.temperature);
     let heating = problem::heating_params(cfg.config.heating.as_ref(), &problem, ambient)?;
     run(py, &problem, heating.as_ref(), backend, progress)

@@ -339,6 +339,9 @@ impl NativeSweepPlan {
             config.heating.as_ref(),
         )
         .map_err(|e| self.named(point, e))?;
+        problem
+            .check_analysis()
+            .map_err(|e| self.named(point, value_error(e)))?;
         let heating =
             problem::heating_params(config.heating.as_ref(), &problem, loading.temperature)
                 .map_err(|e| self.named(point, e))?;

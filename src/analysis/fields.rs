@@ -68,6 +68,51 @@ fn check_params(p: &AnalysisParams) -> Result<(), AnalysisError> {
     Ok(())
 }
 
+/// The upper band factor `zeta2` of an `nx x ny` map's analysis: as
+/// given, else the surface's number of scales `scales` (when above
+/// `zeta1`), else the Nyquist wavenumber of the shorter side,
+/// `min(nx, ny) / 2`. That default band is empty below
+/// `2 (floor(zeta1) + 1)` cells per side (4 for the paper's `zeta1 = 1`):
+/// such a grid is refused, naming its size and that minimum.
+pub(crate) fn band_end(
+    nx: usize,
+    ny: usize,
+    params: &AnalysisParams,
+    scales: Option<f64>,
+) -> Result<f64, AnalysisError> {
+    let zeta2 = match (params.zeta2, scales) {
+        (Some(z), _) => z,
+        (None, Some(s)) if s.is_finite() && s > params.zeta1 => s,
+        _ => (nx.min(ny) / 2) as f64,
+    };
+    if zeta2 > params.zeta1 {
+        return Ok(zeta2);
+    }
+    if params.zeta2.is_some() {
+        return Err(param("zeta2", zeta2, "must exceed zeta1"));
+    }
+    // The default band ends at the grid's Nyquist wavenumber.
+    Err(AnalysisError::SmallGrid {
+        nx,
+        ny,
+        zeta1: params.zeta1,
+        min: 2 * (params.zeta1.floor() as usize + 1),
+    })
+}
+
+/// The analysis of an `nx x ny` map (`scales` as in [`band_end`]) checked
+/// before its solve: its parameters and a band that is not empty, the
+/// checks [`analyze`] makes before it reads a field.
+pub(crate) fn check_grid(
+    nx: usize,
+    ny: usize,
+    params: &AnalysisParams,
+    scales: Option<f64>,
+) -> Result<(), AnalysisError> {
+    check_params(params)?;
+    band_end(nx, ny, params, scales).map(|_| ())
+}
+
 /// Analyse one solved contact (physics.md section 5; paper Section IV).
 ///
 /// 1. Eq. 11-13 on the displacement, band `zeta1 q0 <= |q| <= zeta2 q0`
@@ -84,26 +129,7 @@ pub fn analyze(
     let (ax, ay) = (inputs.cell_size, inputs.cell_size_y);
     let map = HeightMap::with_cells(nx, ny, ax, ay, inputs.displacement.to_vec())?;
     let psd = psd_2d(&map, params.window)?;
-    let zeta2 = match (params.zeta2, inputs.scales) {
-        (Some(z), _) => z,
-        (None, Some(s)) if s.is_finite() && s > params.zeta1 => s,
-        _ => (nx.min(ny) / 2) as f64,
-    };
-    if zeta2 <= params.zeta1 {
-        if params.zeta2.is_none() {
-            // The default band ends at the grid's Nyquist wavenumber.
-            return Err(param(
-                "zeta2",
-                zeta2,
-                &format!(
-                    "a {nx} x {ny} grid is too small for the anisotropy analysis: its band ends at zeta2 = min(nx, ny) / 2, not above zeta1 = {}; use at least {} cells per side",
-                    params.zeta1,
-                    2 * (params.zeta1.floor() as usize + 1)
-                ),
-            ));
-        }
-        return Err(param("zeta2", zeta2, "must exceed zeta1"));
-    }
+    let zeta2 = band_end(nx, ny, params, inputs.scales)?;
     let def = deformed_anisotropy(&psd, params.zeta1, zeta2);
 
     let spots = find_spots(inputs.contact, nx, ny, Connectivity::Four);

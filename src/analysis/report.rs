@@ -38,6 +38,15 @@ pub enum AnalysisError {
         value: String,
         why: String,
     },
+    /// A grid whose default band (`zeta1 <= |q|/q0 <= min(nx, ny) / 2`)
+    /// is empty: fewer than `min` cells along a side.
+    #[error("a {nx} x {ny} grid is too small for the anisotropy analysis run after the solve: its band zeta1 = {zeta1} <= |q|/q0 <= min(nx, ny) / 2 needs at least {min} cells per side; give a larger map, a zeta2 above zeta1 ([analysis] zeta2), or [analysis] enabled = false")]
+    SmallGrid {
+        nx: usize,
+        ny: usize,
+        zeta1: f64,
+        min: usize,
+    },
     /// A non-finite displacement (or a grid that cannot hold a map).
     #[error(transparent)]
     Surface(#[from] SurfaceError),

@@ -63,6 +63,7 @@ pub fn run(args: SolveArgs) -> Result<()> {
     // Refuse an output place that cannot be written before solving.
     check_output_dir(&args.out)?;
     let problem = Problem::from_config(&cfg)?;
+    problem.check_analysis()?;
     let choice = BackendChoice::resolve(args.backend).map_err(Error::Invalid)?;
     let (executor, line) = Executor::select(choice, &problem)?;
     eprintln!("{line}");

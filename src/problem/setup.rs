@@ -259,6 +259,23 @@ impl Problem {
         Ok(())
     }
 
+    /// The analysis that the `[analysis]` section runs after the solve
+    /// (`solve`, Python's `solve` and a sweep's points analyse each
+    /// solution), checked on this grid before anything is solved: its
+    /// parameters, and a grid large enough for its band (at least 4 cells
+    /// per side for the default `zeta1 = 1`). A problem solved without its
+    /// analysis (a refinement level) need not pass it.
+    pub fn check_analysis(&self) -> Result<()> {
+        let Some(params) =
+            super::solution::configured_analysis(self.analysis.as_ref(), self.formulation)
+        else {
+            return Ok(());
+        };
+        let scales = super::solution::document_scales(&self.document, self.surface.length_x());
+        crate::analysis::fields::check_grid(self.surface.nx, self.surface.ny, &params, scales)?;
+        Ok(())
+    }
+
     /// The periodic formulation under approach control: its displacements
     /// have zero mean (the `q = 0` multiplier is 0, paper Appendix), so the
     /// contact closes at the approach `mean(g)`, the highest summit above

@@ -200,8 +200,6 @@ impl Solution {
     /// The fields as the contact analysis sees them.
     pub fn analysis_inputs(&self) -> AnalysisInputs<'_> {
         let r = &self.record;
-        let lx = r.nx as f64 * r.cell_size;
-        let config = serde_json::to_value(&r.document).unwrap_or(Value::Null);
         AnalysisInputs {
             nx: r.nx,
             ny: r.ny,
@@ -210,7 +208,7 @@ impl Solution {
             displacement: &self.fields.displacement,
             contact: &self.fields.contact,
             pressure: &self.fields.pressure,
-            scales: analysis::scales_from_config(&config, 2.0 * std::f64::consts::PI / lx),
+            scales: document_scales(&r.document, r.nx as f64 * r.cell_size),
             xi: r.xi,
         }
     }
@@ -219,14 +217,7 @@ impl Solution {
     /// (`None` when it is disabled). Periodic solves have periodic fields:
     /// no taper.
     pub fn analysis_params(&self) -> Option<AnalysisParams> {
-        let cfg = self.record.analysis.clone().unwrap_or_default();
-        if !cfg.enabled.unwrap_or(true) {
-            return None;
-        }
-        Some(AnalysisParams::configured(
-            &cfg,
-            self.record.formulation == Formulation::Periodic,
-        ))
+        configured_analysis(self.record.analysis.as_ref(), self.record.formulation)
     }
 
     /// The contact analysis (paper Eq. 11-13, Fig. 8-10) of this solution.
@@ -472,6 +463,31 @@ impl Solution {
         }
         Ok(staged.commit()?)
     }
+}
+
+/// The analysis parameters an `[analysis]` section asks for on a solve of
+/// `formulation` (`None` when it is disabled). Periodic solves have
+/// periodic fields: no taper.
+pub(super) fn configured_analysis(
+    section: Option<&AnalysisConfig>,
+    formulation: Formulation,
+) -> Option<AnalysisParams> {
+    let cfg = section.cloned().unwrap_or_default();
+    if !cfg.enabled.unwrap_or(true) {
+        return None;
+    }
+    Some(AnalysisParams::configured(
+        &cfg,
+        formulation == Formulation::Periodic,
+    ))
+}
+
+/// The surface's number of scales `q1 / q0` that the configuration
+/// `document` records, for a map of side `lx` \[m\] along x (`q0 = 2 pi /
+/// lx`); `None` where it records none.
+pub(super) fn document_scales(document: &toml::Table, lx: f64) -> Option<f64> {
+    let config = serde_json::to_value(document).unwrap_or(Value::Null);
+    analysis::scales_from_config(&config, 2.0 * std::f64::consts::PI / lx)
 }
 
 /// The files a solve writes besides the analysis's

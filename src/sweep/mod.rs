@@ -268,6 +268,7 @@ fn point_problem(cfg: &LoadedConfig, point: &Point) -> Result<(Problem, Option<H
         document,
     };
     let problem = Problem::from_config(&point_cfg)?;
+    problem.check_analysis()?;
     let heating = match &heating {
         Some(h) => HeatingParams::from_config(h, &problem, ambient)?,
         None => None,

@@ -5,7 +5,34 @@
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
+use viscoslide::io::npy;
+
 use super::messages::{assert_refused, viscoslide};
+
+/// A config of the paper's material on the height map `file` (a side of
+/// 1 cm), pressed by 0.3 N at `xi = 1.17e-2`.
+fn file_config(dir: &Path, file: &Path) -> PathBuf {
+    let p = dir.join("f.toml");
+    std::fs::write(
+        &p,
+        format!(
+            "[material]\nmodel = \"sls\"\nrelaxed_modulus = 3.3333333333333335e6\nglassy_modulus = 1e7\ncreep_time = 0.01\npoisson = 0.5\n\
+             [surface]\nfile = {:?}\nlength = 0.01\n\
+             [loading]\nnormal_load = 0.3\nxi = 1.17e-2\n",
+            file.to_str().unwrap()
+        ),
+    )
+    .unwrap();
+    p
+}
+
+/// An `n x n` .npy map of micrometre heights in `dir`.
+fn npy_map(dir: &Path, n: usize) -> PathBuf {
+    let h: Vec<f64> = (0..n * n).map(|k| (k as f64 * 0.37).sin() * 1e-6).collect();
+    let f = dir.join(format!("h{n}.npy"));
+    std::fs::write(&f, npy::encode_f64(&[n, n], &h)).unwrap();
+    f
+}
 
 /// A 32 x 32 pad of the paper's single-relaxation material (creep time
 /// `tau`), sliding at `xi`; `loading` is the rest of `[loading]`.
@@ -79,4 +106,36 @@ fn non_finite_loading_values_are_refused_naming_the_key() {
     let cfg = config(tmp.path(), 1e-5, load);
     let o = solve(tmp.path(), &cfg, &["loading.xi=1e307"]);
     assert_refused(&o, &["[loading] xi = 1e307", "beyond double precision"]);
+}
+
+/// A map whose default analysis band (`zeta1 = 1 <= |q|/q0 <= min(nx,
+/// ny) / 2`) is empty is refused before the solve, naming its grid and the
+/// 4 cells per side the band needs (it was solved, then refused by the
+/// analysis as "analysis parameter `zeta2` = 1"). Without the analysis,
+/// or with a band given, the same map solves.
+#[test]
+fn maps_too_small_for_the_analysis_are_refused_before_the_solve() {
+    let tmp = tempfile::tempdir().unwrap();
+    for n in [2, 3] {
+        let cfg = file_config(tmp.path(), &npy_map(tmp.path(), n));
+        let o = solve(tmp.path(), &cfg, &[]);
+        assert_refused(
+            &o,
+            &[&format!("a {n} x {n} grid"), "at least 4 cells per side"],
+        );
+        assert!(!String::from_utf8_lossy(&o.stderr).contains("analysis parameter"));
+        for set in ["analysis.enabled=false", "analysis.zeta2=1.5"] {
+            let o = solve(tmp.path(), &cfg, &[set]);
+            assert!(
+                o.status.success(),
+                "{n} x {n}, {set}: {}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+            std::fs::remove_dir_all(tmp.path().join("out")).unwrap();
+        }
+    }
+    // The smallest grid the band holds.
+    let cfg = file_config(tmp.path(), &npy_map(tmp.path(), 4));
+    let o = solve(tmp.path(), &cfg, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
