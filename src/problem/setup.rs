@@ -67,22 +67,30 @@ impl Problem {
     pub fn with_loading(mut self, loading: &LoadingConfig) -> Result<Self> {
         loading.check_finite().map_err(invalid)?;
         let area0 = self.surface.length_x() * self.surface.length_y();
-        self.control =
-            match loading.pressing().map_err(invalid)? {
-                Some(Pressing::NormalLoad(f)) => Control::Load(f),
-                Some(Pressing::MeanPressure(p)) => {
-                    if !(p.is_finite() && p > 0.0) {
-                        return Err(invalid(format!(
-                            "[loading] mean_pressure must be positive and finite, got {p} Pa"
-                        )));
-                    }
-                    Control::Load(p * area0)
+        self.control = match loading.pressing().map_err(invalid)? {
+            Some(Pressing::NormalLoad(f)) => Control::Load(f),
+            Some(Pressing::MeanPressure(p)) => {
+                if !(p.is_finite() && p > 0.0) {
+                    return Err(invalid(format!(
+                        "[loading] mean_pressure must be positive and finite, got {p} Pa"
+                    )));
                 }
-                Some(Pressing::Approach(d)) => Control::Approach(d),
-                None => return Err(invalid(
+                let f = p * area0;
+                if f < f64::MIN_POSITIVE {
+                    return Err(invalid(format!(
+                            "[loading] mean_pressure = {p:e} Pa over the map's {area0:e} m^2 is a normal load of {f:e} N, below double precision's normal range ({:e}); raise it",
+                            f64::MIN_POSITIVE
+                        )));
+                }
+                Control::Load(f)
+            }
+            Some(Pressing::Approach(d)) => Control::Approach(d),
+            None => {
+                return Err(invalid(
                     "[loading] needs one of normal_load (N), mean_pressure (Pa) or approach (m)",
-                )),
-            };
+                ))
+            }
+        };
         // The material at the temperature asked for, before `xi` reads its
         // creep time: the one shift every consumer of the spectrum sees.
         self.material = self.material.at(loading.temperature)?;

@@ -330,6 +330,10 @@ pub(crate) fn check_problem(
 /// Sums of squares (and of products) of pressures and displacements over
 /// the grid stay below this.
 const SCALE_LIMIT: f64 = 1e300;
+/// Squares of the largest pressure and displacement a cell can carry stay
+/// above this: the mirror of [`SCALE_LIMIT`], as far inside f64's normal
+/// range (from 2.2e-308) as that is inside its largest value.
+const SCALE_FLOOR: f64 = 1.0 / SCALE_LIMIT;
 
 /// Refuse a load or approach whose pressures and displacements, squared and
 /// summed over the grid, leave double precision: the whole load on one
@@ -337,6 +341,10 @@ const SCALE_LIMIT: f64 = 1e300;
 /// one cell (`d`, its pressure `d / K_00`). Beyond it the iteration's norms
 /// overflow: a NaN friction with exit 0, a residual NaN after the whole
 /// matvec budget, or an empty contact set reported for a huge approach.
+/// A positive load or approach so small that even those largest one-cell
+/// values square below [`SCALE_FLOOR`] is refused too: there the squares
+/// underflow, and the solve found no contact or reported friction and
+/// loads rounded to zero.
 fn check_scale(
     n: usize,
     cell_area: f64,
@@ -348,14 +356,23 @@ fn check_scale(
         Control::Approach(d) => (d / self_coefficient, d),
     };
     let big = p.abs().max(w.abs());
-    if big * big * n.max(1) as f64 <= SCALE_LIMIT {
-        return Ok(());
-    }
+    let small = p.abs().min(w.abs());
     let what = match control {
-        Control::Load(f) => format!("the normal load {f:e} N"),
+        Control::Load(f) => format!(
+            "the normal load {f:e} N (a mean pressure of {:e} Pa)",
+            f / (cell_area * n.max(1) as f64)
+        ),
         Control::Approach(d) => format!("the approach {d:e} m"),
     };
-    Err(SolverError::Invalid(format!(
-        "{what} is beyond double precision on this grid: one cell would carry {p:.3e} Pa and move {w:.3e} m, whose squares summed over {n} cells overflow; lower it"
-    )))
+    if big * big * n.max(1) as f64 > SCALE_LIMIT {
+        return Err(SolverError::Invalid(format!(
+            "{what} is beyond double precision on this grid: one cell would carry {p:.3e} Pa and move {w:.3e} m, whose squares summed over {n} cells overflow; lower it"
+        )));
+    }
+    if small > 0.0 && small * small < SCALE_FLOOR {
+        return Err(SolverError::Invalid(format!(
+            "{what} is below double precision on this grid: even all of it on one cell would carry {p:.3e} Pa and move {w:.3e} m, whose squares underflow (below {SCALE_FLOOR:e}); raise it"
+        )));
+    }
+    Ok(())
 }

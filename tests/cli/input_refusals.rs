@@ -139,3 +139,51 @@ fn maps_too_small_for_the_analysis_are_refused_before_the_solve() {
     let o = solve(tmp.path(), &cfg, &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// The last line of stderr (a refusal at the solve's start follows the
+/// lines naming the backend and the grid).
+fn last_line(o: &Output) -> String {
+    let err = String::from_utf8_lossy(&o.stderr);
+    err.trim_end().lines().last().unwrap_or("").to_string()
+}
+
+/// Positive loads so small that the solve's numbers underflow are refused
+/// naming the load: a mean pressure whose load over the map rounds to 0 N
+/// or below f64's normal range (it was refused as "the normal load must be
+/// positive, got 0 N"), and a load or approach whose one-cell pressure and
+/// displacement square below 1e-300 (it was refused after the solve's
+/// start as a contact set left empty).
+#[test]
+fn loads_whose_numbers_underflow_are_refused_naming_the_load() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), 0.01, "xi = 1.17e-2");
+    for p in ["5e-324", "1e-310"] {
+        let o = solve(tmp.path(), &cfg, &[&format!("loading.mean_pressure={p}")]);
+        assert_refused(
+            &o,
+            &[
+                &format!("[loading] mean_pressure = {p} Pa"),
+                "below double precision",
+            ],
+        );
+    }
+    for (set, needle) in [
+        ("loading.normal_load=1e-200", "the normal load 1e-200 N"),
+        (
+            "loading.mean_pressure=1e-200",
+            "a mean pressure of 1e-200 Pa",
+        ),
+        ("loading.approach=1e-200", "the approach 1e-200 m"),
+    ] {
+        let o = solve(tmp.path(), &cfg, &[set]);
+        assert_eq!(o.status.code(), Some(1), "{set}");
+        let line = last_line(&o);
+        assert!(
+            line.contains(needle) && line.contains("below double precision"),
+            "{set}: {line}"
+        );
+    }
+    // A small load inside the range still solves.
+    let o = solve(tmp.path(), &cfg, &["loading.normal_load=1e-100"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
