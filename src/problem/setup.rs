@@ -235,6 +235,7 @@ impl Problem {
         if !self.direction_rad.is_finite() {
             return Err(invalid("[loading] direction_deg must be finite"));
         }
+        self.check_sides()?;
         self.check_periodic_approach()?;
         if !(self.params.tolerance > 0.0 && self.params.tolerance < 1.0) {
             return Err(invalid(format!(
@@ -281,6 +282,29 @@ impl Problem {
         };
         let scales = super::solution::document_scales(&self.document, self.surface.length_x());
         crate::analysis::fields::check_grid(self.surface.nx, self.surface.ny, &params, scales)?;
+        Ok(())
+    }
+
+    /// The map's sides in the range of a generated surface's `length`
+    /// ([`crate::surface::LENGTH_RANGE`], a nanometre to a kilometre):
+    /// beyond it a load spread over the map, its heights and gaps leave
+    /// double precision's useful range, and a pad of 1e150 m was refused
+    /// as a load too small or a solve that did not converge. Refused in
+    /// one line naming the side, its key and the range.
+    fn check_sides(&self) -> Result<()> {
+        let (lo, hi) = crate::surface::LENGTH_RANGE;
+        let s = &self.surface;
+        for (axis, key, side, cell) in [
+            ("x", "length", s.length_x(), s.cell_size),
+            ("y", "length_y", s.length_y(), s.cell_size_y),
+        ] {
+            if !(lo..=hi).contains(&side) {
+                return Err(invalid(format!(
+                    "[surface] the map's side along {axis} is {side:e} m (`{key}`; {} cells of {cell:e} m): it must lie in [{lo:e}, {hi:e}] m (a nanometre to a kilometre: beyond, the heights, gaps and loads leave double precision's useful range); check the map's length and unit",
+                    if axis == "x" { s.nx } else { s.ny },
+                )));
+            }
+        }
         Ok(())
     }
 

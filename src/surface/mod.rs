@@ -28,6 +28,7 @@ pub use crate::config::{AnisotropyConfig, GenerateConfig, SphereConfig, SurfaceC
 pub use format::{
     encode_topography, read_topography, write_topography, ReadOptions, SurfaceFormat, WriteOptions,
 };
+pub(crate) use generate::LENGTH_RANGE;
 pub use generate::{
     anisotropy_warning, generate, generate_with_target, lattice_moments, Anisotropy,
     GenerateParams, Normalisation, SelfAffinePsd, UpperCutoff,

@@ -187,3 +187,21 @@ fn loads_whose_numbers_underflow_are_refused_naming_the_load() {
     let o = solve(tmp.path(), &cfg, &["loading.normal_load=1e-100"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// A measured map whose side lies outside the range of a generated
+/// surface's `length` (1e-9 to 1e3 m) is refused naming the side and its
+/// key (a pad of 1e150 m was refused as a load too small, or as a solve
+/// that did not converge).
+#[test]
+fn map_sides_out_of_range_are_refused_naming_the_key() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = file_config(tmp.path(), &npy_map(tmp.path(), 8));
+    for (set, needle) in [
+        ("surface.length=1e150", "along x is 1e150 m (`length`"),
+        ("surface.length=1e-12", "along x is 1e-12 m (`length`"),
+        ("surface.length_y=1e150", "along y is 1e150 m (`length_y`"),
+    ] {
+        let o = solve(tmp.path(), &cfg, &[set]);
+        assert_refused(&o, &[needle, "[1e-9, 1e3] m"]);
+    }
+}
