@@ -236,6 +236,7 @@ impl Problem {
             return Err(invalid("[loading] direction_deg must be finite"));
         }
         self.check_sides()?;
+        self.check_heights()?;
         self.check_periodic_approach()?;
         if !(self.params.tolerance > 0.0 && self.params.tolerance < 1.0) {
             return Err(invalid(format!(
@@ -303,6 +304,25 @@ impl Problem {
                     "[surface] the map's side along {axis} is {side:e} m (`{key}`; {} cells of {cell:e} m): it must lie in [{lo:e}, {hi:e}] m (a nanometre to a kilometre: beyond, the heights, gaps and loads leave double precision's useful range); check the map's length and unit",
                     if axis == "x" { s.nx } else { s.ny },
                 )));
+            }
+        }
+        Ok(())
+    }
+
+    /// The map's rms height and rms slope (forward differences) finite:
+    /// heights beyond about 1e150 m, a unit read wrong, square out of f64,
+    /// and such a map solved and reported an rms slope of inf. Refused in
+    /// one line naming the statistic and the largest height.
+    fn check_heights(&self) -> Result<()> {
+        let s = &self.surface;
+        let n = s.heights.len().max(1) as f64;
+        let mean = s.heights.iter().sum::<f64>() / n;
+        let rms_height = (s.heights.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / n).sqrt();
+        let rms_slope =
+            crate::surface::rms_slope_real(s.nx, s.ny, s.cell_size, s.cell_size_y, &s.heights);
+        for (what, value) in [("rms height", rms_height), ("rms slope", rms_slope)] {
+            if !value.is_finite() {
+                return Err(crate::surface::overflow(what, value, &s.heights).into());
             }
         }
         Ok(())

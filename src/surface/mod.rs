@@ -50,6 +50,7 @@ pub use preprocess::{
     parse_detrend, parse_window, prepare, rms_slope_real, slope_warning, Preprocessing,
     SLOPE_TOLERANCE,
 };
+pub(crate) use psd::overflow;
 pub use psd::{
     fit_hurst, psd_2d, radial_average, stats, stats_with_window, HurstFit, Psd2d, RadialPsd,
     SurfaceStats, Window,

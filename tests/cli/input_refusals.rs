@@ -205,3 +205,28 @@ fn map_sides_out_of_range_are_refused_naming_the_key() {
         assert_refused(&o, &[needle, "[1e-9, 1e3] m"]);
     }
 }
+
+/// A map whose rms height or rms slope overflows (heights near 1e295 m or
+/// 1e150 m, a unit read wrong) is refused naming the statistic and the
+/// largest height (it was solved, and reported an rms slope of inf).
+#[test]
+fn heights_whose_statistics_overflow_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (scale, what) in [(1e295, "rms height"), (1e150, "rms slope")] {
+        let h: Vec<f64> = (0..32 * 32)
+            .map(|k| (k as f64 * 0.37).sin() * scale)
+            .collect();
+        let f = tmp.path().join("big.npy");
+        std::fs::write(&f, npy::encode_f64(&[32, 32], &h)).unwrap();
+        let cfg = file_config(tmp.path(), &f);
+        let o = solve(tmp.path(), &cfg, &[]);
+        assert_refused(
+            &o,
+            &[
+                &format!("the {what} of this map is inf"),
+                "overflow",
+                "unit",
+            ],
+        );
+    }
+}
