@@ -281,7 +281,9 @@ pub(crate) fn apply_override(
     let (key, value) = arg
         .split_once('=')
         .ok_or_else(|| err("expected section.key=value".into()))?;
-    set_replacing(document, key, parse_value(value.trim()), given).map_err(err)
+    let last = key.rsplit('.').next().unwrap_or(key).trim();
+    let value = parse_value(value.trim()).map_err(|why| err(format!("key `{last}`: {why}")))?;
+    set_replacing(document, key, value, given).map_err(err)
 }
 
 /// Set the dotted `key` (`section.key`, `surface.generate.q1`) of a TOML
@@ -311,10 +313,47 @@ pub(crate) fn set_value(
     Ok(())
 }
 
-fn parse_value(raw: &str) -> toml::Value {
+/// `raw` as a TOML value; what TOML does not read is taken as a string (a
+/// bare word). A number that TOML does not read because it is beyond the
+/// range of its type (`1e400`, an integer beyond 64 bits), or a nonzero
+/// one that it reads as 0 (`1e-400`), is refused saying so, not passed on
+/// as the string it is not.
+fn parse_value(raw: &str) -> Result<toml::Value, String> {
+    let numeric = !raw.is_empty()
+        && raw.contains(|c: char| c.is_ascii_digit())
+        && raw
+            .chars()
+            .all(|c| c.is_ascii_digit() || "+-._eE".contains(c));
+    let digits = raw.replace('_', "");
     match toml::from_str::<toml::Table>(&format!("v = {raw}")) {
-        Ok(mut t) => t.remove("v").unwrap_or(toml::Value::String(raw.into())),
-        Err(_) => toml::Value::String(raw.into()),
+        Ok(mut t) => {
+            let value = t.remove("v").unwrap_or(toml::Value::String(raw.into()));
+            let mantissa = digits.split(['e', 'E']).next().unwrap_or("");
+            if value.as_float() == Some(0.0)
+                && mantissa.contains(|c: char| ('1'..='9').contains(&c))
+            {
+                return Err(format!(
+                    "{raw} is below the range of a double (nonzero magnitudes from about 4.9e-324) and would be read as 0"
+                ));
+            }
+            Ok(value)
+        }
+        Err(_) if numeric && digits.parse::<f64>().is_ok_and(f64::is_infinite) => Err(format!(
+            "{raw} is out of the range of a double (magnitudes up to about 1.8e308)"
+        )),
+        Err(_)
+            if numeric
+                && digits
+                    .trim_start_matches(['+', '-'])
+                    .chars()
+                    .all(|c| c.is_ascii_digit()) =>
+        {
+            Err(format!(
+                "{raw} is out of the range of a 64-bit integer (magnitudes up to {})",
+                i64::MAX
+            ))
+        }
+        Err(_) => Ok(toml::Value::String(raw.into())),
     }
 }
 

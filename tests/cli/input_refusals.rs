@@ -230,3 +230,31 @@ fn heights_whose_statistics_overflow_are_refused() {
         );
     }
 }
+
+/// A `--set` number beyond the range of its type is refused saying so,
+/// naming the key (it was "invalid type: string \"1e400\""); one that
+/// would be read as 0 is refused too.
+#[test]
+fn set_numbers_out_of_range_are_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), 0.01, "normal_load = 0.3\nxi = 1.17e-2");
+    for (set, key, why) in [
+        ("loading.xi=1e400", "xi", "out of the range of a double"),
+        ("loading.xi=-1e400", "xi", "out of the range of a double"),
+        (
+            "surface.generate.n=1e400",
+            "n",
+            "out of the range of a double",
+        ),
+        ("loading.xi=1e-400", "xi", "below the range of a double"),
+        (
+            "surface.generate.seed=99999999999999999999",
+            "seed",
+            "out of the range of a 64-bit integer",
+        ),
+    ] {
+        let o = solve(tmp.path(), &cfg, &[set]);
+        assert_refused(&o, &[&format!("--set {set}"), &format!("key `{key}`"), why]);
+        assert!(!String::from_utf8_lossy(&o.stderr).contains("invalid type"));
+    }
+}
