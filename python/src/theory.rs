@@ -101,9 +101,11 @@ pub fn persson<'py>(
 /// layer thinner than a cell. The cells are checked as `viscoslide
 /// kernel` checks them (`SlidingKernel::check_cells`: a layer below the
 /// bound of a cell is refused), and a table with a value that is not
-/// finite is refused, naming the cell size.
+/// finite is refused, naming the cell size. With `temperature` \[C\] the
+/// material is taken at that temperature (its WLF shift), as `viscoslide
+/// kernel` takes it at `[loading] temperature`.
 #[pyfunction]
-#[pyo3(signature = (material, nx, ny, cell_size, speed, direction_deg, layer_json, derivative, cell_size_y=None))]
+#[pyo3(signature = (material, nx, ny, cell_size, speed, direction_deg, layer_json, derivative, cell_size_y=None, temperature=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn kernel_table<'py>(
     py: Python<'py>,
@@ -116,6 +118,7 @@ pub fn kernel_table<'py>(
     layer_json: Option<&str>,
     derivative: bool,
     cell_size_y: Option<f64>,
+    temperature: Option<f64>,
 ) -> PyResult<(Bound<'py, PyArray2<f64>>, Option<String>)> {
     let (ax, ay) = (cell_size, cell_size_y.unwrap_or(cell_size));
     let layer = layer_json
@@ -130,8 +133,10 @@ pub fn kernel_table<'py>(
             "direction_deg must be finite, got {direction_deg}"
         )));
     }
+    // The material at the temperature (its WLF shift), as the command's.
+    let material = material.material.at(temperature).map_err(value_error)?;
     let response = SlidingResponse::new(
-        &material.material,
+        &material,
         speed,
         viscoslide::response::direction_rad(direction_deg),
         layer,

@@ -2,6 +2,7 @@
 sweeps over config keys (``vary=``) from Python: the same identities,
 numbers and refusals as the command line."""
 
+import json
 import math
 import os
 import warnings
@@ -266,3 +267,35 @@ def test_a_section_rebuilds_a_material_fitted_off_its_reference(small, repo, cli
     assert read.wlf == WLF
     again = vs.Material._from_section(read.section)
     assert np.array_equal(again.complex_modulus(w), read.complex_modulus(w))
+
+
+def test_kernel_table_at_temperature_is_the_shifted_speed(cli, tmp_path, warm_rubber):
+    """``kernel_table(temperature=T)`` takes the material at ``T``, as
+    ``viscoslide kernel`` takes ``[loading] temperature``: its table is the
+    reference temperature's at the shifted speed, ``K(v, T) = K(a_T v,
+    T_ref)``, and the command's coefficients."""
+    v, a = 0.0117, 3.9e-5
+    for t in (7.0, 17.0, 40.0):
+        for derivative in (False, True):
+            hot = vs.kernel_table(warm_rubber, nx=3, cell_size=a, speed=v, temperature=t, derivative=derivative)
+            shifted = vs.kernel_table(warm_rubber, nx=3, cell_size=a, speed=shift(t) * v, derivative=derivative)
+            np.testing.assert_allclose(hot, shifted, rtol=1e-10, atol=0)
+    config = tmp_path / "k.toml"
+    config.write_text(
+        '[material]\nmodel = "sls"\nrelaxed_modulus = 3333333.3333333335\nglassy_modulus = 1e7\n'
+        "creep_time = 0.01\npoisson = 0.5\nwlf = [8.86, 101.6, 17.0]\n[loading]\ntemperature = 40.0\n"
+    )
+    rows = json.loads(
+        cli("kernel", "--config", str(config), "--cell-size", str(a), "--speed", str(v), "--offset", "1,-1", "--json")
+    )
+    k = vs.kernel_table(warm_rubber, nx=3, cell_size=a, speed=v, temperature=40.0)
+    d = vs.kernel_table(warm_rubber, nx=3, cell_size=a, speed=v, temperature=40.0, derivative=True)
+    assert k[3, 1] == pytest.approx(rows[0]["K"], rel=1e-12)
+    assert d[3, 1] == pytest.approx(rows[0]["dK_dx"], rel=1e-12)
+    # Without WLF constants a temperature has no meaning: refused, as the
+    # command refuses it.
+    plain = vs.Material.sls(relaxed_modulus=1e7 / 3, glassy_modulus=1e7, creep_time=0.01)
+    with pytest.raises(ValueError, match="WLF"):
+        vs.kernel_table(plain, nx=3, cell_size=a, speed=v, temperature=20.0)
+    with pytest.raises(ValueError, match="temperature must be finite"):
+        vs.kernel_table(warm_rubber, nx=3, cell_size=a, speed=v, temperature=float("nan"))

@@ -178,6 +178,7 @@ def kernel_table(
     layer_json: Optional[str],
     derivative: bool,
     cell_size_y: Optional[float] = None,
+    temperature: Optional[float] = None,
 ) -> Tuple[npt.NDArray[np.float64], Optional[str]]: ...
 def magnification(
     path: str,

@@ -388,6 +388,7 @@ def kernel_table(
     layer_base: str = "bonded",
     derivative: bool = False,
     cell_size_y: Optional[float] = None,
+    temperature: Optional[float] = None,
 ) -> np.ndarray:
     """Influence coefficients of the sliding kernel (paper Eq. 4-6): the
     surface displacement [m] of cell ``(i, j)`` under unit pressure [Pa] on
@@ -403,6 +404,12 @@ def kernel_table(
     refused, one thinner than a cell is warned about (``warnings.warn``),
     and cells so far from a contact's scales that a coefficient is not
     finite are refused, naming the cell size.
+
+    ``temperature`` [C] takes the material at that temperature: every creep
+    time scaled by its WLF shift factor ``a_T`` (physics.md section 12;
+    the material needs WLF constants), as ``viscoslide kernel`` applies
+    ``[loading] temperature``; the coefficients are those at the speed
+    ``a_T speed`` at the reference temperature.
 
     Returns an array of shape ``(2 nx - 1, 2 ny - 1)``; offset ``(i, j)``
     is at index ``(i + nx - 1, j + ny - 1)``.
@@ -421,6 +428,7 @@ def kernel_table(
         _layer(thickness, layer_base),
         _checks.flag("derivative", derivative),
         None if cell_size_y is None else _checks.positive("cell_size_y", cell_size_y, "m"),
+        _checks.optional("temperature", temperature),
     )
     if warning is not None:
         warnings.warn(warning, stacklevel=2)
