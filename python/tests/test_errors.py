@@ -101,3 +101,19 @@ def test_a_topography_without_a_unit_is_taken_as_metres_with_a_warning():
 
     with pytest.warns(UserWarning, match="no unit"):
         vs.Surface.from_topography(Topo())
+
+
+def test_numbers_beyond_a_float_and_progress_of_the_wrong_type_are_named(pad, rubber):
+    """A whole number beyond a double (``10**400``) is a ValueError naming
+    its argument (it was an OverflowError without a name), as any number
+    out of range; ``progress`` of the wrong type is a TypeError (it was a
+    ValueError)."""
+    with pytest.raises(ValueError, match=r"^speed is out of the range of a float .*401 digits"):
+        vs.solve(pad, rubber, speed=10**400, normal_load=0.3, backend="cpu")
+    with pytest.raises(ValueError, match=r"^speeds\[1\] is out of the range of a float"):
+        vs.friction_curve(pad, rubber, [1e-2, -(10**400)], normal_load=0.3, backend="cpu")
+    for bad in (1, "yes", 0.5):
+        with pytest.raises(TypeError, match=f"progress must be None, True or a callable, got {bad!r}"):
+            vs.solve(pad, rubber, speed=1e-2, normal_load=0.3, backend="cpu", progress=bad)
+        with pytest.raises(TypeError, match="progress must be None, True or a callable"):
+            vs.friction_curve(pad, rubber, [1e-2], normal_load=0.3, backend="cpu", progress=bad)

@@ -65,7 +65,15 @@ def number(name: str, value: Any, allow_inf: bool = False) -> float:
             value = value.item()
         else:
             raise ValueError(f"{name} must be a real number, got {value!r}")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:
+        # A whole number beyond a double (10**400): named, as any other
+        # number out of range.
+        digits = len(str(abs(int(value))))
+        raise ValueError(
+            f"{name} is out of the range of a float (magnitudes up to about 1.8e308), got a whole number of {digits} digits"
+        ) from None
     if math.isnan(x) and allow_inf:
         raise ValueError(f"{name} must be a number (inf allowed), got {x}")
     if not math.isfinite(x) and not allow_inf:

@@ -1,5 +1,6 @@
 """Progress reporting: ``progress=None`` reports nothing, ``True`` shows a
-tqdm bar (when tqdm is installed), a callable receives a dict per event."""
+tqdm bar (when tqdm is installed), a callable receives a dict per event;
+anything else (``progress=1``) is a TypeError."""
 
 from __future__ import annotations
 
@@ -30,7 +31,7 @@ def iterations(progress: Any) -> Iterator[Optional[Callback]]:
         yield progress
         return
     if progress is not True:
-        raise ValueError(f"progress must be None, True or a callable, got {progress!r}")
+        raise TypeError(f"progress must be None, True or a callable, got {progress!r}")
     bar = _tqdm(desc="active-set iterations", unit="it", leave=False)
     if bar is None:
         yield None
@@ -57,7 +58,7 @@ def points(progress: Any, total: int) -> Iterator[Optional[Callback]]:
         yield progress
         return
     if progress is not True:
-        raise ValueError(f"progress must be None, True or a callable, got {progress!r}")
+        raise TypeError(f"progress must be None, True or a callable, got {progress!r}")
     bar = _tqdm(total=total, desc="sweep", unit="point")
     if bar is None:
         yield None
