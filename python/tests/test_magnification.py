@@ -74,11 +74,14 @@ def test_as_frame_out_dir_and_speeds(config, tmp_path):
 def test_refusals_are_the_commands(config, tmp_path):
     with pytest.raises(ValueError, match="exceeds the configuration's q1"):
         vs.magnification(config, q1=[6000.0])
-    with pytest.raises(ValueError, match="exactly one of --q1"):
+    # The messages name the arguments (and the command's flags beside).
+    with pytest.raises(ValueError, match=r"exactly one of q1 \(--q1"):
         vs.magnification(config)
-    with pytest.raises(ValueError, match="at least 2"):
+    with pytest.raises(ValueError, match=r"cells_per_wavelength \(--cells-per-wavelength\) must be at least 2"):
         vs.magnification(config, scales=[4], cells_per_wavelength=1.0)
-    with pytest.raises(ValueError, match="increase strictly"):
+    with pytest.raises(ValueError, match=r"speeds \(--speeds\) lists 0.01 twice"):
+        vs.magnification(config, scales=[4], speeds=[1e-2, 1e-2])
+    with pytest.raises(ValueError, match=r"scales \(--scales\) must increase strictly"):
         vs.magnification(config, scales=[4, 2], out=tmp_path / "never")
     assert not (tmp_path / "never").exists()
 

@@ -94,7 +94,7 @@ impl LoadedConfig {
         Err(ConfigError::Parse {
             path: self.path.display().to_string(),
             message: format!(
-                "{study} solves isothermally and does not take [heating]; give --set heating.enabled=false (or remove the section) for the solves at the ambient temperature"
+                "{study} solves isothermally and does not take [heating]; set heating.enabled = false (--set heating.enabled=false; set={{\"heating.enabled\": False}} in Python) or remove the section for the solves at the ambient temperature"
             ),
         })
     }

@@ -70,7 +70,7 @@ impl MagnificationParams {
             (Some(q), None) => LevelSpec::Q1(q),
             (None, Some(s)) => LevelSpec::Scales(s),
             _ => return Err(Error::Invalid(
-                "give the levels with exactly one of --q1 Q1,Q2,... (1/m) and --scales N1,N2,..."
+                "give the levels with exactly one of q1 (--q1 Q1,Q2,..., in 1/m) and scales (--scales N1,N2,...)"
                     .into(),
             )),
         };
@@ -143,7 +143,7 @@ impl Study {
         let speeds = match &params.speeds {
             Some(v) if v.is_empty() => {
                 return Err(Error::Invalid(
-                    "--speeds is empty: give at least one speed (m/s)".into(),
+                    "speeds (--speeds) is empty: give at least one speed (m/s)".into(),
                 ))
             }
             Some(v) => v.clone(),
@@ -157,7 +157,7 @@ impl Study {
         for (k, v) in speeds.iter().enumerate() {
             if speeds[..k].contains(v) {
                 return Err(Error::Invalid(format!(
-                    "--speeds lists {v} twice: give each speed once"
+                    "speeds (--speeds) lists {v} twice: give each speed once"
                 )));
             }
         }
@@ -375,7 +375,7 @@ pub fn run(
 ) -> Result<StudyRun> {
     if dir.is_none() && shard != Shard::ALL {
         return Err(Error::Invalid(
-            "--shard needs an output directory to store the points in".into(),
+            "shard (--shard) needs an output directory to store the points in".into(),
         ));
     }
     // The study is checked whole ([`Study::new`]); its first write takes

@@ -253,7 +253,7 @@ pub fn plan_levels(
 ) -> Result<(FixedPsd, Vec<LevelPlan>)> {
     if !(cells.is_finite() && cells >= 2.0) {
         return Err(invalid(format!(
-            "--cells-per-wavelength must be at least 2 (the Nyquist limit), got {cells}"
+            "cells_per_wavelength (--cells-per-wavelength) must be at least 2 (the Nyquist limit), got {cells}"
         )));
     }
     let base = config_params(cfg)?;
@@ -315,8 +315,8 @@ pub fn plan_levels(
         ),
     };
     let (flag, values) = match spec {
-        LevelSpec::Q1(v) => ("--q1", v),
-        LevelSpec::Scales(v) => ("--scales", v),
+        LevelSpec::Q1(v) => ("q1 (--q1)", v),
+        LevelSpec::Scales(v) => ("scales (--scales)", v),
     };
     if values.is_empty() {
         return Err(invalid(format!("{flag} is empty: give at least one level")));

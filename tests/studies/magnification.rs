@@ -499,10 +499,10 @@ speed = 0.0
         (vec![cfg, "--scales=4,x"], "not a finite number"),
         (
             vec![cfg, "--scales=4", "--cells-per-wavelength=1.5"],
-            "at least 2",
+            "(--cells-per-wavelength) must be at least 2",
         ),
         (vec![cfg, "--scales=4", "--speeds=0.1,-1"], ">= 0"),
-        (vec![cfg], "exactly one of --q1"),
+        (vec![cfg], "exactly one of q1 (--q1"),
         (
             vec![approach.to_str().unwrap(), "--scales=4"],
             "prescribed load",
