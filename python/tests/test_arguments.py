@@ -230,3 +230,12 @@ def test_solve_config_refuses_bad_arguments(repo):
 def test_result_write_names_its_directory(small, rubber):
     result = vs.solve(small, rubber, speed=0.01, mean_pressure=3000.0, backend="cpu")
     refused(lambda: result.write(3), TypeError, "directory", "3")
+
+
+def test_result_write_to_a_file_says_it_is_a_file(small, rubber, tmp_path):
+    result = vs.solve(small, rubber, speed=0.01, mean_pressure=3000.0, backend="cpu")
+    taken = tmp_path / "taken"
+    taken.write_text("keep")
+    refused(lambda: result.write(taken), OSError, str(taken), "is a file, not a directory")
+    refused(lambda: result.write(taken / "out"), OSError, str(taken), "not a directory")
+    assert taken.read_text() == "keep"

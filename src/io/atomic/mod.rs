@@ -43,7 +43,7 @@ pub enum OutputError {
     Unwritten(String),
     #[error("{0} is not a file path")]
     NotAFile(String),
-    #[error("{path}: not a directory, so the output directory {dir} cannot be made under it")]
+    #[error("{}", not_a_directory(.path, .dir))]
     NotADirectory { path: String, dir: String },
     #[error("{dir}: another process is writing output there now{}; wait for it to finish or choose another output directory", holder_text(.holder))]
     Busy { dir: String, holder: Option<u32> },
@@ -53,6 +53,16 @@ pub enum OutputError {
         #[source]
         source: std::io::Error,
     },
+}
+
+/// The message of [`OutputError::NotADirectory`]: the output directory
+/// itself a file, or a file on its way.
+fn not_a_directory(path: &str, dir: &str) -> String {
+    if path == dir {
+        format!("{dir} is a file, not a directory: choose another output directory")
+    } else {
+        format!("{path}: not a directory, so the output directory {dir} cannot be made under it")
+    }
 }
 
 /// `" (pid N)"` for a known lock holder.
@@ -76,8 +86,25 @@ type Result<T, E = OutputError> = std::result::Result<T, E>;
 /// nearest existing ancestor must be a directory that accepts a new file.
 /// Creates nothing (a probe file is made and removed at once).
 pub(crate) fn check_output_dir(dir: &Path) -> Result<()> {
+    let existing = existing_ancestor(dir)?;
+    let probe = existing.join(format!(
+        ".viscoslide-probe-{}-{}",
+        std::process::id(),
+        unique_suffix()
+    ));
+    let unwritable = |source| OutputError::Unwritable {
+        dir: dir.display().to_string(),
+        source,
+    };
+    fs::File::create_new(&probe).map_err(unwritable)?;
+    fs::remove_file(&probe).map_err(unwritable)
+}
+
+/// The nearest existing ancestor of `dir` (itself included; `.` where
+/// none of its own exists), refused where it is not a directory.
+fn existing_ancestor(dir: &Path) -> Result<&Path> {
     let mut p = dir;
-    let existing = loop {
+    Ok(loop {
         match fs::metadata(p) {
             Ok(m) if m.is_dir() => break p,
             Ok(_) => {
@@ -91,18 +118,7 @@ pub(crate) fn check_output_dir(dir: &Path) -> Result<()> {
                 _ => break Path::new("."),
             },
         }
-    };
-    let probe = existing.join(format!(
-        ".viscoslide-probe-{}-{}",
-        std::process::id(),
-        unique_suffix()
-    ));
-    let unwritable = |source| OutputError::Unwritable {
-        dir: dir.display().to_string(),
-        source,
-    };
-    fs::File::create_new(&probe).map_err(unwritable)?;
-    fs::remove_file(&probe).map_err(unwritable)
+    })
 }
 
 /// How a [`StagedOutput`] reaches its directory.
@@ -161,6 +177,7 @@ impl StagedOutput {
         if let Some(name) = &name {
             recover_aside(&parent, &dir, name);
         }
+        existing_ancestor(&dir)?;
         let created = !dir.exists();
         fs::create_dir_all(&dir).map_err(|e| OutputError::io(&dir, e))?;
         let lock = match DirLock::acquire(&dir) {
@@ -518,6 +535,28 @@ fn recover_aside(parent: &Path, dir: &Path, name: &str) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_file_in_the_way_is_named_and_kept() {
+        let tmp = tempfile::tempdir().unwrap();
+        let file = tmp.path().join("taken");
+        fs::write(&file, "keep").unwrap();
+        let e = StagedOutput::new(&file).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            format!(
+                "{} is a file, not a directory: choose another output directory",
+                file.display()
+            )
+        );
+        let under = file.join("out");
+        let e = StagedOutput::new(&under).unwrap_err().to_string();
+        assert!(
+            e.starts_with(&format!("{}: not a directory", file.display())),
+            "{e}"
+        );
+        assert_eq!(fs::read_to_string(&file).unwrap(), "keep");
+    }
 
     #[test]
     fn failed_set_leaves_nothing() {
