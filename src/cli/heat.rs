@@ -106,6 +106,19 @@ pub fn run(args: HeatArgs) -> Result<()> {
     else {
         unreachable!("clap requires the flux, --cell-size and --speed without --from-run, which the dispatch took")
     };
+    // The options of a solved run's heat source: a flux map is its own
+    // surface source (clap's `requires` does not hold them to --from-run
+    // beside the positional flux).
+    for (given, flag) in [
+        (args.source.is_some(), "--source"),
+        (args.refined_layers, "--refined-layers"),
+    ] {
+        if given {
+            return Err(Error::Invalid(format!(
+                "{flag} is for --from-run (the heat source of a solved contact); a flux map is the surface flux itself: drop {flag}"
+            )));
+        }
+    }
     if args.block_length.is_some() && !args.periodic {
         return Err(Error::Invalid(
             "--block-length is for a periodic cell: give --periodic too".into(),

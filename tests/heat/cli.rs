@@ -238,6 +238,22 @@ fn refused_runs_write_nothing() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("--periodic"));
     assert!(!out.exists());
+    // The options of --from-run's heat source are refused beside a flux
+    // map, not ignored.
+    for extra in [&["--source", "volume"][..], &["--refined-layers"][..]] {
+        let mut args = base(&flux_path, "0.1", "0.25", "1e-7", "1e-6");
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = viscoslide(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(
+            err.contains(extra[0]) && err.contains("--from-run"),
+            "{args:?}: {err}"
+        );
+        assert!(!out.exists(), "{args:?} left {}", out.display());
+    }
 }
 
 /// `viscoslide heat --from-run DIR` on a periodic solve: the volume source
