@@ -216,6 +216,32 @@ def test_bad_heating_is_refused_before_solving(cell, wlf_rubber, change, words):
     assert calls == []
 
 
+def test_a_disabled_heating_still_checks_its_keys(cell, wlf_rubber):
+    """``enabled=False`` is the isothermal solve, but its keys are the
+    heated points' too: a wrong value is refused, naming it, before any
+    iteration, not carried unnoticed."""
+    calls = []
+    args = dict(LOADING, formulation="periodic", progress=calls.append, backend="cpu")
+    with pytest.raises(ValueError, match=r"\[heating\] conductivity = -1 W/\(m K\) must be positive"):
+        vs.solve(cell, wlf_rubber, **args, heating=dict(HEATING, conductivity=-1.0, enabled=False))
+    with pytest.raises(ValueError, match=r'\[heating\] source = "bogus"'):
+        vs.sweep(
+            cell,
+            wlf_rubber,
+            speed=[0.01, 0.1],
+            mean_pressure=1e6,
+            temperature=17.0,
+            formulation="periodic",
+            heating=dict(HEATING, source="bogus"),
+            vary={"heating.enabled": [False]},
+            progress=calls.append,
+        )
+    assert calls == []
+    # Without what only the heated solve needs, a disabled section is fine.
+    iso = vs.solve(cell, wlf_rubber, **dict(args, progress=None), heating={"enabled": False})
+    assert iso.heating is None
+
+
 def test_at_rest_the_heated_answer_is_the_isothermal_one(cell, wlf_rubber):
     """``speed=0``: nothing is dissipated; the answer is the isothermal solve
     at T0 with every rise zero, and says so."""

@@ -83,63 +83,26 @@ impl HeatingParams {
         problem: &Problem,
         ambient: Option<f64>,
     ) -> Result<Option<Self>> {
-        if cfg.enabled == Some(false) {
-            return Ok(None);
-        }
-        let conductivity = positive("conductivity", cfg.conductivity, "W/(m K)")?
-            .ok_or_else(|| invalid("[heating] needs conductivity (W/(m K); rubber 0.2-0.3)"))?;
+        // The values are checked whether or not the section is enabled:
+        // a disabled section (a sweep's isothermal points, or
+        // `--set heating.enabled=false`) holds the same keys, which must
+        // not be wrong unnoticed.
+        let conductivity = positive("conductivity", cfg.conductivity, "W/(m K)")?;
         let density = positive("density", cfg.density, "kg/m^3")?;
         let specific_heat = positive("specific_heat", cfg.specific_heat, "J/(kg K)")?;
-        let diffusivity = match (positive("diffusivity", cfg.diffusivity, "m^2/s")?, density, specific_heat) {
-            (Some(k), None, None) => k,
-            (None, Some(rho), Some(c)) => conductivity / (rho * c),
-            (Some(_), _, _) => {
-                return Err(invalid(
-                    "[heating] give diffusivity or density and specific_heat, not both",
-                ))
-            }
-            (None, _, _) => {
-                return Err(invalid(
-                    "[heating] needs diffusivity (m^2/s; rubber about 1e-7) or density (kg/m^3) and specific_heat (J/(kg K))",
-                ))
-            }
-        };
+        let diffusivity = positive("diffusivity", cfg.diffusivity, "m^2/s")?;
+        if diffusivity.is_some() && (density.is_some() || specific_heat.is_some()) {
+            return Err(invalid(
+                "[heating] give diffusivity or density and specific_heat, not both",
+            ));
+        }
         let block_length = positive("block_length", cfg.block_length, "m")?;
-        let periodic = problem.formulation == Formulation::Periodic;
-        if periodic && block_length.is_none() {
-            return Err(invalid(
-                "[heating] block_length (m) is needed with formulation = \"periodic\": the periodic cell's mean heating is the block's background heating over its passage (physics.md section 14)",
-            ));
+        let source_name = cfg.source.as_deref();
+        if let Some(other) = source_name.filter(|s| !matches!(*s, "volume" | "surface")) {
+            return Err(invalid(format!(
+                "[heating] source = \"{other}\": expected \"volume\" or \"surface\""
+            )));
         }
-        if !periodic && block_length.is_some() {
-            return Err(invalid(
-                "[heating] block_length applies to periodic cells; a finite pad's heat problem is steady without it: remove it or use formulation = \"periodic\"",
-            ));
-        }
-        // The volume source is solved on periodic half-spaces (the heat
-        // module has no buried source on a pad, and a layer's stress is
-        // not the half-space's): the default follows.
-        let layered = problem.layer.is_some();
-        let default_source = SourceKind::default_for(periodic, layered).name();
-        let source = match cfg.source.as_deref().unwrap_or(default_source) {
-            "volume" if layered => {
-                return Err(invalid(
-                    "[heating] source = \"volume\" (the creep elements' dissipation on depth layers) is solved on a half-space, whose stress a [layer] does not have: use source = \"surface\" (the default with a layer)",
-                ))
-            }
-            "volume" if periodic => SourceKind::Volume,
-            "volume" => {
-                return Err(invalid(
-                    "[heating] source = \"volume\" (the creep elements' dissipation on depth layers) is solved on periodic cells only: use source = \"surface\" on a finite pad, or formulation = \"periodic\"",
-                ))
-            }
-            "surface" => SourceKind::Surface,
-            other => {
-                return Err(invalid(format!(
-                    "[heating] source = \"{other}\": expected \"volume\" or \"surface\""
-                )))
-            }
-        };
         match cfg.closure.as_deref().unwrap_or("effective") {
             "effective" => {}
             other => {
@@ -157,6 +120,53 @@ impl HeatingParams {
                 )))
             }
         };
+        let max_rise = positive("max_rise", cfg.max_rise, "K")?.unwrap_or(DEFAULT_MAX_RISE);
+        let tolerance = positive("tolerance", cfg.tolerance, "K")?.unwrap_or(DEFAULT_TOLERANCE);
+        if cfg.enabled == Some(false) {
+            return Ok(None);
+        }
+        let conductivity = conductivity
+            .ok_or_else(|| invalid("[heating] needs conductivity (W/(m K); rubber 0.2-0.3)"))?;
+        let diffusivity = match (diffusivity, density, specific_heat) {
+            (Some(k), _, _) => k,
+            (None, Some(rho), Some(c)) => conductivity / (rho * c),
+            (None, _, _) => {
+                return Err(invalid(
+                    "[heating] needs diffusivity (m^2/s; rubber about 1e-7) or density (kg/m^3) and specific_heat (J/(kg K))",
+                ))
+            }
+        };
+        let periodic = problem.formulation == Formulation::Periodic;
+        if periodic && block_length.is_none() {
+            return Err(invalid(
+                "[heating] block_length (m) is needed with formulation = \"periodic\": the periodic cell's mean heating is the block's background heating over its passage (physics.md section 14)",
+            ));
+        }
+        if !periodic && block_length.is_some() {
+            return Err(invalid(
+                "[heating] block_length applies to periodic cells; a finite pad's heat problem is steady without it: remove it or use formulation = \"periodic\"",
+            ));
+        }
+        // The volume source is solved on periodic half-spaces (the heat
+        // module has no buried source on a pad, and a layer's stress is
+        // not the half-space's): the default follows.
+        let layered = problem.layer.is_some();
+        let default_source = SourceKind::default_for(periodic, layered).name();
+        let source = match source_name.unwrap_or(default_source) {
+            "volume" if layered => {
+                return Err(invalid(
+                    "[heating] source = \"volume\" (the creep elements' dissipation on depth layers) is solved on a half-space, whose stress a [layer] does not have: use source = \"surface\" (the default with a layer)",
+                ))
+            }
+            "volume" if periodic => SourceKind::Volume,
+            "volume" => {
+                return Err(invalid(
+                    "[heating] source = \"volume\" (the creep elements' dissipation on depth layers) is solved on periodic cells only: use source = \"surface\" on a finite pad, or formulation = \"periodic\"",
+                ))
+            }
+            "surface" => SourceKind::Surface,
+            other => unreachable!("source = {other:?} was refused above"),
+        };
         if problem.mesh == MeshKind::Adaptive {
             return Err(invalid(
                 "[heating] needs a uniform grid (the heat source of an adaptive mesh is not computed): use mesh = \"uniform\"",
@@ -170,8 +180,6 @@ impl HeatingParams {
         let ambient = ambient.ok_or_else(|| {
             invalid("[heating] needs [loading] temperature (C): the ambient temperature T0 the rubber is heated from")
         })?;
-        let max_rise = positive("max_rise", cfg.max_rise, "K")?.unwrap_or(DEFAULT_MAX_RISE);
-        let tolerance = positive("tolerance", cfg.tolerance, "K")?.unwrap_or(DEFAULT_TOLERANCE);
         let params = Self {
             conduction: Conduction {
                 conductivity,

@@ -274,6 +274,42 @@ fn heating_is_refused_without_what_it_needs() {
             .unwrap()
             .is_none()
     );
+    // ... whose keys are still checked: a wrong value is refused, naming
+    // it, not carried unnoticed to the points that enable it.
+    let disabled: &[(&[&str], &str)] = &[
+        (&["heating.conductivity=-1"], "conductivity = -1"),
+        (&["heating.block_length=0"], "block_length = 0"),
+        (&["heating.source=\"heat\""], "source = \"heat\""),
+        (&["heating.closure=\"per_scale\""], "closure"),
+        (&["heating.branch=\"warm\""], "branch = \"warm\""),
+        (&["heating.max_rise=-5"], "max_rise = -5"),
+        (&["heating.tolerance=0"], "tolerance = 0"),
+        (&["heating.density=1200"], "not both"),
+    ];
+    for (sets, key) in disabled {
+        let sets: Vec<&str> = sets
+            .iter()
+            .copied()
+            .chain(["heating.enabled=false"])
+            .collect();
+        let (_dir, cfg) = load(PERIODIC, &sets);
+        let problem = Problem::from_config(&cfg).unwrap();
+        let e =
+            HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(17.0))
+                .unwrap_err()
+                .to_string();
+        assert!(e.contains(key) && !e.contains('\n'), "{sets:?}: {e}");
+    }
+    // What only the heated solve needs is not asked of a disabled section
+    // (no conductivity; no WLF constants or ambient temperature).
+    let (_dir, cfg) = load(PERIODIC, &["heating.enabled=false"]);
+    let mut h = cfg.config.heating.clone().unwrap();
+    h.conductivity = None;
+    let mut no_wlf = Problem::from_config(&cfg).unwrap();
+    no_wlf.material.wlf = None;
+    assert!(HeatingParams::from_config(&h, &no_wlf, None)
+        .unwrap()
+        .is_none());
 }
 
 #[test]
