@@ -47,7 +47,7 @@ pub enum HeatError {
     Depth(f64),
     /// A rise beyond f64's range (a flux near `f64::MAX`, or a
     /// conductivity near zero).
-    #[error("the temperature rise overflows at cell ({i}, {j}) ({value} K): the flux over the conductivity is beyond the range of f64")]
+    #[error("the temperature rise overflows at cell ({i}, {j}) ({value} K): the heat source over the conductivity is beyond the range of f64")]
     Overflow { value: f64, i: usize, j: usize },
     /// Values each valid but together beyond what the heat problem's
     /// arithmetic or its verified rules hold (the message names them).

@@ -119,8 +119,8 @@ impl HeatSolver {
         let maps = p.surface_at(flux, depths)?;
         let qbar = Self::mean(flux);
         let c = self.setup.conduction;
-        Ok(maps
-            .into_iter()
+        let ny = self.shape().1;
+        maps.into_iter()
             .zip(depths)
             .map(|(mut rise, &z)| {
                 let background = self
@@ -128,9 +128,10 @@ impl HeatSolver {
                     .contact_time()
                     .map(|tc| surface_background_at(qbar, z, &c, tc));
                 add(&mut rise, background);
-                Temperature { rise, background }
+                check_rise(&rise, ny)?;
+                Ok(Temperature { rise, background })
             })
-            .collect())
+            .collect()
     }
 
     /// The mean and the highest rise \[K\] at each depth of `ladder` under
@@ -178,15 +179,16 @@ impl HeatSolver {
         check_depths(depths)?;
         let (p, background) = self.volume_plan(layers, source)?;
         let maps = p.volume(layers, source, depths)?;
-        Ok(maps
-            .into_iter()
+        let ny = self.shape().1;
+        maps.into_iter()
             .zip(depths)
             .map(|(mut rise, &z)| {
                 let background = background.at(z);
                 add(&mut rise, background);
-                Temperature { rise, background }
+                check_rise(&rise, ny)?;
+                Ok(Temperature { rise, background })
             })
-            .collect())
+            .collect()
     }
 
     /// The depth \[m\], mean and highest rise \[K\] at the surface and at
@@ -288,7 +290,7 @@ impl HeatSolver {
                 let weighted: f64 = t.rise.iter().zip(flux).map(|(r, q)| r * q.abs()).sum();
                 Ok(Under {
                     temperature: t,
-                    weighted: weighted / magnitude,
+                    weighted: finite_weighted(weighted / magnitude)?,
                     profile: None,
                     layers: None,
                 })
@@ -301,6 +303,7 @@ impl HeatSolver {
                 let rows = scan.extremes.map(|e| profile_rows(&background, e));
                 let surface = background.at(0.0);
                 add(&mut rise, surface);
+                check_rise(&rise, self.shape().1)?;
                 // The background at each layer's middle, weighted by the
                 // layer's source.
                 let n = self.setup.grid.cells();
@@ -321,7 +324,7 @@ impl HeatSolver {
                         rise,
                         background: surface,
                     },
-                    weighted: weighted / positive_total(total)?,
+                    weighted: finite_weighted(weighted / positive_total(total)?)?,
                     profile: rows,
                     layers: Some(by_layer),
                 })
@@ -387,6 +390,18 @@ pub(crate) type DepthExtremes = Vec<(f64, f64, f64)>;
 
 fn positive_total(total: f64) -> Result<f64, HeatError> {
     super::error::positive("the total heat source", total, "W")
+}
+
+/// The source-weighted rise, refused where its sums left f64 (a source
+/// over the conductivity near f64's range, whose rises are each finite).
+fn finite_weighted(weighted: f64) -> Result<f64, HeatError> {
+    if weighted.is_finite() {
+        Ok(weighted)
+    } else {
+        Err(HeatError::OutOfRange(format!(
+            "the source-weighted temperature rise is {weighted} K: the heat source over the conductivity is beyond the range of f64"
+        )))
+    }
 }
 
 fn add(rise: &mut [f64], background: Option<f64>) {

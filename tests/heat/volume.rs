@@ -281,3 +281,56 @@ fn the_weighted_rise_is_the_depth_maps_sum() {
         }
     }
 }
+
+/// A volume source whose rise, or its source-weighted mean, leaves f64
+/// (a conductivity near zero, or a source near f64's range) is refused in
+/// one line naming the conductivity, by `under` (the heated solve's and
+/// `heat --from-run`'s route) and `volume` alike, as a surface flux is:
+/// never an infinite or NaN rise handed on (before: a NaN effective
+/// temperature, refused as a `[loading] temperature` outside the WLF
+/// range, and `heat --from-run` failing to draw its figure).
+#[test]
+fn a_volume_source_whose_rise_leaves_f64_is_refused() {
+    let layers = DepthLayers::uniform(4e-6, 3).unwrap();
+    let (nx, ny) = (8, 6);
+    let source = |q: f64| -> Vec<f64> {
+        (0..layers.count() * nx * ny)
+            .map(|k| q * (1.0 + (k % 5) as f64))
+            .collect()
+    };
+    // The rise itself beyond f64 (about 1e309 K), with and without the
+    // block's background; then rises of 1e288 K whose weighted sum
+    // `Int theta Q dV` leaves f64 (`under` only: the maps are finite).
+    for (q, conductivity, block, maps) in [
+        (1e299, 1e-20, None, true),
+        (1e299, 1e-20, Some(1e-3), true),
+        (1e299, 1.0, None, false),
+    ] {
+        let density = source(q);
+        let mut s = periodic(nx, ny, 1e-6, 0.1, 30.0, block);
+        s.conduction.conductivity = conductivity;
+        let mut solver = HeatSolver::new(s).unwrap();
+        let volume = HeatSource::Volume {
+            layers: layers.clone(),
+            density: density.clone(),
+        };
+        let mut errors = vec![solver.under(&volume).map(|_| ()).unwrap_err()];
+        let at_depths = solver.volume(&layers, &density, &[0.0, 5e-6]);
+        if maps {
+            errors.push(at_depths.map(|_| ()).unwrap_err());
+        } else {
+            assert!(at_depths
+                .unwrap()
+                .iter()
+                .all(|t| t.rise.iter().all(|r| r.is_finite())));
+        }
+        for e in errors {
+            let text = e.to_string();
+            assert!(
+                text.contains("conductivity") && text.contains("beyond the range of f64"),
+                "{q} {conductivity} {block:?}: {text}"
+            );
+            assert!(!text.contains('\n'), "{text}");
+        }
+    }
+}
