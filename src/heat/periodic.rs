@@ -6,6 +6,10 @@
 //! ([`super::modes::layer_integral`]). The mean (`k = 0`) is zero here;
 //! [`super::background`] gives the block's.
 //!
+//! `1 / (lam m)` is taken as `(1 / m) / lam`: the complex reciprocal
+//! squares its argument, and `|lam m|^2` leaves f64 for conductivities
+//! near its range whose rises it holds.
+//!
 //! The surface multiplier `1 / (lam m)` is applied by the periodic elastic
 //! formulation's transforms ([`SpectralEngine`] at the grid's own size,
 //! planned once). Depth maps and volume sources are one-shot: each source
@@ -41,7 +45,7 @@ impl PeriodicPlan {
         };
         let lam = setup.conduction.conductivity;
         let mut engine = SpectralEngine::new(g.nx(), g.ny(), g.nx(), g.ny());
-        engine.set_multiplier(half_spectrum(&modes, |m| 1.0 / (lam * m)));
+        engine.set_multiplier(half_spectrum(&modes, |m| m.inv() / lam));
         Self {
             engine,
             modes,
@@ -64,7 +68,7 @@ impl PeriodicPlan {
         depths
             .iter()
             .map(|&z| {
-                let out = self.weighted(&spec, |m| (-m * z).exp() / (lam * m));
+                let out = self.weighted(&spec, |m| (-m * z).exp() * m.inv() / lam);
                 self.inverse(out)
             })
             .collect()
@@ -117,7 +121,7 @@ impl PeriodicPlan {
                         .is_some()
                     {
                         o.m = m;
-                        o.rise = s / (lam * m);
+                        o.rise = s * m.inv() / lam;
                     }
                 }
             });
@@ -138,7 +142,7 @@ impl PeriodicPlan {
                         if c.m.re.is_nan() {
                             // A Nyquist mode: `rise` holds q(k).
                             *o = modes
-                                .average(i, j, |m| (-m * z).exp() / (lam * m))
+                                .average(i, j, |m| (-m * z).exp() * m.inv() / lam)
                                 .map_or(Complex64::default(), |w| w * c.rise);
                             any = true;
                             continue;
@@ -187,7 +191,9 @@ impl PeriodicPlan {
         for (l, bounds) in layers.iter().enumerate() {
             let spec = self.forward_with(&plan, &source[l * n..(l + 1) * n], &mut rows)?;
             for (d, &z) in depths.iter().enumerate() {
-                let w = self.weighted(&spec, |m| layer_integral(m, bounds, z) / (2.0 * lam * m));
+                let w = self.weighted(&spec, |m| {
+                    layer_integral(m, bounds, z) * m.inv() / (2.0 * lam)
+                });
                 match sums.get_mut(d) {
                     Some(sum) => sum.par_iter_mut().zip(&w).for_each(|(s, v)| *s += v),
                     None => sums.push(w),
@@ -456,7 +462,7 @@ impl Scan {
     /// Add the rises at the layers' middles under `m`; return the surface
     /// rise.
     fn add(&mut self, m: Complex64, bounds: &[(f64, f64)], lam: f64) -> Complex64 {
-        let scale = 1.0 / (2.0 * lam * m);
+        let scale = m.inv() / (2.0 * lam);
         // E_l, e_l and the sweep down: A_l, and I.
         let (mut a, mut image, mut depth) = (
             Complex64::default(),

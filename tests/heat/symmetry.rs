@@ -160,6 +160,21 @@ fn the_rise_scales_with_one_over_the_conductivity() {
         high.conduction.conductivity = 1e6;
         let c = surface_temperature(high, &flux).unwrap();
         assert!(max_abs(&c.rise) < 1e-5, "{}", max_abs(&c.rise));
+        // Exactly so at conductivities near f64's range, whose rises it
+        // holds (before, the periodic cell's `1 / (lam m)` squared `lam m`:
+        // NaN at 1e-200 W/(m K), zero at 1e200).
+        for lam in [1e-200, 1e-160, 1e160, 1e200] {
+            let mut s = base;
+            s.conduction.conductivity = lam;
+            let t = surface_temperature(s, &flux).unwrap();
+            let scale = lam / base.conduction.conductivity;
+            for (x, y) in a.rise.iter().zip(&t.rise) {
+                assert!(
+                    (x - scale * y).abs() <= 1e-13 * max_abs(&a.rise),
+                    "{lam}: {x} vs {y}"
+                );
+            }
+        }
     }
 }
 

@@ -334,3 +334,48 @@ fn a_volume_source_whose_rise_leaves_f64_is_refused() {
         }
     }
 }
+
+/// A volume source's rise scales as `1 / lam` exactly, at conductivities
+/// near f64's range too (its modes' `1 / (2 lam m)` once squared `lam m`:
+/// NaN at 1e-200 W/(m K), zero at 1e200), at the surface, at depth and
+/// source-weighted, with and without the block's background.
+#[test]
+fn a_volume_sources_rise_scales_as_one_over_the_conductivity() {
+    let layers = DepthLayers::new(vec![0.0, 1e-6, 3e-6, 8e-6]).unwrap();
+    let (nx, ny) = (10, 7);
+    let density: Vec<f64> = (0..layers.count() * nx * ny)
+        .map(|k| 1e9 * (1.0 + ((k * 7919) % 13) as f64))
+        .collect();
+    let depths = [0.0, 2e-6, 5e-6];
+    for block in [None, Some(1e-3)] {
+        let base = periodic(nx, ny, 1e-6, 0.05, 25.0, block);
+        let rise = |lam: f64| {
+            let mut s = base;
+            s.conduction.conductivity = lam;
+            let mut solver = HeatSolver::new(s).unwrap();
+            let (_, theta) = solver
+                .under(&HeatSource::Volume {
+                    layers: layers.clone(),
+                    density: density.clone(),
+                })
+                .unwrap();
+            let maps = solver.volume(&layers, &density, &depths).unwrap();
+            (theta, maps)
+        };
+        let (theta, maps) = rise(LAMBDA);
+        for lam in [1e-200, 1e200] {
+            let scale = lam / LAMBDA;
+            let (t, m) = rise(lam);
+            assert!(
+                (scale * t / theta - 1.0).abs() < 1e-13,
+                "{lam}: {t} vs {theta}"
+            );
+            for (a, b) in maps.iter().zip(&m) {
+                let top = a.rise.iter().fold(0.0f64, |x, v| x.max(v.abs()));
+                for (x, y) in a.rise.iter().zip(&b.rise) {
+                    assert!((x - scale * y).abs() <= 1e-13 * top, "{lam}: {x} vs {y}");
+                }
+            }
+        }
+    }
+}
