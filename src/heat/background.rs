@@ -66,9 +66,10 @@ pub fn volume_background_at(
             .zip(means)
             .map(|((a, b), q)| {
                 // The antiderivative in z' of ierfc(|z' - z| / s).
-                let f = |d: f64| d.signum() * s * (0.25 - i2erfc(d.abs() / s));
+                let f = |d: f64| d.signum() * s * quarter_less_i2erfc(d.abs() / s);
                 let direct = f(b - z) - f(a - z);
-                let image = s * (i2erfc((z + a) / s) - i2erfc((z + b) / s));
+                let image =
+                    s * (quarter_less_i2erfc((z + b) / s) - quarter_less_i2erfc((z + a) / s));
                 q / conduction.conductivity * root * (direct + image)
             })
             .sum()
@@ -106,6 +107,22 @@ fn ierfc(x: f64) -> f64 {
         return 0.0;
     }
     (-x * x).exp() / std::f64::consts::PI.sqrt() - x * libm::erfc(x)
+}
+
+/// `1/4 - i2erfc(x) = Int_0^x ierfc`, `x >= 0`, without the cancellation
+/// of the difference where `x` is small (layers far shallower than the
+/// passage's diffusion length: below `x = 1e-8` the difference kept no
+/// digit, and a block of 1e300 m had no background): below `x = 0.03`
+/// its series `x / sqrt(pi) - x^2 / 2 + (x^3 / 3 - x^5 / 30 + x^7 / 210)
+/// / sqrt(pi)`, whose next term is `x^8 / 1512` of it (5e-16 at 0.03,
+/// where the difference has lost two digits, 1.5e-15).
+fn quarter_less_i2erfc(x: f64) -> f64 {
+    if x < 0.03 {
+        let r = 1.0 / std::f64::consts::PI.sqrt();
+        let x2 = x * x;
+        return x * (r - 0.5 * x + x2 * r * (1.0 / 3.0 - x2 / 30.0 + x2 * x2 / 210.0));
+    }
+    0.25 - i2erfc(x)
 }
 
 /// `i2erfc(x) = (erfc(x) - 2 x ierfc(x)) / 4`, `x >= 0`.
@@ -148,6 +165,43 @@ mod tests {
                 (v / exact - 1.0).abs() < 2.0 * frac,
                 "{frac}: {v} vs {exact}"
             );
+        }
+    }
+
+    /// A passage whose diffusion length dwarfs the layers (a block of
+    /// 1e300 m, say): the layers' background is the surface flux's to
+    /// `O(h / sqrt(kappa t_c))`, at their top and middle alike, not the
+    /// zero of `1/4 - i2erfc(x)` formed as a difference at `x ~ 1e-18`;
+    /// and the series below `x = 0.03` meets the difference above it.
+    #[test]
+    fn a_long_passage_keeps_the_layers_background() {
+        let q = 3e3;
+        let h = 1e-6;
+        let layers = DepthLayers::new(vec![0.0, 0.25 * h, h]).unwrap();
+        for tc in [1e3, 1e12, 1e30, 1e300] {
+            let exact = surface_background(q, &RUBBER, tc);
+            for z in [0.0, 0.5 * h] {
+                let v = volume_background_at(&layers, &[q / h, q / h], z, &RUBBER, tc);
+                let reach = (RUBBER.diffusivity * tc).sqrt();
+                let bound = 1e-13_f64.max(4.0 * h / reach);
+                assert!(
+                    (v / exact - 1.0).abs() < bound,
+                    "t_c {tc} z {z}: {v} vs {exact}"
+                );
+            }
+        }
+        for x in [0.0299, 0.03, 0.0301] {
+            let diff = 0.25 - i2erfc(x);
+            let series = {
+                let r = 1.0 / std::f64::consts::PI.sqrt();
+                let x2 = x * x;
+                x * (r - 0.5 * x + x2 * r * (1.0 / 3.0 - x2 / 30.0 + x2 * x2 / 210.0))
+            };
+            assert!(
+                (series / diff - 1.0).abs() < 3e-15,
+                "{x}: {series} vs {diff}"
+            );
+            assert!((quarter_less_i2erfc(x) / diff - 1.0).abs() < 3e-15, "{x}");
         }
     }
 }
