@@ -151,7 +151,8 @@ pub fn run(args: HeatArgs) -> Result<()> {
     let temperature = crate::heat::surface_temperature(setup, &flux)?;
     let wall = t0.elapsed().as_secs_f64();
     let notes = setup.notes();
-    let doc = report(&args, flux_path, &setup, &flux, &temperature, &notes, wall);
+    let power = power(&flux, &setup.grid)?;
+    let doc = report(&args, flux_path, &setup, power, &temperature, &notes, wall);
     let dir = write(&args.out, &setup, args.direction_deg, &temperature, &doc)?;
     for n in &notes {
         eprintln!("note: {n}");
@@ -213,18 +214,35 @@ pub(super) fn write(
     Ok(dir)
 }
 
-/// `heat.json`: the inputs, the Peclet number, the rise and the power.
+/// The map's mean flux \[W/m^2\] (each value divided before the sum,
+/// which f64 then holds) and its total power \[W\]; a power beyond f64
+/// (huge cells under a huge flux whose rise a huge conductivity keeps
+/// finite) is refused: `heat.json` holds numbers, not `null`.
+fn power(flux: &[f64], grid: &Grid) -> Result<(f64, f64)> {
+    let n = flux.len() as f64;
+    let mean = flux.iter().map(|q| q / n).sum::<f64>();
+    let area = n * grid.cell_area();
+    let total = mean * area;
+    if !total.is_finite() {
+        return Err(Error::Invalid(format!(
+            "the total power of the flux, {mean:e} W/m^2 on average over {area:e} m^2, is beyond the range of f64: give the flux in other units or smaller cells"
+        )));
+    }
+    Ok((mean, total))
+}
+
+/// `heat.json`: the inputs, the Peclet number, the rise and the power
+/// (`(mean flux, total power)`).
 fn report(
     args: &HeatArgs,
     flux_path: &std::path::Path,
     setup: &HeatSetup,
-    flux: &[f64],
+    (mean_flux, power): (f64, f64),
     t: &Temperature,
     notes: &[String],
     wall: f64,
 ) -> serde_json::Value {
     let g = setup.grid;
-    let power = flux.iter().sum::<f64>() * g.cell_area();
     json!({
         "version": crate::version::VERSION,
         "input": flux_path.display().to_string(),
@@ -244,7 +262,7 @@ fn report(
         "min_rise_k": t.rise.iter().copied().fold(f64::INFINITY, f64::min),
         "background_rise_k": t.background,
         "total_power_w": power,
-        "mean_flux_w_per_m2": power / (g.cells() as f64 * g.cell_area()),
+        "mean_flux_w_per_m2": mean_flux,
         "notes": notes,
         "wall_time_s": wall,
         "files": HEAT_FILES,

@@ -238,6 +238,47 @@ fn refused_runs_write_nothing() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("--periodic"));
     assert!(!out.exists());
+    // A finite rise whose map's total power is beyond f64 (1e300 W/m^2 on
+    // cells of 1e100 m, a conductivity of 1e300 W/(m K)) is refused
+    // naming the power, not written as `"total_power_w": null` with exit
+    // status 0; on cells of 1e-100 m the same flux is answered, its mean
+    // (not NaN) and power numbers.
+    let huge_path = tmp.path().join("huge.npy");
+    let huge: Vec<f64> = flux.iter().map(|q| q * 1e294).collect();
+    std::fs::write(&huge_path, npy::encode_f64(&[12, 7], &huge)).unwrap();
+    let huge_s = huge_path.to_str().unwrap();
+    let o = viscoslide(
+        &base(huge_s, "0.1", "1e300", "1e100", "1e100")
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("total power") && err.contains("beyond the range of f64"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    let o = viscoslide(
+        &base(huge_s, "0.1", "1e300", "1e-100", "1e-100")
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let doc = json(&out.join("heat.json"));
+    let mean = 6e300 / 84.0;
+    assert!(
+        (doc["mean_flux_w_per_m2"].as_f64().unwrap() / mean - 1.0).abs() < 1e-14,
+        "{doc}"
+    );
+    assert!(
+        (doc["total_power_w"].as_f64().unwrap() / (6e300 * 1e-200) - 1.0).abs() < 1e-14,
+        "{doc}"
+    );
+    std::fs::remove_dir_all(&out).unwrap();
     // The options of --from-run's heat source are refused beside a flux
     // map, not ignored.
     for extra in [&["--source", "volume"][..], &["--refined-layers"][..]] {
