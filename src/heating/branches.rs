@@ -96,6 +96,10 @@ pub(crate) enum SearchFailure<E> {
     AboveBracket { rise_at_end: f64 },
     /// The evaluation budget ran out before a root was closed.
     Budget { evaluations: usize },
+    /// The scan itself, from `start` \[K\] (`Theta(T0)`, or the tolerance
+    /// where larger) by the scan ratio up to `max_rise`, would take more
+    /// than the budget's `evaluations`: refused before it starts.
+    ScanTooLong { start: f64, evaluations: usize },
 }
 
 impl BranchSearch {
@@ -162,6 +166,12 @@ impl BranchSearch {
         let first = eval(t0, &mut evaluations)?;
         let mut scan = vec![first];
         let mut rise = first.rise.max(self.tolerance).min(self.max_rise);
+        if self.scan_length(rise) > self.max_evaluations {
+            return Err(SearchFailure::ScanTooLong {
+                start: rise,
+                evaluations: self.max_evaluations,
+            });
+        }
         loop {
             let e = eval(t0 + rise, &mut evaluations)?;
             scan.push(e);
@@ -227,6 +237,18 @@ impl BranchSearch {
                 self.scan_ratio, self.max_rise, self.tolerance
             ),
         })
+    }
+
+    /// The evaluations of the scan from the rise `start` \[K\] (`T0`'s
+    /// included), counted up to one more than the budget.
+    fn scan_length(&self, start: f64) -> usize {
+        let mut rise = start;
+        let mut count = 2;
+        while rise < self.max_rise && count <= self.max_evaluations {
+            rise = (rise * self.scan_ratio).min(self.max_rise);
+            count += 1;
+        }
+        count
     }
 
     /// A root at evaluation `e`, with `g`'s change `dg` over `dt` for its
@@ -474,13 +496,46 @@ pub(super) mod tests {
 
     #[test]
     fn the_budget_and_evaluation_errors_stop_the_search() {
+        // Theta(T0) = 5 K scanned by 3 up to 200 K: T0, 5, 15, 45, 135 and
+        // 200 K. Seven solves hold the scan, not the closing of its root;
+        // three do not hold the scan, refused before it starts.
+        let theta = |t: f64| Ok::<_, ()>(5.0 * (-t / 30.0).exp());
+        let s = BranchSearch {
+            max_evaluations: 7,
+            ..search(0.0)
+        };
+        assert!(matches!(
+            s.find(theta),
+            Err(SearchFailure::Budget { evaluations: 7 })
+        ));
         let s = BranchSearch {
             max_evaluations: 3,
             ..search(0.0)
         };
+        let mut calls = 0;
+        let e = s.find(|t| {
+            calls += 1;
+            theta(t)
+        });
+        assert!(
+            matches!(
+                e,
+                Err(SearchFailure::ScanTooLong {
+                    start: 5.0,
+                    evaluations: 3
+                })
+            ),
+            "{e:?}"
+        );
+        assert_eq!(calls, 1);
+        // Six hold it exactly.
+        let s = BranchSearch {
+            max_evaluations: 6,
+            ..search(0.0)
+        };
         assert!(matches!(
-            s.find(|t| Ok::<_, ()>(5.0 * (-t / 30.0).exp())),
-            Err(SearchFailure::Budget { evaluations: 3 })
+            s.find(theta),
+            Err(SearchFailure::Budget { evaluations: 6 })
         ));
         assert!(matches!(
             search(0.0).find(|_| Err::<f64, _>("solve failed")),

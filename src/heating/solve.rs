@@ -170,6 +170,18 @@ pub fn solve_heated(
                 params.max_rise
             )))
         }
+        Err(SearchFailure::ScanTooLong { start, evaluations }) => {
+            let from = if start > params.tolerance {
+                format!("Theta(T0) = {start:.4e} K")
+            } else {
+                format!("the tolerance, {start:e} K (Theta(T0) is below it)")
+            };
+            return Err(Error::Invalid(format!(
+                "[heating] max_rise = {:e} K: scanning the rises from {from} by factors of {} up to it takes more than {evaluations} isothermal solves, the most one heated solve makes; lower [heating] max_rise",
+                params.max_rise,
+                search.scan_ratio
+            )));
+        }
         Err(SearchFailure::Budget { evaluations }) => {
             return Err(Error::Invalid(format!(
                 "[heating] no self-consistent temperature closed within {evaluations} isothermal solves; loosen [heating] tolerance (now {} K)",

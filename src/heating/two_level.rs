@@ -191,6 +191,9 @@ impl BranchSearch {
             Err(SearchFailure::Budget { evaluations }) => Some(format!(
                 "the coarse search closed no root within {evaluations} solves"
             )),
+            Err(SearchFailure::ScanTooLong { evaluations, .. }) => Some(format!(
+                "the coarse scan would take more than {evaluations} solves"
+            )),
         };
         if let Some(why) = reason {
             // The full-grid scan, re-using the full-grid solves made.
@@ -492,6 +495,9 @@ fn flatten<E>(e: SearchFailure<SearchFailure<E>>) -> SearchFailure<E> {
         SearchFailure::Evaluation(inner) => inner,
         SearchFailure::AboveBracket { rise_at_end } => SearchFailure::AboveBracket { rise_at_end },
         SearchFailure::Budget { evaluations } => SearchFailure::Budget { evaluations },
+        SearchFailure::ScanTooLong { start, evaluations } => {
+            SearchFailure::ScanTooLong { start, evaluations }
+        }
     }
 }
 

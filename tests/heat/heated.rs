@@ -312,6 +312,29 @@ fn heating_is_refused_without_what_it_needs() {
         .is_none());
 }
 
+/// A bracket too tall for its scan to fit the solves one heated solve
+/// makes is refused after the solve at `T0`, naming `max_rise` (before:
+/// forty solves, then a message asking to loosen the tolerance).
+#[test]
+fn a_bracket_too_tall_to_scan_is_refused_naming_max_rise() {
+    let (_dir, cfg) = load(PERIODIC, &["heating.max_rise=1e300"]);
+    let problem = Problem::from_config(&cfg).unwrap();
+    let params =
+        HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(17.0))
+            .unwrap()
+            .unwrap();
+    let e = solve_heated(&problem, &params, &Executor::Cpu, &mut Silent)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("max_rise = 1e300 K")
+            && e.contains("lower [heating] max_rise")
+            && !e.contains("tolerance (now")
+            && !e.contains('\n'),
+        "{e}"
+    );
+}
+
 #[test]
 fn solve_with_heating_writes_the_heating_object_and_the_temperature_map() {
     let tmp = tempfile::tempdir().unwrap();
