@@ -118,10 +118,28 @@ impl ContactHeating {
         }
         setup.check()?;
         let source = HeatSource::from_contact(kind, pressure, grid, response, rule)?;
+        let heat_power_w = source.power(grid.cell_area());
+        if heat_power_w <= 0.0 {
+            // Nothing dissipated (a purely elastic response at this speed,
+            // or no pressure): no rise anywhere, as the heated solve's
+            // evaluation answers it.
+            return Ok(Self {
+                heat_power_w,
+                source,
+                temperature: Temperature {
+                    rise: vec![0.0; pressure.len()],
+                    background: setup.contact_time().map(|_| 0.0),
+                },
+                effective_rise: 0.0,
+                friction_power_w,
+                notes: vec![format!(
+                    "the contact dissipates nothing (its heat source totals {heat_power_w:e} W: a purely elastic response at this speed, or no contact): every rise is zero"
+                )],
+            });
+        }
         let mut solver = HeatSolver::new(setup)?;
         let (temperature, effective_rise) = solver.under(&source)?;
         let mut notes = setup.notes();
-        let heat_power_w = source.power(grid.cell_area());
         notes.extend(balance_warning(heat_power_w, friction_power_w).map(|w| {
             format!("{w}, or the fields and the friction given do not belong together (a run's summary.json edited, or the fields of another solve)")
         }));

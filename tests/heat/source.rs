@@ -307,3 +307,32 @@ fn the_weighted_rise_converges_with_the_depth_rule() {
         assert!(refined.abs() < 1e-3, "{block:?}: refined {refined:.3e}");
     }
 }
+
+/// A contact that dissipates nothing (an SLS whose relaxed and glassy
+/// moduli are equal: purely elastic) has no heat: zero rise everywhere
+/// with a note saying why, as the heated solve's evaluation answers it,
+/// not a refusal of "the total heat source = 0".
+#[test]
+fn an_elastic_contact_has_no_heat() {
+    let elastic = SLS.replace("3.3333333333333335e6", "1.0e7");
+    let (problem, solution) = solve(&elastic, "periodic", 0.0);
+    let heat = problem
+        .contact_heating(
+            &solution,
+            RUBBER,
+            Some(0.01),
+            SourceKind::Volume,
+            &DepthRule::default(),
+        )
+        .unwrap();
+    assert_eq!(heat.heat_power_w, 0.0);
+    assert_eq!(heat.effective_rise, 0.0);
+    assert!(heat.temperature.rise.iter().all(|r| *r == 0.0));
+    assert_eq!(heat.temperature.background, Some(0.0));
+    assert_eq!(heat.balance(), 0.0);
+    assert!(
+        heat.notes.len() == 1 && heat.notes[0].starts_with("the contact dissipates nothing"),
+        "{:?}",
+        heat.notes
+    );
+}
