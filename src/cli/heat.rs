@@ -181,6 +181,7 @@ pub(super) fn write(
     temperature: &Temperature,
     doc: &serde_json::Value,
 ) -> Result<PathBuf> {
+    refuse_heated_solve(out)?;
     let g = setup.grid;
     let (nx, ny) = g.size();
     let mut out = StagedOutput::new(out)?;
@@ -212,6 +213,24 @@ pub(super) fn write(
     let dir = out.dir().to_path_buf();
     out.commit()?;
     Ok(dir)
+}
+
+/// Refuse `out` where it holds a heated solve (its `summary.json` with a
+/// `heating` object): its `temperature.npy` and `temperature.png` are the
+/// coupled solve's rise, which this run's would replace beside the
+/// summary and `temperature_depth.csv` that describe them.
+fn refuse_heated_solve(out: &std::path::Path) -> Result<()> {
+    let heated = std::fs::read(out.join("summary.json"))
+        .ok()
+        .and_then(|bytes| serde_json::from_slice::<serde_json::Value>(&bytes).ok())
+        .is_some_and(|doc| doc.get("heating").is_some_and(|h| h.is_object()));
+    if heated {
+        return Err(Error::Invalid(format!(
+            "--out {} holds a heated solve, whose temperature.npy and temperature.png (the coupled solve's rise, described by its summary.json) this would replace: give another --out",
+            out.display()
+        )));
+    }
+    Ok(())
 }
 
 /// The map's mean flux \[W/m^2\] (each value divided before the sum,

@@ -492,3 +492,80 @@ fn heat_from_a_run_on_a_layer_and_at_rest() {
         assert!(dir.path().join(out).join("temperature.png").exists());
     }
 }
+
+/// A heated solve's directory keeps its own rise: `viscoslide heat` (from
+/// a flux map or `--from-run`, the run itself included) refuses to write
+/// its `temperature.npy` and `temperature.png` over the coupled solve's,
+/// which its `summary.json` describes, in one line naming `--out`; into
+/// an isothermal run's directory, or elsewhere, it writes as before.
+#[test]
+fn a_heated_solves_directory_is_not_written_over() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("hot.toml");
+    std::fs::write(&cfg, crate::common::heating::HEATED_CELL).unwrap();
+    let run = |name: &str, sets: &[&str]| -> String {
+        let out = dir.path().join(name);
+        let mut args = vec!["solve", cfg.to_str().unwrap(), "--backend", "cpu"];
+        for s in sets {
+            args.extend(["--set", s]);
+        }
+        args.extend(["--out", out.to_str().unwrap()]);
+        let o = viscoslide(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        out.display().to_string()
+    };
+    let hot = run("hot", &[]);
+    let cold = run("cold", &["heating.enabled=false"]);
+    let (flux_path, _) = write_flux(dir.path());
+    let from_run = |run: &str, out: &str| {
+        viscoslide(&[
+            "heat",
+            "--from-run",
+            run,
+            "--conductivity",
+            "0.25",
+            "--diffusivity",
+            "1e-6",
+            "--block-length",
+            "0.05",
+            "--out",
+            out,
+        ])
+    };
+    let from_flux = |out: &str| {
+        viscoslide(&[
+            "heat",
+            &flux_path,
+            "--cell-size",
+            "1e-6",
+            "--speed",
+            "0.1",
+            "--conductivity",
+            "0.25",
+            "--diffusivity",
+            "1e-7",
+            "--out",
+            out,
+        ])
+    };
+    let before = std::fs::read(Path::new(&hot).join("temperature.npy")).unwrap();
+    for o in [from_run(&hot, &hot), from_flux(&hot)] {
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(
+            err.contains("--out") && err.contains("holds a heated solve"),
+            "{err}"
+        );
+        assert_eq!(
+            std::fs::read(Path::new(&hot).join("temperature.npy")).unwrap(),
+            before
+        );
+        assert!(!Path::new(&hot).join("heat.json").exists());
+    }
+    let elsewhere = dir.path().join("hot-heat").display().to_string();
+    for o in [from_run(&hot, &elsewhere), from_run(&cold, &cold)] {
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    assert!(Path::new(&cold).join("heat.json").exists());
+}
