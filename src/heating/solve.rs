@@ -514,7 +514,7 @@ fn solve_at(
     )
     .map_err(heat_error)?;
     let heat_w = source.power(at.grid()?.cell_area());
-    let (temperature, rise, swept, layers) = if heat_w > 0.0 {
+    let (temperature, rise, swept, layers) = if source.carries_heat(at.grid()?.cell_area()) {
         let under = heat.under_with(&source, profile).map_err(heat_error)?;
         (
             under.temperature,
@@ -523,8 +523,8 @@ fn solve_at(
             under.layers,
         )
     } else {
-        // No dissipation (no contact, or a purely elastic response): no
-        // rise anywhere.
+        // No dissipation (no contact, or a purely elastic response, whose
+        // work flux nets round-off): no rise anywhere.
         (
             crate::heat::Temperature {
                 rise: vec![0.0; solution.fields.pressure.len()],

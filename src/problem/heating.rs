@@ -119,10 +119,10 @@ impl ContactHeating {
         setup.check()?;
         let source = HeatSource::from_contact(kind, pressure, grid, response, rule)?;
         let heat_power_w = source.power(grid.cell_area());
-        if heat_power_w <= 0.0 {
+        if !source.carries_heat(grid.cell_area()) {
             // Nothing dissipated (a purely elastic response at this speed,
-            // or no pressure): no rise anywhere, as the heated solve's
-            // evaluation answers it.
+            // whose work flux nets round-off, or no pressure): no rise
+            // anywhere, as the heated solve's evaluation answers it.
             return Ok(Self {
                 heat_power_w,
                 source,
@@ -133,7 +133,7 @@ impl ContactHeating {
                 effective_rise: 0.0,
                 friction_power_w,
                 notes: vec![format!(
-                    "the contact dissipates nothing (its heat source totals {heat_power_w:e} W: a purely elastic response at this speed, or no contact): every rise is zero"
+                    "the contact dissipates nothing (its heat source totals {heat_power_w:e} W, round-off of the work it moves: a purely elastic response at this speed, or no contact): every rise is zero"
                 )],
             });
         }

@@ -908,3 +908,52 @@ fn a_surface_flux_that_takes_back_most_of_its_heat_is_warned_of() {
         heat.notes
     );
 }
+
+/// A rubber elastic at its speed (an SLS whose relaxed and glassy moduli
+/// are equal) dissipates nothing: its surface work flux, elastic work
+/// stored ahead of the contact and returned behind it, nets round-off,
+/// and carries no heat, whatever that round-off's sign (before, a net of
+/// +8e-20 W, at the default solver tolerance, gave an effective rise of
+/// 0.22 K, weighted by the flux's magnitude, where -1e-20 W gave none).
+/// The heated solve answers `T0` with every rise zero, and the heat of
+/// the solved contact (`heat --from-run`, `Result.heat`) zero with a
+/// note, for the surface and the volume source alike.
+#[test]
+fn an_elastic_rubber_has_no_heat_whatever_the_round_off() {
+    use viscoslide::heat::HeatSource;
+    let elastic = |net: f64| HeatSource::Surface {
+        flux: vec![3.0, -1.0, -2.0 + net],
+    };
+    assert!(!elastic(4.4e-16).carries_heat(1.0));
+    assert!(!elastic(-4.4e-16).carries_heat(1.0));
+    assert!(elastic(1e-6).carries_heat(1.0));
+    for tolerance in ["solver.tolerance=1e-8", "solver.tolerance=1e-11"] {
+        for source in ["heating.source=\"surface\"", "heating.source=\"volume\""] {
+            let sets = ["material.relaxed_modulus=1.0e7", tolerance, source];
+            let (problem, params, h) = heated(PERIODIC, &sets);
+            let r = &h.report;
+            assert!(r.heat_total_w.abs() < 1e-15, "{sets:?}: {r:?}");
+            assert_eq!(r.effective_temperature, 17.0, "{sets:?}");
+            assert_eq!(r.temperature_rise.effective, 0.0, "{sets:?}");
+            assert!(h.surface_rise.iter().all(|t| *t == 0.0), "{sets:?}");
+            let heat = problem
+                .contact_heating(
+                    &h.solution,
+                    params.conduction,
+                    params.block_length,
+                    params.source,
+                    &DepthRule::default(),
+                )
+                .unwrap();
+            assert_eq!(heat.effective_rise, 0.0, "{sets:?}");
+            assert!(heat.temperature.rise.iter().all(|t| *t == 0.0), "{sets:?}");
+            assert!(
+                heat.notes
+                    .iter()
+                    .any(|n| n.starts_with("the contact dissipates nothing")),
+                "{sets:?}: {:?}",
+                heat.notes
+            );
+        }
+    }
+}
