@@ -538,12 +538,20 @@ fn solve_at(
     let source = match source {
         HeatSource::Volume { layers: l, density } => {
             let n = density.len() / l.count().max(1);
+            // Without heat the profile is zero at the surface and at every
+            // layer's middle.
+            let still = || {
+                std::iter::once(0.0)
+                    .chain(l.iter().map(|(a, b)| 0.5 * (a + b)))
+                    .map(|z| (z, 0.0, 0.0))
+                    .collect()
+            };
             KeptSource::Volume {
                 means: density
                     .chunks(n.max(1))
                     .map(|m| m.iter().sum::<f64>() / n.max(1) as f64)
                     .collect(),
-                rows: swept,
+                rows: swept.or_else(|| (profile && rise == 0.0).then(still)),
             }
         }
         flux @ HeatSource::Surface { .. } => KeptSource::Surface(flux),
