@@ -202,7 +202,7 @@ impl HeatSource {
     }
 
     /// Whether the source carries heat: a total above zero and, for a
-    /// surface work flux, above [`HEAT_ROUND_OFF`] of the work it moves
+    /// surface work flux, above 1e-10 (`HEAT_ROUND_OFF`) of the work it moves
     /// (`sum |q_s|`): the net of a purely elastic response, work stored
     /// ahead of the contact and returned behind it, is round-off of
     /// either sign, and no heat (its rise, weighted by the flux's
