@@ -46,7 +46,7 @@ pub(crate) use layers::DepthLadder;
 pub use layers::DepthLayers;
 pub(crate) use setup::AT_REST_NOTE;
 pub use setup::{Conduction, HeatDomain, HeatSetup};
-pub(crate) use solve::DepthExtremes;
+pub(crate) use solve::{profile_depths, DepthExtremes};
 pub use solve::{surface_temperature, HeatSolver, Temperature};
 pub(crate) use source::scale_rises;
 pub use source::{DepthRule, HeatSource, ScaleBand, SourceKind};

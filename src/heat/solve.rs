@@ -373,10 +373,9 @@ impl Background<'_> {
 /// The rises about the mean `extremes` (surface first) as
 /// [`DepthExtremes`], the block's background added.
 fn profile_rows(background: &Background, extremes: Vec<(f64, f64)>) -> DepthExtremes {
-    let depths = std::iter::once(0.0).chain(background.layers.iter().map(|(a, b)| 0.5 * (a + b)));
     extremes
         .into_iter()
-        .zip(depths)
+        .zip(profile_depths(background.layers))
         .map(|((mean, max), z)| {
             let b = background.at(z).unwrap_or(0.0);
             (z, mean + b, max + b)
@@ -387,6 +386,12 @@ fn profile_rows(background: &Background, extremes: Vec<(f64, f64)>) -> DepthExtr
 /// The depth \[m\], mean and highest rise \[K\] at the surface and at each
 /// layer's middle of a volume source's rise, surface first.
 pub(crate) type DepthExtremes = Vec<(f64, f64, f64)>;
+
+/// The depths \[m\] of a volume source's profile rows on `layers`
+/// ([`DepthExtremes`]): the surface, then each layer's middle.
+pub(crate) fn profile_depths(layers: &DepthLayers) -> impl Iterator<Item = f64> + '_ {
+    std::iter::once(0.0).chain(layers.iter().map(|(a, b)| 0.5 * (a + b)))
+}
 
 fn positive_total(total: f64) -> Result<f64, HeatError> {
     super::error::positive("the total heat source", total, "W")

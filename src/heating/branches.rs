@@ -165,20 +165,16 @@ impl BranchSearch {
         // bracket's end always included).
         let first = eval(t0, &mut evaluations)?;
         let mut scan = vec![first];
-        let mut rise = first.rise.max(self.tolerance).min(self.max_rise);
-        if self.scan_length(rise) > self.max_evaluations {
+        let start = first.rise.max(self.tolerance).min(self.max_rise);
+        let rises = self.scan_rises(start);
+        if 1 + rises.len() > self.max_evaluations {
             return Err(SearchFailure::ScanTooLong {
-                start: rise,
+                start,
                 evaluations: self.max_evaluations,
             });
         }
-        loop {
-            let e = eval(t0 + rise, &mut evaluations)?;
-            scan.push(e);
-            if rise >= self.max_rise {
-                break;
-            }
-            rise = (rise * self.scan_ratio).min(self.max_rise);
+        for rise in rises {
+            scan.push(eval(t0 + rise, &mut evaluations)?);
         }
 
         let mut branches = Vec::new();
@@ -239,16 +235,18 @@ impl BranchSearch {
         })
     }
 
-    /// The evaluations of the scan from the rise `start` \[K\] (`T0`'s
-    /// included), counted up to one more than the budget.
-    fn scan_length(&self, start: f64) -> usize {
+    /// The scan's rises \[K\] above `T0`: from `start` by the scan ratio
+    /// up to `max_rise` (the bracket's end always included), listed up to
+    /// as many as the budget holds (with `T0`'s evaluation, one more than
+    /// it: a scan that long is refused).
+    fn scan_rises(&self, start: f64) -> Vec<f64> {
+        let mut rises = vec![start];
         let mut rise = start;
-        let mut count = 2;
-        while rise < self.max_rise && count <= self.max_evaluations {
+        while rise < self.max_rise && rises.len() < self.max_evaluations {
             rise = (rise * self.scan_ratio).min(self.max_rise);
-            count += 1;
+            rises.push(rise);
         }
-        count
+        rises
     }
 
     /// A root at evaluation `e`, with `g`'s change `dg` over `dt` for its

@@ -97,12 +97,16 @@ impl HeatingParams {
             ));
         }
         let block_length = positive("block_length", cfg.block_length, "m")?;
-        let source_name = cfg.source.as_deref();
-        if let Some(other) = source_name.filter(|s| !matches!(*s, "volume" | "surface")) {
-            return Err(invalid(format!(
-                "[heating] source = \"{other}\": expected \"volume\" or \"surface\""
-            )));
-        }
+        let source = match cfg.source.as_deref() {
+            None => None,
+            Some("volume") => Some(SourceKind::Volume),
+            Some("surface") => Some(SourceKind::Surface),
+            Some(other) => {
+                return Err(invalid(format!(
+                    "[heating] source = \"{other}\": expected \"volume\" or \"surface\""
+                )))
+            }
+        };
         match cfg.closure.as_deref().unwrap_or("effective") {
             "effective" => {}
             other => {
@@ -151,21 +155,19 @@ impl HeatingParams {
         // module has no buried source on a pad, and a layer's stress is
         // not the half-space's): the default follows.
         let layered = problem.layer.is_some();
-        let default_source = SourceKind::default_for(periodic, layered).name();
-        let source = match source_name.unwrap_or(default_source) {
-            "volume" if layered => {
+        let source = match source.unwrap_or(SourceKind::default_for(periodic, layered)) {
+            SourceKind::Volume if layered => {
                 return Err(invalid(
                     "[heating] source = \"volume\" (the creep elements' dissipation on depth layers) is solved on a half-space, whose stress a [layer] does not have: use source = \"surface\" (the default with a layer)",
                 ))
             }
-            "volume" if periodic => SourceKind::Volume,
-            "volume" => {
+            SourceKind::Volume if periodic => SourceKind::Volume,
+            SourceKind::Volume => {
                 return Err(invalid(
                     "[heating] source = \"volume\" (the creep elements' dissipation on depth layers) is solved on periodic cells only: use source = \"surface\" on a finite pad, or formulation = \"periodic\"",
                 ))
             }
-            "surface" => SourceKind::Surface,
-            other => unreachable!("source = {other:?} was refused above"),
+            SourceKind::Surface => SourceKind::Surface,
         };
         if problem.mesh == MeshKind::Adaptive {
             return Err(invalid(

@@ -17,7 +17,8 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::heat::{
-    scale_rises, DepthExtremes, DepthLadder, DepthRule, HeatSolver, HeatSource, SourceKind,
+    profile_depths, scale_rises, DepthExtremes, DepthLadder, DepthRule, HeatSolver, HeatSource,
+    SourceKind,
 };
 use crate::problem::{balance_warning, Discretisation, Executor, Observer, Problem, Solution};
 
@@ -514,7 +515,8 @@ fn solve_at(
     )
     .map_err(heat_error)?;
     let heat_w = source.power(at.grid()?.cell_area());
-    let (temperature, rise, swept, layers) = if source.carries_heat(at.grid()?.cell_area()) {
+    let carries = source.carries_heat(at.grid()?.cell_area());
+    let (temperature, rise, swept, layers) = if carries {
         let under = heat.under_with(&source, profile).map_err(heat_error)?;
         (
             under.temperature,
@@ -538,20 +540,14 @@ fn solve_at(
     let source = match source {
         HeatSource::Volume { layers: l, density } => {
             let n = density.len() / l.count().max(1);
-            // Without heat the profile is zero at the surface and at every
-            // layer's middle.
-            let still = || {
-                std::iter::once(0.0)
-                    .chain(l.iter().map(|(a, b)| 0.5 * (a + b)))
-                    .map(|z| (z, 0.0, 0.0))
-                    .collect()
-            };
+            // Without heat the profile is zero at every depth.
+            let still = || profile_depths(&l).map(|z| (z, 0.0, 0.0)).collect();
             KeptSource::Volume {
                 means: density
                     .chunks(n.max(1))
                     .map(|m| m.iter().sum::<f64>() / n.max(1) as f64)
                     .collect(),
-                rows: swept.or_else(|| (profile && rise == 0.0).then(still)),
+                rows: swept.or_else(|| (profile && !carries).then(still)),
             }
         }
         flux @ HeatSource::Surface { .. } => KeptSource::Surface(flux),
