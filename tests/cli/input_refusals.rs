@@ -7,7 +7,7 @@ use std::process::Output;
 
 use viscoslide::io::npy;
 
-use super::messages::{assert_refused, viscoslide};
+use super::messages::{assert_refused, solve};
 
 /// A config of the paper's material on the height map `file` (a side of
 /// 1 cm), pressed by 0.3 N at `xi = 1.17e-2`.
@@ -48,28 +48,6 @@ fn config(dir: &Path, tau: f64, loading: &str) -> PathBuf {
     )
     .unwrap();
     p
-}
-
-/// `solve CONFIG --set ...` into `dir/out`; a refusal must leave no
-/// output directory.
-fn solve(dir: &Path, cfg: &Path, sets: &[&str]) -> Output {
-    let out = dir.join("out");
-    let mut args = vec![
-        "solve",
-        cfg.to_str().unwrap(),
-        "--backend",
-        "cpu",
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    for s in sets {
-        args.extend(["--set", s]);
-    }
-    let o = viscoslide(&args);
-    if !o.status.success() {
-        assert!(!out.exists(), "a refused solve wrote {}", out.display());
-    }
-    o
 }
 
 /// Every `[loading]` value that is not a finite number is refused naming
