@@ -101,6 +101,35 @@ pub struct HeatArgs {
     pub out: PathBuf,
 }
 
+/// Refuse a numeric option that is not positive and finite, naming its
+/// flag (the heat problem's own checks name the quantity, for Python and
+/// configs alike): the conductivity, diffusivity and block length of
+/// both forms, the cell sides and speed of a flux map.
+pub(super) fn check_numbers(args: &HeatArgs) -> Result<()> {
+    let given = [
+        ("--conductivity", Some(args.conductivity), "W/(m K)"),
+        ("--diffusivity", Some(args.diffusivity), "m^2/s"),
+        ("--block-length", args.block_length, "m"),
+        ("--cell-size", args.cell_size, "m"),
+        ("--cell-size-y", args.cell_size_y, "m"),
+        ("--speed", args.speed, "m/s"),
+    ];
+    for (flag, value, unit) in given {
+        if let Some(v) = value.filter(|v| !(v.is_finite() && *v > 0.0)) {
+            return Err(Error::Invalid(format!(
+                "{flag} {v} must be positive and finite ({unit})"
+            )));
+        }
+    }
+    if !args.direction_deg.is_finite() {
+        return Err(Error::Invalid(format!(
+            "--direction-deg {} must be finite",
+            args.direction_deg
+        )));
+    }
+    Ok(())
+}
+
 pub fn run(args: HeatArgs) -> Result<()> {
     let (Some(flux_path), Some(cell_size), Some(speed)) = (&args.flux, args.cell_size, args.speed)
     else {
@@ -123,12 +152,6 @@ pub fn run(args: HeatArgs) -> Result<()> {
         return Err(Error::Invalid(
             "--block-length is for a periodic cell: give --periodic too".into(),
         ));
-    }
-    if !args.direction_deg.is_finite() {
-        return Err(Error::Invalid(format!(
-            "--direction-deg {} must be finite",
-            args.direction_deg
-        )));
     }
     let (nx, ny, flux) = npy::read_2d(flux_path)?;
     let setup = HeatSetup {

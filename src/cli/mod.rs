@@ -103,9 +103,12 @@ pub fn run() -> Result<()> {
         Command::Analyze(a) => analyze::run(a),
         Command::Persson(a) => persson::run(a),
         Command::Magnification(a) => magnification::run(a),
-        Command::Heat(a) => match a.from_run.clone() {
-            Some(dir) => heat_run::run(&a, &dir),
-            None => heat::run(a),
-        },
+        Command::Heat(a) => {
+            heat::check_numbers(&a)?;
+            match a.from_run.clone() {
+                Some(dir) => heat_run::run(&a, &dir),
+                None => heat::run(a),
+            }
+        }
     }
 }

@@ -132,6 +132,22 @@ pub fn run(args: SolveArgs) -> Result<()> {
             h.solve_time_s,
             h.heat_time_s
         );
+        // A tolerance not small against the rise accepts a temperature
+        // (T0 itself, where the rise is below it) that differs from
+        // T0 + Theta by much of Theta: say so beside the two numbers.
+        let residual = h
+            .branches
+            .iter()
+            .find(|b| b.temperature == h.effective_temperature)
+            .map_or(0.0, |b| b.residual);
+        if residual.abs() > 0.1 * h.temperature_rise.effective.abs() {
+            println!(
+                "note: T_eff - T0 = {:.4e} K beside a rise at T_eff of {:.4e} K: they agree only to |g| = {:.2e} K, within [heating] tolerance; a smaller tolerance resolves the rise",
+                h.effective_temperature - h.ambient_temperature,
+                h.temperature_rise.effective,
+                residual.abs()
+            );
+        }
         if let Some((cold, hot)) = scale_extremes(&h.scales) {
             println!(
                 "heated scales: the octaves of surface modes that carry the power dissipate at rises from {} to {} (summary.json heating.scales)",

@@ -189,21 +189,45 @@ fn refused_runs_write_nothing() {
     let cases: Vec<(Vec<String>, &[&str])> = vec![
         (
             base(&flux_path, "0", "0.25", "1e-7", "1e-6"),
-            &["speed", "positive"],
+            &["--speed 0", "positive"],
         ),
-        (base(&flux_path, "-0.1", "0.25", "1e-7", "1e-6"), &["speed"]),
+        (
+            base(&flux_path, "-0.1", "0.25", "1e-7", "1e-6"),
+            &["--speed -0.1"],
+        ),
         (
             base(&flux_path, "0.1", "-0.25", "1e-7", "1e-6"),
-            &["conductivity"],
+            &["--conductivity -0.25", "W/(m K)"],
         ),
         (
             base(&flux_path, "0.1", "0.25", "0", "1e-6"),
-            &["diffusivity"],
+            &["--diffusivity 0", "m^2/s"],
         ),
-        (base(&flux_path, "0.1", "0.25", "1e-7", "0"), &["cell size"]),
+        (
+            base(&flux_path, "0.1", "0.25", "1e-7", "0"),
+            &["--cell-size 0"],
+        ),
         (
             base(&flux_path, "0.1", "0.25", "1e-7", "nan"),
-            &["cell size"],
+            &["--cell-size NaN"],
+        ),
+        (
+            base(&flux_path, "0.1", "0.25", "1e-7", "1e-6")
+                .into_iter()
+                .chain(["--cell-size-y=-1e-6".into()])
+                .collect(),
+            &["--cell-size-y -0.000001"],
+        ),
+        (
+            base(&flux_path, "0.1", "inf", "1e-7", "1e-6"),
+            &["--conductivity inf"],
+        ),
+        (
+            base(&flux_path, "0.1", "0.25", "1e-7", "1e-6")
+                .into_iter()
+                .chain(["--periodic", "--block-length", "-0.01"].map(String::from))
+                .collect(),
+            &["--block-length -0.01"],
         ),
         (
             base(nan_s, "0.1", "0.25", "1e-7", "1e-6"),
@@ -378,6 +402,32 @@ fn heat_from_a_solved_run() {
         assert_eq!(err.trim().lines().count(), 1, "{err}");
         assert!(err.contains(word), "{err}");
         assert!(!dir.path().join("refused").exists());
+    }
+    // The numbers are named by their flags, on a periodic run too.
+    for (lam, kappa, block, word) in [
+        ("-1", "1e-7", "0.01", "--conductivity -1"),
+        ("0.25", "nan", "0.01", "--diffusivity NaN"),
+        ("0.25", "1e-7", "0", "--block-length 0"),
+    ] {
+        let out = dir.path().join("refused");
+        let o = viscoslide(&[
+            "heat",
+            "--from-run",
+            &periodic,
+            "--conductivity",
+            lam,
+            "--diffusivity",
+            kappa,
+            "--block-length",
+            block,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(word), "'{err}' lacks '{word}'");
+        assert!(!out.exists());
     }
     let missing = dir.path().join("nothing").display().to_string();
     let o = heat(&missing, "refused", &[]);

@@ -403,6 +403,30 @@ fn solve_with_heating_writes_the_heating_object_and_the_temperature_map() {
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("effective temperature"), "{stdout}");
     assert!(stdout.contains("heated scales:"), "{stdout}");
+    assert!(!stdout.contains("agree only to"), "{stdout}");
+    // A tolerance above the rise accepts T0 itself: the printed note says
+    // that T_eff - T0 and the rise at T_eff agree only to it.
+    let loose = tmp.path().join("loose");
+    let o = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args([
+            "solve",
+            cfg.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "--set",
+            &format!("heating.tolerance={}", 10.0 * effective),
+            "--out",
+            loose.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let note = stdout
+        .lines()
+        .find(|l| l.contains("agree only to"))
+        .unwrap_or_else(|| panic!("no note: {stdout}"));
+    assert!(note.starts_with("note: T_eff - T0 = 0.0000e0 K"), "{note}");
     // A later isothermal solve into the same place leaves no stale map.
     std::fs::write(
         &cfg,
