@@ -1,5 +1,6 @@
 //! The observer of a solve run with the GIL released: it reports each
-//! outer iteration to an optional Python callable and polls Python's signal
+//! outer iteration (and the heated solve's stage it belongs to) to an
+//! optional Python callable and polls Python's signal
 //! handlers (Ctrl-C) every [`POLL`], stopping the solve through
 //! [`Observer::cancelled`] when a handler raised or the callable failed.
 //! The exception is kept and raised once the solve has returned.
@@ -16,8 +17,11 @@ pub const POLL: Duration = Duration::from_millis(50);
 /// Progress to a Python callable, Ctrl-C from Python's signal handlers.
 pub struct PyObserver {
     /// Called as `progress({"iteration", "matvecs", "residual",
-    /// "contact_cells"})` after every outer iteration.
+    /// "contact_cells"})` after every outer iteration, with `"stage"` too
+    /// once a heated solve has named the stage they belong to.
     progress: Option<Py<PyAny>>,
+    /// The stage the iterations belong to (a heated solve's evaluation).
+    stage: Option<String>,
     last_poll: Instant,
     /// The exception that stopped the solve.
     pub error: Option<PyErr>,
@@ -27,6 +31,7 @@ impl PyObserver {
     pub fn new(progress: Option<Py<PyAny>>) -> Self {
         Self {
             progress,
+            stage: None,
             last_poll: Instant::now(),
             error: None,
         }
@@ -47,12 +52,19 @@ impl Observer for PyObserver {
             info.set_item("matvecs", matvecs)?;
             info.set_item("residual", residual)?;
             info.set_item("contact_cells", contact_cells)?;
+            if let Some(stage) = &self.stage {
+                info.set_item("stage", stage)?;
+            }
             progress.call1(py, (info,))?;
             Ok(())
         });
         if let Err(e) = outcome {
             self.error = Some(e);
         }
+    }
+
+    fn stage(&mut self, label: &str) {
+        self.stage = Some(label.to_string());
     }
 
     fn cancelled(&mut self) -> bool {

@@ -216,6 +216,24 @@ def test_bad_heating_is_refused_before_solving(cell, wlf_rubber, change, words):
     assert calls == []
 
 
+def test_a_heated_solves_progress_names_its_evaluations(cell, wlf_rubber, heated):
+    """Each iteration of a heated solve carries the stage it belongs to:
+    the evaluations in order, each an isothermal solve, as many as the
+    report counts; an isothermal solve's iterations carry no stage."""
+    calls = []
+    r = vs.solve(cell, wlf_rubber, **LOADING, formulation="periodic", tolerance=1e-11, heating=HEATING, backend="cpu", progress=calls.append)
+    assert r.heating == heated.heating | {k: r.heating[k] for k in ("wall_time_s", "solve_time_s", "heat_time_s")}
+    stages = [c["stage"] for c in calls]
+    assert stages[0] == "heated: evaluation 1 at 17.0000 C: isothermal solve", stages[0]
+    distinct = list(dict.fromkeys(stages))
+    assert all(s.startswith("heated: evaluation ") and s.endswith(": isothermal solve") for s in distinct), distinct
+    assert len(distinct) == r.heating["fixed_point_evaluations"], distinct
+    assert [int(s.split()[2]) for s in distinct] == list(range(1, len(distinct) + 1))
+    iso = []
+    vs.solve(cell, wlf_rubber, **LOADING, formulation="periodic", backend="cpu", progress=iso.append)
+    assert iso and all("stage" not in c for c in iso)
+
+
 def test_a_disabled_heating_still_checks_its_keys(cell, wlf_rubber):
     """``enabled=False`` is the isothermal solve, but its keys are the
     heated points' too: a wrong value is refused, naming it, before any

@@ -23,7 +23,8 @@ def _tqdm(**kwargs: Any) -> Any:
 @contextlib.contextmanager
 def iterations(progress: Any) -> Iterator[Optional[Callback]]:
     """The callback of one solve: called after every outer iteration with
-    ``{"iteration", "matvecs", "residual", "contact_cells"}``."""
+    ``{"iteration", "matvecs", "residual", "contact_cells"}``, and in a
+    heated solve ``"stage"`` too (the evaluation the iteration belongs to)."""
     if progress is None or progress is False:
         yield None
         return
@@ -39,6 +40,8 @@ def iterations(progress: Any) -> Iterator[Optional[Callback]]:
 
     def update(info: Dict[str, Any]) -> None:
         bar.update(1)
+        if "stage" in info:
+            bar.set_description(info["stage"], refresh=False)
         bar.set_postfix(residual=f"{info['residual']:.2e}", contact=info["contact_cells"], refresh=False)
 
     try:

@@ -411,7 +411,10 @@ def solve(
     progress : None, True or callable
         ``True`` shows a tqdm bar; a callable is called after every outer
         iteration with a dict (``iteration``, ``matvecs``, ``residual``,
-        ``contact_cells``).
+        ``contact_cells``; in a heated solve also ``stage``, the
+        evaluation the iteration belongs to, e.g. ``"heated: evaluation 2
+        at 17.0246 C: isothermal solve"``). Ctrl-C stops a solve, a heated
+        one's heat source too, within a depth layer's work.
     fill_missing, detrend, window : optional
         How a topography-like ``surface`` is prepared (see
         :meth:`Surface.from_array`: missing points, the polynomial removed,

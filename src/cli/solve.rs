@@ -24,11 +24,24 @@ pub struct SolveArgs {
     pub out: PathBuf,
 }
 
-struct Spinner(ProgressBar);
+/// The solve's spinner, and the stage of a heated solve its iterations
+/// belong to.
+struct Spinner(ProgressBar, Option<String>);
 
 impl Observer for Spinner {
     fn iteration(&mut self, iteration: usize, matvecs: usize, residual: f64, contact_cells: usize) {
-        show_iteration(&self.0, iteration, matvecs, residual, contact_cells);
+        let line = iteration_line(iteration, matvecs, residual, contact_cells);
+        match &self.1 {
+            Some(stage) => self.0.set_message(format!("{stage}; {line}")),
+            None => self.0.set_message(line),
+        }
+        self.0.tick();
+    }
+
+    fn stage(&mut self, label: &str) {
+        self.0.set_message(label.to_string());
+        self.0.tick();
+        self.1 = Some(label.to_string());
     }
 }
 
@@ -41,10 +54,14 @@ pub(super) fn show_iteration(
     residual: f64,
     contact_cells: usize,
 ) {
-    bar.set_message(format!(
-        "active-set iteration {iteration}: {contact_cells} cells in contact, residual {residual:.2e}, {matvecs} matvecs"
-    ));
+    bar.set_message(iteration_line(iteration, matvecs, residual, contact_cells));
     bar.tick();
+}
+
+fn iteration_line(iteration: usize, matvecs: usize, residual: f64, contact_cells: usize) -> String {
+    format!(
+        "active-set iteration {iteration}: {contact_cells} cells in contact, residual {residual:.2e}, {matvecs} matvecs"
+    )
 }
 
 /// A finished level's line and its warnings, printed above the spinner
@@ -89,7 +106,7 @@ pub fn run(args: SolveArgs) -> Result<()> {
     );
     bar.set_message("computing influence coefficients");
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    let mut spinner = Spinner(bar);
+    let mut spinner = Spinner(bar, None);
     let ambient = cfg.config.loading.as_ref().and_then(|l| l.temperature);
     let heating = match &cfg.config.heating {
         Some(h) => HeatingParams::from_config(h, &problem, ambient)?,

@@ -60,6 +60,10 @@ pub enum HeatError {
     /// [`crate::io::memory::MemoryError`]).
     #[error("{0}")]
     Memory(String),
+    /// The caller asked to stop (a heated solve whose observer was
+    /// cancelled) while the heat source was computed.
+    #[error("the heat source was cancelled")]
+    Cancelled,
     /// A transform that could not be planned or run.
     #[error("heat problem: {0}")]
     Transform(String),

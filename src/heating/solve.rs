@@ -20,7 +20,9 @@ use crate::heat::{
     profile_depths, scale_rises, DepthExtremes, DepthLadder, DepthRule, HeatSolver, HeatSource,
     SourceKind,
 };
-use crate::problem::{balance_warning, Discretisation, Executor, Observer, Problem, Solution};
+use crate::problem::{
+    balance_warning, Discretisation, Executor, Observer, Problem, Solution, SolverError,
+};
 
 use super::at_rest::solve_at_rest;
 use super::branches::{Branch, SearchFailure};
@@ -106,10 +108,18 @@ pub fn solve_heated(
     let tolerance = params.tolerance;
     let (mut solve_time_s, mut heat_time_s) = (0.0, 0.0);
 
+    let mut full_evaluations = 0;
     let mut evaluate = |level: Level, t: f64| -> Result<f64> {
         if level == Level::Coarse {
             let (cp, ch) = coarse.as_mut().expect("a coarse level is searched");
+            let label = format!(
+                "heated: coarse {} x {} grid, evaluation {} at {t:.4} C",
+                cp.surface.nx,
+                cp.surface.ny,
+                coarse_evaluations + 1
+            );
             let solved = solve_at(
+                &label,
                 cp,
                 params,
                 ch,
@@ -126,7 +136,10 @@ pub fn solve_heated(
             last_coarse = Some(solved.solution);
             return Ok(solved.rise);
         }
+        full_evaluations += 1;
+        let label = format!("heated: evaluation {full_evaluations} at {t:.4} C");
         let solved = solve_at(
+            &label,
             problem,
             params,
             &mut heat,
@@ -222,6 +235,7 @@ pub fn solve_heated(
         None => {
             evaluations += 1;
             solve_at(
+                &format!("heated: the answer at {:.4} C", chosen.temperature),
                 problem,
                 params,
                 &mut heat,
@@ -388,6 +402,7 @@ pub fn solve_heated(
     };
     let profile_clock = Instant::now();
     let depth_profile = if periodic {
+        observer.stage("heated: depth profile");
         Some(depth_profile(problem, &mut heat, &answer.source)?)
     } else {
         None
@@ -472,8 +487,12 @@ fn along_sliding(problem: &Problem) -> f64 {
     }
 }
 
+/// A heat problem's refusal in one line; its cancellation is the solve's.
 fn heat_error(e: crate::heat::HeatError) -> Error {
-    Error::Invalid(e.to_string())
+    match e {
+        crate::heat::HeatError::Cancelled => SolverError::Cancelled.into(),
+        e => Error::Invalid(e.to_string()),
+    }
 }
 
 /// `problem` with its material at `t` \[C\] (the isothermal problem of one
@@ -490,9 +509,11 @@ fn problem_at(problem: &Problem, t: f64) -> Result<Problem> {
 /// The isothermal solve at `t` \[C\] and its dissipation-weighted rise;
 /// with `profile`, a volume source's depth profile from the same sweep
 /// (full-grid evaluations: one of them is the answer, whose profile is
-/// reported).
+/// reported). `observer` hears each stage under `label` and may stop the
+/// heat source between its depth nodes.
 #[allow(clippy::too_many_arguments)]
 fn solve_at(
+    label: &str,
     problem: &Problem,
     params: &HeatingParams,
     heat: &mut HeatSolver,
@@ -504,16 +525,23 @@ fn solve_at(
     observer: &mut dyn Observer,
 ) -> Result<Solved> {
     let at = problem_at(problem, t)?;
+    observer.stage(&format!("{label}: isothermal solve"));
     let solution = at.solve_warm(executor, start.map(Solution::warm_start), observer)?;
     let clock = Instant::now();
-    let source = HeatSource::from_contact(
+    observer.stage(&format!("{label}: heat source"));
+    let source = HeatSource::from_contact_until(
         params.source,
         &solution.fields.pressure,
         &at.grid()?,
         &at.response()?,
         rule,
+        &mut || observer.cancelled(),
     )
     .map_err(heat_error)?;
+    if observer.cancelled() {
+        return Err(SolverError::Cancelled.into());
+    }
+    observer.stage(&format!("{label}: rise"));
     let heat_w = source.power(at.grid()?.cell_area());
     let carries = source.carries_heat(at.grid()?.cell_area());
     let (temperature, rise, swept, layers) = if carries {

@@ -169,6 +169,12 @@ pub trait Observer {
     ) {
     }
 
+    /// When work above the solver enters a new stage (a heated solve's
+    /// evaluation: its isothermal solve, its heat source, its rise):
+    /// `label` says which, in words, for a progress line. The iterations
+    /// that follow belong to it. Default: nothing.
+    fn stage(&mut self, _label: &str) {}
+
     /// Polled before every application of the operator (each inner Krylov
     /// step) and every outer iteration: `true` stops the solve with
     /// [`SolverError::Cancelled`]. Called often (milliseconds apart on large

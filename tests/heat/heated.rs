@@ -981,3 +981,87 @@ fn an_elastic_rubber_has_no_heat_whatever_the_round_off() {
         }
     }
 }
+
+/// Hears the stages and iterations of a heated solve; with `stop_at`,
+/// asks to stop as soon as a stage ending so has begun.
+#[derive(Default)]
+struct Recorder {
+    stages: Vec<String>,
+    iterations: usize,
+    stop_at: Option<&'static str>,
+    asked_in_stop_stage: usize,
+}
+
+impl viscoslide::problem::Observer for Recorder {
+    fn iteration(&mut self, _: usize, _: usize, _: f64, _: usize) {
+        self.iterations += 1;
+    }
+    fn stage(&mut self, label: &str) {
+        self.stages.push(label.to_string());
+    }
+    fn cancelled(&mut self) -> bool {
+        let stop = match (self.stop_at, self.stages.last()) {
+            (Some(end), Some(last)) => last.ends_with(end),
+            _ => false,
+        };
+        if stop {
+            self.asked_in_stop_stage += 1;
+        }
+        stop
+    }
+}
+
+/// A heated solve names each evaluation's stages to its observer (the
+/// isothermal solve, the heat source, the rise; then the depth profile),
+/// and an observer that asks to stop while the volume source is computed
+/// stops it there: the solve's cancellation, no later stage begun.
+#[test]
+fn the_heated_solve_names_its_stages_and_stops_inside_the_heat_source() {
+    let (_dir, cfg) = load(PERIODIC, &[]);
+    let problem = Problem::from_config(&cfg).unwrap();
+    let params =
+        HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(17.0))
+            .unwrap()
+            .unwrap();
+    let mut seen = Recorder::default();
+    let h = solve_heated(&problem, &params, &Executor::Cpu, &mut seen).unwrap();
+    let evaluations = h.report.fixed_point_evaluations;
+    assert_eq!(seen.stages.len(), 3 * evaluations + 1, "{:?}", seen.stages);
+    assert_eq!(
+        seen.stages[0],
+        "heated: evaluation 1 at 17.0000 C: isothermal solve"
+    );
+    for (k, three) in seen.stages.chunks(3).take(evaluations).enumerate() {
+        let prefix = three[0].strip_suffix(": isothermal solve").unwrap();
+        assert!(
+            prefix.starts_with(&format!("heated: evaluation {}", k + 1)),
+            "{three:?}"
+        );
+        assert_eq!(three[1], format!("{prefix}: heat source"));
+        assert_eq!(three[2], format!("{prefix}: rise"));
+    }
+    assert_eq!(seen.stages.last().unwrap(), "heated: depth profile");
+    assert!(seen.iterations > 0);
+
+    let mut stopping = Recorder {
+        stop_at: Some(": heat source"),
+        ..Recorder::default()
+    };
+    let e = solve_heated(&problem, &params, &Executor::Cpu, &mut stopping).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            viscoslide::error::Error::Solver(viscoslide::problem::SolverError::Cancelled)
+        ),
+        "{e}"
+    );
+    assert_eq!(
+        stopping.stages,
+        [
+            "heated: evaluation 1 at 17.0000 C: isothermal solve",
+            "heated: evaluation 1 at 17.0000 C: heat source"
+        ]
+    );
+    // Asked once, before the first depth node: nothing after it ran.
+    assert_eq!(stopping.asked_in_stop_stage, 1);
+}

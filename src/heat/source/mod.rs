@@ -146,6 +146,20 @@ impl HeatSource {
         response: &SlidingResponse,
         rule: &DepthRule,
     ) -> Result<Self, HeatError> {
+        Self::from_contact_until(kind, pressure, grid, response, rule, &mut || false)
+    }
+
+    /// [`HeatSource::from_contact`], asking `stop` between the volume
+    /// source's depth nodes (its longest part): `true` gives up with
+    /// [`HeatError::Cancelled`].
+    pub(crate) fn from_contact_until(
+        kind: SourceKind,
+        pressure: &[f64],
+        grid: &Grid,
+        response: &SlidingResponse,
+        rule: &DepthRule,
+        stop: &mut dyn FnMut() -> bool,
+    ) -> Result<Self, HeatError> {
         super::error::check_map("the pressure", pressure, grid.size(), None)?;
         let speed = response.speed();
         if speed != 0.0 {
@@ -178,7 +192,7 @@ impl HeatSource {
                 }
                 let plan = Dissipation::new(pressure, grid, response)?;
                 let nodes: Vec<Vec<(f64, f64)>> = depths.iter().map(|&z| vec![(z, 1.0)]).collect();
-                let density = plan.layer_densities(&nodes)?;
+                let density = plan.layer_densities_until(&nodes, stop)?;
                 Ok(Self::Volume { layers, density })
             }
         }

@@ -282,33 +282,32 @@ impl Dissipation {
             .collect()
     }
 
-    /// `D` \[W/m^3\] at the grid points (C order, axis 0 = x) at depth
-    /// `z` \[m\].
-    #[cfg(test)]
-    pub fn density_at(&self, z: f64) -> Result<Vec<f64>, HeatError> {
-        self.layer_densities(&[vec![(z, 1.0)]])
-    }
-
     /// The weighted sums `sum_n w_n D(z_n)` \[W/m^3\] over each layer's
     /// nodes `(z_n, w_n)` (a layer average by a Gauss rule, or one node
     /// of weight 1, as [`super::HeatSource::from_contact`] asks for each of
-    /// its layers): layer `l`'s map at
-    /// `[l * nx * ny..(l + 1) * nx * ny]`.
-    pub fn layer_densities(&self, nodes: &[Vec<(f64, f64)>]) -> Result<Vec<f64>, HeatError> {
-        self.densities_with(&self.rates, nodes)
+    /// its layers): layer `l`'s map at `[l * nx * ny..(l + 1) * nx * ny]`.
+    /// `stop` is asked before each depth node (sliding along an axis) or
+    /// multiplier (otherwise): `true` gives up with [`HeatError::Cancelled`].
+    pub fn layer_densities_until(
+        &self,
+        nodes: &[Vec<(f64, f64)>],
+        stop: &mut dyn FnMut() -> bool,
+    ) -> Result<Vec<f64>, HeatError> {
+        self.densities_with(&self.rates, nodes, stop)
     }
 
-    /// [`Dissipation::layer_densities`] as the sum over the multipliers
-    /// `rates`.
+    /// [`Dissipation::layer_densities_until`] as the sum over the
+    /// multipliers `rates`.
     fn densities_with(
         &self,
         rates: &[RateFn],
         nodes: &[Vec<(f64, f64)>],
+        stop: &mut dyn FnMut() -> bool,
     ) -> Result<Vec<f64>, HeatError> {
         let n = self.nx * self.ny;
         if self.separable && self.along_y() && self.speed != 0.0 {
             // Sliding along y: along x on the transposed field.
-            let swapped = self.transposed().densities_with(rates, nodes)?;
+            let swapped = self.transposed().densities_with(rates, nodes, stop)?;
             let mut density = vec![0.0; nodes.len() * n];
             for (out, map) in density.chunks_mut(n).zip(swapped.chunks(n)) {
                 height_fft::transpose_into(map, self.ny, self.nx, out);
@@ -350,6 +349,7 @@ impl Dissipation {
                 .zip(&mut coarse)
             {
                 for ((&(z, weight), plan), acc) in nodes.iter().zip(plans).zip(coarse) {
+                    stopped(stop)?;
                     match plan {
                         None => self.add_separable(&full, rates, z, weight, &mut work, out)?,
                         Some(c) => {
@@ -365,6 +365,7 @@ impl Dissipation {
         // mode, shared by the depths.
         let mut values = vec![Complex64::default(); self.regular.len()];
         for rate in rates.iter().filter(|_| !separable) {
+            stopped(stop)?;
             values.par_iter_mut().zip(&self.regular).for_each(|(v, m)| {
                 *v = rate.at(m.w) * m.p;
             });
@@ -552,6 +553,14 @@ fn accumulate(c: usize, field: &[f64], first: &mut [f64], out: &mut [f64], dev: 
             .zip(field)
             .for_each(|(o, v)| *o += 2.0 * dev * v * v),
     }
+}
+
+/// [`HeatError::Cancelled`] where `stop` says so.
+fn stopped(stop: &mut dyn FnMut() -> bool) -> Result<(), HeatError> {
+    if stop() {
+        return Err(HeatError::Cancelled);
+    }
+    Ok(())
 }
 
 /// `len` zeros, written now rather than left to the kernel's zero page:

@@ -6,6 +6,19 @@ use super::*;
 use crate::heat::source::stress::dissipation_form;
 use crate::material::{CreepSpectrum, CreepTerm, Material};
 
+impl Dissipation {
+    /// `D` \[W/m^3\] at the grid points (C order, axis 0 = x) at depth
+    /// `z` \[m\].
+    pub fn density_at(&self, z: f64) -> Result<Vec<f64>, HeatError> {
+        self.layer_densities(&[vec![(z, 1.0)]])
+    }
+
+    /// [`Dissipation::layer_densities_until`] to the end.
+    pub fn layer_densities(&self, nodes: &[Vec<(f64, f64)>]) -> Result<Vec<f64>, HeatError> {
+        self.layer_densities_until(nodes, &mut || false)
+    }
+}
+
 /// The cells' side along x \[m\] (along y 1.3 times it).
 const CELL: f64 = 1e-5;
 
@@ -320,5 +333,44 @@ fn sliding_along_y_is_the_general_path() {
                 assert_separable_is_general(&mut plan, ly, &format!("{nx}x{ny} nu {nu} {angle}"));
             }
         }
+    }
+}
+
+/// `stop` is asked before each depth node on the separable path and each
+/// multiplier on the general one: asked to stop at its third question,
+/// the evaluation gives up there with `Cancelled`; never asked to stop,
+/// it is `layer_densities` to the bit.
+#[test]
+fn a_stop_between_nodes_gives_up_there() {
+    let spectrum = overlapping_elements();
+    let a = CELL;
+    let nodes: Vec<Vec<(f64, f64)>> = vec![
+        vec![(0.01 * a, 1.0)],
+        vec![(0.3 * a, 0.5), (2.0 * a, 0.5)],
+        vec![(a, 1.0)],
+    ];
+    for separable in [true, false] {
+        let mut plan = rough_plan(&spectrum, 0.5, (16, 12), 0.0);
+        plan.separable = separable;
+        let mut asked = 0;
+        let e = plan
+            .layer_densities_until(&nodes, &mut || {
+                asked += 1;
+                asked == 3
+            })
+            .unwrap_err();
+        assert_eq!(e, HeatError::Cancelled, "separable {separable}");
+        assert_eq!(asked, 3, "separable {separable}");
+        let mut never = 0;
+        let whole = plan
+            .layer_densities_until(&nodes, &mut || {
+                never += 1;
+                false
+            })
+            .unwrap();
+        let questions = if separable { 4 } else { plan.rates.len() };
+        assert!(questions > 3);
+        assert_eq!(never, questions, "separable {separable}");
+        assert_eq!(whole, plan.layer_densities(&nodes).unwrap());
     }
 }
