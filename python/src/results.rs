@@ -6,13 +6,16 @@
 use std::path::PathBuf;
 
 use numpy::{IntoPyArray, PyArray2, PyArrayMethods};
+use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use viscoslide::config::Formulation;
-use viscoslide::heat::{Conduction, DepthRule, SourceKind};
+use viscoslide::heat::{Conduction, DepthRule, HeatError, SourceKind};
 use viscoslide::heating::HeatedSolution;
-use viscoslide::problem::{AnalysisReport, Problem, Solution};
+use viscoslide::problem::{AnalysisReport, Observer, Problem, Solution};
+use viscoslide::Error;
 
 use crate::errors::{to_py, value_error};
+use crate::observer::PyObserver;
 
 /// A solve's answer: isothermal, or heated (the isothermal solve at the
 /// effective temperature with its heat).
@@ -230,9 +233,26 @@ impl NativeResult {
             conductivity,
             diffusivity,
         };
+        // Ctrl-C is polled between the volume source's depth nodes.
+        let mut observer = PyObserver::new(None);
         let heat = py
-            .detach(|| problem.contact_heating(solution, conduction, block_length, kind, &rule))
-            .map_err(|e| to_py(py, e))?;
+            .detach(|| {
+                problem.contact_heating_until(
+                    solution,
+                    conduction,
+                    block_length,
+                    kind,
+                    &rule,
+                    &mut || observer.cancelled(),
+                )
+            })
+            .map_err(|e| match e {
+                Error::Heat(HeatError::Cancelled) => observer
+                    .error
+                    .take()
+                    .unwrap_or_else(|| PyKeyboardInterrupt::new_err("heat cancelled")),
+                e => to_py(py, e),
+            })?;
         let report = serde_json::to_string(&heat.report()).unwrap_or_default();
         Ok((report, self.field(py, &heat.temperature.rise)?))
     }

@@ -103,3 +103,42 @@ def test_progress_true_shows_a_tqdm_bar(pad, rubber, capsys):
     pytest.importorskip("tqdm")
     vs.solve(pad, rubber, xi=1.17e-2, normal_load=0.3, backend="cpu", progress=True)
     assert "active-set iterations" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(os.name != "posix", reason="SIGINT from a thread needs POSIX signals")
+@pytest.mark.filterwarnings("ignore:the shortest roughness wavelength")
+def test_ctrl_c_interrupts_the_heat_of_a_result(repo):
+    """``Result.heat`` polls Ctrl-C between its volume source's depth
+    layers: a signal a quarter into the computation raises
+    ``KeyboardInterrupt`` within less than half of the whole computation's
+    time (measured first, on the same machine), not at its end."""
+    result = vs.solve_config(
+        repo / "configs" / "paper_experiment.toml",
+        set={"surface.generate.n": 512, "loading.temperature": 17.0, "analysis.enabled": False},
+        backend="cpu",
+    )
+    t0 = time.perf_counter()
+    result.heat(0.25, 1.16e-7, block_length=0.01)
+    whole = time.perf_counter() - t0
+    sent = []
+
+    def interrupt():
+        sent.append(time.perf_counter())
+        os.kill(os.getpid(), signal.SIGINT)
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    timer = threading.Timer(0.25 * whole, interrupt)
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            result.heat(0.25, 1.16e-7, block_length=0.01)
+            # Finished before the signal: wait for it here.
+            time.sleep(5.0)
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGINT, previous)
+    raised = time.perf_counter()
+    assert sent
+    assert raised - sent[0] < 0.5 * whole, f"KeyboardInterrupt {raised - sent[0]:.2f} s after the signal; the whole heat takes {whole:.2f} s"
+    # The result is usable afterwards.
+    assert result.heat(0.25, 1.16e-7, block_length=0.01)["effective_rise_k"] > 0

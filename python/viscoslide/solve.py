@@ -166,7 +166,8 @@ class Result:
         Each of ``notes`` (what the rise leaves out or may overstate, such
         as a layer the heat reaches through, or the rest) is also warned
         about (``warnings.warn``), as ``viscoslide heat --from-run`` notes
-        it.
+        it. The GIL is released; Ctrl-C stops the volume source between
+        its depth layers (``KeyboardInterrupt``).
 
         Returns the numbers of ``heat.json`` (``source``,
         ``effective_rise_k``, ``max_rise_k``, ``mean_rise_k``,

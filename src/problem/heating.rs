@@ -76,6 +76,33 @@ impl ContactHeating {
         rule: &DepthRule,
         friction_power_w: f64,
     ) -> Result<Self> {
+        Self::new_until(
+            pressure,
+            grid,
+            response,
+            conduction,
+            block_length,
+            kind,
+            rule,
+            friction_power_w,
+            &mut || false,
+        )
+    }
+
+    /// [`ContactHeating::new`], asking `stop` between the volume source's
+    /// depth nodes: `true` gives up with [`crate::heat::HeatError::Cancelled`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn new_until(
+        pressure: &[f64],
+        grid: &Grid,
+        response: &SlidingResponse,
+        conduction: Conduction,
+        block_length: Option<f64>,
+        kind: SourceKind,
+        rule: &DepthRule,
+        friction_power_w: f64,
+        stop: &mut dyn FnMut() -> bool,
+    ) -> Result<Self> {
         if block_length.is_some() && !grid.is_periodic() {
             return Err(invalid(
                 "a block length is for periodic cells: a pad's steady rise needs none",
@@ -117,7 +144,7 @@ impl ContactHeating {
             });
         }
         setup.check()?;
-        let source = HeatSource::from_contact(kind, pressure, grid, response, rule)?;
+        let source = HeatSource::from_contact_until(kind, pressure, grid, response, rule, stop)?;
         let heat_power_w = source.power(grid.cell_area());
         if !source.carries_heat(grid.cell_area()) {
             // Nothing dissipated (a purely elastic response at this speed,
@@ -198,6 +225,22 @@ impl Problem {
         kind: SourceKind,
         rule: &DepthRule,
     ) -> Result<ContactHeating> {
+        self.contact_heating_until(solution, conduction, block_length, kind, rule, &mut || {
+            false
+        })
+    }
+
+    /// [`Problem::contact_heating`], asking `stop` between the volume
+    /// source's depth nodes ([`ContactHeating::new_until`]).
+    pub fn contact_heating_until(
+        &self,
+        solution: &Solution,
+        conduction: Conduction,
+        block_length: Option<f64>,
+        kind: SourceKind,
+        rule: &DepthRule,
+        stop: &mut dyn FnMut() -> bool,
+    ) -> Result<ContactHeating> {
         if solution.mesh.is_some() {
             return Err(invalid(
                 "the heat source of an adaptive-mesh solve is not computed; solve on a uniform grid",
@@ -208,7 +251,7 @@ impl Problem {
             SourceKind::Surface => solution.friction_coefficient,
         };
         let power = mu * solution.stats.normal_load * self.speed;
-        ContactHeating::new(
+        ContactHeating::new_until(
             &solution.fields.pressure,
             &self.grid()?,
             &self.response()?,
@@ -217,6 +260,7 @@ impl Problem {
             kind,
             rule,
             power,
+            stop,
         )
     }
 }

@@ -1051,7 +1051,7 @@ fn the_heated_solve_names_its_stages_and_stops_inside_the_heat_source() {
     assert!(
         matches!(
             e,
-            viscoslide::error::Error::Solver(viscoslide::problem::SolverError::Cancelled)
+            viscoslide::Error::Solver(viscoslide::problem::SolverError::Cancelled)
         ),
         "{e}"
     );
