@@ -37,9 +37,10 @@ use crate::config::LoadedConfig;
 use crate::error::{Error, Result};
 use crate::io::{LockMode, OutputError, StudyLock};
 use crate::material::Material;
-use crate::persson::{Persson, PerssonParams};
+use crate::persson::{Persson, PerssonParams, PerssonPoint};
 use crate::problem::{Executor, Problem};
 use crate::solver::{Control, Observer};
+use crate::surface::TabulatedPsd;
 use crate::sweep::files::{pinned_files, with_files, PinnedFile};
 use crate::sweep::{PointStore, Shard};
 
@@ -118,6 +119,10 @@ pub struct Study {
     pub nominal_pressure: f64,
     /// The files the configuration reads, their content hashed (pinned).
     files: Vec<PinnedFile>,
+    /// Persson's theory for each level's truncated PSD (outer) at each of
+    /// `speeds` (inner), evaluated once by [`Study::new`] as its check and
+    /// taken again at the levels' cut-offs by [`Study::persson_curves`].
+    level_theory: Vec<Vec<PerssonPoint>>,
 }
 
 impl Study {
@@ -168,15 +173,10 @@ impl Study {
         // Persson's theory evaluated at every level and speed (milliseconds):
         // speeds or a pressure beyond its double precision are refused here,
         // before the study's directory is made, not at the first report.
-        for level in &levels {
-            Persson::new(
-                &coarse.material,
-                &level.psd,
-                nominal_pressure,
-                PerssonParams::default(),
-            )?
-            .curve(&speeds)?;
-        }
+        let level_theory = levels
+            .iter()
+            .map(|level| persson_at(&coarse.material, &level.psd, nominal_pressure, &speeds))
+            .collect::<Result<Vec<_>>>()?;
         let mut points = Vec::with_capacity(speeds.len() * levels.len());
         for &speed in &speeds {
             for level in 0..levels.len() {
@@ -200,6 +200,7 @@ impl Study {
             points,
             material: coarse.material,
             nominal_pressure,
+            level_theory,
         })
     }
 
@@ -234,7 +235,9 @@ impl Study {
     }
 
     /// Persson's theory at 48 cut-offs log-spaced over the levels' range
-    /// (and at every level), per speed: the smooth curves of the figure.
+    /// (and at every level), per speed: the smooth curves of the figure. At
+    /// a level's own cut-off the theory is the one [`Study::new`] evaluated
+    /// (the same PSD, material, pressure and speeds).
     pub fn persson_curves(&self) -> Result<Vec<PerssonCurve>> {
         const POINTS: usize = 48;
         let (lo, hi) = (self.levels[0].q1, self.levels[self.levels.len() - 1].q1);
@@ -246,14 +249,15 @@ impl Study {
         q1s.dedup();
         let mut curves: Vec<PerssonCurve> = self.speeds.iter().map(|&v| (v, Vec::new())).collect();
         for &q1 in &q1s {
-            let psd = self.psd.truncated(q1)?;
-            let theory = Persson::new(
-                &self.material,
-                &psd,
-                self.nominal_pressure,
-                PerssonParams::default(),
-            )?
-            .curve(&self.speeds)?;
+            let theory = match self.levels.iter().position(|l| l.q1 == q1) {
+                Some(level) => self.level_theory[level].clone(),
+                None => persson_at(
+                    &self.material,
+                    &self.psd.truncated(q1)?,
+                    self.nominal_pressure,
+                    &self.speeds,
+                )?,
+            };
             for (curve, p) in curves.iter_mut().zip(theory) {
                 curve
                     .1
@@ -281,13 +285,12 @@ impl Study {
         let level = &self.levels[point.level];
         let problem = Problem::from_config(&self.point_config(point)?)?;
         let solution = problem.solve(executor, observer)?;
-        let theory = Persson::new(
+        let theory = persson_at(
             &self.material,
             &level.psd,
             self.nominal_pressure,
-            PerssonParams::default(),
-        )?
-        .point(point.speed)?;
+            &[point.speed],
+        )?[0];
         Ok(LevelResult {
             speed: point.speed,
             q1: level.q1,
@@ -310,6 +313,18 @@ impl Study {
             warnings: solution.warnings.clone(),
         })
     }
+}
+
+/// Persson's theory (default quadrature) for `material` on `psd` under
+/// `nominal_pressure` \[Pa\], at each of `speeds` \[m/s\]: friction and
+/// contact area of one cut-off of the study (physics.md section 12).
+fn persson_at(
+    material: &Material,
+    psd: &TabulatedPsd,
+    nominal_pressure: f64,
+    speeds: &[f64],
+) -> Result<Vec<PerssonPoint>> {
+    Ok(Persson::new(material, psd, nominal_pressure, PerssonParams::default())?.curve(speeds)?)
 }
 
 /// Hears about a study's progress.
