@@ -13,6 +13,7 @@
 
 use std::path::Path;
 
+use super::length_unit::metres_per;
 use super::{SurfaceError, Topography};
 
 fn fail(name: &str, why: impl std::fmt::Display) -> SurfaceError {
@@ -147,30 +148,6 @@ impl<'a> Cur<'a> {
     }
 }
 
-/// Metres per unit of a unit string: `m` with an optional SI prefix
-/// (`km`, `mm`, `um`/`µm`, `nm`, `pm`, `fm`, `cm`, `dm`), or `Å`/`A`.
-pub(crate) fn unit_to_metres(unit: &str) -> Option<f64> {
-    let u = unit.trim();
-    match u {
-        "Å" | "A" | "Angstrom" | "angstrom" => return Some(1e-10),
-        "" => return None,
-        _ => {}
-    }
-    let prefix = u.strip_suffix('m')?;
-    Some(match prefix {
-        "" => 1.0,
-        "k" => 1e3,
-        "d" => 1e-1,
-        "c" => 1e-2,
-        "m" => 1e-3,
-        "u" | "µ" | "μ" => 1e-6,
-        "n" => 1e-9,
-        "p" => 1e-12,
-        "f" => 1e-15,
-        _ => return None,
-    })
-}
-
 /// Read the first data field of a `.gwy` file.
 pub fn read_gwy(path: &Path) -> Result<Topography, SurfaceError> {
     let bytes = std::fs::read(path).map_err(|source| SurfaceError::Io {
@@ -221,7 +198,7 @@ pub fn decode_gwy(bytes: &[u8], name: &str) -> Result<Topography, SurfaceError> 
             },
             _ => "m".to_string(),
         };
-        unit_to_metres(&s).ok_or_else(|| {
+        metres_per(s.trim()).ok_or_else(|| {
             fail(
                 name,
                 format!("{k} = '{s}' is not a length unit (m with an SI prefix)"),

@@ -13,6 +13,7 @@ mod generate;
 mod gwy;
 pub(crate) mod height_fft;
 mod io;
+mod length_unit;
 mod measured;
 mod preprocess;
 mod psd;

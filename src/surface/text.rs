@@ -15,6 +15,7 @@
 //! the first two grid coordinates), and numbers with decimal commas
 //! (`0,25 1,5`), which commas-as-separators would split into columns.
 
+use super::length_unit::metres_per;
 use super::SurfaceError;
 
 /// A text matrix as read: heights in metres with axis 0 = x.
@@ -79,24 +80,15 @@ impl<'a> Header<'a> {
     }
 }
 
-/// Metres per unit of length, for the units SurfaceTopography and Gwyddion
-/// write (`µm` as micro sign or Greek mu, `um`; `Å` or `A`).
-fn metres_per(unit: &str) -> Option<f64> {
-    Some(match unit {
-        "km" => 1e3,
-        "m" => 1.0,
-        "cm" => 1e-2,
-        "mm" => 1e-3,
-        "µm" | "μm" | "um" => 1e-6,
-        "nm" => 1e-9,
-        "Å" | "A" => 1e-10,
-        "pm" => 1e-12,
-        _ => return None,
-    })
-}
+/// The units of length a header may state: those SurfaceTopography and
+/// Gwyddion write (`µm` as micro sign or Greek mu, `um`; `Å` or `A`).
+const HEADER_UNITS: &[&str] = &[
+    "km", "m", "cm", "mm", "µm", "μm", "um", "nm", "Å", "A", "pm",
+];
 
 fn unit_factor(unit: &str, what: &str, name: &str) -> Result<f64, SurfaceError> {
-    metres_per(unit).ok_or_else(|| {
+    let known = metres_per(unit).filter(|_| HEADER_UNITS.contains(&unit));
+    known.ok_or_else(|| {
         SurfaceError::Invalid(format!(
             "{name}: the header gives the {what} in '{unit}', not a unit of length viscoslide knows (km, m, cm, mm, um, nm, A, pm)"
         ))
