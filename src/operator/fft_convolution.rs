@@ -294,6 +294,27 @@ impl<T: Real> SpectralEngine<T> {
         self.product(which, x, y);
     }
 
+    /// `y = K x` with `K` the inverse multiplier where one was set, the
+    /// identity otherwise: the preconditioner of an operator that holds
+    /// this engine ([`crate::operator::GridOperator::precondition`]).
+    pub(crate) fn precondition(&mut self, x: &[f64], y: &mut [f64]) {
+        if self.has_inverse() {
+            self.apply_inverse(x, y);
+        } else {
+            y.copy_from_slice(x);
+        }
+    }
+
+    /// [`Self::precondition`] between values on a set of the block's cells
+    /// (as [`Self::set_product`]).
+    pub(crate) fn precondition_set(&mut self, cells: &[usize], x: &[f64], out: &mut [f64]) {
+        if self.has_inverse() {
+            self.set_product(Product::Inverse, cells, x, out);
+        } else {
+            out.copy_from_slice(x);
+        }
+    }
+
     /// One of the engine's products between fields on the whole block or
     /// on sets of its cells ([`Field`]).
     pub(crate) fn product(&mut self, which: Product, x: Field<'_>, y: FieldMut<'_>) {

@@ -324,11 +324,7 @@ impl<T: Real> GridOperator for SpectralPeriodic<T> {
     }
 
     fn precondition_set(&mut self, cells: &[usize], x: &[f64], out: &mut [f64], _: &mut GridWork) {
-        if self.engine.has_inverse() {
-            self.engine.set_product(Product::Inverse, cells, x, out);
-        } else {
-            out.copy_from_slice(x);
-        }
+        self.engine.precondition_set(cells, x, out);
     }
 
     fn has_preconditioner(&self) -> bool {
@@ -336,11 +332,7 @@ impl<T: Real> GridOperator for SpectralPeriodic<T> {
     }
 
     fn precondition(&mut self, x: &[f64], y: &mut [f64]) {
-        if self.engine.has_inverse() {
-            self.engine.apply_inverse(x, y);
-        } else {
-            y.copy_from_slice(x);
-        }
+        self.engine.precondition(x, y);
     }
 }
 

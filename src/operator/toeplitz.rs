@@ -231,10 +231,8 @@ impl<T: Real> GridOperator for ToeplitzFft<T> {
     fn precondition_set(&mut self, cells: &[usize], x: &[f64], out: &mut [f64], _: &mut GridWork) {
         if let (true, Some(chan)) = (self.use_chan, self.chan.as_mut()) {
             chan.set_product(Product::Inverse, cells, x, out);
-        } else if self.engine.has_inverse() {
-            self.engine.set_product(Product::Inverse, cells, x, out);
         } else {
-            out.copy_from_slice(x);
+            self.engine.precondition_set(cells, x, out);
         }
     }
 
@@ -254,10 +252,8 @@ impl<T: Real> GridOperator for ToeplitzFft<T> {
     fn precondition(&mut self, x: &[f64], y: &mut [f64]) {
         if let (true, Some(chan)) = (self.use_chan, self.chan.as_mut()) {
             chan.apply_inverse(x, y);
-        } else if self.engine.has_inverse() {
-            self.engine.apply_inverse(x, y);
         } else {
-            y.copy_from_slice(x);
+            self.engine.precondition(x, y);
         }
     }
 }
