@@ -4,8 +4,6 @@
 
 use std::path::PathBuf;
 
-use indicatif::{ProgressBar, ProgressStyle};
-
 use crate::backend::BackendChoice;
 use crate::error::{Error, Result};
 use crate::magnification::{
@@ -14,6 +12,8 @@ use crate::magnification::{
 use crate::problem::{Executor, Problem};
 use crate::solver::Observer;
 use crate::sweep::Shard;
+
+use super::study_spinner::StudySpinner;
 
 #[derive(Debug, clap::Args)]
 pub struct MagnificationArgs {
@@ -70,17 +70,7 @@ impl MagnificationArgs {
 }
 
 /// A line per point on stderr and a spinner while a level solves.
-struct Progress {
-    bar: ProgressBar,
-}
-
-impl Observer for Progress {
-    fn iteration(&mut self, iteration: usize, matvecs: usize, residual: f64, contact_cells: usize) {
-        super::solve::show_iteration(&self.bar, iteration, matvecs, residual, contact_cells);
-    }
-}
-
-impl StudyObserver for Progress {
+impl StudyObserver for StudySpinner {
     fn point_started(&mut self, done: usize, count: usize, point: &StudyPoint, level: &LevelPlan) {
         let line = format!(
             "point {}/{count} ({}): q1 = {:.4e} 1/m, {} x {} cells ({:.2} per shortest wavelength), rms slope {:.4}, v = {:.4e} m/s",
@@ -126,13 +116,7 @@ pub fn run(args: MagnificationArgs) -> Result<()> {
     let coarse = Problem::from_config(&study.point_config(&study.points[0])?)?;
     let (executor, line) = Executor::select(choice, &coarse)?;
     eprintln!("{line}");
-    let bar = ProgressBar::new_spinner();
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}")
-            .expect("valid template"),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    let mut progress = Progress { bar };
+    let mut progress = StudySpinner::start();
     let shard = args.shard.unwrap_or(Shard::ALL);
     let r = magnification::run(&study, &executor, Some(&args.out), shard, &mut progress);
     progress.bar.finish_and_clear();

@@ -13,6 +13,7 @@ pub mod persson;
 mod refine;
 mod solve;
 mod stage_bar;
+mod study_spinner;
 mod surface;
 mod sweep;
 

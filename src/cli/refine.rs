@@ -2,14 +2,14 @@
 
 use std::path::PathBuf;
 
-use indicatif::{ProgressBar, ProgressStyle};
-
 use crate::backend::BackendChoice;
 use crate::error::{Error, Result};
 use crate::io::{LockMode, StudyLock};
 use crate::problem::{Executor, Problem};
 use crate::refine::{self, Level, RefineObserver, RefineParams, Richardson, Verdict};
 use crate::solver::Observer;
+
+use super::study_spinner::StudySpinner;
 
 #[derive(Debug, clap::Args)]
 pub struct RefineArgs {
@@ -36,17 +36,7 @@ pub struct RefineArgs {
 }
 
 /// Per-level lines on stderr and a spinner while a level solves.
-struct Progress {
-    bar: ProgressBar,
-}
-
-impl Observer for Progress {
-    fn iteration(&mut self, iteration: usize, matvecs: usize, residual: f64, contact_cells: usize) {
-        super::solve::show_iteration(&self.bar, iteration, matvecs, residual, contact_cells);
-    }
-}
-
-impl RefineObserver for Progress {
+impl RefineObserver for StudySpinner {
     fn level_started(&mut self, index: usize, count: usize, problem: &Problem, warm: bool) {
         let cells = problem
             .cells_per_shortest_wavelength()
@@ -118,13 +108,7 @@ pub fn run(args: RefineArgs) -> Result<()> {
     // Every check done: the study takes its directory for the whole run,
     // so a second writer fails now rather than after its solves.
     let _lock = StudyLock::acquire(&args.out, LockMode::Exclusive)?;
-    let bar = ProgressBar::new_spinner();
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}")
-            .expect("valid template"),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    let mut progress = Progress { bar };
+    let mut progress = StudySpinner::start();
     let report = refine::refine(&problem, &executor, &params, &mut progress);
     progress.bar.finish_and_clear();
     let report = report?;
