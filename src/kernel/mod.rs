@@ -69,6 +69,13 @@ pub struct Coefficient {
 }
 
 impl Coefficient {
+    /// Both parts NaN: the coefficient where the kernel is not defined
+    /// (invalid cell sizes; off the lattice of the local thin-layer limit).
+    pub(crate) const NAN: Coefficient = Coefficient {
+        elastic: f64::NAN,
+        viscoelastic: f64::NAN,
+    };
+
     /// `elastic + viscoelastic` [m/Pa].
     pub fn total(&self) -> f64 {
         self.elastic + self.viscoelastic
@@ -244,10 +251,8 @@ impl SlidingKernel {
     /// rectangle `ax x ay` \[m\] carrying unit pressure (Eq. 4/6) [m/Pa].
     /// Invalid cell sizes give NaN; see [`Self::try_coefficient`].
     pub fn coefficient(&self, dx: f64, dy: f64, ax: f64, ay: f64) -> Coefficient {
-        self.try_coefficient(dx, dy, ax, ay).unwrap_or(Coefficient {
-            elastic: f64::NAN,
-            viscoelastic: f64::NAN,
-        })
+        self.try_coefficient(dx, dy, ax, ay)
+            .unwrap_or(Coefficient::NAN)
     }
 
     /// [`Self::coefficient`] with the cell size checked.

@@ -286,27 +286,23 @@ impl SlidingKernel {
         dx: f64,
         dy: f64,
     ) -> Coefficient {
-        let nan = Coefficient {
-            elastic: f64::NAN,
-            viscoelastic: f64::NAN,
-        };
         if self.thin_law(p, cell.love.ax, cell.love.ay) {
             return self.law_coefficient(cell.love.ax, cell.love.ay, dx, dy);
         }
         let Some((x, c, aa, at)) = self.frame(dx, dy, cell.love.ax, cell.love.ay) else {
-            return nan;
+            return Coefficient::NAN;
         };
         let h = self.theta.as_ref().map_or(0.0, |t| t.layer.thickness);
         let across = match step_value(c, 0.5 * at, p.reach * h) {
             Some(v) if v != 0.5 => v,
-            _ => return nan,
+            _ => return Coefficient::NAN,
         };
         if across == 0.0 {
             return Coefficient::default();
         }
         let scale = self.prefactor * p.m0 * h;
         let Some(pv) = step_value(x, 0.5 * aa, p.reach * h) else {
-            return nan;
+            return Coefficient::NAN;
         };
         let total = self.thin_bracket(p, x, aa);
         Coefficient {

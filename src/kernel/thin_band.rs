@@ -222,10 +222,6 @@ impl SlidingKernel {
         dx: f64,
         dy: f64,
     ) -> Coefficient {
-        let nan = Coefficient {
-            elastic: f64::NAN,
-            viscoelastic: f64::NAN,
-        };
         let Some((x, c, aa, at)) = self.frame(dx, dy, ax, ay) else {
             return self.oblique_coefficient(b, (ax, ay), (dx, dy));
         };
@@ -237,10 +233,10 @@ impl SlidingKernel {
         } else if (t.abs() - 0.5 * aa).abs() <= 1e-9 * aa {
             0.5 * aa * t.signum()
         } else {
-            return nan;
+            return Coefficient::NAN;
         };
         if (c - j * at).abs() > 1e-9 * at || !i.is_finite() {
-            return nan;
+            return Coefficient::NAN;
         }
         let (i, j) = (i as i64, j as i64);
         if j.unsigned_abs() as usize > b.half {

@@ -106,17 +106,15 @@ impl SlidingKernel {
     /// `K(d)` of the law (module docs) at the offset `(dx, dy)`: NaN off a
     /// grid-axis direction or off the lattice of cell centres across `e_v`.
     pub(crate) fn law_coefficient(&self, ax: f64, ay: f64, dx: f64, dy: f64) -> Coefficient {
-        let nan = Coefficient {
-            elastic: f64::NAN,
-            viscoelastic: f64::NAN,
-        };
         let Some((x, c, aa, at)) = self.frame(dx, dy, ax, ay) else {
-            return nan;
+            return Coefficient::NAN;
         };
-        let Some(t) = &self.theta else { return nan };
+        let Some(t) = &self.theta else {
+            return Coefficient::NAN;
+        };
         let j = (c / at).round();
         if (c - j * at).abs() > 1e-9 * at || !j.is_finite() {
-            return nan;
+            return Coefficient::NAN;
         }
         let (s1, s3) = thin_series(t.layer.base, t.poisson);
         let h = t.layer.thickness;

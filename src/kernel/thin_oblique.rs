@@ -114,10 +114,7 @@ impl SlidingKernel {
     ) -> Coefficient {
         let (i, j) = ((dx / ax).round(), (dy / ay).round());
         if !i.is_finite() || !j.is_finite() {
-            return Coefficient {
-                elastic: f64::NAN,
-                viscoelastic: f64::NAN,
-            };
+            return Coefficient::NAN;
         }
         let (tx, ty) = (dx - i * ax, dy - j * ay);
         let (i, j) = (i as i64, j as i64);
