@@ -19,7 +19,7 @@
 //! Over 600 lines: the whole `Backend` trait on device vectors (one dispatch per method, the kernels in `shaders/`), beside the vector and index types it uses.
 
 use super::adaptive::{AdaptiveMatvec, MeshCells};
-use super::context::{GpuContext, GpuError};
+use super::context::{check_binding_count, GpuContext, GpuError};
 use super::engine::{groups_for, Buf, Engine, Kernel, Params, WORKGROUP};
 use super::fft::FftMatvec;
 pub use super::fft::{FftChoice, SpectrumPrecision};
@@ -365,16 +365,7 @@ fn check_vector(
     // limit below their 64 KiB, which only tests set).
     let partials = (4 * REDUCE_GROUPS * REDUCE_SLOTS) as u64;
     let bindings = 5 * windows + partials.div_ceil(binding);
-    let limit = limits.max_storage_buffers_per_shader_stage as u64;
-    if bindings > limit {
-        return Err(GpuError::TooManyBindings {
-            what,
-            need: bindings,
-            limit,
-            adapter: adapter.to_string(),
-        });
-    }
-    Ok(())
+    check_binding_count(&what, bindings, limits, adapter)
 }
 
 impl Backend for GpuBackend {

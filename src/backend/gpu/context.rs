@@ -17,6 +17,23 @@ pub struct AdapterSummary {
     pub max_buffer: u64,
 }
 
+impl AdapterSummary {
+    /// The summary of an adapter from its info and `limits` (the
+    /// adapter's own, or those a device is opened with).
+    fn new(info: &wgpu::AdapterInfo, limits: &wgpu::Limits) -> Self {
+        Self {
+            name: info.name.clone(),
+            backend: format!("{:?}", info.backend),
+            device_type: format!("{:?}", info.device_type),
+            driver: format!("{} {}", info.driver, info.driver_info)
+                .trim()
+                .to_string(),
+            max_storage_binding: limits.max_storage_buffer_binding_size,
+            max_buffer: limits.max_buffer_size,
+        }
+    }
+}
+
 impl std::fmt::Display for AdapterSummary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
@@ -58,19 +75,7 @@ fn summarise(a: &wgpu::Adapter) -> (u8, AdapterSummary) {
         wgpu::DeviceType::Cpu => 3,
         wgpu::DeviceType::Other => 4,
     };
-    (
-        rank,
-        AdapterSummary {
-            name: info.name,
-            backend: format!("{:?}", info.backend),
-            device_type: format!("{:?}", info.device_type),
-            driver: format!("{} {}", info.driver, info.driver_info)
-                .trim()
-                .to_string(),
-            max_storage_binding: limits.max_storage_buffer_binding_size,
-            max_buffer: limits.max_buffer_size,
-        },
-    )
+    (rank, AdapterSummary::new(&info, &limits))
 }
 
 /// An adapter as `viscoslide gpu --json` reports it: its summary, the
@@ -173,6 +178,28 @@ pub enum GpuError {
     Invalid(String),
 }
 
+/// Fail with [`GpuError::TooManyBindings`] when a kernel that binds
+/// `bindings` storage buffers (windows of split arrays included) exceeds
+/// the storage buffers per shader stage of `limits` on `adapter` (`what`:
+/// the kernel or array, for the message).
+pub(crate) fn check_binding_count(
+    what: &str,
+    bindings: u64,
+    limits: &wgpu::Limits,
+    adapter: &str,
+) -> Result<(), GpuError> {
+    let limit = limits.max_storage_buffers_per_shader_stage as u64;
+    if bindings > limit {
+        return Err(GpuError::TooManyBindings {
+            what: what.to_string(),
+            need: bindings,
+            limit,
+            adapter: adapter.to_string(),
+        });
+    }
+    Ok(())
+}
+
 /// An open device and its queue (cloning shares the device).
 #[derive(Clone)]
 pub struct GpuContext {
@@ -213,16 +240,7 @@ impl GpuContext {
             let b = b.max(4) & !3;
             limits.max_buffer_size = limits.max_buffer_size.min(b);
         }
-        let summary = AdapterSummary {
-            name: info.name.clone(),
-            backend: format!("{:?}", info.backend),
-            device_type: format!("{:?}", info.device_type),
-            driver: format!("{} {}", info.driver, info.driver_info)
-                .trim()
-                .to_string(),
-            max_storage_binding: limits.max_storage_buffer_binding_size,
-            max_buffer: limits.max_buffer_size,
-        };
+        let summary = AdapterSummary::new(&info, &limits);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("viscoslide device"),
             required_features: wgpu::Features::empty(),

@@ -17,7 +17,7 @@
 use num_complex::Complex64;
 use rayon::prelude::*;
 
-use super::context::GpuError;
+use super::context::{check_binding_count, GpuError};
 use super::engine::{Buf, Engine, Kernel};
 pub use super::fft_plan::padded;
 use super::fft_plan::{grid, work_elements, MatvecPlan, Path, Role, MIN_WORKGROUPS};
@@ -465,15 +465,7 @@ pub fn check_device(
         // twiddles.
         Path::Shared { .. } => 3 * windows + 1,
     };
-    let limit = limits.max_storage_buffers_per_shader_stage as u64;
-    if bindings > limit {
-        return Err(GpuError::TooManyBindings {
-            what,
-            need: bindings,
-            limit,
-            adapter: adapter.to_string(),
-        });
-    }
+    check_binding_count(&what, bindings, limits, adapter)?;
     Ok((bytes, windows))
 }
 

@@ -18,7 +18,7 @@ use std::sync::mpsc;
 
 use bytemuck::{Pod, Zeroable};
 
-use super::context::{GpuContext, GpuError};
+use super::context::{check_binding_count, GpuContext, GpuError};
 use super::shaders;
 use super::split;
 
@@ -199,24 +199,16 @@ impl Engine {
         Ok(())
     }
 
-    /// Fail with [`GpuError::TooLarge`] when a kernel would need more than
-    /// the device's storage bindings per shader stage (`bindings`, windows
-    /// of split arrays included).
+    /// Fail with [`GpuError::TooManyBindings`] when a kernel would need
+    /// more than the device's storage bindings per shader stage
+    /// (`bindings`, windows of split arrays included).
     pub fn check_bindings(&self, what: &str, bindings: u64) -> Result<(), GpuError> {
-        let limit = self
-            .ctx
-            .device
-            .limits()
-            .max_storage_buffers_per_shader_stage as u64;
-        if bindings > limit {
-            return Err(GpuError::TooManyBindings {
-                what: what.to_string(),
-                need: bindings,
-                limit,
-                adapter: self.ctx.adapter.name.clone(),
-            });
-        }
-        Ok(())
+        check_binding_count(
+            what,
+            bindings,
+            &self.ctx.device.limits(),
+            &self.ctx.adapter.name,
+        )
     }
 
     /// Fail when `kernel` cannot bind `arrays` (`(name, bytes)` in binding
