@@ -160,16 +160,10 @@ pub(super) fn run(args: &HeatArgs, dir: &Path) -> Result<()> {
     };
     let t0 = Instant::now();
     // Seconds to minutes for a volume source on the largest grids.
-    let bar = indicatif::ProgressBar::new_spinner();
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}")
-            .expect("valid template"),
-    );
-    bar.set_message(format!(
+    let spinner = super::spinner::Spinner::start(format!(
         "the {} heat source of {nx} x {ny} cells and its rise",
         kind.name()
     ));
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
     let heat = ContactHeating::new(
         &pressure,
         &run.grid,
@@ -180,7 +174,7 @@ pub(super) fn run(args: &HeatArgs, dir: &Path) -> Result<()> {
         &rule,
         mu * run.normal_load * speed,
     );
-    bar.finish_and_clear();
+    spinner.bar.finish_and_clear();
     let heat = heat?;
     let wall = t0.elapsed().as_secs_f64();
     let setup = HeatSetup {

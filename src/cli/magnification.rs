@@ -13,7 +13,7 @@ use crate::problem::{Executor, Problem};
 use crate::solver::Observer;
 use crate::sweep::Shard;
 
-use super::study_spinner::StudySpinner;
+use super::spinner::Spinner;
 
 #[derive(Debug, clap::Args)]
 pub struct MagnificationArgs {
@@ -70,7 +70,7 @@ impl MagnificationArgs {
 }
 
 /// A line per point on stderr and a spinner while a level solves.
-impl StudyObserver for StudySpinner {
+impl StudyObserver for Spinner {
     fn point_started(&mut self, done: usize, count: usize, point: &StudyPoint, level: &LevelPlan) {
         let line = format!(
             "point {}/{count} ({}): q1 = {:.4e} 1/m, {} x {} cells ({:.2} per shortest wavelength), rms slope {:.4}, v = {:.4e} m/s",
@@ -100,7 +100,7 @@ impl StudyObserver for StudySpinner {
             l.matvecs,
             l.wall_time_s
         );
-        super::solve::show_finished(&self.bar, &line, &l.warnings);
+        self.finished(&line, &l.warnings);
     }
 
     fn solver(&mut self) -> &mut dyn Observer {
@@ -116,7 +116,7 @@ pub fn run(args: MagnificationArgs) -> Result<()> {
     let coarse = Problem::from_config(&study.point_config(&study.points[0])?)?;
     let (executor, line) = Executor::select(choice, &coarse)?;
     eprintln!("{line}");
-    let mut progress = StudySpinner::start();
+    let mut progress = Spinner::start("");
     let shard = args.shard.unwrap_or(Shard::ALL);
     let r = magnification::run(&study, &executor, Some(&args.out), shard, &mut progress);
     progress.bar.finish_and_clear();

@@ -12,8 +12,8 @@ mod material;
 pub mod persson;
 mod refine;
 mod solve;
+mod spinner;
 mod stage_bar;
-mod study_spinner;
 mod surface;
 mod sweep;
 

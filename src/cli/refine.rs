@@ -9,7 +9,7 @@ use crate::problem::{Executor, Problem};
 use crate::refine::{self, Level, RefineObserver, RefineParams, Richardson, Verdict};
 use crate::solver::Observer;
 
-use super::study_spinner::StudySpinner;
+use super::spinner::Spinner;
 
 #[derive(Debug, clap::Args)]
 pub struct RefineArgs {
@@ -36,7 +36,7 @@ pub struct RefineArgs {
 }
 
 /// Per-level lines on stderr and a spinner while a level solves.
-impl RefineObserver for StudySpinner {
+impl RefineObserver for Spinner {
     fn level_started(&mut self, index: usize, count: usize, problem: &Problem, warm: bool) {
         let cells = problem
             .cells_per_shortest_wavelength()
@@ -68,7 +68,7 @@ impl RefineObserver for StudySpinner {
             l.matvecs,
             l.wall_time_s
         );
-        super::solve::show_finished(&self.bar, &line, &l.warnings);
+        self.finished(&line, &l.warnings);
     }
 
     fn solver(&mut self) -> &mut dyn Observer {
@@ -108,7 +108,7 @@ pub fn run(args: RefineArgs) -> Result<()> {
     // Every check done: the study takes its directory for the whole run,
     // so a second writer fails now rather than after its solves.
     let _lock = StudyLock::acquire(&args.out, LockMode::Exclusive)?;
-    let mut progress = StudySpinner::start();
+    let mut progress = Spinner::start("");
     let report = refine::refine(&problem, &executor, &params, &mut progress);
     progress.bar.finish_and_clear();
     let report = report?;

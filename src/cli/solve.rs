@@ -2,14 +2,13 @@
 
 use std::path::PathBuf;
 
-use indicatif::{ProgressBar, ProgressStyle};
-
 use crate::backend::BackendChoice;
 use crate::error::{Error, Result};
 use crate::heating::{scale_extremes, scale_text, solve_heated, HeatingParams};
 use crate::io::check_output_dir;
 use crate::problem::{Executor, Problem};
-use crate::solver::Observer;
+
+use super::spinner::Spinner;
 
 #[derive(Debug, clap::Args)]
 pub struct SolveArgs {
@@ -22,57 +21,6 @@ pub struct SolveArgs {
     /// Output directory (created; files appear only when the solve succeeds).
     #[arg(long)]
     pub out: PathBuf,
-}
-
-/// The solve's spinner, and the stage of a heated solve its iterations
-/// belong to.
-struct Spinner(ProgressBar, Option<String>);
-
-impl Observer for Spinner {
-    fn iteration(&mut self, iteration: usize, matvecs: usize, residual: f64, contact_cells: usize) {
-        let line = iteration_line(iteration, matvecs, residual, contact_cells);
-        match &self.1 {
-            Some(stage) => self.0.set_message(format!("{stage}; {line}")),
-            None => self.0.set_message(line),
-        }
-        self.0.tick();
-    }
-
-    fn stage(&mut self, label: &str) {
-        self.0.set_message(label.to_string());
-        self.0.tick();
-        self.1 = Some(label.to_string());
-    }
-}
-
-/// The spinner line of one active-set iteration (solve, refine and
-/// magnification show the same).
-pub(super) fn show_iteration(
-    bar: &ProgressBar,
-    iteration: usize,
-    matvecs: usize,
-    residual: f64,
-    contact_cells: usize,
-) {
-    bar.set_message(iteration_line(iteration, matvecs, residual, contact_cells));
-    bar.tick();
-}
-
-fn iteration_line(iteration: usize, matvecs: usize, residual: f64, contact_cells: usize) -> String {
-    format!(
-        "active-set iteration {iteration}: {contact_cells} cells in contact, residual {residual:.2e}, {matvecs} matvecs"
-    )
-}
-
-/// A finished level's line and its warnings, printed above the spinner
-/// (refine and magnification).
-pub(super) fn show_finished(bar: &ProgressBar, line: &str, warnings: &[String]) {
-    bar.suspend(|| {
-        eprintln!("{line}");
-        for w in warnings {
-            eprintln!("  warning: {w}");
-        }
-    });
 }
 
 pub fn run(args: SolveArgs) -> Result<()> {
@@ -99,14 +47,7 @@ pub fn run(args: SolveArgs) -> Result<()> {
     {
         eprintln!("note: {note}");
     }
-    let bar = ProgressBar::new_spinner();
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}")
-            .expect("valid template"),
-    );
-    bar.set_message("computing influence coefficients");
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    let mut spinner = Spinner(bar, None);
+    let mut spinner = Spinner::start("computing influence coefficients");
     let ambient = cfg.config.loading.as_ref().and_then(|l| l.temperature);
     let heating = match &cfg.config.heating {
         Some(h) => HeatingParams::from_config(h, &problem, ambient)?,
@@ -115,7 +56,7 @@ pub fn run(args: SolveArgs) -> Result<()> {
     let (solution, heated, written) = match heating {
         Some(params) => {
             let heated = solve_heated(&problem, &params, &executor, &mut spinner);
-            spinner.0.finish_and_clear();
+            spinner.bar.finish_and_clear();
             let heated = heated?;
             for w in &heated.solution.warnings {
                 eprintln!("warning: {w}");
@@ -125,7 +66,7 @@ pub fn run(args: SolveArgs) -> Result<()> {
         }
         None => {
             let solution = problem.solve(&executor, &mut spinner);
-            spinner.0.finish_and_clear();
+            spinner.bar.finish_and_clear();
             let solution = solution?;
             for w in &solution.warnings {
                 eprintln!("warning: {w}");
