@@ -173,6 +173,7 @@ pub(super) fn run(args: &HeatArgs, dir: &Path) -> Result<()> {
         kind,
         &rule,
         mu * run.normal_load * speed,
+        &mut || false,
     );
     spinner.bar.finish_and_clear();
     let heat = heat?;

@@ -64,35 +64,11 @@ impl ContactHeating {
     /// is the solve's `mu F_N v` by the route matching `kind`. At rest
     /// (speed 0) nothing is dissipated: every rise is zero, with a note
     /// saying so. On a layer, a note where the heat reaches deep into it
-    /// (the heat problem is a half-space).
+    /// (the heat problem is a half-space). `stop` is asked between the
+    /// volume source's depth nodes: `true` gives up with
+    /// [`crate::heat::HeatError::Cancelled`].
     #[allow(clippy::too_many_arguments)]
     pub fn new(
-        pressure: &[f64],
-        grid: &Grid,
-        response: &SlidingResponse,
-        conduction: Conduction,
-        block_length: Option<f64>,
-        kind: SourceKind,
-        rule: &DepthRule,
-        friction_power_w: f64,
-    ) -> Result<Self> {
-        Self::new_until(
-            pressure,
-            grid,
-            response,
-            conduction,
-            block_length,
-            kind,
-            rule,
-            friction_power_w,
-            &mut || false,
-        )
-    }
-
-    /// [`ContactHeating::new`], asking `stop` between the volume source's
-    /// depth nodes: `true` gives up with [`crate::heat::HeatError::Cancelled`].
-    #[allow(clippy::too_many_arguments)]
-    pub fn new_until(
         pressure: &[f64],
         grid: &Grid,
         response: &SlidingResponse,
@@ -231,7 +207,7 @@ impl Problem {
     }
 
     /// [`Problem::contact_heating`], asking `stop` between the volume
-    /// source's depth nodes ([`ContactHeating::new_until`]).
+    /// source's depth nodes ([`ContactHeating::new`]).
     pub fn contact_heating_until(
         &self,
         solution: &Solution,
@@ -251,7 +227,7 @@ impl Problem {
             SourceKind::Surface => solution.friction_coefficient,
         };
         let power = mu * solution.stats.normal_load * self.speed;
-        ContactHeating::new_until(
+        ContactHeating::new(
             &solution.fields.pressure,
             &self.grid()?,
             &self.response()?,

@@ -335,23 +335,23 @@ fn a_bracket_too_tall_to_scan_is_refused_naming_max_rise() {
     );
 }
 
+/// `viscoslide solve CONFIG --backend cpu EXTRA --out OUT`.
+fn solve_cli(cfg: &std::path::Path, out: &std::path::Path, extra: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(["solve", cfg.to_str().unwrap(), "--backend", "cpu"])
+        .args(extra)
+        .args(["--out", out.to_str().unwrap()])
+        .output()
+        .unwrap()
+}
+
 #[test]
 fn solve_with_heating_writes_the_heating_object_and_the_temperature_map() {
     let tmp = tempfile::tempdir().unwrap();
     let cfg = tmp.path().join("heated.toml");
     std::fs::write(&cfg, PERIODIC).unwrap();
     let out = tmp.path().join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
-        .args([
-            "solve",
-            cfg.to_str().unwrap(),
-            "--backend",
-            "cpu",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
+    let o = solve_cli(&cfg, &out, &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let s: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
@@ -407,19 +407,8 @@ fn solve_with_heating_writes_the_heating_object_and_the_temperature_map() {
     // A tolerance above the rise accepts T0 itself: the printed note says
     // that T_eff - T0 and the rise at T_eff agree only to it.
     let loose = tmp.path().join("loose");
-    let o = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
-        .args([
-            "solve",
-            cfg.to_str().unwrap(),
-            "--backend",
-            "cpu",
-            "--set",
-            &format!("heating.tolerance={}", 10.0 * effective),
-            "--out",
-            loose.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
+    let tolerance = format!("heating.tolerance={}", 10.0 * effective);
+    let o = solve_cli(&cfg, &loose, &["--set", &tolerance]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let stdout = String::from_utf8_lossy(&o.stdout);
     let note = stdout
@@ -433,17 +422,7 @@ fn solve_with_heating_writes_the_heating_object_and_the_temperature_map() {
         PERIODIC.replace("[heating]", "[heating]\nenabled = false"),
     )
     .unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_viscoslide"))
-        .args([
-            "solve",
-            cfg.to_str().unwrap(),
-            "--backend",
-            "cpu",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
+    let o = solve_cli(&cfg, &out, &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(!out.join("temperature.npy").exists());
     let s: serde_json::Value =
