@@ -147,3 +147,40 @@ def test_editing_a_summary_changes_nothing(pad, rubber):
     s["warnings"].append("edited")
     assert r.summary["friction_coefficient"] == mu == r.friction_coefficient
     assert "edited" not in r.summary["warnings"]
+
+
+class _Topography:
+    """A topography-like object: ``heights()`` and ``physical_sizes`` in m."""
+
+    unit = "m"
+    physical_sizes = (0.01, 0.01)
+
+    def __init__(self, heights):
+        self._heights = heights
+
+    def heights(self):
+        return self._heights
+
+
+@pytest.mark.parametrize(
+    "heights, message",
+    [
+        (np.ma.masked_array(np.ones((8, 8)) + 1j, mask=False), "complex"),
+        (np.ma.masked_array(np.ones((8, 8), dtype=bool), mask=False), "dtype bool"),
+        (np.ma.masked_array(np.full((8, 8), "1e-6"), mask=False), "real numbers"),
+        ([[0.0, 1e-6], [1e-6]], "heights\\(\\) must be an array of real numbers"),
+    ],
+)
+def test_a_topographys_heights_of_the_wrong_kind_are_refused_not_cast(heights, message):
+    """A masked map of booleans, complex numbers or strings is refused as
+    from_array refuses the same values unmasked (not cast to float, which
+    drops an imaginary part or parses strings)."""
+    with pytest.raises(ValueError, match=message):
+        vs.Surface.from_topography(_Topography(heights))
+
+
+def test_a_topographys_masked_integer_heights_are_taken_with_their_holes():
+    h = np.ma.masked_array(np.ones((8, 8), dtype=np.int32), mask=False)
+    h.mask[2, 3] = True
+    s = vs.Surface.from_topography(_Topography(h), fill_missing=True, detrend="none")
+    assert s.shape == (8, 8) and np.all(s.heights == 1.0)

@@ -264,14 +264,19 @@ class Surface:
                     f"the topography's heights have {masked} masked (missing) points; "
                     "pass fill_missing=True to fill them by harmonic interpolation"
                 )
-            h = np.ma.filled(heights.astype(np.float64), np.nan)
+            # Kept masked: from_array checks its dtype (a boolean, complex
+            # or string map is refused, not cast) and marks the points NaN.
+            h = heights
         else:
             if getattr(topography, "has_undefined_data", False) and not fill_missing:
                 raise ValueError(
                     "the topography has undefined (missing) points; "
                     "pass fill_missing=True to fill them by harmonic interpolation"
                 )
-            h = np.asarray(heights)
+            try:
+                h = np.asarray(heights)
+            except Exception as e:  # ragged lists and the like
+                raise ValueError(f"the topography's heights() must be an array of real numbers: {e}") from None
         if h.ndim != 2:
             raise ValueError(f"the topography's heights() must be 2-dimensional (a map, not a line scan), got shape {h.shape}")
         sizes = topography.physical_sizes
