@@ -57,6 +57,15 @@ def test_one_nan_is_located():
         vs.Surface.from_array(h, 0.01)
 
 
+def test_an_infinite_height_with_fill_missing_is_not_sent_to_fill_missing():
+    h = np.zeros((8, 8))
+    h[2, 6] = np.inf
+    h[4, 4] = np.nan
+    with pytest.raises(ValueError, match=r"1 infinite value.*\(2, 6\)") as e:
+        vs.Surface.from_array(h, 0.01, fill_missing=True)
+    assert "pass fill_missing" not in str(e.value)
+
+
 def test_non_square_cells_are_kept():
     s = vs.Surface.from_array(np.zeros((8, 4)), 0.01, length_y=0.01)
     assert s.cell_sizes == (0.01 / 8, 0.01 / 4)

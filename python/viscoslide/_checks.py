@@ -44,6 +44,12 @@ def real_array(name: str, value: Any, ndim: int, allow_nan: bool = False) -> np.
     if not finite.all():
         bad = int(arr.size - np.count_nonzero(finite))
         first = tuple(int(i) for i in np.argwhere(~finite)[0])
+        if allow_nan:
+            # NaN passed: what is left is infinite, which no filling mends.
+            raise ValueError(
+                f"{name} has {bad} infinite value(s), the first at index {first}: "
+                "only missing (NaN or masked) points are filled; replace or crop them"
+            )
         hint = (
             "; pass fill_missing=True to fill missing (NaN or masked) points by harmonic interpolation, or crop them"
             if ndim == 2
