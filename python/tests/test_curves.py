@@ -28,6 +28,31 @@ def test_friction_curve_equals_single_solves(small, rubber):
     assert curve["iterations"].dtype == np.int64
 
 
+def test_speeds_as_a_range_a_generator_or_a_tuple_are_the_list(small, rubber):
+    reference = vs.friction_curve(small, rubber, [0.0, 1.0], normal_load=0.3, backend="cpu")
+    for speeds in (range(2), (v for v in (0.0, 1.0)), (0.0, 1.0)):
+        curve = vs.friction_curve(small, rubber, speeds, normal_load=0.3, backend="cpu")
+        assert curve["speed"].tolist() == [0.0, 1.0]
+        assert np.array_equal(curve["friction_coefficient"], reference["friction_coefficient"])
+    varied = vs.sweep(small, rubber, speed=1e-3, normal_load=0.3, backend="cpu",
+                            vary={"material.poisson": (p for p in (0.4, 0.5))})
+    assert varied["material.poisson"].tolist() == [0.4, 0.5]
+
+
+@pytest.mark.parametrize(
+    "speeds, message",
+    [
+        (np.ma.masked_array([1e-3, 1e-2], mask=[False, True]), r"speeds has 1 masked value.*\(1,\)"),
+        ({1e-3, 1e-2}, "1-D sequence of numbers .*got a set"),
+        ({1e-3: 1}, "1-D sequence of numbers .*got a dict"),
+        ((v for v in (1e-3, float("nan"))), r"speeds\[1\] must be finite"),
+    ],
+)
+def test_speeds_that_are_not_an_ordered_list_of_numbers_are_named(small, rubber, speeds, message):
+    with pytest.raises(ValueError, match=message):
+        vs.friction_curve(small, rubber, speeds, normal_load=0.3, backend="cpu")
+
+
 def test_sweep_over_loads_and_xi(small, rubber):
     table = vs.sweep(small, rubber, xi=[0.0, 1e-2], mean_pressure=[2000.0, 4000.0], backend="cpu")
     assert len(table["xi"]) == 4

@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
+from collections.abc import Iterable, Mapping
 from typing import Any, Optional
 
 import numpy as np
@@ -121,9 +122,26 @@ def drop_none(d: dict) -> dict:
 
 
 def reals(name: str, value: Any) -> list:
-    """A number or a 1-D sequence of numbers as a list of finite floats;
+    """A number or a 1-D sequence of numbers (a list, tuple, array, range
+    or any other iterable such as a generator) as a list of finite floats;
     a boolean, a string or a non-finite value is refused, named by its
-    position (``q1[0] must be finite, got nan``)."""
+    position (``q1[0] must be finite, got nan``), and so are a set or a
+    dict (no order) and masked values."""
+    if isinstance(value, np.ma.MaskedArray):
+        mask = np.ma.getmaskarray(value)
+        if mask.any():
+            first = tuple(int(i) for i in np.argwhere(mask)[0])
+            raise ValueError(
+                f"{name} has {int(np.count_nonzero(mask))} masked value(s), the first at index {first}: "
+                "give only the values to use (.compressed())"
+            )
+        value = np.ma.getdata(value)
+    if isinstance(value, (set, frozenset, Mapping)):
+        raise ValueError(
+            f"{name} must be a number or a 1-D sequence of numbers (a list or an array), got a {type(value).__name__}"
+        )
+    if isinstance(value, Iterable) and not isinstance(value, (str, bytes, np.ndarray)):
+        value = list(value)
     if isinstance(value, np.ndarray):
         if value.ndim > 1:
             raise ValueError(f"{name} must be a number or a 1-D sequence of numbers, got shape {value.shape}")

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import warnings
+from collections.abc import Iterator
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
@@ -93,7 +94,9 @@ def _vary_lists(vary: Any) -> List[Tuple[str, list]]:
     for key, values in vary.items():
         if not isinstance(key, str):
             raise TypeError(f"vary {key!r}: a key is a dotted config key such as 'loading.temperature'")
-        if isinstance(values, (str, bytes)) or not isinstance(values, (Sequence, np.ndarray)):
+        if isinstance(values, Iterator):
+            values = list(values)  # a generator: its values, once
+        elif isinstance(values, (str, bytes)) or not isinstance(values, (Sequence, np.ndarray)):
             values = [values]
         lists.append((key, [v.item() if isinstance(v, np.generic) else v for v in values]))
     return lists
@@ -158,7 +161,7 @@ def sweep(
     per point, ``vary`` values outermost, then loads, speeds inner.
 
     Each of ``speed``, ``xi``, ``normal_load``, ``mean_pressure`` may be a
-    number or a 1-D array (a prescribed ``approach`` is refused: the
+    number or a 1-D sequence (an array, list, range or generator; a prescribed ``approach`` is refused: the
     sweep's axis is the load); ``options`` are those of :func:`solve`
     (``formulation``, ``thickness``, ``backend``, ``tolerance``,
     ``temperature``, ``heating``, ...). ``vary`` maps config keys to lists of values,
