@@ -146,6 +146,7 @@ def test_solve_refuses_bad_arguments(small, rubber, kwargs, kind, needles):
         ({"vary": {"loading.direction_deg": [True]}}, ValueError, ("direction_deg", "true")),
         ({"vary": {"loading.direction_deg": ["10"]}}, ValueError, ("direction_deg", '"10"')),
         ({"vary": {"solver.tolerance": [1e-9]}, "tolerance": 1e-6}, ValueError, ("solver.tolerance", "tolerance")),
+        ({"tolerence": 1e-6}, TypeError, ("sweep()", "'tolerence'")),
     ],
 )
 def test_sweep_refuses_bad_arguments_before_any_solve(small, rubber, kwargs, kind, needles):
@@ -164,6 +165,9 @@ def test_sweep_refuses_bad_arguments_before_any_solve(small, rubber, kwargs, kin
         (lambda s, m: vs.friction_curve(s, m, [0.01, NAN], mean_pressure=3000.0), ValueError, ("speeds[1]", "nan")),
         (lambda s, m: vs.friction_curve(s, m, [0.01], mean_pressure="3e3"), ValueError, ("mean_pressure", "'3e3'")),
         (lambda s, m: vs.friction_curve(s, m, [0.01], mean_pressure=3e3, as_frame=1), TypeError, ("as_frame", "1")),
+        (lambda s, m: vs.friction_curve(s, m, [0.01], mean_pressure=3e3, tolerence=1e-6), TypeError, ("friction_curve()", "'tolerence'")),
+        (lambda s, m: vs.friction_curve(s, m, mean_pressure=3e3, speed=[0.01]), TypeError, ("friction_curve()", "'speed'", "speeds")),
+        (lambda s, m: vs.friction_curve(s, m, [0.01], mean_pressure=3e3, vary={"solver.tolerance": [NAN]}), ValueError, ("solver.tolerance", "NaN")),
         (lambda s, m: vs.persson(s, m, True, mean_pressure=3000.0), ValueError, ("speeds", "True")),
         (lambda s, m: vs.persson(s, m, ["fast"], mean_pressure=3000.0), ValueError, ("speeds[0]", "'fast'")),
         (lambda s, m: vs.persson(s, m, [0.01], mean_pressure=NAN), ValueError, ("mean_pressure", "nan")),

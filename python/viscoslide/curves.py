@@ -5,6 +5,7 @@ pressure) and :func:`kernel_table` (the influence coefficients)."""
 
 from __future__ import annotations
 
+import inspect
 import json
 import warnings
 from collections.abc import Iterator
@@ -121,6 +122,27 @@ def _set_by(sections: Tuple[str, str, Optional[str], Optional[str]], options: Ma
     return given
 
 
+#: The keyword arguments of :func:`solve` that :func:`sweep` and
+#: :func:`friction_curve` pass on to every point.
+_SOLVE_OPTIONS = frozenset(inspect.signature(_native_args).parameters) - {
+    "surface",
+    "material",
+    "speed",
+    "xi",
+    "normal_load",
+    "mean_pressure",
+}
+
+
+def _check_options(function: str, options: Mapping[str, Any]) -> None:
+    """A keyword argument that is no option of :func:`solve` is a
+    TypeError naming ``function`` and the argument, as Python names one."""
+    for key in options:
+        if key not in _SOLVE_OPTIONS:
+            hint = "; the speeds are its argument speeds" if (function, key) == ("friction_curve", "speed") else ""
+            raise TypeError(f"{function}() got an unexpected keyword argument {key!r}{hint}")
+
+
 def _key_column(values: list) -> np.ndarray:
     """The column of a varied key, one entry per point: the values as numpy
     makes them, but an object array when they are lists or dicts (a
@@ -201,6 +223,7 @@ def sweep(
     ``persson_friction_coefficient`` Persson's at ``T_eff`` and
     ``temperature``, ``shift_factor`` those of ``T_eff``.
     """
+    _check_options("sweep", options)
     # A topography-like surface is prepared once, with solve's keys for it.
     surf = Surface.coerce(
         surface,
@@ -289,6 +312,7 @@ def friction_curve(
     shifts the material by its WLF factor as in :func:`solve`, and
     ``heating=`` (with ``temperature``, the ambient ``T0``) heats every
     point by its own friction, adding :data:`HEATING_COLUMNS`."""
+    _check_options("friction_curve", {k: v for k, v in options.items() if k != "vary"})
     if speeds is not None and xi is None:
         # Checked here to be named as this function's argument.
         speeds = _axis("speeds", speeds)
