@@ -103,6 +103,27 @@ def test_bad_generator_and_material_keys_are_named():
         vs.Material.creep_spectrum([0.1, 1.0], [1e-7], glassy_modulus=1e7)
 
 
+@pytest.mark.parametrize(
+    "keys, message",
+    [
+        ({"anisotropy": {"ratio": float("nan"), "angle_deg": 0.0}}, "anisotropy.ratio must be finite, got nan"),
+        ({"anisotropy": {"ratio": 2.0, "angle_deg": np.float32("inf")}}, "anisotropy.angle_deg must be finite, got inf"),
+        ({"seed": 2**70}, "seed is out of the range of a 64-bit whole number"),
+        ({"length": 10**400}, "length is out of the range of a 64-bit whole number"),
+    ],
+)
+def test_generator_values_json_cannot_carry_are_named(keys, message):
+    args = {"n": 16, "length": 0.01, "hurst": 0.8, "scales": 4, "rms_slope": 0.02, **keys}
+    with pytest.raises(ValueError, match=message):
+        vs.Surface.generate(**args)
+
+
+def test_a_0d_array_is_a_generator_number():
+    args = {"n": 16, "hurst": 0.8, "scales": 4, "rms_slope": 0.02, "seed": 2}
+    a = vs.Surface.generate(length=np.array(0.01), **args)
+    assert np.array_equal(a.heights, vs.Surface.generate(length=0.01, **args).heights)
+
+
 def test_a_stretch_the_grid_cannot_hold_is_warned(rubber):
     """`anisotropy` beyond q1 / q_L along an axis leaves a ridged surface
     whatever the ratio: the surface is made and warned, and a solve on it

@@ -32,12 +32,22 @@ _WINDOW = "'none', 'hann' or 'blackman_harris'"
 
 
 def _plain(key: str, value: Any) -> Any:
-    """``value`` as JSON takes it: numpy scalars as Python numbers (a
-    ``np.int64`` count, a ``np.float32`` length), dicts and lists item by
-    item; anything else that is not a number, string or bool is a
-    TypeError naming ``key``."""
-    if isinstance(value, np.generic):
-        return value.item()
+    """``value`` as JSON takes it: numpy scalars (and 0-d arrays) as Python
+    numbers (a ``np.int64`` count, a ``np.float32`` length), dicts and
+    lists item by item; a number JSON cannot carry (NaN, inf, a whole
+    number beyond 64 bits) is a ValueError and anything else that is not a
+    number, string or bool a TypeError, naming ``key``
+    (``anisotropy.ratio``)."""
+    if isinstance(value, np.generic) or (isinstance(value, np.ndarray) and value.ndim == 0):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        raise ValueError(f"{key} must be finite, got {value}")
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > _checks.COUNT_MAX:
+        digits = len(str(abs(value)))
+        raise ValueError(
+            f"{key} is out of the range of a 64-bit whole number (magnitudes up to 2**63 - 1), "
+            f"got a whole number of {digits} digits"
+        )
     if isinstance(value, dict):
         return {k: _plain(f"{key}.{k}", v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
@@ -137,9 +147,6 @@ class Surface:
         warned about (``warnings.warn``), as ``viscoslide surface generate``
         and a solve on it warn."""
         section = {key: _plain(key, value) for key, value in _checks.drop_none(keys).items()}
-        for key, value in section.items():
-            if isinstance(value, float) and not math.isfinite(value):
-                raise ValueError(f"{key} must be finite, got {value}")
         if "psd" in section:
             section["psd"] = os.path.abspath(_checks.path("psd", section["psd"]))
         native = _native.Surface.generate(json.dumps(section), os.getcwd())
