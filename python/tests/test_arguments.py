@@ -234,6 +234,9 @@ def test_solve_config_refuses_bad_arguments(repo):
 def test_result_write_names_its_directory(small, rubber):
     result = vs.solve(small, rubber, speed=0.01, mean_pressure=3000.0, backend="cpu")
     refused(lambda: result.write(3), TypeError, "directory", "3")
+    refused(lambda: result.write(""), ValueError, "directory", "empty path")
+    refused(lambda: vs.Surface.from_file(""), ValueError, "path", "empty path")
+    refused(lambda: vs.solve_config(""), ValueError, "path", "empty path")
 
 
 def test_result_write_to_a_file_says_it_is_a_file(small, rubber, tmp_path):

@@ -173,9 +173,14 @@ def optional_flag(name: str, value: Any) -> Optional[bool]:
 
 
 def path(name: str, value: Any) -> str:
-    """A file system path (``str`` or ``os.PathLike``) as a string."""
+    """A file system path (``str`` or ``os.PathLike``) as a string; an
+    empty one (which names no file) is a ValueError."""
     if isinstance(value, (str, os.PathLike)):
-        return os.fspath(value)
+        text = os.fspath(value)
+        if isinstance(text, str):
+            if text == "":
+                raise ValueError(f"{name} is an empty path: give a file or directory name")
+            return text
     raise TypeError(f"{name} must be a path (str or os.PathLike), got {value!r}")
 
 
