@@ -171,6 +171,8 @@ def test_sweep_refuses_bad_arguments_before_any_solve(small, rubber, kwargs, kin
         (lambda s, m: vs.persson(s, m, True, mean_pressure=3000.0), ValueError, ("speeds", "True")),
         (lambda s, m: vs.persson(s, m, ["fast"], mean_pressure=3000.0), ValueError, ("speeds[0]", "'fast'")),
         (lambda s, m: vs.persson(s, m, [0.01], mean_pressure=NAN), ValueError, ("mean_pressure", "nan")),
+        (lambda s, m: vs.persson(s, m, [0.01]), ValueError, ("exactly one of normal_load (N) and mean_pressure (Pa)",)),
+        (lambda s, m: vs.persson(s, m, [0.01], normal_load=0.3, mean_pressure=3e3), ValueError, ("exactly one of normal_load",)),
         (lambda s, m: vs.persson(s, m, [0.01], mean_pressure=3e3, temperature=True), ValueError, ("temperature", "True")),
         (lambda s, m: vs.persson(s, m, [0.01], mean_pressure=3e3, window=5), TypeError, ("window", "5")),
         (lambda s, m: vs.persson(s, "rubber", [0.01], mean_pressure=3e3), TypeError, ("material", "str")),

@@ -373,6 +373,9 @@ def persson(
     _checks.flag("as_frame", as_frame)
     v = _axis("speeds", speeds)
     loading = _loading(0.0, None, normal_load, mean_pressure, None, None, temperature)
+    if ("normal_load" in loading) == ("mean_pressure" in loading):
+        # Named as this function's arguments (it takes no approach).
+        raise ValueError("give exactly one of normal_load (N) and mean_pressure (Pa)")
     mu, area, g, kind, sigma0, report, shift, warned, notes = _native.persson(
         surf._native, material._native, json.dumps(loading), v.tolist()
     )
