@@ -45,6 +45,14 @@ def test_sls_limits_and_shapes(rubber):
     assert np.ndim(rubber.complex_modulus(10.0)) == 0
 
 
+def test_complex_modulus_refuses_masked_frequencies(rubber):
+    w = np.ma.masked_array([1.0, 10.0, 100.0], mask=[False, True, False])
+    with pytest.raises(ValueError, match=r"omega has 1 masked value.*\(1,\)"):
+        rubber.complex_modulus(w)
+    unmasked = np.ma.masked_array([1.0, 10.0], mask=False)
+    assert np.array_equal(rubber.complex_modulus(unmasked), rubber.complex_modulus(np.array([1.0, 10.0])))
+
+
 def test_the_constructors_describe_one_material(rubber):
     (c, tau), = rubber.creep_spectrum_terms
     spectrum = vs.Material.creep_spectrum([tau], [c], glassy_modulus=1e7)
