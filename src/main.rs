@@ -6,7 +6,7 @@ fn main() -> std::process::ExitCode {
     match viscoslide::cli::run() {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", e.message());
             std::process::ExitCode::FAILURE
         }
     }

@@ -10,14 +10,15 @@ use pyo3::prelude::*;
 use viscoslide::problem::SolverError;
 use viscoslide::Error;
 
-/// A `ValueError` with the message of `e`.
+/// A `ValueError` with the message of `e` (numbers written out in full
+/// shown in scientific notation, [`Error::compact_numbers`]).
 pub fn value_error(e: impl std::fmt::Display) -> PyErr {
-    PyValueError::new_err(e.to_string())
+    PyValueError::new_err(Error::compact_numbers(&e.to_string()))
 }
 
 /// The Python exception for a library error.
 pub fn to_py(py: Python<'_>, e: Error) -> PyErr {
-    let message = e.to_string();
+    let message = e.message();
     match e {
         Error::Solver(SolverError::NoConvergence {
             iterations,

@@ -28,6 +28,16 @@ def test_configuration_errors(repo):
         vs.Surface.from_file(repo / "missing.x3p")
 
 
+def test_huge_values_read_as_scientific_in_the_engines_messages(pad, rubber):
+    """A value f64 writes out in full (1e300 as 301 digits) reads as
+    1e300 in the engine's ValueError naming it."""
+    for key, value in (("temperature", 1e300), ("tolerance", 1e300)):
+        with pytest.raises(ValueError) as info:
+            vs.solve(pad, rubber, xi=1.17e-2, normal_load=0.3, backend="cpu", **{key: value})
+        message = str(info.value)
+        assert "1e300" in message and len(message) < 250, message
+
+
 def test_a_toml_file_without_material_is_named(tmp_path):
     path = tmp_path / "loading.toml"
     path.write_text("[loading]\nspeed = 1.0\n")

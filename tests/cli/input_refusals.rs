@@ -236,3 +236,22 @@ fn set_numbers_out_of_range_are_named() {
         assert!(!String::from_utf8_lossy(&o.stderr).contains("invalid type"));
     }
 }
+
+/// A value so large or small that f64 writes it out in full (`1e300` as
+/// 301 digits) reads in scientific notation in the refusal naming it.
+#[test]
+fn huge_and_tiny_values_read_as_scientific_in_refusals() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), 0.01, "normal_load = 0.3\nxi = 1.17e-2");
+    for (set, shown) in [
+        ("loading.temperature=1e300", "temperature = 1e300 C"),
+        ("loading.temperature=-1e-300", "temperature = -1e-300 C"),
+        ("solver.tolerance=1e300", "got 1e300"),
+        ("material.poisson=1e308", "1e308 is outside"),
+    ] {
+        let o = solve(tmp.path(), &cfg, &[set]);
+        let line = last_line(&o);
+        assert_refused(&o, &[shown]);
+        assert!(line.len() < 250, "{set}: {} characters: {line}", line.len());
+    }
+}
