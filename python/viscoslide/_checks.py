@@ -121,21 +121,26 @@ def drop_none(d: dict) -> dict:
     return {k: v for k, v in d.items() if v is not None}
 
 
+def unmasked(name: str, value: Any, hint: str) -> Any:
+    """``value`` with a masked array's data in place of the array, where
+    nothing is masked; a masked point is a ValueError naming ``name``,
+    the count and the first, then ``hint`` (what to give instead)."""
+    if not isinstance(value, np.ma.MaskedArray):
+        return value
+    mask = np.ma.getmaskarray(value)
+    if mask.any():
+        first = tuple(int(i) for i in np.argwhere(mask)[0])
+        raise ValueError(f"{name} has {int(np.count_nonzero(mask))} masked value(s), the first at index {first}{hint}")
+    return np.ma.getdata(value)
+
+
 def reals(name: str, value: Any) -> list:
     """A number or a 1-D sequence of numbers (a list, tuple, array, range
     or any other iterable such as a generator) as a list of finite floats;
     a boolean, a string or a non-finite value is refused, named by its
     position (``q1[0] must be finite, got nan``), and so are a set or a
     dict (no order) and masked values."""
-    if isinstance(value, np.ma.MaskedArray):
-        mask = np.ma.getmaskarray(value)
-        if mask.any():
-            first = tuple(int(i) for i in np.argwhere(mask)[0])
-            raise ValueError(
-                f"{name} has {int(np.count_nonzero(mask))} masked value(s), the first at index {first}: "
-                "give only the values to use (.compressed())"
-            )
-        value = np.ma.getdata(value)
+    value = unmasked(name, value, ": give only the values to use (.compressed())")
     if isinstance(value, (set, frozenset, Mapping)):
         raise ValueError(
             f"{name} must be a number or a 1-D sequence of numbers (a list or an array), got a {type(value).__name__}"

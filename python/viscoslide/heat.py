@@ -16,15 +16,9 @@ def _flux(value: Any) -> np.ndarray:
     """``value`` as a C-contiguous float64 2-D array of finite values; a
     masked array's masked points are refused as such (a flux has no
     missing cells: 0 where no heat enters)."""
-    if isinstance(value, np.ma.MaskedArray):
-        mask = np.ma.getmaskarray(value)
-        if mask.any():
-            first = tuple(int(i) for i in np.argwhere(mask)[0])
-            raise ValueError(
-                f"flux has {int(np.count_nonzero(mask))} masked value(s), the first at index {first}; "
-                "a flux has a value in every cell: fill them (flux.filled(0.0) where no heat enters)"
-            )
-        value = np.ma.getdata(value)
+    value = _checks.unmasked(
+        "flux", value, "; a flux has a value in every cell: fill them (flux.filled(0.0) where no heat enters)"
+    )
     try:
         arr = np.asarray(value)
     except Exception as e:  # ragged lists and the like

@@ -262,12 +262,7 @@ class Material:
         """``E(w) = E1 + i E2`` [Pa] at angular frequencies ``omega`` [rad/s]
         (a scalar or an array of any shape; the result has its shape). A
         masked point has no frequency: masked values are refused."""
-        if isinstance(omega, np.ma.MaskedArray) and np.ma.count_masked(omega):
-            first = tuple(int(i) for i in np.argwhere(np.ma.getmaskarray(omega))[0])
-            raise ValueError(
-                f"omega has {int(np.ma.count_masked(omega))} masked value(s), the first at index {first}: "
-                "give only the frequencies to evaluate (.compressed())"
-            )
+        omega = _checks.unmasked("omega", omega, ": give only the frequencies to evaluate (.compressed())")
         w = np.asarray(omega)
         flat = _checks.real_array("omega", w.reshape(-1), 1)
         return _native.Material.complex_modulus(self._native, flat).reshape(w.shape)
