@@ -34,7 +34,7 @@ pub enum Error {
     #[error(transparent)]
     Persson(#[from] crate::persson::PerssonError),
     #[error(transparent)]
-    Heat(#[from] crate::heat::HeatError),
+    Heat(crate::heat::HeatError),
     #[error("{context}: {source}")]
     Io {
         context: String,
@@ -136,6 +136,19 @@ fn compact_numbers(text: &str) -> String {
     }
     out.push_str(&text[copied..]);
     out
+}
+
+impl From<crate::heat::HeatError> for Error {
+    /// A heat source given up on request is the solve's cancellation, as
+    /// the caller that asked for it sees every other stop.
+    fn from(e: crate::heat::HeatError) -> Self {
+        match e {
+            crate::heat::HeatError::Cancelled => {
+                Error::Solver(crate::solver::SolverError::Cancelled)
+            }
+            other => Error::Heat(other),
+        }
+    }
 }
 
 impl From<crate::analysis::AnalysisError> for Error {

@@ -5,12 +5,11 @@
 
 use std::path::PathBuf;
 
-use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use viscoslide::config;
 use viscoslide::magnification::{run, MagnificationParams, Study, StudyObserver};
+use viscoslide::problem::Observer;
 use viscoslide::problem::{Executor, Problem};
-use viscoslide::problem::{Observer, SolverError};
 use viscoslide::sweep::Shard;
 use viscoslide::Error;
 
@@ -63,13 +62,5 @@ pub fn magnification(
         let done = run(&study, &executor, out.as_deref(), shard, &mut observer)?;
         Ok(done.report.map(|r| r.to_json().to_string()))
     });
-    match outcome {
-        Ok(json) => Ok(json),
-        Err(Error::Solver(SolverError::Cancelled)) => Err(observer
-            .0
-            .error
-            .take()
-            .unwrap_or_else(|| PyKeyboardInterrupt::new_err("study cancelled"))),
-        Err(e) => Err(to_py(py, e)),
-    }
+    outcome.map_err(|e| observer.0.exception(py, e, "study"))
 }

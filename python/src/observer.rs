@@ -7,9 +7,13 @@
 
 use std::time::{Duration, Instant};
 
+use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use viscoslide::problem::Observer;
+use viscoslide::problem::{Observer, SolverError};
+use viscoslide::Error;
+
+use crate::errors::to_py;
 
 /// How often the signal handlers run during a solve.
 pub const POLL: Duration = Duration::from_millis(50);
@@ -34,6 +38,21 @@ impl PyObserver {
             stage: None,
             last_poll: Instant::now(),
             error: None,
+        }
+    }
+}
+
+impl PyObserver {
+    /// The Python exception for `e`, the failure of the work (`what`) this
+    /// observer watched: a cancellation raises the exception that asked for
+    /// it (a `KeyboardInterrupt`, or the callable's own).
+    pub fn exception(&mut self, py: Python<'_>, e: Error, what: &str) -> PyErr {
+        match e {
+            Error::Solver(SolverError::Cancelled) => self
+                .error
+                .take()
+                .unwrap_or_else(|| PyKeyboardInterrupt::new_err(format!("{what} cancelled"))),
+            e => to_py(py, e),
         }
     }
 }

@@ -6,13 +6,11 @@
 use std::path::PathBuf;
 
 use numpy::{IntoPyArray, PyArray2, PyArrayMethods};
-use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use viscoslide::config::Formulation;
-use viscoslide::heat::{Conduction, DepthRule, HeatError, SourceKind};
+use viscoslide::heat::{Conduction, DepthRule, SourceKind};
 use viscoslide::heating::HeatedSolution;
 use viscoslide::problem::{AnalysisReport, Observer, Problem, Solution};
-use viscoslide::Error;
 
 use crate::errors::{to_py, value_error};
 use crate::observer::PyObserver;
@@ -246,13 +244,7 @@ impl NativeResult {
                     &mut || observer.cancelled(),
                 )
             })
-            .map_err(|e| match e {
-                Error::Heat(HeatError::Cancelled) => observer
-                    .error
-                    .take()
-                    .unwrap_or_else(|| PyKeyboardInterrupt::new_err("heat cancelled")),
-                e => to_py(py, e),
-            })?;
+            .map_err(|e| observer.exception(py, e, "heat"))?;
         let report = serde_json::to_string(&heat.report()).unwrap_or_default();
         Ok((report, self.field(py, &heat.temperature.rise)?))
     }

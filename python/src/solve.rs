@@ -8,12 +8,10 @@
 
 use std::path::PathBuf;
 
-use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use viscoslide::config;
 use viscoslide::heating::{solve_heated, HeatingParams};
 use viscoslide::problem::BackendChoice;
-use viscoslide::problem::SolverError;
 use viscoslide::problem::{Executor, Problem};
 use viscoslide::Error;
 
@@ -72,14 +70,7 @@ pub(crate) fn run(
             backend_line,
         })
     });
-    match outcome {
-        Ok(result) => Ok(result),
-        Err(Error::Solver(SolverError::Cancelled)) => Err(observer
-            .error
-            .take()
-            .unwrap_or_else(|| PyKeyboardInterrupt::new_err("solve cancelled"))),
-        Err(e) => Err(to_py(py, e)),
-    }
+    outcome.map_err(|e| observer.exception(py, e, "solve"))
 }
 
 /// Solve `surface` under `material` with the `[loading]`, `[solver]` and

@@ -490,7 +490,7 @@ fn along_sliding(problem: &Problem) -> f64 {
 /// A heat problem's refusal in one line; its cancellation is the solve's.
 fn heat_error(e: crate::heat::HeatError) -> Error {
     match e {
-        crate::heat::HeatError::Cancelled => SolverError::Cancelled.into(),
+        e @ crate::heat::HeatError::Cancelled => e.into(),
         e => Error::Invalid(e.to_string()),
     }
 }

@@ -65,8 +65,8 @@ impl ContactHeating {
     /// (speed 0) nothing is dissipated: every rise is zero, with a note
     /// saying so. On a layer, a note where the heat reaches deep into it
     /// (the heat problem is a half-space). `stop` is asked between the
-    /// volume source's depth nodes: `true` gives up with
-    /// [`crate::heat::HeatError::Cancelled`].
+    /// volume source's depth nodes: `true` gives up with the solve's
+    /// cancellation ([`crate::solver::SolverError::Cancelled`]).
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         pressure: &[f64],
