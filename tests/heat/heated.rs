@@ -30,14 +30,23 @@ fn heated(text: &str, sets: &[&str]) -> (Problem, HeatingParams, HeatedSolution)
     heated_config(&cfg)
 }
 
+/// The problem of a loaded configuration and its `[heating]` section read
+/// at the ambient temperature `ambient` \[C\].
+fn heating_at(
+    cfg: &LoadedConfig,
+    ambient: Option<f64>,
+) -> (Problem, viscoslide::Result<Option<HeatingParams>>) {
+    let problem = Problem::from_config(cfg).unwrap();
+    let params =
+        HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, ambient);
+    (problem, params)
+}
+
 /// The heated solve of a loaded configuration on the CPU.
 fn heated_config(cfg: &LoadedConfig) -> (Problem, HeatingParams, HeatedSolution) {
-    let problem = Problem::from_config(cfg).unwrap();
     let ambient = cfg.config.loading.as_ref().and_then(|l| l.temperature);
-    let params =
-        HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, ambient)
-            .unwrap()
-            .expect("heating enabled");
+    let (problem, params) = heating_at(cfg, ambient);
+    let params = params.unwrap().expect("heating enabled");
     let h = solve_heated(&problem, &params, &Executor::Cpu, &mut Silent).unwrap();
     (problem, params, h)
 }
@@ -217,11 +226,7 @@ fn heating_is_refused_without_what_it_needs() {
     ];
     for (sets, key) in cases {
         let (_dir, cfg) = load(PERIODIC, sets);
-        let problem = Problem::from_config(&cfg).unwrap();
-        let e =
-            HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(17.0))
-                .unwrap_err()
-                .to_string();
+        let e = heating_at(&cfg, Some(17.0)).1.unwrap_err().to_string();
         assert!(e.contains(key) && !e.contains('\n'), "{sets:?}: {e}");
     }
     // No ambient temperature, no WLF constants.
@@ -259,21 +264,12 @@ fn heating_is_refused_without_what_it_needs() {
         ),
     ] {
         let (_dir, cfg) = load(text, &sets);
-        let problem = Problem::from_config(&cfg).unwrap();
-        let e =
-            HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(17.0))
-                .unwrap_err()
-                .to_string();
+        let e = heating_at(&cfg, Some(17.0)).1.unwrap_err().to_string();
         assert!(e.contains(key) && !e.contains('\n'), "{sets:?}: {e}");
     }
     // `enabled = false` is the isothermal solve.
     let (_dir, cfg) = load(PERIODIC, &["heating.enabled=false"]);
-    let problem = Problem::from_config(&cfg).unwrap();
-    assert!(
-        HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(17.0))
-            .unwrap()
-            .is_none()
-    );
+    assert!(heating_at(&cfg, Some(17.0)).1.unwrap().is_none());
     // ... whose keys are still checked: a wrong value is refused, naming
     // it, not carried unnoticed to the points that enable it.
     let disabled: &[(&[&str], &str)] = &[
@@ -293,11 +289,7 @@ fn heating_is_refused_without_what_it_needs() {
             .chain(["heating.enabled=false"])
             .collect();
         let (_dir, cfg) = load(PERIODIC, &sets);
-        let problem = Problem::from_config(&cfg).unwrap();
-        let e =
-            HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(17.0))
-                .unwrap_err()
-                .to_string();
+        let e = heating_at(&cfg, Some(17.0)).1.unwrap_err().to_string();
         assert!(e.contains(key) && !e.contains('\n'), "{sets:?}: {e}");
     }
     // What only the heated solve needs is not asked of a disabled section
@@ -318,11 +310,8 @@ fn heating_is_refused_without_what_it_needs() {
 #[test]
 fn a_bracket_too_tall_to_scan_is_refused_naming_max_rise() {
     let (_dir, cfg) = load(PERIODIC, &["heating.max_rise=1e300"]);
-    let problem = Problem::from_config(&cfg).unwrap();
-    let params =
-        HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(17.0))
-            .unwrap()
-            .unwrap();
+    let (problem, params) = heating_at(&cfg, Some(17.0));
+    let params = params.unwrap().unwrap();
     let e = solve_heated(&problem, &params, &Executor::Cpu, &mut Silent)
         .unwrap_err()
         .to_string();
@@ -714,11 +703,8 @@ fn a_hot_branch_above_the_bracket_is_warned_of_and_refused() {
         cold.solution.warnings
     );
     let cfg = glassy_and_fast(90.0, "heating.branch=\"hot\"");
-    let problem = Problem::from_config(&cfg).unwrap();
-    let params =
-        HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(0.0))
-            .unwrap()
-            .expect("heating enabled");
+    let (problem, params) = heating_at(&cfg, Some(0.0));
+    let params = params.unwrap().expect("heating enabled");
     let e = solve_heated(&problem, &params, &Executor::Cpu, &mut Silent)
         .unwrap_err()
         .to_string();
@@ -997,11 +983,8 @@ impl viscoslide::problem::Observer for Recorder {
 #[test]
 fn the_heated_solve_names_its_stages_and_stops_inside_the_heat_source() {
     let (_dir, cfg) = load(PERIODIC, &[]);
-    let problem = Problem::from_config(&cfg).unwrap();
-    let params =
-        HeatingParams::from_config(cfg.config.heating.as_ref().unwrap(), &problem, Some(17.0))
-            .unwrap()
-            .unwrap();
+    let (problem, params) = heating_at(&cfg, Some(17.0));
+    let params = params.unwrap().unwrap();
     let mut seen = Recorder::default();
     let h = solve_heated(&problem, &params, &Executor::Cpu, &mut seen).unwrap();
     let evaluations = h.report.fixed_point_evaluations;
