@@ -97,16 +97,17 @@ impl HeatingParams {
             ));
         }
         let block_length = positive("block_length", cfg.block_length, "m")?;
-        let source = match cfg.source.as_deref() {
-            None => None,
-            Some("volume") => Some(SourceKind::Volume),
-            Some("surface") => Some(SourceKind::Surface),
-            Some(other) => {
-                return Err(invalid(format!(
-                    "[heating] source = \"{other}\": expected \"volume\" or \"surface\""
-                )))
-            }
-        };
+        let source = cfg
+            .source
+            .as_deref()
+            .map(|name| {
+                name.parse::<SourceKind>().map_err(|_| {
+                    invalid(format!(
+                        "[heating] source = \"{name}\": expected \"volume\" or \"surface\""
+                    ))
+                })
+            })
+            .transpose()?;
         match cfg.closure.as_deref().unwrap_or("effective") {
             "effective" => {}
             other => {
