@@ -117,8 +117,11 @@ impl Solution {
             fields,
             info,
             stats,
-            friction_coefficient,
-            friction_coefficient_dissipation,
+            // `+ 0.0` turns a negative zero (an elastic material's sum of
+            // zeros with a minus sign) into zero, which the outputs print
+            // as `0`, not `-0`.
+            friction_coefficient: friction_coefficient + 0.0,
+            friction_coefficient_dissipation: friction_coefficient_dissipation + 0.0,
             backend,
             timings,
             unknowns,

@@ -234,6 +234,25 @@ fn absurd_slopes_and_elastic_spectra_are_warned() {
         "{:?}",
         warnings(tmp.path())
     );
+    // Its friction is zero by both routes, never a negative zero (the
+    // periodic dissipation route printed `-0.000000e0` and wrote `-0.0`).
+    for formulation in ["non_periodic", "periodic"] {
+        let set = format!("solver.formulation=\"{formulation}\"");
+        let o = solve(tmp.path(), &cfg, &[&set]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert!(!stdout.contains("-0.000000e0"), "{formulation}: {stdout}");
+        let text = std::fs::read_to_string(tmp.path().join("out/summary.json")).unwrap();
+        let summary: serde_json::Value = serde_json::from_str(&text).unwrap();
+        for key in ["friction_coefficient", "friction_coefficient_dissipation"] {
+            let mu = summary[key].as_f64().unwrap();
+            let negative_zero = mu == 0.0 && mu.is_sign_negative();
+            assert!(
+                !negative_zero && mu.abs() < 1e-15,
+                "{formulation}: {key} = {mu}"
+            );
+        }
+    }
 }
 
 /// A layer of 6.4e-9 of a cell grew to 24 GB before; now one line at once,
