@@ -76,8 +76,16 @@ pub fn run(args: SolveArgs) -> Result<()> {
         }
     };
     if let Some(h) = &heated {
+        // The scan grid's solves are counted beside the full grid's: they
+        // are most of the solves, though not of the time.
+        let scan = match h.coarse_grid {
+            Some([cx, cy]) if h.coarse_evaluations > 0 => {
+                format!(" and {} on the {cx} x {cy} scan grid", h.coarse_evaluations)
+            }
+            _ => String::new(),
+        };
         println!(
-            "heated: effective temperature {:.4} C (T0 = {} C, rise {:.4e} K, peak surface rise {:.4e} K), {} branch of {} found, {} isothermal solves; friction at T0 without heating {:.6e}; {:.2} s ({:.2} s solves, {:.2} s heat)",
+            "heated: effective temperature {:.4} C (T0 = {} C, rise {:.4e} K, peak surface rise {:.4e} K), {} branch of {} found, {} isothermal solves{scan}; friction at T0 without heating {:.6e}; {:.2} s ({:.2} s solves, {:.2} s heat)",
             h.effective_temperature,
             h.ambient_temperature,
             h.temperature_rise.effective,

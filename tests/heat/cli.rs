@@ -619,3 +619,50 @@ fn a_heated_solves_directory_is_not_written_over() {
     }
     assert!(Path::new(&cold).join("heat.json").exists());
 }
+
+/// The console line of a heated solve counts the scan grid's isothermal
+/// solves beside the full grid's (it said "2 isothermal solves" where ten
+/// more had run on the scan grid), and names no scan grid where there is
+/// none (a grid too small for one).
+#[test]
+fn a_heated_solve_counts_its_scan_grids_solves() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("hot.toml");
+    std::fs::write(&cfg, crate::common::heating::HEATED_CELL).unwrap();
+    for n in [32, 128] {
+        let out = dir.path().join(format!("n{n}"));
+        let set = format!("surface.generate.n={n}");
+        let o = viscoslide(&[
+            "solve",
+            cfg.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "--set",
+            &set,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with("heated: effective temperature"))
+            .unwrap_or_else(|| panic!("{stdout}"));
+        let h = &json(&out.join("summary.json"))["heating"];
+        let full = h["fixed_point_evaluations"].as_u64().unwrap();
+        let solves = format!(", {full} isothermal solves");
+        match h["coarse_grid"].as_array() {
+            Some(grid) => {
+                let scan = format!(
+                    "{solves} and {} on the {} x {} scan grid;",
+                    h["coarse_evaluations"], grid[0], grid[1]
+                );
+                assert!(n == 128 && line.contains(&scan), "{line}\n{scan}");
+            }
+            None => {
+                assert!(n == 32 && line.contains(&format!("{solves};")), "{line}");
+                assert!(!line.contains("scan grid"), "{line}");
+            }
+        }
+    }
+}
