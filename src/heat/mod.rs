@@ -18,6 +18,8 @@
 //! - `modes.rs`: `m(k)`, the closed-form layer integrals.
 //! - `periodic.rs`: one period of a periodic cell: the multiplier
 //!   `1 / (lam m)`, depth maps and volume sources mode by mode.
+//! - `sweep.rs`: one mode's rises at a volume source's layers, in one
+//!   sweep down and one up.
 //! - `background.rs`: the block's background heating, the periodic cell's
 //!   mean.
 //! - `layers.rs`: depth layers of a volume source.
@@ -40,6 +42,7 @@ mod periodic;
 mod setup;
 mod solve;
 mod source;
+mod sweep;
 
 pub use error::HeatError;
 pub(crate) use layers::DepthLadder;

@@ -21,8 +21,9 @@ use rayon::prelude::*;
 
 use super::error::HeatError;
 use super::layers::{DepthLadder, DepthLayers};
-use super::modes::{exp_phi1, layer_integral, Modes};
+use super::modes::{layer_integral, Modes};
 use super::setup::HeatSetup;
+use super::sweep::{Sweep, SweepLayers};
 use crate::operator::{column_weight, SpectralEngine};
 use crate::surface::height_fft::{self, ReducedInverse};
 
@@ -211,16 +212,9 @@ impl PeriodicPlan {
     /// mode without a depth map (module docs; discrete Parseval,
     /// `sum_x a b = (1 / N) sum_k conj(A) B` over the full spectrum).
     ///
-    /// For each mode, with `E_l = h_l phi1(m h_l) Q_l` (layer `l`'s
-    /// integral) and `e_l = exp(-m h_l / 2)`, [`super::modes::layer_integral`]
-    /// summed over the layers is, at `z_l`: the image `exp(-m z_l) I`, `I =
-    /// sum_l' exp(-m a_l') E_l'`; the layers above, `e_l` times `A_l = sum_{l'
-    /// < l} exp(-m (a_l - b_l')) E_l'`; those below, `e_l` times `B_l =
-    /// sum_{l' > l} exp(-m (a_l' - b_l)) E_l'`; its own layer, `h_l phi1(m
-    /// h_l / 2) Q_l`; at the surface `2 I`. `A` and `B` follow from one
-    /// sweep down and one up (`A_{l+1} = E_l + exp(-m h_l) A_l`), every
-    /// exponent with a non-negative real part: `O(L)` per mode for `L`
-    /// layers, where the depth maps take `O(L^2)` closed forms.
+    /// Each mode's rises at the layers' middles come from one sweep down
+    /// and one up (`sweep.rs`): `O(L)` per mode for `L` layers, where the
+    /// depth maps take `O(L^2)` closed forms.
     ///
     /// With `extremes`, also the mean and the highest value of the rise
     /// about the mean \[K\] at the surface and at each layer's middle: the
@@ -239,6 +233,7 @@ impl PeriodicPlan {
         let nh = height_fft::half_len(ny);
         let mut specs = self.layer_spectra(source)?;
         let bounds: Vec<(f64, f64)> = layers.iter().collect();
+        let sweep_layers = SweepLayers::new(&bounds);
         let modes = &self.modes;
         let mut surface = vec![Complex64::default(); nh * nx];
         // Row `j` of every layer's spectrum, side by side.
@@ -254,22 +249,23 @@ impl PeriodicPlan {
             .zip(surface.par_chunks_mut(nx))
             .enumerate()
             .map_init(
-                || Scan::new(bounds.len()),
-                |scan, (j, (layer_rows, top))| {
+                || Sweep::new(bounds.len()),
+                |sweep, (j, (layer_rows, top))| {
                     let weight = column_weight(j, ny);
                     let mut sums = vec![0.0; layer_count];
                     for (i, out) in top.iter_mut().enumerate() {
-                        scan.q
+                        sweep
+                            .q
                             .iter_mut()
                             .zip(layer_rows.iter())
                             .for_each(|(q, r)| *q = r[i]);
                         // The Nyquist average of the mode's multiplier: the
                         // rises are linear in it.
                         let mut variants = 0.0;
-                        scan.clear();
+                        sweep.clear();
                         let found = modes.average(i, j, |m| {
                             variants += 1.0;
-                            scan.add(m, &bounds, lam)
+                            sweep.add(m, &sweep_layers, lam)
                         });
                         let Some(t) = found else {
                             if extremes {
@@ -282,12 +278,12 @@ impl PeriodicPlan {
                         *out = t;
                         let share = weight / variants;
                         for (((s, r), q), (a, b)) in
-                            sums.iter_mut().zip(&scan.rise).zip(&scan.q).zip(&bounds)
+                            sums.iter_mut().zip(&sweep.rise).zip(&sweep.q).zip(&bounds)
                         {
                             *s += share * (b - a) * (q.conj() * r).re;
                         }
                         if extremes {
-                            for (r, rise) in layer_rows.iter_mut().zip(&scan.rise) {
+                            for (r, rise) in layer_rows.iter_mut().zip(&sweep.rise) {
                                 r[i] = rise / variants;
                             }
                         }
@@ -430,73 +426,4 @@ pub(crate) struct VolumeScan {
     pub surface: Vec<f64>,
     pub by_layer: Vec<f64>,
     pub extremes: Option<Vec<(f64, f64)>>,
-}
-
-/// One mode's sweep over the layers ([`PeriodicPlan::volume_scan`]):
-/// the layers' coefficients `q`, the rises at their middles summed over the
-/// Nyquist variants, and scratch.
-struct Scan {
-    q: Vec<Complex64>,
-    rise: Vec<Complex64>,
-    whole: Vec<Complex64>,
-    half: Vec<Complex64>,
-    above: Vec<Complex64>,
-}
-
-impl Scan {
-    fn new(layers: usize) -> Self {
-        let zero = vec![Complex64::default(); layers];
-        Self {
-            q: zero.clone(),
-            rise: zero.clone(),
-            whole: zero.clone(),
-            half: zero.clone(),
-            above: zero,
-        }
-    }
-
-    fn clear(&mut self) {
-        self.rise.iter_mut().for_each(|r| *r = Complex64::default());
-    }
-
-    /// Add the rises at the layers' middles under `m`; return the surface
-    /// rise.
-    fn add(&mut self, m: Complex64, bounds: &[(f64, f64)], lam: f64) -> Complex64 {
-        let scale = m.inv() / (2.0 * lam);
-        // E_l, e_l and the sweep down: A_l, and I.
-        let (mut a, mut image, mut depth) = (
-            Complex64::default(),
-            Complex64::default(),
-            Complex64::new(1.0, 0.0),
-        );
-        for (l, &(top, bottom)) in bounds.iter().enumerate() {
-            let h = bottom - top;
-            let w = m * (0.5 * h);
-            let (e, p) = exp_phi1(w);
-            // phi1(2 w) = phi1(w) (1 + exp(-w)) / 2.
-            self.whole[l] = h * p * (1.0 + e) * 0.5 * self.q[l];
-            self.half[l] = e;
-            self.above[l] = a;
-            // `depth` = exp(-m a_l).
-            image += depth * self.whole[l];
-            self.rise[l] += scale * (h * p * self.q[l]);
-            a = self.whole[l] + e * e * a;
-            depth *= e * e;
-        }
-        // The layers above and the image at exp(-m z_l) = exp(-m a_l) e_l;
-        // then the sweep up: B_l.
-        let mut below = Complex64::default();
-        let mut tops = Complex64::new(1.0, 0.0);
-        for l in 0..bounds.len() {
-            let e = self.half[l];
-            self.rise[l] += scale * (e * (self.above[l] + tops * image));
-            tops *= e * e;
-        }
-        for l in (0..bounds.len()).rev() {
-            let e = self.half[l];
-            self.rise[l] += scale * (e * below);
-            below = self.whole[l] + e * e * below;
-        }
-        2.0 * scale * image
-    }
 }
