@@ -216,16 +216,16 @@ impl PeriodicPlan {
     /// and one up (`sweep.rs`): `O(L)` per mode for `L` layers, where the
     /// depth maps take `O(L^2)` closed forms.
     ///
-    /// With `extremes`, also the mean and the highest value of the rise
-    /// about the mean \[K\] at the surface and at each layer's middle: the
-    /// maps of [`PeriodicPlan::volume`] at those depths, reduced as they
-    /// are transformed back ([`ReducedInverse`]), each mode's rises at all
-    /// of them from the same sweep, written over the layers' spectra.
+    /// With `keep`, also the spectra of the rise about the mean at the
+    /// surface and at each layer's middle, each mode's rises at all of
+    /// them from the same sweep, written over the layers' spectra: their
+    /// extremes ([`PeriodicPlan::extremes`]) are the depth profile, which
+    /// the caller may want only once it knows the weighted rise.
     pub fn volume_scan(
         &self,
         layers: &DepthLayers,
         source: &[f64],
-        extremes: bool,
+        keep: bool,
     ) -> Result<VolumeScan, HeatError> {
         let lam = self.conductivity;
         let (nx, ny) = (self.modes.nx, self.modes.ny);
@@ -268,7 +268,7 @@ impl PeriodicPlan {
                             sweep.add(m, &sweep_layers, lam)
                         });
                         let Some(t) = found else {
-                            if extremes {
+                            if keep {
                                 layer_rows
                                     .iter_mut()
                                     .for_each(|r| r[i] = Complex64::default());
@@ -282,7 +282,7 @@ impl PeriodicPlan {
                         {
                             *s += share * (b - a) * (q.conj() * r).re;
                         }
-                        if extremes {
+                        if keep {
                             for (r, rise) in layer_rows.iter_mut().zip(&sweep.rise) {
                                 r[i] = rise / variants;
                             }
@@ -298,32 +298,40 @@ impl PeriodicPlan {
             by_layer.iter_mut().zip(sums).for_each(|(t, s)| *t += s);
         }
         by_layer.iter_mut().for_each(|t| *t /= n as f64);
-        let extremes = if extremes {
-            let scale = 1.0 / n as f64;
-            let mut inverse = ReducedInverse::new(nx, ny);
-            let mut none = vec![(); nh * nx];
-            let rows = std::iter::once(&surface)
-                .chain(&specs)
-                .map(|spec| {
-                    let (sum, max) = inverse
-                        .sum_and_max(&mut none, |j, _, row| {
-                            row.copy_from_slice(&spec[j * nx..(j + 1) * nx]);
-                            true
-                        })
-                        .map_err(|e| HeatError::Transform(e.to_string()))?;
-                    Ok((sum * scale / n as f64, max * scale))
-                })
-                .collect::<Result<Vec<_>, HeatError>>()?;
-            Some(rows)
-        } else {
-            None
-        };
-        drop(specs);
+        let rises = keep.then(|| LayerRises {
+            surface: surface.clone(),
+            layers: specs,
+        });
         Ok(VolumeScan {
             surface: self.inverse(surface)?,
             by_layer,
-            extremes,
+            rises,
         })
+    }
+
+    /// The mean and the highest value of the rise about the mean \[K\] at
+    /// the surface and at each layer's middle from the spectra
+    /// [`PeriodicPlan::volume_scan`] kept: the maps of
+    /// [`PeriodicPlan::volume`] at those depths, reduced as they are
+    /// transformed back ([`ReducedInverse`]).
+    pub fn extremes(&self, rises: &LayerRises) -> Result<Vec<(f64, f64)>, HeatError> {
+        let (nx, ny) = (self.modes.nx, self.modes.ny);
+        let n = nx * ny;
+        let scale = 1.0 / n as f64;
+        let mut inverse = ReducedInverse::new(nx, ny);
+        let mut none = vec![(); height_fft::half_len(ny) * nx];
+        std::iter::once(&rises.surface)
+            .chain(&rises.layers)
+            .map(|spec| {
+                let (sum, max) = inverse
+                    .sum_and_max(&mut none, |j, _, row| {
+                        row.copy_from_slice(&spec[j * nx..(j + 1) * nx]);
+                        true
+                    })
+                    .map_err(|e| HeatError::Transform(e.to_string()))?;
+                Ok((sum * scale / n as f64, max * scale))
+            })
+            .collect()
     }
 
     fn forward(&self, values: &[f64]) -> Result<Vec<Complex64>, HeatError> {
@@ -420,10 +428,17 @@ fn half_spectrum(modes: &Modes, f: impl Fn(Complex64) -> Complex64 + Sync) -> Ve
 
 /// What [`PeriodicPlan::volume_scan`] gives: the surface rise about the
 /// mean \[K\], each layer's term `h_l sum_cells theta(z_l) Q_l` of the
-/// weighted sum, and (when asked) the mean and highest rise about the mean
-/// at the surface and at each layer's middle.
+/// weighted sum, and (when asked to keep them) the spectra of the rise at
+/// the surface and at each layer's middle, for [`PeriodicPlan::extremes`].
 pub(crate) struct VolumeScan {
     pub surface: Vec<f64>,
     pub by_layer: Vec<f64>,
-    pub extremes: Option<Vec<(f64, f64)>>,
+    pub rises: Option<LayerRises>,
+}
+
+/// The half spectra of the rise about the mean at the surface and at each
+/// layer's middle ([`PeriodicPlan::volume_scan`]).
+pub(crate) struct LayerRises {
+    surface: Vec<Complex64>,
+    layers: Vec<Vec<Complex64>>,
 }

@@ -206,7 +206,8 @@ impl HeatSolver {
         self.volume_checks(layers, source)?;
         let (p, background) = self.volume_plan(layers, source)?;
         let scan = p.volume_scan(layers, source, true)?;
-        Ok(profile_rows(&background, scan.extremes.unwrap_or_default()))
+        let rises = scan.rises.expect("the rises were kept");
+        Ok(profile_rows(&background, p.extremes(&rises)?))
     }
 
     /// The periodic plan a volume source is solved on (a pad refused) and
@@ -269,18 +270,21 @@ impl HeatSolver {
     /// the same sum as from [`HeatSolver::volume`]'s maps at the layers'
     /// middles, to round-off.
     pub fn under(&mut self, source: &HeatSource) -> Result<(Temperature, f64), HeatError> {
-        let under = self.under_with(source, false)?;
+        let under = self.under_with(source, None)?;
         Ok((under.temperature, under.weighted))
     }
 
     /// [`HeatSolver::under`] and, for a volume source, each layer's share
-    /// of the weighted rise and of the power, and when `profile` the rows
-    /// of [`HeatSolver::volume_extremes`] from the same sweep over the
-    /// modes (a surface flux's profile is [`HeatSolver::surface_extremes`]).
+    /// of the weighted rise and of the power, and where `profile` is given
+    /// and holds for the weighted rise \[K\], the rows of
+    /// [`HeatSolver::volume_extremes`] from the same sweep over the modes
+    /// (a surface flux's profile is [`HeatSolver::surface_extremes`]): the
+    /// heated solve wants the profile of its answer only, which it knows
+    /// by the weighted rise.
     pub(crate) fn under_with(
         &mut self,
         source: &HeatSource,
-        profile: bool,
+        profile: Option<&dyn Fn(f64) -> bool>,
     ) -> Result<Under, HeatError> {
         match source {
             HeatSource::Surface { flux } => {
@@ -298,9 +302,8 @@ impl HeatSolver {
             HeatSource::Volume { layers, density } => {
                 self.volume_checks(layers, density)?;
                 let (p, background) = self.volume_plan(layers, density)?;
-                let scan = p.volume_scan(layers, density, profile)?;
+                let scan = p.volume_scan(layers, density, profile.is_some())?;
                 let mut rise = scan.surface;
-                let rows = scan.extremes.map(|e| profile_rows(&background, e));
                 let surface = background.at(0.0);
                 add(&mut rise, surface);
                 check_rise(&rise, self.shape().1)?;
@@ -319,12 +322,19 @@ impl HeatSolver {
                     .collect();
                 let weighted: f64 = by_layer.iter().map(|l| l.0).sum();
                 let total: f64 = by_layer.iter().map(|l| l.1).sum();
+                let weighted = finite_weighted(weighted / positive_total(total)?)?;
+                let rows = match (profile, scan.rises) {
+                    (Some(wanted), Some(rises)) if wanted(weighted) => {
+                        Some(profile_rows(&background, p.extremes(&rises)?))
+                    }
+                    _ => None,
+                };
                 Ok(Under {
                     temperature: Temperature {
                         rise,
                         background: surface,
                     },
-                    weighted: finite_weighted(weighted / positive_total(total)?)?,
+                    weighted,
                     profile: rows,
                     layers: Some(by_layer),
                 })

@@ -126,7 +126,7 @@ pub fn solve_heated(
                 &rule,
                 t,
                 last_coarse.as_ref().filter(|_| warm_starts),
-                false,
+                None,
                 executor,
                 observer,
             )?;
@@ -138,6 +138,9 @@ pub fn solve_heated(
         }
         full_evaluations += 1;
         let label = format!("heated: evaluation {full_evaluations} at {t:.4} C");
+        // An evaluation that closes the fixed point may be the answer,
+        // whose depth profile is reported; the others need none.
+        let closes = |rise: f64| (params.ambient + rise - t).abs() <= tolerance;
         let solved = solve_at(
             &label,
             problem,
@@ -146,7 +149,7 @@ pub fn solve_heated(
             &rule,
             t,
             last.as_ref().filter(|_| warm_starts),
-            periodic,
+            periodic.then_some(&closes),
             executor,
             observer,
         )?;
@@ -156,7 +159,7 @@ pub fn solve_heated(
         solve_time_s += solved.solution.timings.total_s;
         heat_time_s += solved.heat_time_s;
         let rise = solved.rise;
-        if (params.ambient + rise - t).abs() <= tolerance {
+        if closes(rise) {
             last = Some(solved.solution.clone());
             kept.push(solved);
         } else {
@@ -242,7 +245,7 @@ pub fn solve_heated(
                 &rule,
                 chosen.temperature,
                 last.as_ref().filter(|_| warm_starts),
-                periodic,
+                periodic.then_some(&|_| true),
                 executor,
                 observer,
             )?
@@ -507,10 +510,11 @@ fn problem_at(problem: &Problem, t: f64) -> Result<Problem> {
 }
 
 /// The isothermal solve at `t` \[C\] and its dissipation-weighted rise;
-/// with `profile`, a volume source's depth profile from the same sweep
-/// (full-grid evaluations: one of them is the answer, whose profile is
-/// reported). `observer` hears each stage under `label` and may stop the
-/// heat source between its depth nodes.
+/// where `profile` holds for the rise \[K\], a volume source's depth
+/// profile from the same sweep (full-grid evaluations that close the
+/// fixed point: one of them is the answer, whose profile is reported).
+/// `observer` hears each stage under `label` and may stop the heat
+/// source between its depth nodes.
 #[allow(clippy::too_many_arguments)]
 fn solve_at(
     label: &str,
@@ -520,7 +524,7 @@ fn solve_at(
     rule: &DepthRule,
     t: f64,
     start: Option<&Solution>,
-    profile: bool,
+    profile: Option<&dyn Fn(f64) -> bool>,
     executor: &Executor,
     observer: &mut dyn Observer,
 ) -> Result<Solved> {
@@ -575,7 +579,10 @@ fn solve_at(
                     .chunks(n.max(1))
                     .map(|m| m.iter().sum::<f64>() / n.max(1) as f64)
                     .collect(),
-                rows: swept.or_else(|| (profile && !carries).then(still)),
+                rows: swept.or_else(|| {
+                    let zero_rise = profile.is_some_and(|wanted| wanted(0.0));
+                    (zero_rise && !carries).then(still)
+                }),
             }
         }
         flux @ HeatSource::Surface { .. } => KeptSource::Surface(flux),

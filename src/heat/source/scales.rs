@@ -297,7 +297,7 @@ mod tests {
             },
         })
         .unwrap();
-        let under = solver.under_with(&source, false).unwrap();
+        let under = solver.under_with(&source, None).unwrap();
         let layers = under.layers.unwrap();
         let bands = scale_rises(pressure, &grid, &r, &rule, &layers).unwrap();
         (bands, layers, under.weighted)
