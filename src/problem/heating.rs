@@ -122,6 +122,16 @@ impl ContactHeating {
         setup.check()?;
         let source = HeatSource::from_contact_until(kind, pressure, grid, response, rule, stop)?;
         let heat_power_w = source.power(grid.cell_area());
+        if !heat_power_w.is_finite() {
+            // Pressures whose squares (the dissipation) or products with
+            // the slopes (the surface work) leave f64: not "no heat".
+            let peak = pressure.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+            return Err(invalid(format!(
+                "the {} heat source is beyond the range of f64 (its total power is {heat_power_w:e} W): pressures up to {peak:e} Pa at {:e} m/s are too large for its arithmetic; give the pressure in Pa of a physical contact",
+                kind.name(),
+                response.speed()
+            )));
+        }
         if !source.carries_heat(grid.cell_area()) {
             // Nothing dissipated (a purely elastic response at this speed,
             // whose work flux nets round-off, or no pressure): no rise

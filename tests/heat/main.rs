@@ -11,6 +11,7 @@ mod common;
 
 mod cli;
 mod closed_form;
+mod edited_runs;
 mod heated;
 mod memory;
 mod periodic;

@@ -1,0 +1,83 @@
+//! `viscoslide heat --from-run` on a run directory edited by hand: values
+//! the heat cannot use are refused in one line naming the file and the
+//! value, writing nothing, instead of an answer that misleads.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use viscoslide::io::npy;
+
+fn viscoslide(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// A solved 16^2 periodic SLS cell in `dir/run`; returns its path.
+fn solved_run(dir: &Path) -> String {
+    let cfg = dir.join("cell.toml");
+    std::fs::write(
+        &cfg,
+        "[material]\nmodel = \"sls\"\nrelaxed_modulus = 3.3e6\nglassy_modulus = 1e7\ncreep_time = 0.01\n\n[surface.generate]\nn = 16\nlength = 1e-3\nhurst = 0.8\nscales = 3\nrms_slope = 0.05\nseed = 2\n\n[loading]\nmean_pressure = 2e4\nspeed = 3e-3\n\n[solver]\nformulation = \"periodic\"\n\n[analysis]\nenabled = false\n",
+    )
+    .unwrap();
+    let run = dir.join("run");
+    let o = viscoslide(&[
+        "solve",
+        cfg.to_str().unwrap(),
+        "--backend",
+        "cpu",
+        "--out",
+        run.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    run.display().to_string()
+}
+
+/// `viscoslide heat --from-run run --out dir/out` with `extra`.
+fn heat(run: &str, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "heat",
+        "--from-run",
+        run,
+        "--conductivity",
+        "0.25",
+        "--diffusivity",
+        "1e-7",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    viscoslide(&args)
+}
+
+/// The refusal of `o`: exit 1, one line holding `word`, nothing at `out`.
+fn refused(o: &Output, out: &Path, word: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains(word), "'{err}' lacks '{word}'");
+    assert!(!out.exists(), "{} was written", out.display());
+}
+
+/// Pressures edited to 1e200 times the solve's: the dissipation (their
+/// squares) and the surface work leave f64. Before, the source's NaN
+/// total read as "the contact dissipates nothing", every rise zero and
+/// `heat_total_w: null` written; now it is refused, for either source.
+#[test]
+fn a_heat_source_beyond_f64_is_refused_not_read_as_no_heat() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = solved_run(dir.path());
+    let path = Path::new(&run).join("pressure.npy");
+    let (nx, ny, p) = npy::read_2d(&path).unwrap();
+    let huge: Vec<f64> = p.iter().map(|v| v * 1e200).collect();
+    std::fs::write(&path, npy::encode_f64(&[nx, ny], &huge)).unwrap();
+    for source in ["volume", "surface"] {
+        let out = dir.path().join(source);
+        let o = heat(&run, &out, &["--source", source]);
+        refused(&o, &out, "beyond the range of f64");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(&format!("the {source} heat source")), "{err}");
+    }
+}
