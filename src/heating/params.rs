@@ -134,7 +134,15 @@ impl HeatingParams {
             .ok_or_else(|| invalid("[heating] needs conductivity (W/(m K); rubber 0.2-0.3)"))?;
         let diffusivity = match (diffusivity, density, specific_heat) {
             (Some(k), _, _) => k,
-            (None, Some(rho), Some(c)) => conductivity / (rho * c),
+            (None, Some(rho), Some(c)) => {
+                let k = conductivity / (rho * c);
+                if !(k.is_finite() && k > 0.0) {
+                    return Err(invalid(format!(
+                        "[heating] conductivity / (density x specific_heat) = {conductivity} / ({rho} x {c}) = {k} m^2/s, the diffusivity, is beyond the range of f64: give diffusivity (m^2/s; rubber about 1e-7) instead"
+                    )));
+                }
+                k
+            }
             (None, _, _) => {
                 return Err(invalid(
                     "[heating] needs diffusivity (m^2/s; rubber about 1e-7) or density (kg/m^3) and specific_heat (J/(kg K))",

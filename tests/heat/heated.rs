@@ -304,6 +304,28 @@ fn heating_is_refused_without_what_it_needs() {
         .is_none());
 }
 
+/// A diffusivity made of `conductivity / (density x specific_heat)`
+/// that leaves f64 is refused naming those keys (before: "the diffusivity
+/// = 0 must be positive", a key the section does not hold, with no
+/// `[heating]`).
+#[test]
+fn a_diffusivity_beyond_f64_names_the_keys_it_is_made_of() {
+    for (lam, rho_c) in [("1e-300", "1e300"), ("1e300", "1e-300")] {
+        let text = PERIODIC.replace(
+            "diffusivity = 1e-7\n",
+            &format!("density = {rho_c}\nspecific_heat = {rho_c}\n"),
+        );
+        let (_dir, cfg) = load(&text, &[&format!("heating.conductivity={lam}")]);
+        let e = heating_at(&cfg, Some(17.0)).1.unwrap_err().to_string();
+        assert!(
+            e.contains("[heating] conductivity / (density x specific_heat)")
+                && e.contains("give diffusivity")
+                && !e.contains('\n'),
+            "{lam}, {rho_c}: {e}"
+        );
+    }
+}
+
 /// A bracket too tall for its scan to fit the solves one heated solve
 /// makes is refused after the solve at `T0`, naming `max_rise` (before:
 /// forty solves, then a message asking to loosen the tolerance).
