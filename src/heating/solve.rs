@@ -91,11 +91,12 @@ pub fn solve_heated(
     check_heated_memory(problem, coarse.as_ref(), params.source, &rule)?;
     let mut heat = HeatSolver::new(params.heat_setup(problem)?).map_err(heat_error)?;
     let warm_starts = problem.discretisation() != Discretisation::Adaptive;
+    // The coarse cells are 2 to 4 times the full grid's: on a pad their
+    // Peclet number may pass the limit the full grid's is under, and the
+    // full grid then scans alone (any other refusal is the full grid's
+    // too, and came above).
     let coarse = match coarse {
-        Some(c) => {
-            let h = HeatSolver::new(params.heat_setup(&c)?).map_err(heat_error)?;
-            Some((c, h))
-        }
+        Some(c) => HeatSolver::new(params.heat_setup(&c)?).ok().map(|h| (c, h)),
         None => None,
     };
     let coarse_grid = coarse.as_ref().map(|(c, _)| [c.surface.nx, c.surface.ny]);

@@ -597,6 +597,48 @@ fn the_coarse_scan_finds_the_full_grid_scans_answer() {
     assert!(g.abs() <= params.tolerance, "{g:e}");
 }
 
+/// A pad of 128^2 cells whose cell Peclet number, 6.25e6, is under the
+/// pad's limit of 1e7 while its coarse scan's (64^2, cells twice as
+/// long) is above it: the full grid scans alone. Before, the coarse heat
+/// problem's refusal ("the cell Peclet number ... = 1.250e7") refused
+/// the whole solve, naming a Peclet number the user's grid does not have.
+#[test]
+fn a_pad_whose_coarse_cells_pass_the_peclet_limit_scans_the_full_grid() {
+    let pad = heated_pad();
+    let sets = [
+        "surface.generate.n=128",
+        "solver.formulation=\"non_periodic\"",
+        "heating.diffusivity=2.5e-14",
+    ];
+    let (problem, params, h) = heated(&pad, &sets);
+    let peclet = problem.speed * problem.surface.cell_size / params.conduction.diffusivity;
+    assert!((peclet / 6.25e6 - 1.0).abs() < 1e-12, "{peclet}");
+    let r = &h.report;
+    assert_eq!((r.coarse_grid, r.coarse_evaluations), (None, 0));
+    assert!(!r.search.contains("coarse grid"), "{}", r.search);
+    // The answer is the isothermal solve at T_eff, whose surface work's
+    // rise puts T0 + Theta(T_eff) on T_eff.
+    let iso = isothermal_at(&problem, r.effective_temperature);
+    let d = (h.solution.friction_coefficient / iso.friction_coefficient - 1.0).abs();
+    assert!(d <= 1e-9, "{d:e}");
+    let mut at = problem.clone();
+    at.material = problem
+        .material
+        .at_temperature(r.effective_temperature)
+        .unwrap();
+    let heat = at
+        .contact_heating(
+            &iso,
+            params.conduction,
+            None,
+            SourceKind::Surface,
+            &DepthRule::default(),
+        )
+        .unwrap();
+    let g = r.ambient_temperature + heat.effective_rise - r.effective_temperature;
+    assert!(g.abs() <= 1.01 * params.tolerance, "g(T_eff) = {g:e}");
+}
+
 /// `configs/hot_branch.toml` at T0 = 0 C and 10 m/s with lam = 0.1
 /// W/(m K), the bracket `max_rise` K above T0, `branch` set (`heating.branch
 /// = ...`).
