@@ -62,7 +62,17 @@ fn read_run(dir: &Path) -> Result<Run> {
         .and_then(|g| Some((g[0].as_u64()? as usize, g[1].as_u64()? as usize)))
         .ok_or_else(|| bad(&path, "needs `grid`: [nx, ny]"))?;
     let ax = number(&doc, "cell_size", &path)?;
-    let ay = doc["cell_size_y"].as_f64().unwrap_or(ax);
+    // Absent (or null) in a summary of square cells; anything else that is
+    // not a number is not taken for them.
+    let ay = match &doc["cell_size_y"] {
+        Value::Null => ax,
+        v => v.as_f64().ok_or_else(|| {
+            bad(
+                &path,
+                &format!("`cell_size_y` = {v} is not a number (m; absent for square cells)"),
+            )
+        })?,
+    };
     let grid = Grid::new(size.0, size.1, (ax, ay))?;
     let grid = match doc["formulation"].as_str() {
         Some("periodic") => grid.periodic(),

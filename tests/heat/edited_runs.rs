@@ -81,3 +81,31 @@ fn a_heat_source_beyond_f64_is_refused_not_read_as_no_heat() {
         assert!(err.contains(&format!("the {source} heat source")), "{err}");
     }
 }
+
+/// A `cell_size_y` edited into something other than a number (a string
+/// such as "2e-6", a list) was taken as absent: the heat ran on square
+/// cells of `cell_size`, silently. Now it is refused naming the key.
+#[test]
+fn a_cell_size_y_that_is_not_a_number_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = solved_run(dir.path());
+    let path = Path::new(&run).join("summary.json");
+    let original: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    for (k, value) in [serde_json::json!("2e-6"), serde_json::json!([2e-6])]
+        .into_iter()
+        .enumerate()
+    {
+        let mut doc = original.clone();
+        doc["cell_size_y"] = value;
+        std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
+        let out = dir.path().join(format!("out{k}"));
+        refused(&heat(&run, &out, &[]), &out, "`cell_size_y` = ");
+    }
+    // Absent, the cells are square, as before.
+    let mut doc = original.clone();
+    doc.as_object_mut().unwrap().remove("cell_size_y");
+    std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
+    let o = heat(&run, &dir.path().join("square"), &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
