@@ -317,6 +317,22 @@ def test_heating_needs_wlf_and_a_mapping(cell):
         vs.solve(cell, plain, speed=0.1, mean_pressure=1e6, heating={1: 0.25})
 
 
+def test_a_heating_key_given_as_none_takes_its_default(cell, wlf_rubber, heated):
+    """``None`` for a key of ``heating=`` is the key left out, as ``None``
+    is for every other argument (before: ``heating['enabled'] must be a
+    real number, got None``, a boolean key called a number); a pad takes
+    ``block_length=None`` as no block."""
+    args = dict(LOADING, formulation="periodic", tolerance=1e-11, backend="cpu")
+    same = vs.solve(cell, wlf_rubber, **args, heating=dict(HEATING, enabled=None, source=None, max_rise=None))
+    assert same.heating["effective_temperature"] == heated.heating["effective_temperature"]
+    assert same.friction_coefficient == heated.friction_coefficient
+    pad = dict(args, formulation="nonperiodic")
+    h = vs.solve(cell, wlf_rubber, **pad, heating=dict(conductivity=0.25, diffusivity=1e-7, block_length=None))
+    assert h.heating is not None and h.heating["effective_temperature"] > 17.0
+    with pytest.raises(ValueError, match=r"\[heating\] needs conductivity"):
+        vs.solve(cell, wlf_rubber, **args, heating=dict(HEATING, conductivity=None))
+
+
 def test_sweep_with_and_without_heating(cell, wlf_rubber, heated):
     """``vary={"heating.enabled": [False, True]}``: each speed isothermal
     and heated, as ``viscoslide sweep`` does; the heated point is the heated

@@ -230,9 +230,11 @@ def _layer(thickness: Optional[float], layer_base: str) -> Optional[str]:
 def _heating(heating: Any) -> Optional[str]:
     """``heating`` (a mapping of ``[heating]`` keys) as the section's JSON;
     the keys and values are checked by the library as the command line
-    checks ``[heating]`` (one line naming the key and value). Here only
-    what JSON cannot carry is refused: a key that is not a string, a value
-    that is not a boolean, a string or a finite real number."""
+    checks ``[heating]`` (one line naming the key and value). A key whose
+    value is ``None`` is left out (its default, as ``None`` is for every
+    other argument). Here only what JSON cannot carry is refused: a key
+    that is not a string, a value that is not a boolean, a string or a
+    finite real number."""
     if heating is None:
         return None
     if not isinstance(heating, Mapping):
@@ -243,6 +245,8 @@ def _heating(heating: Any) -> Optional[str]:
     for key, value in heating.items():
         if not isinstance(key, str):
             raise TypeError(f"heating: a key is a [heating] key name such as 'conductivity', got {key!r}")
+        if value is None:
+            continue
         if isinstance(value, (bool, np.bool_)):
             section[key] = bool(value)
         elif isinstance(value, str):
@@ -397,7 +401,8 @@ def solve(
         (``"cold"``, default, or ``"hot"``), ``max_rise`` [K] (the bracket
         ``[T0, T0 + max_rise]`` searched, default 100), ``tolerance`` [K]
         (on ``|T0 + Theta(T) - T|``, default 1e-3) and ``enabled``
-        (``False``: the isothermal solve). Needs a material with WLF
+        (``False``: the isothermal solve); a key given as ``None`` takes
+        its default, as if left out. Needs a material with WLF
         constants and ``temperature`` (the ambient ``T0``). The answer is
         the isothermal solve at the effective temperature ``T_eff = T0 +
         Theta(T_eff)`` (so ``mu_heated(v, T0) = mu(v, T_eff)``), with
