@@ -24,10 +24,17 @@ use super::{invalid, Problem, Solution};
 const BALANCE_WARNING: f64 = 1e-2;
 
 /// A warning where a heat source's total `heat_w` \[W\] and the friction's
-/// power `friction_power_w` \[W\] differ by more than [`BALANCE_WARNING`].
+/// power `friction_power_w` \[W\] differ by more than [`BALANCE_WARNING`],
+/// or where a source carries heat against a friction power that is zero
+/// or negative (fields and a friction that do not belong together).
 pub(crate) fn balance_warning(heat_w: f64, friction_power_w: f64) -> Option<String> {
     let balance = heat_w / friction_power_w - 1.0;
-    (friction_power_w > 0.0 && balance.abs() > BALANCE_WARNING).then(|| {
+    let off = if friction_power_w > 0.0 {
+        balance.abs() > BALANCE_WARNING
+    } else {
+        heat_w > 0.0
+    };
+    off.then(|| {
         format!(
             "the heat source carries {heat_w:.6e} W against the friction's power mu F_N v = {friction_power_w:.6e} W ({balance:+.2e} relative): the depth layers or the grid do not resolve the dissipation"
         )

@@ -109,3 +109,42 @@ fn a_cell_size_y_that_is_not_a_number_is_refused() {
     let o = heat(&run, &dir.path().join("square"), &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// A friction edited to zero or below (`normal_load` 0, a negative
+/// `friction_coefficient_dissipation`) against a source that carries
+/// heat: the energy balance (`+inf`, `-2.1`) is noted as not belonging
+/// together, as any balance off by more than 1 % is. Before, a friction
+/// power that was not positive was never noted.
+#[test]
+fn a_friction_power_edited_to_zero_or_below_is_noted() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = solved_run(dir.path());
+    let path = Path::new(&run).join("summary.json");
+    let original: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    for (k, (key, value)) in [
+        ("normal_load", 0.0),
+        ("friction_coefficient_dissipation", -0.1),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let mut doc = original.clone();
+        doc[key] = serde_json::json!(value);
+        std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
+        let out = dir.path().join(format!("out{k}"));
+        let o = heat(&run, &out, &["--block-length", "0.01"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        assert!(err.contains("do not belong together"), "{key}: {err}");
+        let report: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("heat.json")).unwrap()).unwrap();
+        let notes = report["notes"].as_array().unwrap();
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.as_str().unwrap().contains("do not belong together")),
+            "{key}: {notes:?}"
+        );
+    }
+}
