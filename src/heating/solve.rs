@@ -21,7 +21,8 @@ use crate::heat::{
     SourceKind,
 };
 use crate::problem::{
-    balance_warning, Discretisation, Executor, Observer, Problem, Solution, SolverError,
+    balance_warning, no_heat_note, Discretisation, Executor, Observer, Problem, Solution,
+    SolverError,
 };
 
 use super::at_rest::solve_at_rest;
@@ -42,6 +43,8 @@ struct Solved {
     background: Option<f64>,
     rise: f64,
     heat: f64,
+    /// Whether its source carries heat ([`HeatSource::carries_heat`]).
+    carries: bool,
     /// Wall time of its heat source and rise \[s\].
     heat_time_s: f64,
     /// What the answer's depth profile and warnings take of its heat
@@ -347,7 +350,15 @@ pub fn solve_heated(
             ));
         }
     }
-    warnings.extend(balance_warning(answer.heat, friction_power));
+    if answer.carries {
+        warnings.extend(balance_warning(answer.heat, friction_power));
+        if let KeptSource::Surface(flux) = &answer.source {
+            warnings.extend(flux.returned_share_warning());
+        }
+    } else {
+        // The balance and the share returned would weigh round-off.
+        warnings.push(no_heat_note(answer.heat));
+    }
     let isothermal = isothermal.expect("T0 is evaluated first");
     warnings.extend(scales_warning(
         &scales,
@@ -364,9 +375,6 @@ pub fn solve_heated(
             .as_ref()
             .and_then(|l| heat.setup().layer_note(l.thickness)),
     );
-    if let KeptSource::Surface(flux) = &answer.source {
-        warnings.extend(flux.returned_share_warning());
-    }
     let report = HeatingReport {
         ambient_temperature: params.ambient,
         effective_temperature: answer.temperature,
@@ -594,6 +602,7 @@ fn solve_at(
         surface_rise: temperature.rise,
         rise,
         heat: heat_w,
+        carries,
         heat_time_s: clock.elapsed().as_secs_f64(),
         solution,
         source,

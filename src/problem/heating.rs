@@ -41,6 +41,15 @@ pub(crate) fn balance_warning(heat_w: f64, friction_power_w: f64) -> Option<Stri
     })
 }
 
+/// What a contact whose heat source totals `heat_w` \[W\] but carries no
+/// heat ([`HeatSource::carries_heat`]) is told instead of an energy
+/// balance, which compares round-off with round-off there.
+pub(crate) fn no_heat_note(heat_w: f64) -> String {
+    format!(
+        "the contact dissipates nothing (its heat source totals {heat_w:e} W, round-off of the work it moves: a purely elastic response at this speed, or no contact): every rise is zero"
+    )
+}
+
 /// The heat source of a solved contact, its temperature rise and its
 /// energy balance.
 #[derive(Debug, Clone)]
@@ -152,9 +161,7 @@ impl ContactHeating {
                 },
                 effective_rise: 0.0,
                 friction_power_w,
-                notes: vec![format!(
-                    "the contact dissipates nothing (its heat source totals {heat_power_w:e} W, round-off of the work it moves: a purely elastic response at this speed, or no contact): every rise is zero"
-                )],
+                notes: vec![no_heat_note(heat_power_w)],
             });
         }
         let mut solver = HeatSolver::new(setup)?;

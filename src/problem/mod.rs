@@ -43,8 +43,8 @@ use std::path::PathBuf;
 
 pub use adaptive::{AdaptiveParams, AdaptiveSolution, MeshReport};
 pub use executor::Executor;
-pub(crate) use heating::balance_warning;
 pub use heating::ContactHeating;
+pub(crate) use heating::{balance_warning, no_heat_note};
 pub use resolution::ShortestWavelength;
 pub(crate) use resolution::MIN_CELLS_PER_WAVELENGTH;
 pub use setup::check_memory;

@@ -165,6 +165,45 @@ fn a_pad_is_heated_by_the_surface_work_of_its_pressure() {
     assert!(h.depth_profile.is_none());
 }
 
+/// An elastic rubber carries no heat: its heated answer is T0 with a
+/// note saying that nothing is dissipated, not an energy balance of two
+/// round-offs nor a surface work flux that "takes back 100 %" of its work
+/// (both were warned of, on a pad, for heat and friction of 1e-20 W).
+#[test]
+fn an_elastic_rubber_is_told_it_dissipates_nothing() {
+    let elastic = |text: &str| {
+        let old = "model = \"sls\"\nrelaxed_modulus = 3.3333333333333335e6\nglassy_modulus = 1.0e7\ncreep_time = 1e-4";
+        assert!(text.contains(old));
+        text.replace(old, "model = \"prony\"\nrelaxed_modulus = 3e6\nprony = []")
+    };
+    for (text, formulation) in [
+        (elastic(&heated_pad()), "non_periodic"),
+        (elastic(PERIODIC), "periodic"),
+    ] {
+        for seed in 1..=3 {
+            let sets = [
+                format!("solver.formulation=\"{formulation}\""),
+                format!("surface.generate.seed={seed}"),
+            ];
+            let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
+            let (_, params, h) = heated(&text, &sets);
+            let r = &h.report;
+            assert_eq!(r.effective_temperature, params.ambient, "{r:?}");
+            let said = |words: &str| r.warnings.iter().any(|w| w.contains(words));
+            assert!(
+                said("dissipates nothing"),
+                "{formulation}: {:?}",
+                r.warnings
+            );
+            assert!(
+                !said("heat source carries") && !said("takes back"),
+                "{formulation}, seed {seed}: {:?}",
+                r.warnings
+            );
+        }
+    }
+}
+
 #[test]
 fn a_pad_sliding_ever_slower_is_heated_ever_less() {
     // The surface work flux of a nearly elastic pad is mostly returned
