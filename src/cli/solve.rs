@@ -85,7 +85,7 @@ pub fn run(args: SolveArgs) -> Result<()> {
             _ => String::new(),
         };
         println!(
-            "heated: effective temperature {:.4} C (T0 = {} C, rise {:.4e} K, peak surface rise {:.4e} K), {} branch of {} found, {} isothermal solves{scan}; friction at T0 without heating {:.6e}; {:.2} s ({:.2} s solves, {:.2} s heat)",
+            "heated: effective temperature {:.4} C (T0 = {} C, rise {:.4e} K, peak surface rise {:.4e} K), {} branch of {} found, {} isothermal solve{}{scan}; friction at T0 without heating {:.6e}; {:.2} s ({:.2} s solves, {:.2} s heat)",
             h.effective_temperature,
             h.ambient_temperature,
             h.temperature_rise.effective,
@@ -93,6 +93,7 @@ pub fn run(args: SolveArgs) -> Result<()> {
             h.chosen_branch,
             h.branches.len(),
             h.fixed_point_evaluations,
+            if h.fixed_point_evaluations == 1 { "" } else { "s" },
             h.isothermal_friction_coefficient,
             h.wall_time_s,
             h.solve_time_s,

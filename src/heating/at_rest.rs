@@ -1,27 +1,60 @@
-//! The heated contact at rest (`v = 0`, a sweep's static point): nothing
-//! slides, so nothing is dissipated (`mu F_N v = 0`, physics.md section
-//! 14), `Theta = 0` at every temperature and the one self-consistent
-//! temperature is `T0` itself. The answer is the isothermal solve at `T0`
-//! with zero rises, reported as any heated answer is.
+//! The heated contact that dissipates nothing at any temperature: at
+//! rest (`v = 0`, a sweep's static point), nothing slides (`mu F_N v = 0`,
+//! physics.md section 14); an elastic rubber (no creep or relaxation
+//! terms) stores and returns all the work done on it at every
+//! temperature, whatever its WLF shift. Then `Theta = 0` at every
+//! temperature and the one self-consistent temperature is `T0` itself.
+//! The answer is the isothermal solve at `T0` with zero rises, reported as
+//! any heated answer is, without a search (which for an elastic rubber
+//! scanned the bracket with a dozen solves to find the same `T0`).
 
 use std::time::Instant;
 
 use crate::error::Result;
-use crate::heat::AT_REST_NOTE;
+use crate::heat::{SourceKind, AT_REST_NOTE};
 use crate::problem::{Executor, Observer, Problem};
 
 use super::branches::{Branch, Evaluation};
 use super::params::HeatingParams;
-use super::report::{persson_friction, DepthRow, HeatedSolution, HeatingReport, Rises};
+use super::report::{peclet, persson_friction, DepthRow, HeatedSolution, HeatingReport, Rises};
 
-/// What the answer at rest says of itself: the heat's own note
-/// (`ContactHeating` at rest says the same) and what the answer is.
-fn at_rest() -> String {
-    format!("{AT_REST_NOTE}: the effective temperature is T0 and the answer is the isothermal solve there, without a search")
+/// Why a heated contact dissipates nothing at any temperature.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum NoHeat {
+    /// The speed is 0.
+    AtRest,
+    /// The material has no creep or relaxation terms.
+    Elastic,
 }
 
-/// The heated answer of `problem` at rest (its material at `T0`).
-pub(super) fn solve_at_rest(
+impl NoHeat {
+    /// Why `problem` dissipates nothing at any temperature, if it does not.
+    pub fn of(problem: &Problem) -> Option<Self> {
+        if problem.speed == 0.0 {
+            Some(Self::AtRest)
+        } else if problem.material.spectrum.terms.is_empty() {
+            Some(Self::Elastic)
+        } else {
+            None
+        }
+    }
+
+    /// What the answer says of itself: why nothing is dissipated (at
+    /// rest, the heat's own note, which `ContactHeating` gives too) and
+    /// what the answer is.
+    fn note(self) -> String {
+        let why = match self {
+            Self::AtRest => AT_REST_NOTE.to_string(),
+            Self::Elastic => "the rubber is elastic at every temperature (no creep or relaxation terms): it returns all the work done on it and dissipates nothing, whatever its WLF shift".to_string(),
+        };
+        format!("{why}: the effective temperature is T0 and the answer is the isothermal solve there, without a search")
+    }
+}
+
+/// The heated answer of `problem` (its material at `T0`), which
+/// dissipates nothing at any temperature for the reason `why`.
+pub(super) fn solve_without_heat(
+    why: NoHeat,
     problem: &Problem,
     params: &HeatingParams,
     executor: &Executor,
@@ -31,6 +64,22 @@ pub(super) fn solve_at_rest(
     let mut solution = problem.solve(executor, observer)?;
     let periodic = problem.grid()?.is_periodic();
     let t0 = params.ambient;
+    // The friction's power (`mu F_N v` at `v = 0` without the sign of
+    // `mu`; an elastic solve's round-off by the route a heated answer
+    // reports) and the Peclet number of the sliding.
+    let (friction_power_w, peclet) = match why {
+        NoHeat::AtRest => (0.0, 0.0),
+        NoHeat::Elastic => {
+            let mu = match params.source {
+                SourceKind::Volume => solution.friction_coefficient_dissipation,
+                SourceKind::Surface => solution.friction_coefficient,
+            };
+            (
+                mu * solution.stats.normal_load * problem.speed,
+                peclet(problem, params),
+            )
+        }
+    };
     let report = HeatingReport {
         ambient_temperature: t0,
         effective_temperature: t0,
@@ -48,7 +97,7 @@ pub(super) fn solve_at_rest(
             stable: true,
         }],
         bracket: [t0, t0 + params.max_rise],
-        search: at_rest(),
+        search: why.note(),
         fixed_point_evaluations: 1,
         evaluations: vec![Evaluation {
             temperature: t0,
@@ -59,7 +108,7 @@ pub(super) fn solve_at_rest(
         coarse_rises: Vec::new(),
         coarse_discrepancy: None,
         heat_total_w: 0.0,
-        friction_power_w: 0.0,
+        friction_power_w,
         isothermal_friction_coefficient: solution.friction_coefficient,
         persson_friction_coefficient: persson_friction(&solution),
         source: params.source.name(),
@@ -68,13 +117,13 @@ pub(super) fn solve_at_rest(
         conductivity: params.conduction.conductivity,
         diffusivity: params.conduction.diffusivity,
         block_length: params.block_length,
-        peclet: 0.0,
-        warnings: vec![at_rest()],
+        peclet,
+        warnings: vec![why.note()],
         wall_time_s: clock.elapsed().as_secs_f64(),
         solve_time_s: solution.timings.total_s,
         heat_time_s: 0.0,
     };
-    solution.warnings.push(at_rest());
+    solution.warnings.push(why.note());
     let cells = solution.fields.contact.len();
     Ok(HeatedSolution {
         solution,

@@ -7,9 +7,10 @@
 use serde::Serialize;
 
 use crate::error::Result;
-use crate::problem::{ExtraMap, Solution, SolveExtras};
+use crate::problem::{ExtraMap, Problem, Solution, SolveExtras};
 
 use super::branches::{Branch, Evaluation};
+use super::params::HeatingParams;
 use crate::heat::ScaleBand;
 
 /// The temperature rises of the answer \[K\].
@@ -161,6 +162,16 @@ pub(super) fn scales_warning(
         100.0 * slope,
         100.0 * change
     ))
+}
+
+/// The report's Peclet number `v L / kappa` of `problem` under `params`,
+/// `L` the map's side along the sliding direction.
+pub(super) fn peclet(problem: &Problem, params: &HeatingParams) -> f64 {
+    let s = &problem.surface;
+    let (lx, ly) = (s.nx as f64 * s.cell_size, s.ny as f64 * s.cell_size_y);
+    let (ex, ey) = crate::response::unit_direction(problem.direction_rad);
+    let along = if ex.abs() >= ey.abs() { lx } else { ly };
+    problem.speed * along / params.conduction.diffusivity
 }
 
 /// Persson's friction coefficient beside `solution`, when his theory

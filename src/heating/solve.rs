@@ -25,13 +25,13 @@ use crate::problem::{
     SolverError,
 };
 
-use super::at_rest::solve_at_rest;
+use super::at_rest::{solve_without_heat, NoHeat};
 use super::branches::{Branch, SearchFailure};
 use super::coarse::coarse_problem;
 use super::memory::check_heated_memory;
 use super::params::{BranchChoice, HeatingParams};
 use super::report::{
-    persson_friction, scales_warning, DepthRow, HeatedSolution, HeatingReport, Rises,
+    peclet, persson_friction, scales_warning, DepthRow, HeatedSolution, HeatingReport, Rises,
 };
 use super::two_level::{Level, DISCREPANCY_WARNING};
 
@@ -83,8 +83,8 @@ pub fn solve_heated(
     problem.check()?;
     let search = params.search();
     search.check().map_err(Error::Invalid)?;
-    if problem.speed == 0.0 {
-        return solve_at_rest(problem, params, executor, observer);
+    if let Some(why) = NoHeat::of(problem) {
+        return solve_without_heat(why, problem, params, executor, observer);
     }
     let periodic = problem.grid()?.is_periodic();
     let rule = DepthRule::default();
@@ -298,7 +298,6 @@ pub fn solve_heated(
         .iter()
         .copied()
         .fold(f64::NEG_INFINITY, f64::max);
-    let length = along_sliding(problem);
     let mut warnings = Vec::new();
     if found.branches.len() > 1 {
         let list: Vec<String> = found
@@ -406,7 +405,7 @@ pub fn solve_heated(
         conductivity: params.conduction.conductivity,
         diffusivity: params.conduction.diffusivity,
         block_length: params.block_length,
-        peclet: problem.speed * length / params.conduction.diffusivity,
+        peclet: peclet(problem, params),
         warnings,
         wall_time_s: 0.0,
         solve_time_s,
@@ -484,18 +483,6 @@ fn depth_profile(
         KeptSource::Surface(HeatSource::Volume { .. }) => {
             unreachable!("a volume source is kept as its layers' means")
         }
-    }
-}
-
-/// The map's side along the sliding direction \[m\].
-fn along_sliding(problem: &Problem) -> f64 {
-    let s = &problem.surface;
-    let (lx, ly) = (s.nx as f64 * s.cell_size, s.ny as f64 * s.cell_size_y);
-    let (ex, ey) = crate::response::unit_direction(problem.direction_rad);
-    if ex.abs() >= ey.abs() {
-        lx
-    } else {
-        ly
     }
 }
 
