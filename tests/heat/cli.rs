@@ -9,7 +9,7 @@ use viscoslide::response::Grid;
 use viscoslide::heat::{surface_temperature, Conduction, HeatDomain, HeatSetup};
 use viscoslide::io::npy;
 
-fn viscoslide(args: &[&str]) -> Output {
+pub(super) fn viscoslide(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_viscoslide"))
         .args(args)
         .output()

@@ -3,16 +3,11 @@
 //! value, writing nothing, instead of an answer that misleads.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use viscoslide::io::npy;
 
-fn viscoslide(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_viscoslide"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use super::cli::viscoslide;
 
 /// A solved 16^2 periodic SLS cell in `dir/run`; returns its path.
 fn solved_run(dir: &Path) -> String {
