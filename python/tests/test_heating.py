@@ -385,4 +385,11 @@ def test_sweep_refuses_bad_heating_before_solving(cell, wlf_rubber):
             vary={"heating.enabled": [False, True]},
             **common,
         )
+    # A pad's heat problem depends on the speed: the last speed's cell
+    # Peclet number is past the pad's limit, refused before the first
+    # speed is solved.
+    pad = dict(common, formulation="nonperiodic")
+    pad_heating = dict(conductivity=0.25, diffusivity=1e-7)
+    with pytest.raises(ValueError, match=r"\[heating\] the cell Peclet number"):
+        vs.sweep(cell, wlf_rubber, speed=[0.1, 1e9], heating=pad_heating, **pad)
     assert calls == []

@@ -24,13 +24,15 @@ pub use plan::{Point, Shard, SweepPlan};
 pub use row::{HeatedRow, MergedRow};
 pub use store::PointStore;
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use serde_json::Value;
 
 use crate::backend::BackendChoice;
-use crate::config::{self, Config, LoadedConfig};
+use crate::config::{self, Config, LoadedConfig, Sliding};
 use crate::error::{Error, Result};
+use crate::heat::HeatSetup;
 use crate::heating::{solve_heated, HeatingParams};
 use crate::io::atomic::write_atomic;
 use crate::io::{LockMode, StudyLock};
@@ -134,7 +136,10 @@ pub fn run_and_merge(
             .expect("a combination has points");
         // Every combination's problem and `[heating]` checked before the
         // first point is written.
-        let (problem, _heating) = point_problem(cfg, first)?;
+        let (problem, heating) = point_problem(cfg, first)?;
+        if let Some(params) = &heating {
+            check_heat_at_every_speed(&plan, combo, &problem, params)?;
+        }
         if selected.is_none() {
             selected = Some(Executor::select(backend, &problem)?);
         }
@@ -231,6 +236,37 @@ pub(crate) fn solve_point(cfg: &LoadedConfig, point: &Point, executor: &Executor
         );
     }
     Ok(value)
+}
+
+/// The heat problem of every point of the combination `combo` (its
+/// `[heating]` `params` and the `problem` of its first point), checked at
+/// each point's speed before anything is solved: the heat problem depends
+/// on the speed (a pad's cell Peclet number `v a / kappa`), which the
+/// first point's checks do not cover. A refusal names the point.
+fn check_heat_at_every_speed(
+    plan: &SweepPlan,
+    combo: &BTreeMap<String, toml::Value>,
+    problem: &Problem,
+    params: &HeatingParams,
+) -> Result<()> {
+    let setup = params.heat_setup(problem)?;
+    for point in plan.points.iter().filter(|p| &p.vary == combo) {
+        let speed = match point.speed {
+            Sliding::Speed(v) => v,
+            // The combination's first point converted its xi, so the
+            // scale exists.
+            Sliding::Xi(xi) => problem.xi_scale().map_or(problem.speed, |s| s.speed(xi)),
+        };
+        let at = HeatSetup { speed, ..setup };
+        let checked = if speed == 0.0 {
+            at.check_at_rest()
+        } else {
+            at.check()
+        };
+        checked
+            .map_err(|e| Error::Invalid(format!("[heating] at point {}: {e}", point.describe())))?;
+    }
+    Ok(())
 }
 
 /// The problem of one point: the base configuration with the point's

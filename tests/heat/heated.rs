@@ -483,6 +483,55 @@ fn solve_with_heating_writes_the_heating_object_and_the_temperature_map() {
     assert!(s["heating"].is_null());
 }
 
+/// A heated pad's sweep whose last speed puts the cell Peclet number past
+/// the pad's limit (6.25e7 against 1e7 at 1e6 m/s) is refused before any
+/// point is solved, naming the point and nothing written; it solved and
+/// kept the slower points before (the first point of each combination
+/// was the only one checked, and the heat problem depends on the speed).
+/// The same speed as a single solve is refused by `[heating]` before the
+/// solve.
+#[test]
+fn a_heated_sweep_is_refused_at_a_speed_past_the_pad_s_limit_before_solving() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = tmp.path().join("pad.toml");
+    let pad = heated_pad().replace(
+        "formulation = \"periodic\"",
+        "formulation = \"non_periodic\"",
+    );
+    assert!(pad.contains("non_periodic"), "{pad}");
+    std::fs::write(
+        &cfg,
+        format!("{pad}\n[sweep]\nspeed = [0.1, 1e6]\ninclude_static = false\n"),
+    )
+    .unwrap();
+    let out = tmp.path().join("out");
+    let run = |command: &str, extra: &[&str]| {
+        let mut args = vec![command, cfg.to_str().unwrap(), "--backend", "cpu"];
+        args.extend(extra);
+        args.extend(["--out", out.to_str().unwrap()]);
+        Command::new(env!("CARGO_BIN_EXE_viscoslide"))
+            .args(&args)
+            .output()
+            .unwrap()
+    };
+    let o = run("sweep", &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(
+        err.contains("[heating] at point p0001 (v = 1000000 m/s)")
+            && err.contains("cell Peclet number v a / kappa = 6.250e7"),
+        "{err}"
+    );
+    assert!(!out.exists(), "a refused sweep wrote {}", out.display());
+    let o = run("solve", &["--set", "loading.speed=1e6"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("[heating] the cell Peclet number"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
+
 #[test]
 fn a_sweep_over_heating_enabled_gives_both_curves() {
     // Two speeds, heating off and on: the off points are the isothermal
