@@ -209,6 +209,11 @@ impl NativeResult {
                 kind.name()
             )));
         }
+        if block_length.is_some() && !periodic {
+            return Err(value_error(
+                "block_length is for a periodic cell's background heating; this result is a pad, whose steady rise needs none: drop it",
+            ));
+        }
         if refined_layers && kind == SourceKind::Surface {
             return Err(value_error(
                 "refined_layers refines the volume source's depth layers; the surface source has none: drop it or pass source=\"volume\" (periodic cells)",
