@@ -50,11 +50,22 @@ fn read_run(dir: &Path) -> Result<Run> {
     })?;
     let doc: Value =
         serde_json::from_slice(&bytes).map_err(|e| bad(&path, &format!("not valid JSON: {e}")))?;
-    if !doc["mesh"].is_null() {
-        return Err(bad(
+    // `null` on a uniform grid, the mesh's report (an object) after an
+    // adaptive solve; anything else is an edit, not a mesh.
+    match &doc["mesh"] {
+        Value::Null => {}
+        Value::Object(_) => {
+            return Err(bad(
+                &path,
+                "an adaptive-mesh solve: the heat source is computed on uniform grids only",
+            ))
+        }
+        other => return Err(bad(
             &path,
-            "an adaptive-mesh solve: the heat source is computed on uniform grids only",
-        ));
+            &format!(
+                "`mesh` = {other} is neither null (a uniform grid) nor an adaptive mesh's report"
+            ),
+        )),
     }
     let size = doc["grid"]
         .as_array()

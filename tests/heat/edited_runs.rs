@@ -79,9 +79,11 @@ fn a_heat_source_beyond_f64_is_refused_not_read_as_no_heat() {
 
 /// A `cell_size_y` edited into something other than a number (a string
 /// such as "2e-6", a list) was taken as absent: the heat ran on square
-/// cells of `cell_size`, silently. Now it is refused naming the key.
+/// cells of `cell_size`, silently. Now it is refused naming the key; so
+/// is a `mesh` that is neither null nor a mesh's report (`false` was
+/// refused as an adaptive-mesh solve).
 #[test]
-fn a_cell_size_y_that_is_not_a_number_is_refused() {
+fn a_cell_size_y_or_mesh_that_is_not_what_it_names_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let run = solved_run(dir.path());
     let path = Path::new(&run).join("summary.json");
@@ -96,6 +98,20 @@ fn a_cell_size_y_that_is_not_a_number_is_refused() {
         std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
         let out = dir.path().join(format!("out{k}"));
         refused(&heat(&run, &out, &[]), &out, "`cell_size_y` = ");
+    }
+    // A `mesh` edited to something that is not a mesh's report is named
+    // as the edit it is, not as an adaptive-mesh solve.
+    for (k, value) in [serde_json::json!(false), serde_json::json!("none")]
+        .into_iter()
+        .enumerate()
+    {
+        let mut doc = original.clone();
+        doc["mesh"] = value;
+        std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
+        let out = dir.path().join(format!("mesh{k}"));
+        let o = heat(&run, &out, &[]);
+        refused(&o, &out, "`mesh` = ");
+        assert!(!String::from_utf8_lossy(&o.stderr).contains("adaptive-mesh solve"));
     }
     // Absent, the cells are square, as before.
     let mut doc = original.clone();
