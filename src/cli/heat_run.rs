@@ -60,12 +60,14 @@ fn read_run(dir: &Path) -> Result<Run> {
                 "an adaptive-mesh solve: the heat source is computed on uniform grids only",
             ))
         }
-        other => return Err(bad(
-            &path,
-            &format!(
+        other => {
+            return Err(bad(
+                &path,
+                &format!(
                 "`mesh` = {other} is neither null (a uniform grid) nor an adaptive mesh's report"
             ),
-        )),
+            ))
+        }
     }
     let size = doc["grid"]
         .as_array()

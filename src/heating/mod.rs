@@ -8,15 +8,16 @@
 //! - `two_level.rs`: the same bracket scanned on a coarse grid, its roots
 //!   closed on the full grid; `coarse.rs`: that coarse grid.
 //! - `solve.rs`: the fixed point over isothermal solves ([`solve_heated`]);
-//!   `at_rest.rs`: its answer at `v = 0`, where nothing is dissipated.
+//!   `no_heat.rs`: its answer where nothing is dissipated at any
+//!   temperature (at rest, an elastic rubber).
 //! - `memory.rs`: its memory, checked before the first solve.
 //! - `report.rs`: what it reports ([`HeatingReport`]) and writes
 //!   ([`HeatedSolution`]).
 
-mod at_rest;
 mod branches;
 mod coarse;
 mod memory;
+mod no_heat;
 mod params;
 mod report;
 mod solve;

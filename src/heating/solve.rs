@@ -25,10 +25,10 @@ use crate::problem::{
     SolverError,
 };
 
-use super::at_rest::{solve_without_heat, NoHeat};
 use super::branches::{Branch, SearchFailure};
 use super::coarse::coarse_problem;
 use super::memory::check_heated_memory;
+use super::no_heat::{solve_without_heat, NoHeat};
 use super::params::{BranchChoice, HeatingParams};
 use super::report::{
     peclet, persson_friction, scales_warning, DepthRow, HeatedSolution, HeatingReport, Rises,

@@ -113,7 +113,7 @@ impl ContactHeating {
         };
         if response.speed() == 0.0 {
             // At rest nothing is dissipated: the zero source has zero rise
-            // (as the heated solve's answer at rest, `heating/at_rest.rs`).
+            // (as the heated solve's answer at rest, `heating/no_heat.rs`).
             setup.check_at_rest()?;
             let source = HeatSource::from_contact(kind, pressure, grid, response, rule)?;
             let background = matches!(
