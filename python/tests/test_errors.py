@@ -127,3 +127,26 @@ def test_numbers_beyond_a_float_and_progress_of_the_wrong_type_are_named(pad, ru
             vs.solve(pad, rubber, speed=1e-2, normal_load=0.3, backend="cpu", progress=bad)
         with pytest.raises(TypeError, match="progress must be None, True or a callable"):
             vs.friction_curve(pad, rubber, [1e-2], normal_load=0.3, backend="cpu", progress=bad)
+
+
+def test_decimals_are_taken_as_fractions_are(pad, rubber):
+    """A ``Decimal`` (as read from a CSV file or a database) is a real
+    number, rounded to a double as a ``Fraction`` is; it was refused as
+    "must be a real number" while a ``Fraction`` was taken. Its NaN and
+    infinity are refused as a float's."""
+    from decimal import Decimal
+    from fractions import Fraction
+
+    by_float = vs.solve(pad, rubber, speed=0.01, normal_load=0.3, backend="cpu")
+    for speed in (Decimal("0.01"), Fraction(1, 100)):
+        r = vs.solve(pad, rubber, speed=speed, normal_load=Decimal("0.3"), backend="cpu")
+        assert r.friction_coefficient == by_float.friction_coefficient
+    curve = vs.friction_curve(pad, rubber, [Decimal("0.01")], normal_load=0.3, backend="cpu")
+    assert curve["friction_coefficient"][0] == by_float.friction_coefficient
+    for bad, words in (
+        (Decimal("NaN"), "speed must be finite"),
+        (Decimal("Infinity"), "speed must be finite"),
+        (Decimal("sNaN"), "speed must be a number, got the signalling NaN"),
+    ):
+        with pytest.raises(ValueError, match=words):
+            vs.solve(pad, rubber, speed=bad, normal_load=0.3, backend="cpu")

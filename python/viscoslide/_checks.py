@@ -4,6 +4,7 @@ is a ValueError; a string, path or flag of the wrong type a TypeError."""
 
 from __future__ import annotations
 
+import decimal
 import math
 import numbers
 import os
@@ -65,6 +66,12 @@ def number(name: str, value: Any, allow_inf: bool = False) -> float:
     the callee takes, such as the glassy speed)."""
     if isinstance(value, (bool, np.bool_)):
         raise ValueError(f"{name} must be a real number, got the boolean {value!r}")
+    if isinstance(value, decimal.Decimal):
+        # A real number that numbers.Real leaves out (read from a CSV file
+        # or a database): taken rounded to a double, as a Fraction is.
+        if value.is_snan():
+            raise ValueError(f"{name} must be a number, got the signalling NaN {value!r}")
+        value = float(value)
     if not isinstance(value, numbers.Real):
         if isinstance(value, numbers.Complex):
             raise ValueError(f"{name} must be real, got the complex number {value!r}")
