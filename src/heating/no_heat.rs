@@ -11,7 +11,7 @@
 use std::time::Instant;
 
 use crate::error::Result;
-use crate::heat::{SourceKind, AT_REST_NOTE};
+use crate::heat::AT_REST_NOTE;
 use crate::problem::{Executor, Observer, Problem};
 
 use super::branches::{Branch, Evaluation};
@@ -69,16 +69,10 @@ pub(super) fn solve_without_heat(
     // reports) and the Peclet number of the sliding.
     let (friction_power_w, peclet) = match why {
         NoHeat::AtRest => (0.0, 0.0),
-        NoHeat::Elastic => {
-            let mu = match params.source {
-                SourceKind::Volume => solution.friction_coefficient_dissipation,
-                SourceKind::Surface => solution.friction_coefficient,
-            };
-            (
-                mu * solution.stats.normal_load * problem.speed,
-                peclet(problem, params),
-            )
-        }
+        NoHeat::Elastic => (
+            solution.friction_power_w(params.source, problem.speed),
+            peclet(problem, params),
+        ),
     };
     let report = HeatingReport {
         ambient_temperature: t0,

@@ -18,7 +18,6 @@ use std::time::Instant;
 use crate::error::{Error, Result};
 use crate::heat::{
     profile_depths, scale_rises, DepthExtremes, DepthLadder, DepthRule, HeatSolver, HeatSource,
-    SourceKind,
 };
 use crate::problem::{
     balance_warning, no_heat_note, Discretisation, Executor, Observer, Problem, Solution,
@@ -273,14 +272,7 @@ pub fn solve_heated(
     };
     heat_time_s += scales_clock.elapsed().as_secs_f64();
     let solution = answer.solution;
-    // The route whose power the source carries exactly: the dissipation
-    // route's `mu` for the volume source (Appendix A3-A4), the stencil's
-    // (paper Eq. 9) for the surface work flux.
-    let mu_route = match params.source {
-        SourceKind::Volume => solution.friction_coefficient_dissipation,
-        SourceKind::Surface => solution.friction_coefficient,
-    };
-    let friction_power = mu_route * solution.stats.normal_load * problem.speed;
+    let friction_power = solution.friction_power_w(params.source, problem.speed);
     let contact: Vec<f64> = answer
         .surface_rise
         .iter()

@@ -214,6 +214,20 @@ impl ContactHeating {
     }
 }
 
+impl Solution {
+    /// The friction power `mu F_N v` \[W\] at `speed` \[m/s\] that a heat
+    /// source of `kind` carries exactly: the dissipation route's `mu` for
+    /// the volume source (Appendix A3-A4), the stencil's (paper Eq. 9) for
+    /// the surface work flux.
+    pub(crate) fn friction_power_w(&self, kind: SourceKind, speed: f64) -> f64 {
+        let mu = match kind {
+            SourceKind::Volume => self.friction_coefficient_dissipation,
+            SourceKind::Surface => self.friction_coefficient,
+        };
+        mu * self.stats.normal_load * speed
+    }
+}
+
 impl Problem {
     /// The heat of `solution` (solved from this problem) in a rubber of
     /// `conduction` ([`ContactHeating::new`]); adaptive meshes are refused.
@@ -246,11 +260,7 @@ impl Problem {
                 "the heat source of an adaptive-mesh solve is not computed; solve on a uniform grid",
             ));
         }
-        let mu = match kind {
-            SourceKind::Volume => solution.friction_coefficient_dissipation,
-            SourceKind::Surface => solution.friction_coefficient,
-        };
-        let power = mu * solution.stats.normal_load * self.speed;
+        let power = solution.friction_power_w(kind, self.speed);
         ContactHeating::new(
             &solution.fields.pressure,
             &self.grid()?,
