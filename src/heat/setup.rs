@@ -88,6 +88,17 @@ impl HeatSetup {
         Ok(())
     }
 
+    /// [`HeatSetup::check`] where the speed is not zero,
+    /// [`HeatSetup::check_at_rest`] where it is (a contact at rest, or a
+    /// sweep's static point): what a heated solve at this speed needs.
+    pub(crate) fn check_sliding_or_at_rest(&self) -> Result<(), HeatError> {
+        if self.speed == 0.0 {
+            self.check_at_rest()
+        } else {
+            self.check()
+        }
+    }
+
     /// [`HeatSetup::check`] but for the speed, which may be zero: a
     /// contact at rest, whose zero source has zero rise without a
     /// solve.

@@ -207,13 +207,10 @@ impl HeatingParams {
         // The heat problem at this speed (the block holds the cell, a
         // pad's cell Peclet number is within its limit): refused here,
         // before any solve, as for every point of a Python sweep.
-        let setup = params.heat_setup(problem)?;
-        let checked = if problem.speed == 0.0 {
-            setup.check_at_rest()
-        } else {
-            setup.check()
-        };
-        checked.map_err(|e| invalid(format!("[heating] {e}")))?;
+        params
+            .heat_setup(problem)?
+            .check_sliding_or_at_rest()
+            .map_err(|e| invalid(format!("[heating] {e}")))?;
         Ok(Some(params))
     }
 

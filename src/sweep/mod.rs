@@ -257,13 +257,8 @@ fn check_heat_at_every_speed(
             // scale exists.
             Sliding::Xi(xi) => problem.xi_scale().map_or(problem.speed, |s| s.speed(xi)),
         };
-        let at = HeatSetup { speed, ..setup };
-        let checked = if speed == 0.0 {
-            at.check_at_rest()
-        } else {
-            at.check()
-        };
-        checked
+        HeatSetup { speed, ..setup }
+            .check_sliding_or_at_rest()
             .map_err(|e| Error::Invalid(format!("[heating] at point {}: {e}", point.describe())))?;
     }
     Ok(())
