@@ -23,6 +23,8 @@
 //! - `background.rs`: the block's background heating, the periodic cell's
 //!   mean.
 //! - `layers.rs`: depth layers of a volume source.
+//! - `density.rs`: a volume source's values on its layers ([`LayerDensity`]):
+//!   maps, and deep layers' band-limited parts as their coarse spectra.
 //! - `solve.rs`: [`HeatSolver`], planned once, applied to many sources.
 //! - `source/`: the heat source of a solved contact ([`HeatSource`]): the
 //!   creep elements' dissipation density on depth layers, or the surface
@@ -33,6 +35,7 @@
 
 mod background;
 mod cell;
+mod density;
 mod error;
 mod layers;
 pub(crate) mod memory;
@@ -44,6 +47,7 @@ mod solve;
 mod source;
 mod sweep;
 
+pub use density::LayerDensity;
 pub use error::HeatError;
 pub(crate) use layers::DepthLadder;
 pub use layers::DepthLayers;

@@ -19,6 +19,7 @@
 use num_complex::Complex64;
 use rayon::prelude::*;
 
+use super::density::LayerDensity;
 use super::error::HeatError;
 use super::layers::{DepthLadder, DepthLayers};
 use super::modes::{layer_integral, Modes};
@@ -224,14 +225,14 @@ impl PeriodicPlan {
     pub fn volume_scan(
         &self,
         layers: &DepthLayers,
-        source: &[f64],
+        source: &LayerDensity,
         keep: bool,
     ) -> Result<VolumeScan, HeatError> {
         let lam = self.conductivity;
         let (nx, ny) = (self.modes.nx, self.modes.ny);
         let n = nx * ny;
         let nh = height_fft::half_len(ny);
-        let mut specs = self.layer_spectra(source)?;
+        let mut specs = source.spectra(&height_fft::Forward::new(nx, ny))?;
         let bounds: Vec<(f64, f64)> = layers.iter().collect();
         let sweep_layers = SweepLayers::new(&bounds);
         let modes = &self.modes;
@@ -351,19 +352,6 @@ impl PeriodicPlan {
         plan.run(values, rows, &mut spec)
             .map_err(|e| HeatError::Transform(e.to_string()))?;
         Ok(spec)
-    }
-
-    /// The half spectra of a volume source's layer maps (`source`, layers
-    /// as [`PeriodicPlan::volume`]): one plan and one work space for all,
-    /// each transform parallel over its rows.
-    fn layer_spectra(&self, source: &[f64]) -> Result<Vec<Vec<Complex64>>, HeatError> {
-        let (nx, ny) = (self.modes.nx, self.modes.ny);
-        let plan = height_fft::Forward::new(nx, ny);
-        let mut rows = Vec::new();
-        source
-            .chunks(nx * ny)
-            .map(|map| self.forward_with(&plan, map, &mut rows))
-            .collect()
     }
 
     /// `f(m)` times the spectrum, mode by mode (0 at `k = 0`).

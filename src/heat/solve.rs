@@ -3,6 +3,7 @@
 //! sources. Every source is checked here before it reaches the numerics.
 
 use super::background::{surface_background, surface_background_at, volume_background_at};
+use super::density::LayerDensity;
 use super::error::{check_map, check_rise, HeatError};
 use super::layers::{check_depths, DepthLadder, DepthLayers};
 use super::pad::PadPlan;
@@ -175,9 +176,11 @@ impl HeatSolver {
         source: &[f64],
         depths: &[f64],
     ) -> Result<Vec<Temperature>, HeatError> {
-        self.volume_checks(layers, source)?;
+        let (nx, ny) = self.shape();
+        let density = LayerDensity::from_maps(source.to_vec(), nx, ny);
+        self.volume_checks(layers, &density)?;
         check_depths(depths)?;
-        let (p, background) = self.volume_plan(layers, source)?;
+        let (p, background) = self.volume_plan(layers, &density)?;
         let maps = p.volume(layers, source, depths)?;
         let ny = self.shape().1;
         maps.into_iter()
@@ -201,7 +204,7 @@ impl HeatSolver {
     pub(crate) fn volume_extremes(
         &mut self,
         layers: &DepthLayers,
-        source: &[f64],
+        source: &LayerDensity,
     ) -> Result<DepthExtremes, HeatError> {
         self.volume_checks(layers, source)?;
         let (p, background) = self.volume_plan(layers, source)?;
@@ -215,17 +218,16 @@ impl HeatSolver {
     fn volume_plan<'a>(
         &'a self,
         layers: &'a DepthLayers,
-        source: &[f64],
+        source: &LayerDensity,
     ) -> Result<(&'a PeriodicPlan, Background<'a>), HeatError> {
         let Plan::Periodic(p) = &self.plan else {
             return Err(HeatError::Unsupported(VOLUME_ON_PAD));
         };
-        let n = self.setup.grid.cells();
         Ok((
             p,
             Background {
                 layers,
-                means: source.chunks(n).map(Self::mean).collect(),
+                means: source.layer_means(),
                 conduction: self.setup.conduction,
                 contact_time: self.setup.contact_time(),
             },
@@ -233,21 +235,18 @@ impl HeatSolver {
     }
 
     /// Check a volume source's shape and values.
-    fn volume_checks(&self, layers: &DepthLayers, source: &[f64]) -> Result<(), HeatError> {
-        let n = self.setup.grid.cells();
-        if source.len() != layers.count() * n {
+    fn volume_checks(&self, layers: &DepthLayers, source: &LayerDensity) -> Result<(), HeatError> {
+        if source.size() != self.shape() {
+            let (nx, ny) = source.size();
             return Err(HeatError::Shape {
                 name: "the volume source",
-                found: source.len(),
+                found: nx * ny * source.layer_count(),
                 nx: self.setup.grid.nx(),
                 ny: self.setup.grid.ny(),
-                expected: layers.count() * n,
+                expected: layers.count() * self.setup.grid.cells(),
             });
         }
-        for (l, map) in source.chunks(n).enumerate() {
-            check_map("the volume source", map, self.shape(), Some(l))?;
-        }
-        Ok(())
+        source.check(layers.count())
     }
 
     /// The surface rise under `source`, and the source-weighted rise
@@ -530,7 +529,8 @@ mod tests {
             let mut depths = vec![0.0];
             depths.extend(layers.iter().map(|(a, b)| 0.5 * (a + b)));
             let maps = solver.volume(&layers, &source, &depths).unwrap();
-            let rows = solver.volume_extremes(&layers, &source).unwrap();
+            let density = LayerDensity::from_maps(source.clone(), nx, ny);
+            let rows = solver.volume_extremes(&layers, &density).unwrap();
             assert_eq!(rows.len(), depths.len());
             let scale = maps[0].max();
             for ((t, (z, mean, max)), depth) in maps.iter().zip(&rows).zip(&depths) {

@@ -559,14 +559,10 @@ fn solve_at(
     };
     let source = match source {
         HeatSource::Volume { layers: l, density } => {
-            let n = density.len() / l.count().max(1);
             // Without heat the profile is zero at every depth.
             let still = || profile_depths(&l).map(|z| (z, 0.0, 0.0)).collect();
             KeptSource::Volume {
-                means: density
-                    .chunks(n.max(1))
-                    .map(|m| m.iter().sum::<f64>() / n.max(1) as f64)
-                    .collect(),
+                means: density.layer_means(),
                 rows: swept.or_else(|| {
                     let zero_rise = profile.is_some_and(|wanted| wanted(0.0));
                     (zero_rise && !carries).then(still)

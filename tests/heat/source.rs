@@ -85,7 +85,7 @@ fn energy_balance_on_periodic_cells() {
             let HeatSource::Volume { density, .. } = &heat.source else {
                 panic!("a volume source")
             };
-            assert!(density.iter().all(|d| *d >= 0.0));
+            assert!(density.maps().unwrap().iter().all(|d| *d >= 0.0));
             assert!(heat.friction_power_w > 0.0);
             assert!(
                 heat.balance().abs() < tol,
@@ -198,6 +198,7 @@ fn a_single_mode_matches_the_closed_form() {
         let HeatSource::Volume { layers, density } = source else {
             panic!("a volume source")
         };
+        let density = density.maps().unwrap();
         // D at (x, z) in closed form.
         let closed = |x: f64, y: f64, z: f64| -> f64 {
             let t = k * z;

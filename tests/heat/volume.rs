@@ -6,7 +6,7 @@
 
 use num_complex::Complex64;
 use viscoslide::heat::{
-    Conduction, DepthLayers, HeatDomain, HeatError, HeatSetup, HeatSolver, HeatSource,
+    Conduction, DepthLayers, HeatDomain, HeatError, HeatSetup, HeatSolver, HeatSource, LayerDensity,
 };
 use viscoslide::internals::gauss::gauss_legendre;
 use viscoslide::response::Grid;
@@ -244,7 +244,7 @@ fn the_weighted_rise_is_the_depth_maps_sum() {
             let mut solver = HeatSolver::new(periodic(nx, ny, d, speed, deg, block)).unwrap();
             let volume = HeatSource::Volume {
                 layers: layers.clone(),
-                density: source.clone(),
+                density: LayerDensity::from_maps(source.clone(), nx, ny),
             };
             let (surface, theta) = solver.under(&volume).unwrap();
             let mut depths = vec![0.0];
@@ -312,7 +312,7 @@ fn a_volume_source_whose_rise_leaves_f64_is_refused() {
         let mut solver = HeatSolver::new(s).unwrap();
         let volume = HeatSource::Volume {
             layers: layers.clone(),
-            density: density.clone(),
+            density: LayerDensity::from_maps(density.clone(), nx, ny),
         };
         let mut errors = vec![solver.under(&volume).map(|_| ()).unwrap_err()];
         let at_depths = solver.volume(&layers, &density, &[0.0, 5e-6]);
@@ -356,7 +356,7 @@ fn a_volume_sources_rise_scales_as_one_over_the_conductivity() {
             let (_, theta) = solver
                 .under(&HeatSource::Volume {
                     layers: layers.clone(),
-                    density: density.clone(),
+                    density: LayerDensity::from_maps(density.clone(), nx, ny),
                 })
                 .unwrap();
             let maps = solver.volume(&layers, &density, &depths).unwrap();

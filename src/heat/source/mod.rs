@@ -31,6 +31,7 @@ mod work;
 
 pub use depth::DepthRule;
 
+use super::density::LayerDensity;
 use super::error::HeatError;
 use super::layers::DepthLayers;
 use crate::response::{Grid, SlidingResponse};
@@ -121,12 +122,12 @@ pub enum HeatSource {
     /// A surface flux \[W/m^2\] per cell (C order, axis 0 = x).
     Surface { flux: Vec<f64> },
     /// A volume source \[W/m^3\], constant within each layer: layer `l`'s
-    /// map at `density[l * nx * ny..(l + 1) * nx * ny]` (from a solved
-    /// contact, the dissipation at the Gauss node whose share of its
-    /// geometric layer layer `l` is, [`DepthRule`]).
+    /// values in `density` (from a solved contact, the dissipation at the
+    /// Gauss node whose share of its geometric layer layer `l` is,
+    /// [`DepthRule`]; its deep layers band-limited parts).
     Volume {
         layers: DepthLayers,
-        density: Vec<f64>,
+        density: LayerDensity,
     },
 }
 
@@ -187,7 +188,8 @@ impl HeatSource {
                 .map_err(|e| HeatError::Memory(e.to_string()))?;
                 let (layers, depths) = rule.source_layers(grid)?;
                 if speed == 0.0 {
-                    let density = vec![0.0; layers.count() * pressure.len()];
+                    let zeros = vec![vec![0.0; pressure.len()]; layers.count()];
+                    let density = LayerDensity::from_layer_maps(zeros, grid.size());
                     return Ok(Self::Volume { layers, density });
                 }
                 let plan = Dissipation::new(pressure, grid, response)?;
@@ -204,11 +206,10 @@ impl HeatSource {
         match self {
             Self::Surface { flux } => cell_area * flux.iter().sum::<f64>(),
             Self::Volume { layers, density } => {
-                let n = density.len() / layers.count();
                 layers
                     .iter()
-                    .zip(density.chunks(n))
-                    .map(|((a, b), d)| (b - a) * d.iter().sum::<f64>())
+                    .zip(density.layer_sums())
+                    .map(|((a, b), d)| (b - a) * d)
                     .sum::<f64>()
                     * cell_area
             }

@@ -13,10 +13,10 @@
 //! and those dropped.
 
 use num_complex::Complex64;
-use rayon::prelude::*;
 
 use super::super::stress::unit_component;
-use super::{accumulate, transform_error, Dissipation};
+use super::{accumulate, transform_error, written_zeros, Dissipation};
+use crate::heat::density::Band;
 use crate::heat::error::HeatError;
 use crate::operator::signed_index;
 use crate::surface::height_fft;
@@ -54,31 +54,25 @@ pub(super) fn coarse_axis(n: usize, length: f64, z: f64) -> Option<(usize, usize
     (m < n).then_some((b, m))
 }
 
-/// `full += scale * coarse`: the half spectrum (`height_fft` layout) of an
-/// `mx x my` field placed at the same signed wavenumbers of the `nx x ny`
-/// half spectrum `full` (`mx < nx`, `my < ny`); the coarse grid's Nyquist
-/// modes (round-off: the field's band is below them) are left out.
-pub(super) fn pad_into(
-    coarse: &[Complex64],
-    (mx, my): (usize, usize),
-    full: &mut [Complex64],
-    (nx, ny): (usize, usize),
-    scale: f64,
-) {
-    debug_assert!(mx < nx && my < ny);
-    for (j, col) in coarse.chunks(mx).enumerate() {
-        if my % 2 == 0 && 2 * j == my {
-            continue;
-        }
-        for (i, v) in col.iter().enumerate() {
-            let (kx, nyq) = signed_index(i, mx);
-            if nyq {
-                continue;
-            }
-            let i_full = (kx as isize).rem_euclid(nx as isize) as usize;
-            full[j * nx + i_full] += v * scale;
-        }
-    }
+/// Each coarse node's density, summed over the multipliers: zeros on its
+/// coarse grid (per layer and node, empty for a full-grid node).
+pub(super) fn coarse_sums(
+    grids: &[CoarseGrid],
+    plans: &[Vec<Option<Coarse>>],
+) -> Vec<Vec<Vec<f64>>> {
+    let zeros = |c: &Coarse| {
+        let (mx, my) = grids[c.grid].size;
+        written_zeros(mx * my)
+    };
+    plans
+        .iter()
+        .map(|layer| {
+            layer
+                .iter()
+                .map(|p| p.as_ref().map_or(Vec::new(), zeros))
+                .collect()
+        })
+        .collect()
 }
 
 /// A depth node evaluated on a coarser grid (`band.rs`): which of the
@@ -195,48 +189,36 @@ impl Dissipation {
         Ok(())
     }
 
-    /// `density +=` the coarse nodes' densities `coarse` (per layer and
-    /// node, empty for a full-grid node), each forward transformed and
-    /// zero-padded into its layer's full spectrum, brought back with one
-    /// inverse per layer (the layers one after the other, each transform
-    /// parallel, on buffers kept from layer to layer).
-    pub(super) fn add_padded(
+    /// The coarse nodes' densities `coarse` (per layer and node, empty
+    /// for a full-grid node) as band-limited parts of their layers: each
+    /// transformed forward on its coarse grid (the heat problem places
+    /// them in its layers' spectra; `LayerDensity::maps` brings them onto
+    /// the grid where maps are wanted).
+    pub(super) fn band_parts(
         &self,
         grids: &[CoarseGrid],
         plans: &[Vec<Option<Coarse>>],
         coarse: &[Vec<Vec<f64>>],
-        density: &mut [f64],
-    ) -> Result<(), HeatError> {
-        let (nx, ny) = (self.nx, self.ny);
+    ) -> Result<Vec<Vec<Band>>, HeatError> {
         let forward: Vec<height_fft::Forward> = grids
             .iter()
             .map(|g| height_fft::Forward::new(g.size.0, g.size.1))
             .collect();
-        let inverse = height_fft::Inverse::new(nx, ny);
-        let mut spec = vec![Complex64::default(); nx * height_fft::half_len(ny)];
-        let (mut cs, mut rows, mut field) = (Vec::new(), Vec::new(), vec![0.0; nx * ny]);
-        for ((out, plans), coarse) in density.chunks_mut(nx * ny).zip(plans).zip(coarse) {
-            if plans.iter().all(Option::is_none) {
-                continue;
-            }
-            spec.fill(Complex64::default());
-            for (plan, acc) in plans.iter().zip(coarse) {
-                if let Some(c) = plan {
-                    let size = grids[c.grid].size;
-                    cs.resize(size.0 * height_fft::half_len(size.1), Complex64::default());
-                    forward[c.grid]
-                        .run(acc, &mut rows, &mut cs)
-                        .map_err(transform_error)?;
-                    let scale = 1.0 / (size.0 * size.1) as f64;
-                    pad_into(&cs, size, &mut spec, (nx, ny), scale);
-                }
-            }
-            inverse
-                .run(&mut spec, &mut rows, &mut field)
-                .map_err(transform_error)?;
-            out.par_iter_mut().zip(&field).for_each(|(o, f)| *o += f);
-        }
-        Ok(())
+        let mut rows = Vec::new();
+        plans
+            .iter()
+            .zip(coarse)
+            .map(|(plans, coarse)| {
+                plans
+                    .iter()
+                    .zip(coarse)
+                    .filter_map(|(plan, acc)| plan.as_ref().map(|c| (c, acc)))
+                    .map(|(c, acc)| {
+                        Band::from_samples(acc, grids[c.grid].size, &forward[c.grid], &mut rows)
+                    })
+                    .collect()
+            })
+            .collect()
     }
 }
 

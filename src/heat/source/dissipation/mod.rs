@@ -40,10 +40,11 @@
 //!
 //! At depth only the modes with `|q| z <= 50` are not negligible
 //! (`band.rs`): where their band fits a smaller grid along both axes, a
-//! node's rates are transformed and squared on that coarser grid, the
-//! layer's density summed there over multipliers, forward transformed and
-//! brought back to the full grid by zero padding (one full inverse per
-//! layer). Those nodes have no Nyquist modes in their band. Sliding along
+//! node's rates are transformed and squared on that coarser grid, summed
+//! there over multipliers and forward transformed: the layer's
+//! band-limited part, which the heat problem places in its spectrum
+//! without a map ([`LayerDensity`]). Those nodes have no Nyquist modes in
+//! their band. Sliding along
 //! x, the multipliers depend on `kx` only and every node, on the full grid
 //! or a coarser one, takes `separable.rs`: the transforms along y once per
 //! component and depth, one real transform along x per row and
@@ -61,7 +62,9 @@ use num_complex::Complex64;
 use rayon::prelude::*;
 use rustfft::{Fft, FftPlanner};
 
+use super::super::density::LayerDensity;
 use super::super::error::HeatError;
+use band::coarse_sums;
 pub(crate) use rank::RateFn;
 use separable::SeparableWork;
 
@@ -292,7 +295,7 @@ impl Dissipation {
         &self,
         nodes: &[Vec<(f64, f64)>],
         stop: &mut dyn FnMut() -> bool,
-    ) -> Result<Vec<f64>, HeatError> {
+    ) -> Result<LayerDensity, HeatError> {
         self.densities_with(&self.rates, nodes, stop)
     }
 
@@ -303,38 +306,37 @@ impl Dissipation {
         rates: &[RateFn],
         nodes: &[Vec<(f64, f64)>],
         stop: &mut dyn FnMut() -> bool,
-    ) -> Result<Vec<f64>, HeatError> {
+    ) -> Result<LayerDensity, HeatError> {
         let n = self.nx * self.ny;
         if self.separable && self.along_y() && self.speed != 0.0 {
-            // Sliding along y: along x on the transposed field.
+            // Sliding along y: along x on the transposed field (its coarse
+            // parts brought onto the grid to be transposed with it).
             let swapped = self.transposed().densities_with(rates, nodes, stop)?;
-            let mut density = vec![0.0; nodes.len() * n];
-            for (out, map) in density.chunks_mut(n).zip(swapped.chunks(n)) {
-                height_fft::transpose_into(map, self.ny, self.nx, out);
-            }
-            return Ok(density);
+            let swapped = swapped.maps()?;
+            let density = swapped
+                .chunks(n)
+                .map(|map| {
+                    let mut out = vec![0.0; n];
+                    height_fft::transpose_into(map, self.ny, self.nx, &mut out);
+                    out
+                })
+                .collect();
+            return Ok(LayerDensity::from_layer_maps(density, (self.nx, self.ny)));
         }
-        let mut density = written_zeros(nodes.len() * n);
         if self.speed == 0.0 || !self.speed.is_finite() {
-            return Ok(density);
+            let zeros = vec![vec![0.0; n]; nodes.len()];
+            return Ok(LayerDensity::from_layer_maps(zeros, (self.nx, self.ny)));
         }
         let separable = self.separable && self.along_x();
         let (grids, plans) = self.coarse_plans(nodes, !separable);
-        // Each coarse node's density, summed over the multipliers.
-        let mut coarse: Vec<Vec<Vec<f64>>> = plans
+        // A map for each layer with a node on the full grid (the others
+        // are their coarse nodes' band-limited parts alone).
+        let mut density: Vec<Vec<f64>> = plans
             .iter()
-            .map(|layer| {
-                layer
-                    .iter()
-                    .map(|p| {
-                        p.as_ref().map_or(Vec::new(), |c| {
-                            let (mx, my) = grids[c.grid].size;
-                            written_zeros(mx * my)
-                        })
-                    })
-                    .collect()
-            })
+            .map(|l| l.iter().any(Option::is_none))
+            .map(|full| if full { written_zeros(n) } else { Vec::new() })
             .collect();
+        let mut coarse = coarse_sums(&grids, &plans);
         // Sliding along x: every node by `separable.rs`, one after the
         // other (each one's transforms run on the pool), on the full grid
         // or its coarse one.
@@ -342,11 +344,8 @@ impl Dissipation {
             let full = self.full_columns();
             let mut work = SeparableWork::default();
             let mut spare = Vec::new();
-            for (((out, nodes), plans), coarse) in density
-                .chunks_mut(n)
-                .zip(nodes)
-                .zip(&plans)
-                .zip(&mut coarse)
+            for (((out, nodes), plans), coarse) in
+                density.iter_mut().zip(nodes).zip(&plans).zip(&mut coarse)
             {
                 for ((&(z, weight), plan), acc) in nodes.iter().zip(plans).zip(coarse) {
                     stopped(stop)?;
@@ -370,7 +369,7 @@ impl Dissipation {
                 *v = rate.at(m.w) * m.p;
             });
             density
-                .par_chunks_mut(n)
+                .par_iter_mut()
                 .zip(nodes.par_iter())
                 .zip(plans.par_iter())
                 .zip(coarse.par_iter_mut())
@@ -392,8 +391,13 @@ impl Dissipation {
                     },
                 )?;
         }
-        self.add_padded(&grids, &plans, &coarse, &mut density)?;
-        Ok(density)
+        let bands = self.band_parts(&grids, &plans, &coarse)?;
+        let maps = density.into_iter().map(|m| (!m.is_empty()).then_some(m));
+        Ok(LayerDensity::with_bands(
+            (self.nx, self.ny),
+            maps.collect(),
+            bands,
+        ))
     }
 
     fn work(&self) -> Work {
@@ -569,7 +573,7 @@ fn stopped(stop: &mut dyn FnMut() -> bool) -> Result<(), HeatError> {
 /// fault that flushes the page from every thread's TLB. Written first,
 /// each page faults once. The density maps (hundreds of MB at 1024^2)
 /// took a fifth of an evaluation in those second faults.
-fn written_zeros(len: usize) -> Vec<f64> {
+pub(super) fn written_zeros(len: usize) -> Vec<f64> {
     let mut v = Vec::with_capacity(len);
     v.resize(len, 0.0);
     v

@@ -14,8 +14,9 @@ impl Dissipation {
     }
 
     /// [`Dissipation::layer_densities_until`] to the end.
+    /// (its band-limited parts brought onto the grid).
     pub fn layer_densities(&self, nodes: &[Vec<(f64, f64)>]) -> Result<Vec<f64>, HeatError> {
-        self.layer_densities_until(nodes, &mut || false)
+        self.layer_densities_until(nodes, &mut || false)?.maps()
     }
 }
 
@@ -275,6 +276,63 @@ fn coarse_nodes_are_the_direct_density() {
     }
 }
 
+/// The heat problem takes a deep layer's density as its coarse spectrum
+/// placed in the grid's (`LayerDensity::spectra`), never as a map: that
+/// spectrum is the forward transform of the layer's map
+/// (`LayerDensity::maps`, the coarse parts transformed onto the grid) to
+/// 1e-13 of the layer's largest coefficient, and the layers' sums are
+/// the maps' to 1e-13 (round-off of one transform pair). Layers of full
+/// nodes, of coarse nodes only (which hold no map) and mixed; even and
+/// odd grids, along x and obliquely.
+#[test]
+fn coarse_parts_give_their_maps_spectra() {
+    let many = overlapping_elements();
+    for (nx, ny) in [(128, 96), (127, 95)] {
+        for deg in [0.0, 0.4] {
+            let a = CELL;
+            let lx = nx as f64 * a;
+            let plan = rough_plan(&many, 0.5, (nx, ny), deg);
+            let nodes: Vec<Vec<(f64, f64)>> = vec![
+                vec![(0.3 * a, 1.0)],
+                vec![(0.5 * lx, 1.0)],
+                vec![(2.0 * lx, 1.0)],
+                vec![(3.0 * a, 0.3), (0.6 * lx, 0.5), (1.5 * lx, 0.2)],
+            ];
+            let density = plan.layer_densities_until(&nodes, &mut || false).unwrap();
+            let n = nx * ny;
+            // The two layers of coarse nodes only hold no map: less than
+            // three maps in all.
+            assert!(
+                density.bytes() < 8 * 3 * n,
+                "{nx}x{ny}: {}",
+                density.bytes()
+            );
+            let maps = density.maps().unwrap();
+            let forward = height_fft::Forward::new(nx, ny);
+            let spectra = density.spectra(&forward).unwrap();
+            let mut rows = Vec::new();
+            for (l, (map, got)) in maps.chunks(n).zip(&spectra).enumerate() {
+                let mut want = vec![Complex64::default(); got.len()];
+                forward.run(map, &mut rows, &mut want).unwrap();
+                let top = want.iter().map(|c| c.norm()).fold(0.0, f64::max);
+                assert!(top > 0.0);
+                for (g, w) in got.iter().zip(&want) {
+                    assert!(
+                        (g - w).norm() <= 1e-13 * top,
+                        "{nx}x{ny} deg {deg} layer {l}: {g} against {w}"
+                    );
+                }
+                let sum: f64 = map.iter().sum();
+                let got_sum = density.layer_sums()[l];
+                assert!(
+                    (got_sum - sum).abs() <= 1e-13 * sum.abs(),
+                    "{nx}x{ny} deg {deg} layer {l}: {got_sum} against {sum}"
+                );
+            }
+        }
+    }
+}
+
 /// `plan`'s density on the separable path (along y: through
 /// `Dissipation::transposed`) equals the general path's at every point of
 /// every layer ([`assert_layers_close`]), on three layers of a cell of
@@ -371,6 +429,6 @@ fn a_stop_between_nodes_gives_up_there() {
         let questions = if separable { 4 } else { plan.rates.len() };
         assert!(questions > 3);
         assert_eq!(never, questions, "separable {separable}");
-        assert_eq!(whole, plan.layer_densities(&nodes).unwrap());
+        assert_eq!(whole.maps().unwrap(), plan.layer_densities(&nodes).unwrap());
     }
 }
