@@ -4,7 +4,8 @@
 //! - [`SourceKind::Volume`]: the dissipation density `D` of the creep
 //!   elements on depth layers (`dissipation/`: the elements combined in
 //!   `rank.rs`, the deep nodes on coarser grids in `band.rs`, sliding along
-//!   x in `separable.rs`, the Nyquist modes in `nyquist.rs`; its
+//!   x in `separable.rs`, the Nyquist modes in `nyquist.rs`, the form summed
+//!   component by component in `form.rs`; its
 //!   transforms `surface/height_fft.rs`'s planned ones, the stresses of
 //!   each surface mode in `stress.rs`, the layers in `depth.rs`, the
 //!   temperature each octave of modes dissipates at in `scales.rs`); a

@@ -15,7 +15,8 @@
 use num_complex::Complex64;
 
 use super::super::stress::unit_component;
-use super::{accumulate, transform_error, written_zeros, Dissipation};
+use super::form::{accumulate, field_for};
+use super::{transform_error, written_zeros, Dissipation};
 use crate::heat::density::Band;
 use crate::heat::error::HeatError;
 use crate::operator::signed_index;
@@ -182,9 +183,9 @@ impl Dissipation {
                 spec[index] = a * unit_component(self.regular[r].n, t, nu, c);
             }
             grid.fft
-                .run(&mut spec, &mut rows, &mut field)
+                .run(&mut spec, &mut rows, field_for(c, &mut field, &mut first))
                 .map_err(transform_error)?;
-            accumulate(c, &field, &mut first, acc, dev, trace);
+            accumulate(c, &field, &first, acc, dev, trace);
         }
         Ok(())
     }

@@ -52,6 +52,7 @@
 //! (`Dissipation::transposed`); oblique sliding takes the general path.
 
 mod band;
+mod form;
 mod nyquist;
 mod rank;
 mod separable;
@@ -65,10 +66,11 @@ use rustfft::{Fft, FftPlanner};
 use super::super::density::LayerDensity;
 use super::super::error::HeatError;
 use band::coarse_sums;
+use form::{accumulate, component, field_for};
 pub(crate) use rank::RateFn;
 use separable::SeparableWork;
 
-use super::stress::{unit_component, ModeStress};
+use super::stress::unit_component;
 use crate::operator::{nyquist_signs, signed_index};
 use crate::response::{Grid, SlidingResponse};
 use crate::surface::height_fft;
@@ -458,10 +460,11 @@ impl Dissipation {
                     work.spec[(self.ny / 2) * self.nx + i] = component(&p.mean, c);
                 }
             }
+            let into = field_for(c, &mut work.field, &mut work.first);
             self.fft
-                .run(&mut work.spec, &mut work.rows, &mut work.field)
+                .run(&mut work.spec, &mut work.rows, into)
                 .map_err(transform_error)?;
-            accumulate(c, &work.field, &mut work.first, out, dev, trace);
+            accumulate(c, &work.field, &work.first, out, dev, trace);
         }
         self.add_nyquist(&nyquist, weight, out);
         Ok(())
@@ -536,29 +539,6 @@ fn frequencies(grid: &Grid, e: (f64, f64), speed: f64) -> Vec<f64> {
     freqs
 }
 
-/// `out +=` component `c`'s share of the dissipation form (weighted by
-/// `dev` and `trace`) of the grid field `field`; component 0 is kept in
-/// `first` for component 1's. The form `(1 + nu) (xx^2 + yy^2 + zz^2 + 2
-/// xy^2 + 2 xz^2 + 2 yz^2) + (1 - 2 nu) / 3 tr^2`, `zz = -(xx + yy)`.
-fn accumulate(c: usize, field: &[f64], first: &mut [f64], out: &mut [f64], dev: f64, trace: f64) {
-    match c {
-        0 => first.copy_from_slice(field),
-        1 => out
-            .iter_mut()
-            .zip(first.iter())
-            .zip(field)
-            .for_each(|((o, x), y)| *o += dev * (x * x + y * y + (x + y) * (x + y))),
-        5 => out
-            .iter_mut()
-            .zip(field)
-            .for_each(|(o, v)| *o += trace * v * v),
-        _ => out
-            .iter_mut()
-            .zip(field)
-            .for_each(|(o, v)| *o += 2.0 * dev * v * v),
-    }
-}
-
 /// [`HeatError::Cancelled`] where `stop` says so.
 fn stopped(stop: &mut dyn FnMut() -> bool) -> Result<(), HeatError> {
     if stop() {
@@ -582,15 +562,6 @@ pub(super) fn written_zeros(len: usize) -> Vec<f64> {
 /// A failed transform of `height_fft`.
 fn transform_error(e: crate::surface::SurfaceError) -> HeatError {
     HeatError::Transform(e.to_string())
-}
-
-/// Component `c` of a stress: the five deviatoric ones, then the trace.
-fn component(s: &ModeStress, c: usize) -> Complex64 {
-    if c < 5 {
-        s.dev[c]
-    } else {
-        s.trace
-    }
 }
 
 #[cfg(test)]

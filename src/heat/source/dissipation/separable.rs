@@ -26,8 +26,9 @@ use realfft::{ComplexToReal, RealFftPlanner};
 use rustfft::{Fft, FftPlanner};
 
 use super::super::stress::unit_component;
+use super::form::{accumulate, component, field_for};
 use super::nyquist::OddForms;
-use super::{accumulate, component, Dissipation, RateFn};
+use super::{Dissipation, RateFn};
 use crate::heat::error::HeatError;
 use crate::operator::signed_index;
 use crate::surface::height_fft;
@@ -298,7 +299,7 @@ impl Dissipation {
                             row[hx - 1] = Complex64::new(x_nyquist[c * my + y], 0.0);
                         }
                         row_x
-                            .process_with_scratch(row, field, scratch)
+                            .process_with_scratch(row, field_for(c, field, first), scratch)
                             .map_err(|e| {
                                 HeatError::Transform(format!("inverse real FFT failed: {e}"))
                             })?;
