@@ -180,32 +180,39 @@ impl LayerDensity {
         Ok(maps)
     }
 
-    /// Each layer's half spectrum on the grid, unnormalised (the forward
-    /// transform of its whole map): its map's transform plus each part's
-    /// coefficients times the cells. `plan` is the grid's forward
-    /// transform.
+    /// Each layer's half spectrum on the grid ([`Self::spectrum`]), all
+    /// at once. `plan` is the grid's forward transform.
     pub(crate) fn spectra(
         &self,
         plan: &height_fft::Forward,
     ) -> Result<Vec<Vec<Complex64>>, HeatError> {
-        let (nx, ny) = (self.nx, self.ny);
-        let n = nx * ny;
-        let len = nx * height_fft::half_len(ny);
         let mut rows = Vec::new();
-        self.layers
-            .iter()
-            .map(|layer| {
-                let mut spec = vec![Complex64::default(); len];
-                if let Some(map) = &layer.map {
-                    plan.run(map, &mut rows, &mut spec)
-                        .map_err(|e| HeatError::Transform(e.to_string()))?;
-                }
-                for b in &layer.bands {
-                    b.add_into(&mut spec, (nx, ny), n as f64);
-                }
-                Ok(spec)
-            })
+        (0..self.layers.len())
+            .map(|l| self.spectrum(l, plan, &mut rows))
             .collect()
+    }
+
+    /// Layer `l`'s half spectrum on the grid, unnormalised (the forward
+    /// transform of its whole map): its map's transform plus each part's
+    /// coefficients times the cells. `plan` is the grid's forward
+    /// transform, `rows` its work space.
+    pub(crate) fn spectrum(
+        &self,
+        l: usize,
+        plan: &height_fft::Forward,
+        rows: &mut Vec<Complex64>,
+    ) -> Result<Vec<Complex64>, HeatError> {
+        let (nx, ny) = (self.nx, self.ny);
+        let layer = &self.layers[l];
+        let mut spec = vec![Complex64::default(); nx * height_fft::half_len(ny)];
+        if let Some(map) = &layer.map {
+            plan.run(map, rows, &mut spec)
+                .map_err(|e| HeatError::Transform(e.to_string()))?;
+        }
+        for b in &layer.bands {
+            b.add_into(&mut spec, (nx, ny), (nx * ny) as f64);
+        }
+        Ok(spec)
     }
 
     /// Each layer's sum over the cells \[W/m^3\] (a part's sum is its

@@ -177,21 +177,19 @@ impl PeriodicPlan {
     }
 
     /// The rise about the mean \[K\] at each depth \[m\] under the volume
-    /// source `source` \[W/m^3\]: layer `l`'s map at
-    /// `source[l * nx * ny..(l + 1) * nx * ny]`.
+    /// source `source` \[W/m^3\], one layer's spectrum at a time.
     pub fn volume(
         &self,
         layers: &DepthLayers,
-        source: &[f64],
+        source: &LayerDensity,
         depths: &[f64],
     ) -> Result<Vec<Vec<f64>>, HeatError> {
         let lam = self.conductivity;
-        let n = self.modes.nx * self.modes.ny;
         let mut sums: Vec<Vec<Complex64>> = Vec::with_capacity(depths.len());
         let plan = height_fft::Forward::new(self.modes.nx, self.modes.ny);
         let mut rows = Vec::new();
         for (l, bounds) in layers.iter().enumerate() {
-            let spec = self.forward_with(&plan, &source[l * n..(l + 1) * n], &mut rows)?;
+            let spec = source.spectrum(l, &plan, &mut rows)?;
             for (d, &z) in depths.iter().enumerate() {
                 let w = self.weighted(&spec, |m| {
                     layer_integral(m, bounds, z) * m.inv() / (2.0 * lam)
@@ -338,20 +336,6 @@ impl PeriodicPlan {
     fn forward(&self, values: &[f64]) -> Result<Vec<Complex64>, HeatError> {
         height_fft::forward(values, self.modes.nx, self.modes.ny)
             .map_err(|e| HeatError::Transform(e.to_string()))
-    }
-
-    /// The half spectrum of `values` by `plan`, `rows` its work space.
-    fn forward_with(
-        &self,
-        plan: &height_fft::Forward,
-        values: &[f64],
-        rows: &mut Vec<Complex64>,
-    ) -> Result<Vec<Complex64>, HeatError> {
-        let (nx, ny) = (self.modes.nx, self.modes.ny);
-        let mut spec = vec![Complex64::default(); nx * height_fft::half_len(ny)];
-        plan.run(values, rows, &mut spec)
-            .map_err(|e| HeatError::Transform(e.to_string()))?;
-        Ok(spec)
     }
 
     /// `f(m)` times the spectrum, mode by mode (0 at `k = 0`).

@@ -168,19 +168,17 @@ impl HeatSolver {
 
     /// The steady rise at each of `depths` \[m\] under the volume source
     /// `source` \[W/m^3\], constant within each of `layers` on each cell
-    /// (layer `l`'s map at `source[l * nx * ny..(l + 1) * nx * ny]`), the
-    /// surface adiabatic; on a periodic cell only.
+    /// ([`LayerDensity::from_maps`] for maps laid one after the other),
+    /// the surface adiabatic; on a periodic cell only.
     pub fn volume(
         &mut self,
         layers: &DepthLayers,
-        source: &[f64],
+        source: &LayerDensity,
         depths: &[f64],
     ) -> Result<Vec<Temperature>, HeatError> {
-        let (nx, ny) = self.shape();
-        let density = LayerDensity::from_maps(source.to_vec(), nx, ny);
-        self.volume_checks(layers, &density)?;
+        self.volume_checks(layers, source)?;
         check_depths(depths)?;
-        let (p, background) = self.volume_plan(layers, &density)?;
+        let (p, background) = self.volume_plan(layers, source)?;
         let maps = p.volume(layers, source, depths)?;
         let ny = self.shape().1;
         maps.into_iter()
@@ -528,8 +526,8 @@ mod tests {
                 .collect();
             let mut depths = vec![0.0];
             depths.extend(layers.iter().map(|(a, b)| 0.5 * (a + b)));
-            let maps = solver.volume(&layers, &source, &depths).unwrap();
-            let density = LayerDensity::from_maps(source.clone(), nx, ny);
+            let density = LayerDensity::from_maps(source, nx, ny);
+            let maps = solver.volume(&layers, &density, &depths).unwrap();
             let rows = solver.volume_extremes(&layers, &density).unwrap();
             assert_eq!(rows.len(), depths.len());
             let scale = maps[0].max();

@@ -80,7 +80,13 @@ fn layers_of_one_mode_match_the_fourier_formula() {
             let ke = k.0 * t.cos() + k.1 * t.sin();
             let m = Complex64::new(k.0 * k.0 + k.1 * k.1, -speed * ke / KAPPA).sqrt();
             let mut solver = HeatSolver::new(periodic(nx, ny, d, speed, 20.0, None)).unwrap();
-            let maps = solver.volume(&layers, &source, &depths).unwrap();
+            let maps = solver
+                .volume(
+                    &layers,
+                    &LayerDensity::from_maps(source.clone(), nx, ny),
+                    &depths,
+                )
+                .unwrap();
             // Measured against the largest rise over all depths: deep below
             // the layers the mode has decayed to ~1e-35 at the highest
             // speed, below the round-off of the transforms (~1e-16 of the
@@ -136,7 +142,13 @@ fn a_thin_surface_layer_approaches_the_surface_flux() {
     for h in [1e-8, 1e-9, 1e-10] {
         let layers = DepthLayers::new(vec![0.0, h]).unwrap();
         let source: Vec<f64> = flux.iter().map(|q| q / h).collect();
-        let vol = solver.volume(&layers, &source, &depths).unwrap();
+        let vol = solver
+            .volume(
+                &layers,
+                &LayerDensity::from_maps(source.clone(), nx, ny),
+                &depths,
+            )
+            .unwrap();
         let mut err: f64 = 0.0;
         for (v, s) in vol.iter().zip(&surface) {
             let scale = s.rise.iter().fold(0.0f64, |a, b| a.max(b.abs()));
@@ -171,7 +183,11 @@ fn the_background_of_a_volume_source() {
     let h = 1e-4 * reach;
     let thin = DepthLayers::new(vec![0.0, h]).unwrap();
     let t = solver
-        .volume(&thin, &vec![qbar / h; nx * ny], &[0.0])
+        .volume(
+            &thin,
+            &LayerDensity::from_maps(vec![qbar / h; nx * ny], nx, ny),
+            &[0.0],
+        )
         .unwrap();
     let want = conduction.surface_background(qbar, tc);
     let got = t[0].background.unwrap();
@@ -180,7 +196,13 @@ fn the_background_of_a_volume_source() {
     let deep = DepthLayers::new(vec![0.0, 0.5 * reach, reach]).unwrap();
     let mut source = vec![0.0; nx * ny];
     source.extend(vec![qbar / (0.5 * reach); nx * ny]);
-    let t = solver.volume(&deep, &source, &[0.0, reach]).unwrap();
+    let t = solver
+        .volume(
+            &deep,
+            &LayerDensity::from_maps(source, nx, ny),
+            &[0.0, reach],
+        )
+        .unwrap();
     let (top, below) = (t[0].background.unwrap(), t[1].background.unwrap());
     assert!(
         top < want && below < want && top > 0.0 && below > 0.0,
@@ -196,7 +218,13 @@ fn a_pad_refuses_volume_sources_and_depths() {
     s.domain = HeatDomain::Pad;
     let mut solver = HeatSolver::new(s).unwrap();
     let layers = DepthLayers::uniform(1e-5, 2).unwrap();
-    let e = solver.volume(&layers, &[1.0; 32], &[0.0]).unwrap_err();
+    let e = solver
+        .volume(
+            &layers,
+            &LayerDensity::from_maps(vec![1.0; 32], 4, 4),
+            &[0.0],
+        )
+        .unwrap_err();
     assert!(matches!(e, HeatError::Unsupported(_)), "{e}");
     let e = solver.surface_at(&[1.0; 16], &[0.0, 1e-6]).unwrap_err();
     assert!(matches!(e, HeatError::Unsupported(_)), "{e}");
@@ -242,14 +270,15 @@ fn the_weighted_rise_is_the_depth_maps_sum() {
             (20.0, 0.0, Some(1e-2)),
         ] {
             let mut solver = HeatSolver::new(periodic(nx, ny, d, speed, deg, block)).unwrap();
+            let density = LayerDensity::from_maps(source.clone(), nx, ny);
             let volume = HeatSource::Volume {
                 layers: layers.clone(),
-                density: LayerDensity::from_maps(source.clone(), nx, ny),
+                density: density.clone(),
             };
             let (surface, theta) = solver.under(&volume).unwrap();
             let mut depths = vec![0.0];
             depths.extend(&middles);
-            let maps = solver.volume(&layers, &source, &depths).unwrap();
+            let maps = solver.volume(&layers, &density, &depths).unwrap();
             let (mut weighted, mut total) = (0.0, 0.0);
             for (l, (a, b)) in layers.iter().enumerate() {
                 let q = &source[l * n..(l + 1) * n];
@@ -306,13 +335,13 @@ fn a_volume_source_whose_rise_leaves_f64_is_refused() {
         (1e299, 1e-20, Some(1e-3), true),
         (1e299, 1.0, None, false),
     ] {
-        let density = source(q);
+        let density = LayerDensity::from_maps(source(q), nx, ny);
         let mut s = periodic(nx, ny, 1e-6, 0.1, 30.0, block);
         s.conduction.conductivity = conductivity;
         let mut solver = HeatSolver::new(s).unwrap();
         let volume = HeatSource::Volume {
             layers: layers.clone(),
-            density: LayerDensity::from_maps(density.clone(), nx, ny),
+            density: density.clone(),
         };
         let mut errors = vec![solver.under(&volume).map(|_| ()).unwrap_err()];
         let at_depths = solver.volume(&layers, &density, &[0.0, 5e-6]);
@@ -353,12 +382,12 @@ fn a_volume_sources_rise_scales_as_one_over_the_conductivity() {
             let mut s = base;
             s.conduction.conductivity = lam;
             let mut solver = HeatSolver::new(s).unwrap();
-            let (_, theta) = solver
-                .under(&HeatSource::Volume {
-                    layers: layers.clone(),
-                    density: LayerDensity::from_maps(density.clone(), nx, ny),
-                })
-                .unwrap();
+            let density = LayerDensity::from_maps(density.clone(), nx, ny);
+            let volume = HeatSource::Volume {
+                layers: layers.clone(),
+                density: density.clone(),
+            };
+            let (_, theta) = solver.under(&volume).unwrap();
             let maps = solver.volume(&layers, &density, &depths).unwrap();
             (theta, maps)
         };
