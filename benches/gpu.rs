@@ -5,6 +5,8 @@
 //! predicts) and full contact solves at the friction peak (xi = 1.17e-2, paper
 //! material, 3 kPa on L = 0.01 m, rms slope 0.02). Timings include the
 //! device work (each measured call ends with a readback or a wait).
+//! A mixed-precision product's round trip on a full contact set
+//! (`gpu_round_trip`: the transfer alone, and the whole product).
 //! The adaptive-mesh matvec runs on the fly on a 1024-cell mesh
 //! (`adaptive_matvec`) and from level tables on a 256 x 256 quadtree
 //! (`level_matvec`).
@@ -109,6 +111,52 @@ fn bench_matvec(c: &mut Criterion) {
                 })
             });
         }
+    }
+    group.finish();
+}
+
+/// A mixed-precision product's round trip on a full contact set (the
+/// smooth pad's case): the set's f64 values converted and written to the
+/// device and read back as f64 (`transfer`), and the whole product through
+/// [`MixedOperator::apply_set`] (`mixed_product`: the transfer, the
+/// positions compared, scatter, matvec and gather on the device).
+fn bench_round_trip(c: &mut Criterion) {
+    use viscoslide::internals::backend::gpu::mixed::MixedOperator;
+    use viscoslide::internals::operator::{GridOperator, GridWork, OffsetTable, ToeplitzFft};
+    let sizes: Vec<usize> = if ci() {
+        vec![64]
+    } else if large() {
+        vec![512, 1024, 2048]
+    } else {
+        vec![512, 1024]
+    };
+    let mut group = c.benchmark_group("gpu_round_trip");
+    group.sample_size(10);
+    for n in sizes {
+        let Some(ctx) = open() else { return };
+        let t = table(n);
+        let mut be = GpuBackend::new(ctx, n, n, &t, GpuOptions::default()).unwrap();
+        let host: Vec<f64> = (0..n * n).map(|i| (i % 97) as f64 - 48.0).collect();
+        let mut back = vec![0.0; n * n];
+        let mut x = be.zeros(n * n);
+        group.bench_function(format!("transfer_{n}x{n}"), |b| {
+            b.iter(|| {
+                be.upload(black_box(&host), &mut x);
+                be.download(&x, &mut back);
+            })
+        });
+        drop(x);
+        let exact = ToeplitzFft::new(OffsetTable {
+            nx: n,
+            ny: n,
+            values: &t,
+        });
+        let mut op = MixedOperator::new(be, Box::new(exact));
+        let cells: Vec<usize> = (0..n * n).collect();
+        let mut work = GridWork::default();
+        group.bench_function(format!("mixed_product_{n}x{n}"), |b| {
+            b.iter(|| op.apply_set(&cells, black_box(&host), &mut back, &mut work))
+        });
     }
     group.finish();
 }
@@ -266,6 +314,7 @@ criterion_group!(
     targets =
     bench_coefficients,
     bench_matvec,
+    bench_round_trip,
     bench_solve,
     bench_adaptive_matvec,
     bench_level_matvec

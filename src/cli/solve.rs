@@ -140,6 +140,24 @@ pub fn run(args: SolveArgs) -> Result<()> {
             solution.info.exact_matvecs
         );
     }
+    let pad_traffic = solution.smooth_pad.and_then(|p| p.device_traffic);
+    for (what, t) in [
+        ("the solve", solution.device_traffic),
+        ("the smooth pad", pad_traffic),
+    ] {
+        if let Some(t) = t.filter(|t| t.round_trips > 0) {
+            println!(
+                "device round trips of {what}: {} ({:.1} MB to the device, {:.1} MB back), {:.2} s: host to device {:.2} s, device {:.2} s, back to the host {:.2} s",
+                t.round_trips,
+                t.bytes_to_device as f64 / 1e6,
+                t.bytes_from_device as f64 / 1e6,
+                t.total_s(),
+                t.to_device_s,
+                t.device_s,
+                t.from_device_s
+            );
+        }
+    }
     match &solution.persson {
         Ok(p) => {
             println!(

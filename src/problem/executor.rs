@@ -7,7 +7,8 @@
 use std::marker::PhantomData;
 
 use crate::backend::gpu::engine::Engine;
-use crate::backend::gpu::mixed::{impulse_response, wrapped_table, MixedOperator};
+pub use crate::backend::gpu::mixed::DeviceTraffic;
+use crate::backend::gpu::mixed::{impulse_response, wrapped_table, MixedOperator, TrafficLedger};
 use crate::backend::gpu::{coefficients, GpuBackend, GpuContext, GpuLevelTables, GpuOptions};
 use crate::backend::{Backend, BackendChoice, CpuBackend};
 use crate::config::Precision;
@@ -124,6 +125,13 @@ pub(crate) trait Executes {
         description: &OperatorDescription<'_>,
         mesh: Option<&QuadMesh>,
     ) -> Result<(Self::Backend, f64)>;
+
+    /// The device round trips of its backends' products so far (a GPU's
+    /// mixed precision, whose products cross the bus); `None` where
+    /// products stay where the iteration runs. Default: `None`.
+    fn device_traffic(&self) -> Option<DeviceTraffic> {
+        None
+    }
 
     /// Take back a backend after its solve (the GPU keeps its engine for
     /// the next round). Default: drop it.
@@ -410,6 +418,8 @@ pub(crate) struct GpuMixedExecutor {
     precondition: bool,
     /// The host's f64 operators (and the fine grid's table, prepared).
     host: CpuExecutor<f64>,
+    /// The round trips of every operator it builds.
+    traffic: TrafficLedger,
 }
 
 impl GpuMixedExecutor {
@@ -425,6 +435,7 @@ impl GpuMixedExecutor {
             ctx: ctx.clone(),
             precondition: problem.params.precondition,
             host: CpuExecutor::new(),
+            traffic: TrafficLedger::default(),
         })
     }
 }
@@ -438,6 +449,10 @@ impl Executes for GpuMixedExecutor {
 
     fn on_device(&self) -> bool {
         true
+    }
+
+    fn device_traffic(&self) -> Option<DeviceTraffic> {
+        Some(*self.traffic.lock().unwrap_or_else(|e| e.into_inner()))
     }
 
     fn prepare(&mut self, description: &OperatorDescription<'_>) -> Result<()> {
@@ -489,7 +504,10 @@ impl Executes for GpuMixedExecutor {
                 ))
             }
         };
-        Ok((CpuBackend::new(op), l00))
+        Ok((
+            CpuBackend::new(op.recording_into(self.traffic.clone())),
+            l00,
+        ))
     }
 }
 

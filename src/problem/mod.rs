@@ -42,7 +42,7 @@ pub mod warnings;
 use std::path::PathBuf;
 
 pub use adaptive::{AdaptiveParams, AdaptiveSolution, MeshReport};
-pub use executor::Executor;
+pub use executor::{DeviceTraffic, Executor};
 pub use heating::ContactHeating;
 pub(crate) use heating::{balance_warning, no_heat_note};
 pub use resolution::ShortestWavelength;

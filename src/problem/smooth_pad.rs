@@ -38,7 +38,7 @@ use crate::error::Result;
 use crate::solver::{self, Control, Silent};
 
 use super::cascade::{cascade_of, CASCADE_COARSEST};
-use super::executor::{CpuExecutor, Executes};
+use super::executor::{CpuExecutor, DeviceTraffic, Executes};
 use super::solve::UniformOperators;
 use super::Problem;
 
@@ -94,6 +94,8 @@ pub struct SmoothPad {
     /// friction is the rough solve's analysis's, which shares its
     /// operators).
     pub time_s: f64,
+    /// Its products' device round trips (a GPU's mixed precision).
+    pub device_traffic: Option<DeviceTraffic>,
 }
 
 /// The flat pad solved, its friction not yet taken.
@@ -106,6 +108,7 @@ pub(super) struct SolvedPad {
     exact_matvecs: usize,
     host_matvecs: usize,
     time_s: f64,
+    device_traffic: Option<DeviceTraffic>,
 }
 
 impl SolvedPad {
@@ -121,6 +124,7 @@ impl SolvedPad {
             exact_matvecs: self.exact_matvecs,
             host_matvecs: self.host_matvecs,
             time_s: self.time_s,
+            device_traffic: self.device_traffic,
         }
     }
 }
@@ -142,6 +146,7 @@ impl Problem {
         rough_matvecs: usize,
     ) -> Result<SolvedPad> {
         let t = Instant::now();
+        let traffic_before = executor.device_traffic();
         let (nx, ny, (ax, ay)) = (self.surface.nx, self.surface.ny, self.surface.cell());
         let kernel = self.sliding_kernel()?;
         let operators = UniformOperators::Toeplitz(kernel);
@@ -187,6 +192,10 @@ impl Problem {
             exact_matvecs: info.exact_matvecs,
             host_matvecs,
             time_s: t.elapsed().as_secs_f64(),
+            device_traffic: executor
+                .device_traffic()
+                .zip(traffic_before)
+                .map(|(now, before)| now.since(&before)),
         })
     }
 }

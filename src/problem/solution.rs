@@ -20,6 +20,7 @@ use crate::plot;
 use crate::solver::{ContactSolution, SolveInfo, WarmStart};
 use crate::surface::Preprocessing;
 
+use super::executor::DeviceTraffic;
 use super::persson::PerssonEstimate;
 use super::smooth_pad::SmoothPad;
 use super::{MeshReport, Problem};
@@ -92,6 +93,9 @@ pub struct Solution {
     /// the roughness part; `None` for the periodic formulation and the
     /// adaptive mesh.
     pub smooth_pad: Option<SmoothPad>,
+    /// The device round trips of the solve's products (a GPU's mixed
+    /// precision; the smooth pad's are its own), `None` elsewhere.
+    pub device_traffic: Option<DeviceTraffic>,
     record: Record,
 }
 
@@ -129,6 +133,7 @@ impl Solution {
             warnings,
             persson,
             smooth_pad: None,
+            device_traffic: None,
             record: Record {
                 nx: problem.surface.nx,
                 ny: problem.surface.ny,
@@ -312,6 +317,9 @@ impl Solution {
         doc["filled_points"] = json!(r.filled_points);
         doc["precision"] = json!(r.precision);
         doc["exact_matvecs"] = json!(self.info.exact_matvecs);
+        // Where a GPU's mixed-precision products spend their time: the
+        // host's conversions and writes, the device, the readback.
+        doc["device_traffic"] = json!(self.device_traffic);
         // The isothermal temperature and its WLF shift `a_T` (relative to
         // `T_ref`; mu(v, T) = mu(a_T v, T_ref), physics.md section 12);
         // null for a material without WLF constants.
@@ -349,6 +357,7 @@ impl Solution {
                 "exact_matvecs": p.exact_matvecs,
                 "host_matvecs": p.host_matvecs,
                 "time_s": p.time_s,
+                "device_traffic": p.device_traffic,
                 "what": "the same pad without roughness, at the same load and speed, solved by the constrained iteration on the executor of the rough solve (the CPU: in f64; a GPU: in the rough solve's precision, mixed (f32 products on the device, f64 residuals on the host: exact_matvecs) or f32 on the device to a relative residual of 1e-3; solved in f64 on the host where the device's solve did not converge: host_matvecs of matvecs); friction by paper Eq. 9",
             })
         }));

@@ -152,6 +152,19 @@ fn mixed_gpu_solve_of_a_flat_pad() {
         f64s.stats.contact_area_fraction
     );
     check_against_f64(&mixed, &f64s);
+    // Every f32 product crossed the bus: the rough solve's and the smooth
+    // pad's round trips counted apart (at least one per fine-grid
+    // equivalent matvec: coarse grids' products count whole, and the
+    // preconditioner's too); the CPU's solve has none.
+    let traffic = mixed
+        .device_traffic
+        .expect("a mixed GPU solve counts its round trips");
+    assert!(traffic.round_trips >= mixed.info.matvecs, "{traffic:?}");
+    let pad = mixed.smooth_pad.expect("a non-periodic pad");
+    let pad_traffic = pad.device_traffic.expect("the pad's own round trips");
+    assert!(pad_traffic.round_trips >= pad.matvecs, "{pad_traffic:?}");
+    assert!(f64s.device_traffic.is_none());
+    assert!(f64s.smooth_pad.and_then(|p| p.device_traffic).is_none());
 }
 
 /// `x` on the cells of `cells`, a spread of signs and scales.
@@ -184,6 +197,7 @@ fn check_products(op: &mut MixedOperator, reference: impl Fn(&[usize], &[f64]) -
     let (nx, ny) = op.shape();
     let mut work = GridWork::default();
     let all = sets(nx, ny);
+    let before = op.traffic();
     for cells in all.iter().chain(std::iter::once(&all[0])) {
         let x = values(cells);
         let want = reference(cells, &x);
@@ -200,6 +214,16 @@ fn check_products(op: &mut MixedOperator, reference: impl Fn(&[usize], &[f64]) -
         assert!(e_ex <= 1e-12, "apply_set_exact {e_ex:e}");
     }
     assert_eq!(op.epsilon(), f32::EPSILON as f64);
+    // One round trip per f32 product (the exact ones stay on the host):
+    // each set's f32 values up and back, its positions up once per change
+    // of set (the first set again after the second is a change).
+    let traffic = op.traffic().since(&before);
+    let values: usize = all.iter().map(Vec::len).sum::<usize>() + all[0].len();
+    assert_eq!(traffic.round_trips, all.len() + 1);
+    assert_eq!(traffic.set_uploads, all.len() + 1);
+    assert_eq!(traffic.bytes_from_device, 4 * values as u64);
+    assert_eq!(traffic.bytes_to_device, 8 * values as u64);
+    assert!(traffic.to_device_s >= 0.0 && traffic.device_s > 0.0 && traffic.from_device_s >= 0.0);
 }
 
 /// The non-periodic operator against the dense sum over the set of the

@@ -18,6 +18,8 @@
 //!
 //! Over 600 lines: the whole `Backend` trait on device vectors (one dispatch per method, the kernels in `shaders/`), beside the vector and index types it uses.
 
+use rayon::prelude::*;
+
 use super::adaptive::{AdaptiveMatvec, MeshCells};
 use super::context::{check_binding_count, GpuContext, GpuError};
 use super::engine::{groups_for, Buf, Engine, Kernel, Params, WORKGROUP};
@@ -259,7 +261,7 @@ impl GpuBackend {
         self.check_len(cells.len());
         let slot = self.pool.take(&mut self.engine);
         let positions: Vec<u32> = cells
-            .iter()
+            .par_iter()
             .map(|&c| {
                 assert!(c < self.n, "cell {c} on a grid of {}", self.n);
                 c as u32
@@ -400,16 +402,12 @@ impl Backend for GpuBackend {
 
     fn upload(&mut self, host: &[f64], dst: &mut GpuVector) {
         assert_eq!(host.len(), dst.len, "upload length");
-        let h: Vec<f32> = host.iter().map(|&v| v as f32).collect();
-        self.engine.write(dst.buf(), 0, bytemuck::cast_slice(&h));
+        self.engine.write_f64_as_f32(dst.buf(), host);
     }
 
     fn download(&mut self, src: &GpuVector, host: &mut [f64]) {
         assert_eq!(host.len(), src.len, "download length");
-        let d = self.engine.read_f32(src.buf(), 0, src.len);
-        for (h, v) in host.iter_mut().zip(d) {
-            *h = v as f64;
-        }
+        self.engine.read_f32_as_f64(src.buf(), host);
     }
 
     fn mask_from(&mut self, host: &[f64]) -> GpuVector {

@@ -36,6 +36,8 @@ impl Problem {
         // nothing of its friction.
         let stats = self.contact_stats(&raw.solution);
         let load = stats.normal_load;
+        // The rough solve's device round trips, before the pad's add to them.
+        let device_traffic = executor.device_traffic();
         let mut pad_error = None;
         let sphere = matches!(self.source, SurfaceSource::Sphere(_));
         let pad = if self.formulation == Formulation::NonPeriodic
@@ -109,6 +111,7 @@ impl Problem {
         );
         solution.record_precision(precision);
         solution.smooth_pad = smooth_pad;
+        solution.device_traffic = device_traffic;
         Ok(solution)
     }
 }

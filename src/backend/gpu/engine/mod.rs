@@ -14,7 +14,6 @@
 //! [`Kernel`] (`kernel.rs`).
 
 use std::collections::HashMap;
-use std::sync::mpsc;
 
 use bytemuck::{Pod, Zeroable};
 
@@ -23,6 +22,7 @@ use super::shaders;
 use super::split;
 
 mod kernel;
+mod transfer;
 
 pub use kernel::Kernel;
 
@@ -84,6 +84,8 @@ pub struct Engine {
     staged: Vec<u8>,
     commands: Vec<Command>,
     staging: Option<Buf>,
+    /// Host bytes of the last f32 upload converted from f64, reused.
+    upload_scratch: Vec<u8>,
     next_id: u64,
     /// Buffers created, by label: count and bytes (the device memory of
     /// the engine's arrays; [`Engine::allocations`]).
@@ -142,6 +144,7 @@ impl Engine {
             staged: Vec::new(),
             commands: Vec::new(),
             staging: None,
+            upload_scratch: Vec::new(),
             next_id: 1,
         }
     }
@@ -513,69 +516,5 @@ impl Engine {
         }
         self.ctx.queue.submit([enc.finish()]);
         self.staged.clear();
-    }
-
-    /// Write host bytes into a buffer, after the pending commands.
-    pub fn write(&mut self, dst: &Buf, offset: u64, data: &[u8]) {
-        if data.is_empty() {
-            return;
-        }
-        self.flush();
-        self.ctx.queue.write_buffer(&dst.buffer, offset, data);
-    }
-
-    /// Read `size` bytes of `src` from `offset`, after the pending
-    /// commands. Panics if the device is lost (the trait returns no error).
-    pub fn read(&mut self, src: &Buf, offset: u64, size: u64) -> Vec<u8> {
-        if size == 0 {
-            return Vec::new();
-        }
-        let need = size.next_multiple_of(4);
-        if self.staging.as_ref().is_none_or(|s| s.buffer.size() < need) {
-            let cap = need.next_power_of_two().max(1 << 16);
-            let b = self.create_buffer(
-                "viscoslide readback staging",
-                cap,
-                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            );
-            self.staging = Some(b);
-        }
-        let staging = self.staging.clone().expect("staging buffer exists");
-        self.copy(src, offset, &staging, 0, need);
-        self.flush();
-        let slice = staging.buffer.slice(0..need);
-        let (tx, rx) = mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        self.ctx
-            .device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .unwrap_or_else(|e| panic!("{}", GpuError::Readback(e.to_string())));
-        match rx.recv() {
-            Ok(Ok(())) => {}
-            Ok(Err(e)) => panic!("{}", GpuError::Readback(e.to_string())),
-            Err(e) => panic!("{}", GpuError::Readback(e.to_string())),
-        }
-        let out = {
-            let view = slice
-                .get_mapped_range()
-                .unwrap_or_else(|e| panic!("{}", GpuError::Readback(e.to_string())));
-            view[..size as usize].to_vec()
-        };
-        staging.buffer.unmap();
-        out
-    }
-
-    /// Read `count` f32 values from `src`.
-    pub fn read_f32(&mut self, src: &Buf, offset_elems: u64, count: usize) -> Vec<f32> {
-        let bytes = self.read(src, offset_elems * 4, count as u64 * 4);
-        bytemuck::cast_slice(&bytes).to_vec()
-    }
-
-    /// Read one u32 at element `offset_elems`.
-    pub fn read_u32(&mut self, src: &Buf, offset_elems: u64) -> u32 {
-        let bytes = self.read(src, offset_elems * 4, 4);
-        u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
     }
 }
