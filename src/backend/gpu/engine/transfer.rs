@@ -60,12 +60,6 @@ impl Engine {
         self.upload_scratch = scratch;
     }
 
-    /// Read `size` bytes of `src` from `offset`, after the pending
-    /// commands. Panics if the device is lost (the trait returns no error).
-    pub fn read(&mut self, src: &Buf, offset: u64, size: u64) -> Vec<u8> {
-        self.read_with(src, offset, size, <[u8]>::to_vec)
-    }
-
     /// Read `count` f32 values from `src`.
     pub fn read_f32(&mut self, src: &Buf, offset_elems: u64, count: usize) -> Vec<f32> {
         self.read_with(src, offset_elems * 4, count as u64 * 4, |bytes| {
@@ -92,13 +86,15 @@ impl Engine {
 
     /// Read one u32 at element `offset_elems`.
     pub fn read_u32(&mut self, src: &Buf, offset_elems: u64) -> u32 {
-        let bytes = self.read(src, offset_elems * 4, 4);
-        u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
+        self.read_with(src, offset_elems * 4, 4, |b| {
+            u32::from_le_bytes([b[0], b[1], b[2], b[3]])
+        })
     }
 
     /// `f` of the `size` bytes of `src` from `offset`, mapped after the
     /// pending commands (copied into the readback staging buffer, which
-    /// grows to the largest read).
+    /// grows to the largest read). Panics if the device is lost (the
+    /// backend trait returns no error).
     fn read_with<R>(&mut self, src: &Buf, offset: u64, size: u64, f: impl FnOnce(&[u8]) -> R) -> R {
         if size == 0 {
             return f(&[]);
